@@ -1,0 +1,1 @@
+"""Lynch & Bustamante, "Precession and recession of the rock'n'roller"."""
