@@ -1,0 +1,1 @@
+"""One module per ``rocknroller`` subcommand: ``register(subparsers)`` and ``run(args)``."""
