@@ -1,0 +1,50 @@
+"""Plots of a direct-ODE trajectory: contact track, φ at the θ-maxima, and the (Q_R, Q_J) orbit."""
+
+from __future__ import annotations
+
+import math
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from numerics.trajectory import Trajectory  # noqa: E402
+
+__all__ = ["plot_contact_track", "plot_phi_at_maxima", "plot_invariant_orbit"]
+
+
+def plot_contact_track(traj: Trajectory, ax=None, label: str | None = None):
+    """Contact point (X, Y) with a circle at the start (paper figs. 5, 6)."""
+    if ax is None:
+        _, ax = plt.subplots(figsize=(4.5, 4.5))
+    ax.plot(traj.X, traj.Y, lw=0.6, label=label)
+    ax.plot(traj.X[:1], traj.Y[:1], "o", mfc="none", color="k", ms=6)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("X (radii)")
+    ax.set_ylabel("Y (radii)")
+    return ax
+
+
+def plot_phi_at_maxima(traj: Trajectory, ax=None, label: str | None = None):
+    """Full azimuth φ at the θ-maxima against time (paper fig. 5, right panels)."""
+    if ax is None:
+        _, ax = plt.subplots(figsize=(5, 3.5))
+    ax.plot(traj.maxima.t, traj.maxima.phi / math.pi, ".", ms=3, label=label)
+    ax.set_xlabel("t (time units)")
+    ax.set_ylabel(r"$\phi$ at $\theta$-maxima ($\pi$ rad)")
+    return ax
+
+
+def plot_invariant_orbit(traj: Trajectory, ax=None, turning_points: bool = True):
+    """(Q_R(t), Q_J(t)) with dots at the θ-maxima (red) and θ-minima (blue) (paper figs. 7-10)."""
+    if ax is None:
+        _, ax = plt.subplots(figsize=(5, 4))
+    ax.plot(traj.QR, traj.QJ, color="k", lw=0.5, label=r"$(Q_R(t), Q_J(t))$")
+    if turning_points:
+        ax.plot(traj.maxima.QR, traj.maxima.QJ, ".", color="tab:red", ms=4, label=r"$\theta$-maxima")
+        ax.plot(traj.minima.QR, traj.minima.QJ, ".", color="tab:blue", ms=4, label=r"$\theta$-minima")
+    ax.set_xlabel(r"$Q_R$")
+    ax.set_ylabel(r"$Q_J$")
+    ax.ticklabel_format(style="sci", scilimits=(-2, 2))
+    return ax

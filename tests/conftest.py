@@ -1,0 +1,21 @@
+"""Shared fixtures: the paper's bodies and the figure-5 initial state."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from analysis.body import Body
+from numerics.equations import EulerState
+
+
+@pytest.fixture(scope="session")
+def paper_body() -> Body:
+    return Body.paper()
+
+
+@pytest.fixture(scope="session")
+def fig5_initial() -> EulerState:
+    """Paper §7.1: θ0 = 0.95π, φ0 = ψ0 = 0, ω = (0, 0.001, −0.001)."""
+    return EulerState.from_omega(0.95 * math.pi, 0.0, 0.0, (0.0, 0.001, -0.001))
