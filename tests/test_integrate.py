@@ -32,7 +32,6 @@ def test_energy_fig5_heyoka(fig5_runs):
     assert fig5_runs[1e-3].energy_rel_error <= 1e-13
 
 
-@pytest.mark.slow
 def test_energy_fig5_scipy(fig5_initial):
     traj = simulate(Body.paper(1e-3), fig5_initial, 1500.0, method="scipy")
     assert traj.energy_rel_error <= 1e-10
