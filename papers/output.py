@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import csv
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Iterable, Mapping, Sequence
 
 import numpy as np
 
-__all__ = ["write_csv", "save_figure"]
+__all__ = ["write_csv", "save_figure", "Reproduction"]
 
 
 def write_csv(path: str | Path, columns: Mapping[str, Sequence], header: Iterable[str] = ()) -> Path:
@@ -52,3 +53,13 @@ def save_figure(fig, out_dir: str | Path, name: str, dpi: int = 150) -> list[Pat
     fig.savefig(paths[1], bbox_inches="tight")
     plt.close(fig)
     return paths
+
+
+@dataclass(frozen=True)
+class Reproduction:
+    """What a figure or table module produced: files, a caption, and the numbers it measured."""
+
+    name: str
+    caption: str
+    outputs: list[Path] = field(default_factory=list)
+    numbers: dict[str, float | int | str] = field(default_factory=dict)

@@ -1,1 +1,30 @@
-"""Lynch & Bustamante, "Precession and recession of the rock'n'roller"."""
+"""Lynch & Bustamante, "Precession and recession of the rock'n'roller": one module per figure or table.
+
+Each module defines ``NAME`` and ``run(out: Path) -> papers.output.Reproduction``; it computes with the
+library, writes PNG + PDF and the data as CSV into ``out``, and returns a caption with the numbers it
+measured.  ``MODULES`` lists them in the order ``rocknroller reproduce`` runs them.
+"""
+
+from __future__ import annotations
+
+import importlib
+from types import ModuleType
+
+MODULES = (
+    "fig5_symmetry_breaking",
+    "fig6_contact_tracks",
+    "table_polar_cap",
+    "table_small_amplitude",
+    "table_periodic_orbit",
+)
+
+
+def load(module: str) -> ModuleType:
+    """Import one reproduction module by its file name."""
+    return importlib.import_module(f"{__name__}.{module}")
+
+
+def registry() -> dict[str, ModuleType]:
+    """NAME -> module, in run order."""
+    mods = [load(m) for m in MODULES]
+    return {m.NAME: m for m in mods}

@@ -1,0 +1,61 @@
+"""Paper fig. 5: contact track and φ at the θ-maxima, symmetric body against ε = 1e-3, 1500 time units.
+
+Initial state (paper §7.1): θ0 = 0.95π, φ0 = ψ0 = 0, ω = (0, 0.001, −0.001).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from analysis.body import Body  # noqa: E402
+from numerics.equations import EulerState  # noqa: E402
+from numerics.integrate import simulate  # noqa: E402
+from papers.output import Reproduction, save_figure, write_csv  # noqa: E402
+from papers.trajectory_plots import plot_contact_track, plot_phi_at_maxima  # noqa: E402
+
+NAME = "fig5"
+T_END = 1500.0
+EPSILONS = (0.0, 1e-3)
+
+
+def initial_state() -> EulerState:
+    return EulerState.from_omega(0.95 * math.pi, 0.0, 0.0, (0.0, 0.001, -0.001))
+
+
+def compute():
+    """The two trajectories, keyed by ε."""
+    return {eps: simulate(Body.paper(eps), initial_state(), T_END) for eps in EPSILONS}
+
+
+def run(out: Path) -> Reproduction:
+    runs = compute()
+    fig, axes = plt.subplots(2, 2, figsize=(9, 8.5))
+    numbers: dict[str, float | int | str] = {}
+    outputs = []
+    for row, (eps, traj) in enumerate(runs.items()):
+        label = "symmetric, $I_2=I_1$" if eps == 0 else rf"$\epsilon={eps:g}$"
+        plot_contact_track(traj, axes[row, 0])
+        axes[row, 0].set_title(f"contact track, {label}")
+        plot_phi_at_maxima(traj, axes[row, 1])
+        axes[row, 1].set_title(rf"$\phi$ at $\theta$-maxima, {label}")
+        key = "sym" if eps == 0 else "eps1e-3"
+        numbers[f"Phi_{key}"] = traj.Phi
+        numbers[f"phi_range_at_maxima_{key}"] = float(traj.maxima.phi.max() - traj.maxima.phi.min())
+        numbers[f"n_maxima_{key}"] = len(traj.maxima)
+        numbers[f"energy_rel_error_{key}"] = traj.energy_rel_error
+        outputs.append(write_csv(out / f"fig5_maxima_{key}.csv", {
+            "t": traj.maxima.t, "theta": traj.maxima.theta, "phi": traj.maxima.phi, "psi": traj.maxima.psi,
+            "Q_R": traj.maxima.QR, "Q_J": traj.maxima.QJ},
+            [f"paper fig. 5, {label}", f"body: {traj.body.describe()}", f"initial: {initial_state()}"]))
+    fig.suptitle(r"Paper fig. 5: $\theta_0=0.95\pi$, $\omega_0=(0, 0.001, -0.001)$, 1500 time units")
+    fig.tight_layout()
+    outputs = save_figure(fig, out, "fig5_symmetry_breaking") + outputs
+    caption = ("Contact track (left) and full azimuth φ at the θ-maxima (right): the symmetric body precesses "
+               "steadily; with ε = 1e-3 the precession reverses (recession).")
+    return Reproduction(NAME, caption, outputs, numbers)
