@@ -1,0 +1,491 @@
+"""Rocking period and precession of Routh's sphere by quadrature (paper §2.5, eq. Delta_phi).
+
+Conventions (DESIGN §2).  T_θ = 2∫_{θ_N}^{θ_X} dθ/√F is the time between successive maxima of
+θ; the paper's τ = 4∫ = 2 T_θ.  Δφ and Δψ are the increments of the full (unwrapped) angles,
+given per T_θ and per τ; the visible angle is Δφ mod 2π, the visible half-angle Δφ mod π (both
+returned in the symmetric ranges (−π, π] and (−π/2, π/2], so that their sign is the apparent
+sense of precession).
+
+Substitution.  With c = cos θ, dθ/√F = dc/√(P/D) (reduction: P = s² D F is regular), and the
+turning points are simple roots of P.  Writing x = 1 − c = x_N + H sin²(v/2) and
+y = 1 + c = y_X + H cos²(v/2), H = c_N − c_X, v ∈ [0, π], removes both inverse square roots:
+
+    ∫_{θ_N}^{θ_X} dθ/√F = ∫_0^π J dv,   J = H sin(v/2) cos(v/2) √(D/P) = √(D/Q),
+
+Q = P/((c − c_X)(c_N − c)) analytic and positive, so the integrands are analytic functions of
+cos v and Gauss–Chebyshev (midpoint) rules converge exponentially.
+
+Poles.  V_φ = u/(I1 x y) (u = Q_J − I3 f ρ Q_R) has poles at x = 0 and y = 0 (θ = 0, π); when
+θ_N → 0 the integrand V_φ J becomes a Lorentzian of width √(x_N/H) in v.  Its residues give an
+exact closed form: with A = sgn(u₀) √(x_N x_X)/2 and B = sgn(u_π) √(y_N y_X)/2,
+
+    ∫_0^π (A/x + B/y) dv = (π/2)(sgn u₀ + sgn u_π),
+
+and V_φ J − A/x − B/y is analytic at θ = 0 and π.  (A = Res of V_φ J at x = 0 follows from
+Q(x=0) = u₀² α/(x_N x_X), α = (f₀² + I1)/I1², D(0) = I1 + f₀².)  This is the ±π jump of φ
+at a passage near the vertical, exact for every θ_N.  For ψ, V_ψ = ρ Q_R − c V_φ (paper eq.
+anglesdot) gives the singular part (π/2)(sgn u_π − sgn u₀).
+
+Backends: :func:`precession` (double precision, vectorised, node count by doubling until the
+change is below ``rtol``) and :func:`precession_mp` (mpmath, any ``dps``, tanh-sinh without the
+residue subtraction, turning points by ``mpmath.findroot``): the reference.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+from types import SimpleNamespace
+from typing import Any
+
+import mpmath
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from analysis.body import Body
+from analysis.reduction import (
+    NO_MOTION,
+    OK,
+    STATUS_TEXT,
+    STEADY,
+    D_coefficient,
+    TurningPoints,
+    _P_xy,
+    _R,
+    _U_xy,
+    potential,
+    reduced_N,
+    reduced_P,
+    solve_turning_points,
+    theta_from_xy,
+    tilt_xy,
+    u_numerator,
+)
+
+__all__ = [
+    "UNRESOLVED",
+    "QUADRATURE_STATUS_TEXT",
+    "Precession",
+    "wrap_angle",
+    "precession",
+    "precession_from_turning_point",
+    "precession_mp",
+]
+
+#: Extra status of the double-precision quadrature: the roots are so close (near-steady rolling)
+#: or the integrand so hard that the rule did not converge in double precision; use precession_mp.
+UNRESOLVED = 3
+QUADRATURE_STATUS_TEXT = {**STATUS_TEXT, UNRESOLVED: "unresolved: quadrature did not converge in double "
+                          "precision (near-steady rolling); use the mpmath backend (dps=)"}
+
+_N_START = 16
+_N_MAX = 1024
+
+
+def wrap_angle(angle: Any, period: float = 2 * np.pi) -> Any:
+    """angle mod period in the symmetric range (−period/2, period/2]."""
+    a = np.asarray(angle, float)
+    return period / 2 - np.remainder(period / 2 - a, period)
+
+
+@dataclass(frozen=True)
+class Precession:
+    """Rocking period and precession angles of Routh's sphere (arrays, or mpf for precession_mp).
+
+    Attributes
+    ----------
+    E, QR, QJ : energy and the two invariants.
+    theta_N, theta_X : turning points (θ_N ≤ θ_X).
+    T_theta : time between successive maxima of θ, 2∫ dθ/√F.
+    tau : paper's rocking period τ = 4∫ dθ/√F = 2 T_θ.
+    delta_phi, delta_psi : full (unwrapped) increments of φ and ψ per T_θ.
+    delta_phi_tau, delta_psi_tau : the same per τ (paper eq. Delta_phi).
+    visible_phi : Δφ per T_θ mod 2π in (−π, π].
+    visible_half_phi : Δφ per T_θ mod π in (−π/2, π/2].
+    status : OK, NO_MOTION, STEADY or UNRESOLVED (QUADRATURE_STATUS_TEXT); other fields NaN if not OK.
+    n_nodes : Gauss–Chebyshev nodes used (double backend), 0 for mpmath.
+    """
+
+    E: Any
+    QR: Any
+    QJ: Any
+    theta_N: Any
+    theta_X: Any
+    T_theta: Any
+    tau: Any
+    delta_phi: Any
+    delta_psi: Any
+    delta_phi_tau: Any
+    delta_psi_tau: Any
+    visible_phi: Any
+    visible_half_phi: Any
+    status: Any
+    n_nodes: Any
+
+    def status_text(self) -> NDArray[np.str_]:
+        """Explanatory text of each status code."""
+        return np.vectorize(QUADRATURE_STATUS_TEXT.get, otypes=[str])(np.asarray(self.status))
+
+
+# ----------------------------------------------------------------------------- double precision
+@lru_cache(maxsize=32)
+def _gauss_legendre(n: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The positive half of the n-point Gauss–Legendre rule on [−1, 1] (n even)."""
+    t, w = np.polynomial.legendre.leggauss(n)
+    return t[n // 2:], w[n // 2:]
+
+
+def _end_scale(z_end, H, P_at):
+    """Distance Δ from a turning point to the nearest other root of P beyond it (a "shadow" root).
+
+    Near θ = π with θ_X → π, P(y) ≈ P2 (y − y_X)(y − y_s) with a second root y_s ≤ 0 close by;
+    the stretch z − z_end = Δ sinh²t then removes both square-root branch points (module
+    docstring).  P1, P2 come from P at z_end + h and z_end + 2h, h = z_end/2; without a close
+    shadow root (P2 ≤ 0 or Δ ≥ H/2) the stretch degenerates to the plain square-root map, Δ = H/2.
+    """
+    h = 0.5 * np.minimum(z_end, 0.25 * H)
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        p1, p2 = P_at(h), P_at(2.0 * h)
+        P2 = (p2 - 2.0 * p1) / (2.0 * h * h)
+        P1 = (4.0 * p1 - p2) / (2.0 * h)
+        delta = P1 / P2
+    good = (h > 0.0) & (P2 > 0.0) & (P1 > 0.0) & np.isfinite(delta)
+    return np.where(good, np.clip(delta, z_end, 0.5 * H), 0.5 * H)
+
+
+def _half_integrals(xN, yN, xX, yX, E, QR, QJ, u0, upi, body: Body, n: int):
+    """Integrals over the half-oscillation θ_N → θ_X with 2 × n/2 Gauss–Legendre nodes.
+
+    The interval in c is split at its middle (x − x_N = y − y_X = H/2).  On the half next to
+    θ_X, y = y_X + Δ_X sinh²t; on the half next to θ_N, x = x_N + Δ_N sinh²t (Δ from
+    :func:`_end_scale`); both integrands are even in t, so each half is ½∫_{−t_m}^{t_m}.
+    Returns the integrals of dt/dv-free quantities (module docstring):
+    ∫ J, ∫ (V_φ J − residue part), ∫ (V_ψ J − residue part), a scale ∫(|·| + |·|), and whether
+    P > 0 at every node.
+    """
+    col = lambda a: a[:, None]  # noqa: E731
+    H = np.where(xX <= 1.0, xX - xN, np.where(xN >= 1.0, yN - yX, xX - xN))
+    E_, QR_, QJ_ = col(E), col(QR), col(QJ)
+    A = col(np.sign(u0) * 0.5 * np.sqrt(xN * xX))
+    B = col(np.sign(upi) * 0.5 * np.sqrt(yN * yX))
+    tg, wg = _gauss_legendre(n)
+    out = np.zeros((4, xN.size))
+    positive = np.ones(xN.size, dtype=bool)
+    for near_X in (True, False):
+        if near_X:
+            z_end = yX
+            P_at = lambda e: _P_xy(xX - e, yX + e, E, QR, QJ, body)  # noqa: E731
+        else:
+            z_end = xN
+            P_at = lambda e: _P_xy(xN + e, yN - e, E, QR, QJ, body)  # noqa: E731
+        delta = _end_scale(z_end, H, P_at)
+        t_m = np.arcsinh(np.sqrt(0.5 * H / delta))
+        t = col(t_m) * tg
+        w = col(t_m) * wg
+        sh = np.sinh(t)
+        e = col(delta) * sh * sh  # distance from this turning point, in x (or y)
+        if near_X:
+            x, y = col(xX) - e, col(yX) + e
+        else:
+            x, y = col(xN) + e, col(yN) - e
+        dc_dt = 2.0 * col(delta) * sh * np.cosh(t)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            P = _P_xy(x, y, E_, QR_, QJ_, body)
+            j = np.sqrt(D_coefficient(x, body) / P) * dc_dt  # dt/dθ-measure in t
+            m = dc_dt / np.sqrt(e * (col(H) - e))  # dv/dt
+            u = u_numerator(x, y, QR_, QJ_, body)
+            Rphi = u * j / (body.I1 * x * y) - (A / x + B / y) * m
+            c = np.where(x <= 1.0, 1.0 - x, y - 1.0)
+            f = np.where(x <= 1.0, (1.0 - body.a) - x, y - (1.0 + body.a))
+            omega3 = QR_ / _R(x * y, f, body)  # ω3' = ρ Q_R (paper eq. routh)
+            Rpsi = omega3 * j - c * Rphi + (A - B) * m
+        out[0] += (w * j).sum(1)
+        out[1] += (w * Rphi).sum(1)
+        out[2] += (w * Rpsi).sum(1)
+        out[3] += (w * (np.abs(Rphi) + np.abs(Rpsi))).sum(1)
+        positive &= np.all(P > 0.0, axis=1)
+    return out[0], out[1], out[2], out[3], positive
+
+
+def _precession_from_tp(tp: TurningPoints, body: Body, rtol: float, max_nodes: int) -> Precession:
+    shape = tp.E.shape
+    status = tp.status.copy().ravel()
+    flat = lambda a: np.asarray(a, float).ravel()  # noqa: E731
+    xN, yN, xX, yX, E, QR, QJ, u0, upi = map(flat, (tp.x_N, tp.y_N, tp.x_X, tp.y_X, tp.E, tp.QR, tp.QJ,
+                                                    tp.u0, tp.upi))
+    m = status.size
+    T = np.full(m, np.nan)
+    Iphi = np.full(m, np.nan)
+    Ipsi = np.full(m, np.nan)
+    nodes = np.zeros(m, dtype=np.int64)
+    active = np.flatnonzero(status == OK)
+    prev = None
+    n = _N_START
+    while active.size and n <= max_nodes:
+        args = (xN[active], yN[active], xX[active], yX[active], E[active], QR[active], QJ[active],
+                u0[active], upi[active])
+        cur = _half_integrals(*args, body, n)
+        if prev is None:
+            prev = cur
+            n *= 2
+            continue
+        positive = cur[4]
+        dT = np.abs(cur[0] - prev[0]) <= rtol * np.abs(cur[0])
+        dA = (np.abs(cur[1] - prev[1]) + np.abs(cur[2] - prev[2])) <= rtol * cur[3]
+        done = dT & dA & positive
+        idx = active[done]
+        T[idx], Iphi[idx], Ipsi[idx] = cur[0][done], cur[1][done], cur[2][done]
+        nodes[idx] = n
+        keep = ~done
+        active = active[keep]
+        prev = tuple(p[keep] for p in cur)
+        n *= 2
+    status[active] = UNRESOLVED
+    ok = status == OK
+    sg0, sgpi = np.sign(u0), np.sign(upi)
+    kphi = np.where(ok, sg0 + sgpi, 0.0)  # Δφ per T_θ = kphi π + 2 Iphi
+    kpsi = np.where(ok, sgpi - sg0, 0.0)
+    T_theta = np.where(ok, 2.0 * T, np.nan)
+    dphi = np.where(ok, kphi * np.pi + 2.0 * Iphi, np.nan)
+    dpsi = np.where(ok, kpsi * np.pi + 2.0 * Ipsi, np.nan)
+    # visible angles from the remainder, the integer multiple of π being reduced exactly
+    odd = np.remainder(kphi, 2.0)
+    vis = np.where(ok, wrap_angle(2.0 * Iphi + odd * np.pi), np.nan)
+    vis_half = np.where(ok, wrap_angle(2.0 * Iphi, np.pi), np.nan)
+    nanok = lambda a: np.where(ok, a, np.nan).reshape(shape)  # noqa: E731
+    r = lambda a: a.reshape(shape)  # noqa: E731
+    return Precession(
+        E=tp.E, QR=tp.QR, QJ=tp.QJ,
+        theta_N=nanok(theta_from_xy(xN, yN)), theta_X=nanok(theta_from_xy(xX, yX)),
+        T_theta=r(T_theta), tau=r(2.0 * T_theta),
+        delta_phi=r(dphi), delta_psi=r(dpsi), delta_phi_tau=r(2.0 * dphi), delta_psi_tau=r(2.0 * dpsi),
+        visible_phi=r(vis), visible_half_phi=r(vis_half), status=r(status), n_nodes=r(nodes),
+    )
+
+
+def precession(E: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: Body, *, rtol: float = 1e-12,
+               max_nodes: int = _N_MAX) -> Precession:
+    """T_θ, τ, Δφ, Δψ and the visible angles in double precision, vectorised over (E, Q_R, Q_J).
+
+    Paper §2.5 and eq. Delta_phi; method in the module docstring.  The node count of the
+    Gauss–Chebyshev rule is doubled from 16 until the change of every integral is at most
+    ``rtol`` relative (the returned, doubled rule is then accurate to round-off, ~1e-15).
+
+    Parameters
+    ----------
+    E, QR, QJ : array_like
+        Energy and invariants, broadcast together.
+    body : Body
+        Symmetric body.
+    rtol : float
+        Convergence tolerance on the change between n and 2n nodes, in (0, 1e-3].
+    max_nodes : int
+        Largest rule tried; points not converged get status UNRESOLVED.
+
+    Returns
+    -------
+    Precession
+        Points without motion (NO_MOTION), steady rolling (STEADY, double root) or not converged
+        (UNRESOLVED) carry that status and NaN in the numeric fields.
+
+    Raises
+    ------
+    ValueError
+        Asymmetric body, non-finite input, or rtol outside (0, 1e-3].
+    """
+    if not 0.0 < rtol <= 1e-3:
+        raise ValueError(f"rtol must lie in (0, 1e-3], got rtol={rtol!r}")
+    tp = solve_turning_points(E, QR, QJ, body)
+    return _precession_from_tp(tp, body, rtol, max_nodes)
+
+
+def precession_from_turning_point(theta0: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: Body, *,
+                                  rtol: float = 1e-12, max_nodes: int = _N_MAX) -> tuple[Precession, NDArray]:
+    """Precession for motions with a turning point at θ0 (θ̇ = 0 there) and given (Q_R, Q_J).
+
+    E = U(θ0) (reduction.state_from_turning_point); the root at θ0 is set to θ0 exactly.
+
+    Returns
+    -------
+    (Precession, is_upper)
+        ``is_upper`` is True where θ0 is the upper turning point θ_X, False where U'(θ0) < 0 makes
+        it the lower one θ_N.
+
+    Raises
+    ------
+    ValueError
+        θ0 outside (0, π), asymmetric body, rtol outside (0, 1e-3].
+    """
+    if not 0.0 < rtol <= 1e-3:
+        raise ValueError(f"rtol must lie in (0, 1e-3], got rtol={rtol!r}")
+    body.require_symmetric("the precession quadratures")
+    theta0 = np.asarray(theta0, float)
+    if not np.all(np.isfinite(theta0)) or np.any((theta0 <= 0.0) | (theta0 >= np.pi)):
+        raise ValueError(f"theta0 must lie in the open interval (0, pi), got theta0={theta0!r}")
+    theta0, QR, QJ = np.broadcast_arrays(theta0, np.asarray(QR, float), np.asarray(QJ, float))
+    x0, y0 = tilt_xy(theta0)
+    E = _U_xy(x0, y0, QR, QJ, body)
+    tp = solve_turning_points(E, QR, QJ, body)
+    upper = np.abs(np.log(tp.x_X / x0)) <= np.abs(np.log(tp.x_N / x0))
+    upper = np.where(tp.status == OK, upper, True)
+    ok = tp.status == OK
+    pin = lambda cond, a, b: np.where(ok & cond, a, b)  # noqa: E731
+    tp = TurningPoints(
+        E=tp.E, QR=tp.QR, QJ=tp.QJ,
+        x_N=pin(~upper, x0, tp.x_N), y_N=pin(~upper, y0, tp.y_N),
+        x_X=pin(upper, x0, tp.x_X), y_X=pin(upper, y0, tp.y_X),
+        U_min=tp.U_min, theta_min=tp.theta_min, u0=tp.u0, upi=tp.upi, status=tp.status,
+    )
+    return _precession_from_tp(tp, body, rtol, max_nodes), upper
+
+
+# ----------------------------------------------------------------------------- mpmath reference
+def _mp_body(body: Body) -> SimpleNamespace:
+    return SimpleNamespace(a=mpmath.mpf(body.a), I1=mpmath.mpf(body.I1), I3=mpmath.mpf(body.I3),
+                           g=mpmath.mpf(body.g))
+
+
+def _mp_terms(x, y, E, QR, QJ, mb):
+    """P, u and 1/ρ at (x, y) in mpmath, straight from the definitions (no cancellation tricks)."""
+    s2 = x * y
+    f = (1 - x) - mb.a
+    R = mpmath.sqrt(mb.I3 + s2 + (mb.I3 / mb.I1) * f * f)
+    u = QJ - mb.I3 * QR * f / R
+    P = reduced_P(s2, E - potential(x, mb), reduced_N(s2, f, R, u, QR, mb))
+    return P, u, R
+
+
+def _mp_root(z0: float, small_is_x: bool, E, QR, QJ, mb):
+    """Root of P in the end variable z (x or y), bracketed around the double estimate z0."""
+    def P_of(z):
+        x, y = (z, 2 - z) if small_is_x else (2 - z, z)
+        return _mp_terms(x, y, E, QR, QJ, mb)[0]
+
+    z0 = mpmath.mpf(z0)
+    if z0 < 1e-100 and P_of(mpmath.mpf(0)) == 0:  # Q_J exactly critical here: the turning point is the end
+        return mpmath.mpf(0)
+    for rel in (1e-9, 1e-6, 1e-3, 1e-1, 0.5, 1.0):
+        lo, hi = z0 * (1 - mpmath.mpf(rel)), min(z0 * (1 + mpmath.mpf(rel)), mpmath.mpf(2))
+        if P_of(lo) * P_of(hi) < 0:
+            break
+    else:
+        raise ValueError(f"mpmath backend: could not bracket a turning point near {z0} (in "
+                         f"{'x = 1 - cos theta' if small_is_x else 'y = 1 + cos theta'})")
+    z = mpmath.findroot(P_of, (lo, hi), solver="anderson")
+    return z
+
+
+def precession_mp(E: Any, QR: Any, QJ: Any, body: Body, dps: int = 40, *, theta0: float | None = None) -> Precession:
+    """Reference values of :class:`Precession` with mpmath at ``dps`` significant digits.
+
+    Scalar.  The turning points are found with ``mpmath.findroot`` on P (reduction) at
+    2·dps + 60 digits; the integrals over v (module docstring) are done by tanh-sinh
+    (``mpmath.quad``) on [0, π/2] and [π/2, π] separately, each from its own end, with extra
+    subdivision points at the scale √(x_N/H) of a near passage through θ = 0 (π); the poles of
+    V_φ are NOT subtracted here, so this is an independent check of the double backend.
+
+    Parameters
+    ----------
+    E, QR, QJ : float, str or mpf
+        Converted exactly (floats) to mpf.  If ``theta0`` is given, E is ignored and computed as
+        U(θ0) at working precision, and the root at θ0 is θ0 itself.
+    dps : int
+        Decimal digits of the result, 15 ≤ dps ≤ 1000.
+
+    Raises
+    ------
+    ValueError
+        dps out of range, no motion, steady rolling, asymmetric body, θ0 outside (0, π).
+    """
+    body.require_symmetric("the precession quadratures")
+    if not 15 <= int(dps) <= 1000:
+        raise ValueError(f"dps must be an integer in [15, 1000], got dps={dps!r}")
+    dps = int(dps)
+    work = 2 * (dps + 15) + 30
+    with mpmath.workdps(work):
+        mb = _mp_body(body)
+        QRm, QJm = mpmath.mpf(QR), mpmath.mpf(QJ)
+        if theta0 is not None:
+            theta0 = float(theta0)
+            if not 0.0 < theta0 < np.pi:
+                raise ValueError(f"theta0 must lie in the open interval (0, pi), got theta0={theta0!r}")
+            x0 = 2 * mpmath.sin(mpmath.mpf(theta0) / 2) ** 2
+            y0 = 2 * mpmath.cos(mpmath.mpf(theta0) / 2) ** 2
+            P0, u0_, R0 = _mp_terms(x0, y0, 0, QRm, QJm, mb)
+            Em = -P0 / (2 * x0 * y0)  # U(θ0) = E at which P(θ0) = 0
+            E_double = float(Em)
+        else:
+            Em = mpmath.mpf(E)
+            E_double = float(E)
+        # double-precision estimates to bracket the roots
+        tp = solve_turning_points(E_double, float(QR), float(QJ), body)
+        if int(tp.status) == NO_MOTION:
+            raise ValueError(f"no motion: F(theta) < 0 on all of (0, pi) for E={E!r}, QR={QR!r}, QJ={QJ!r}")
+        if int(tp.status) == STEADY:
+            raise ValueError(f"steady circular rolling (double root) for E={E!r}, QR={QR!r}, QJ={QJ!r}; "
+                             "not integrated")
+        roots = []
+        for xr, yr in ((float(tp.x_N), float(tp.y_N)), (float(tp.x_X), float(tp.y_X))):
+            small_is_x = xr <= yr
+            if theta0 is not None and abs(np.log(xr / (2 * np.sin(theta0 / 2) ** 2))) < 1e-6:
+                roots.append((x0, y0))
+                continue
+            z = _mp_root(xr if small_is_x else yr, small_is_x, Em, QRm, QJm, mb)
+            roots.append((z, 2 - z) if small_is_x else (2 - z, z))
+        (xN, yN), (xX, yX) = roots
+        H = xX - xN
+
+        cache: dict = {}
+
+        def core(t, second: bool):
+            key = (t, second)
+            if key not in cache:
+                with mpmath.workdps(work):
+                    cache[key] = core_work(t, second)
+            return cache[key]
+
+        def core_work(t, second: bool):
+            sh2, ch2 = mpmath.sin(t / 2) ** 2, mpmath.cos(t / 2) ** 2
+            S, C = (ch2, sh2) if second else (sh2, ch2)
+            x, y = xN + H * S, yX + H * C
+            P, u, R = _mp_terms(x, y, Em, QRm, QJm, mb)
+            if P <= 0:  # node within round-off of a turning point (tanh-sinh weight < 10^-(dps+15))
+                return mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)
+            J = H * mpmath.sqrt(S * C) * mpmath.sqrt(D_coefficient(x, mb) / P)
+            vphi = u / (mb.I1 * x * y)  # V_φ = u/(I1 s²) (paper eq. phidotCJQR)
+            return J, vphi * J, (QRm / R - (1 - x) * vphi) * J  # V_ψ = ρ Q_R − c V_φ
+
+        def integrate(k: int) -> Any:
+            total = mpmath.mpf(0)
+            for second, end_small in ((False, xN), (True, yX)):
+                width = mpmath.sqrt(end_small / H) if end_small > 0 else mpmath.mpf(0)
+                pts = [mpmath.mpf(0)]
+                w = 2 * width
+                while 0 < w < mpmath.pi / 4:
+                    pts.append(w)
+                    w *= 16
+                pts.append(mpmath.pi / 2)
+                with mpmath.workdps(dps + 15):
+                    f = lambda t: core(+t, second)[k]  # noqa: E731
+                    total += mpmath.quad(f, pts, method="tanh-sinh")
+            return total
+
+        T_half, phi_half, psi_half = integrate(0), integrate(1), integrate(2)
+        T_theta = 2 * T_half
+        dphi, dpsi = 2 * phi_half, 2 * psi_half
+        twopi = 2 * mpmath.pi
+
+        def wrap(a, period):
+            return period / 2 - mpmath.fmod(mpmath.fmod(period / 2 - a, period) + period, period)
+
+        with mpmath.workdps(dps):
+            rnd = lambda a: +a  # noqa: E731
+            return Precession(
+                E=rnd(Em), QR=QRm, QJ=QJm,
+                theta_N=rnd(2 * mpmath.atan2(mpmath.sqrt(xN), mpmath.sqrt(yN))),
+                theta_X=rnd(2 * mpmath.atan2(mpmath.sqrt(xX), mpmath.sqrt(yX))),
+                T_theta=rnd(T_theta), tau=rnd(2 * T_theta),
+                delta_phi=rnd(dphi), delta_psi=rnd(dpsi), delta_phi_tau=rnd(2 * dphi), delta_psi_tau=rnd(2 * dpsi),
+                visible_phi=rnd(wrap(dphi, twopi)), visible_half_phi=rnd(wrap(dphi, twopi / 2)),
+                status=OK, n_nodes=0,
+            )

@@ -1,0 +1,470 @@
+"""Reduction of Routh's sphere (I1 = I2) to one degree of freedom: θ̇² = F(θ).
+
+Paper §2.4 (eq. thetadotsq).  With ω1' = θ̇, Routh's quantity gives ω3' = ρ Q_R
+(eq. routh) and Jellett's quantity gives s ω2' = u/I1 with
+
+    u(θ) = Q_J − I3 f ρ Q_R = I1 s² V_φ                      (eqs. jellett, phidotCJQR).
+
+In the intermediate frame r = (0, s, f) and v = ω × r = (f ω2' − s ω3', −f θ̇, s θ̇),
+so the energy (eq. energy) splits without cross terms,
+
+    E = ½ D(θ) θ̇² + U(θ),   D = I1 + s² + f² = I1 + (1 − a)² + 2a(1 − c),
+    U = g a (1 − c) + N/(2 s²),
+    N = (f u/I1 − s² ρ Q_R)² + u²/I1 + I3 s² ρ² Q_R²        (= 2 s² T at θ̇ = 0),
+
+and F = 2(E − U)/D = P/(s² D) with P = 2 s² (E − g a (1 − c)) − N regular on [0, π].
+
+Precision.  Everything is written in x = 1 − c = 2 sin²(θ/2) and y = 1 + c = 2 cos²(θ/2)
+(x + y = 2, s² = x y), each of which keeps full relative precision at its own end,
+and u is evaluated near θ = 0 (θ = π) as u₀ + I3 Q_R (f₀ρ₀ − fρ) (u_π + ...) with the
+difference written without cancellation.  Turning points are searched in
+w = log(x/y) = log tan²(θ/2), which resolves θ_N down to ~1e-60 and π − θ_X down to ~1e-60.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from analysis.body import Body
+from analysis.invariants import _rho_inv_from_cs, invariants, V_phi, V_psi
+from analysis.kinematics import omega_from_rates, vertical_in_body
+
+__all__ = [
+    "OK",
+    "NO_MOTION",
+    "STEADY",
+    "STATUS_TEXT",
+    "NoMotionError",
+    "SteadyRollingError",
+    "TurningPoints",
+    "TurningPointState",
+    "tilt_xy",
+    "theta_from_xy",
+    "u_numerator",
+    "reduced_N",
+    "reduced_P",
+    "potential",
+    "u_ends",
+    "D_coefficient",
+    "effective_potential",
+    "F",
+    "solve_turning_points",
+    "turning_points",
+    "invariants_from_euler",
+    "state_from_turning_point",
+]
+
+#: Status codes of :func:`solve_turning_points` (and of the quadratures built on it).
+OK, NO_MOTION, STEADY = 0, 1, 2
+STATUS_TEXT = {
+    OK: "ok",
+    NO_MOTION: "no_motion: E < min U(theta), F(theta) < 0 on all of (0, pi)",
+    STEADY: "steady_rolling: double root theta_N = theta_X (E = min U), not integrated",
+}
+
+#: Search range of w = log tan²(θ/2): θ ≳ 2 e^{-150} and π − θ ≳ 2 e^{-150}.
+_W_MAX = 300.0
+_GOLDEN_ITER = 90
+_BISECT_ITER = 72
+#: A double root is declared when E − min U ≤ _STEADY_RTOL · min U (U ≥ 0 is a sum of positive terms).
+_STEADY_RTOL = 64 * np.finfo(float).eps
+
+
+class NoMotionError(ValueError):
+    """(E, Q_R, Q_J) admits no motion: E < U(θ) (F(θ) < 0) for every θ in (0, π)."""
+
+
+class SteadyRollingError(ValueError):
+    """(E, Q_R, Q_J) is steady circular rolling (double root θ_N = θ_X); ``theta`` holds that tilt."""
+
+    def __init__(self, message: str, theta: NDArray[np.float64]):
+        super().__init__(message)
+        self.theta = theta
+
+
+# ----------------------------------------------------------------------------- precise variables
+def tilt_xy(theta: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """x = 1 − cos θ = 2 sin²(θ/2) and y = 1 + cos θ = 2 cos²(θ/2), each exact to round-off.
+
+    Raises
+    ------
+    ValueError
+        If some θ is non-finite or outside [0, π].
+    """
+    theta = np.asarray(theta, float)
+    if not np.all(np.isfinite(theta)) or np.any((theta < 0.0) | (theta > np.pi)):
+        raise ValueError(f"theta must be finite and in [0, pi], got {theta!r}")
+    return 2.0 * np.sin(0.5 * theta) ** 2, 2.0 * np.cos(0.5 * theta) ** 2
+
+
+def theta_from_xy(x: ArrayLike, y: ArrayLike) -> NDArray[np.float64]:
+    """θ = 2 atan(√(x/y)) in [0, π] (relative precision of x kept near θ = 0)."""
+    return 2.0 * np.arctan2(np.sqrt(x), np.sqrt(y))
+
+
+def _f(x, y, body: Body):
+    """f = c − a, from whichever of x, y is exact at its end."""
+    return np.where(x <= 1.0, (1.0 - body.a) - x, y - (1.0 + body.a))
+
+
+def _R(s2, f, body: Body):
+    """1/ρ = √(I3 + s² + (I3/I1) f²) (paper eq. measure; formula owned by analysis.invariants)."""
+    return _rho_inv_from_cs(body, s2, f)
+
+
+def _u_direct(f, R, QR, QJ, body: Body):
+    """u = Q_J − I3 f ρ Q_R = I1 s² V_φ (numerator of paper eq. phidotCJQR); generic arithmetic."""
+    return QJ - body.I3 * QR * f / R
+
+
+def u_numerator(x: ArrayLike, y: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]:
+    """u = Q_J − I3 f ρ Q_R without cancellation near θ = 0 and θ = π.
+
+    Near θ = 0 (x ≤ 1, f > 0): u = u₀ + I3 Q_R (f₀ρ₀ − fρ) with f₀ = 1 − a and
+    f₀ρ₀ − fρ = x [I3 (f₀ + f) + f₀² y] / [R R₀ (f₀ R + f R₀)], R = 1/ρ.
+    Near θ = π (y ≤ 1, f < 0) the same with f_π = −(1 + a) and y in place of x (sign flipped).
+    Elsewhere u is evaluated directly.  u₀ and u_π are the numerators at θ = 0 and π, whose signs
+    are those of Q_J − Q_J,0^crit and Q_J − Q_J,π^crit (paper eqs. QJcrit_0, QJcrit_pi).
+    """
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    QR, QJ = np.asarray(QR, float), np.asarray(QJ, float)
+    s2 = x * y
+    f = _f(x, y, body)
+    R = _R(s2, f, body)
+    out = _u_direct(f, R, QR, QJ, body)
+    for end_f, small, near in ((1.0 - body.a, x, (x <= 1.0) & (f > 0.0)),
+                               (-(1.0 + body.a), y, (y <= 1.0) & (f < 0.0))):
+        R_end = _R(0.0, end_f, body)
+        u_end = _u_direct(end_f, R_end, QR, QJ, body)
+        # end_f² R² − f² R_end² = I3 (end_f² − f²) + end_f² s², with end_f² − f² = ±small (end_f + f)
+        sign = 1.0 if end_f > 0 else -1.0
+        num = small * (sign * body.I3 * (end_f + f) + end_f * end_f * (2.0 - small))
+        diff = num / (R * R_end * (end_f * R + f * R_end))  # end_f ρ_end − f ρ
+        out = np.where(near, u_end + body.I3 * QR * diff, out)
+    return out
+
+
+def u_ends(QR: ArrayLike, QJ: ArrayLike, body: Body) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """(u₀, u_π) = (Q_J − Q_J,0^crit, Q_J − Q_J,π^crit): the numerator u at θ = 0 and θ = π."""
+    QR, QJ = np.asarray(QR, float), np.asarray(QJ, float)
+    f0, fpi = 1.0 - body.a, -(1.0 + body.a)
+    return (_u_direct(f0, _R(0.0, f0, body), QR, QJ, body),
+            _u_direct(fpi, _R(0.0, fpi, body), QR, QJ, body))
+
+
+def reduced_N(s2: Any, f: Any, R: Any, u: Any, QR: Any, body: Body) -> Any:
+    """N = 2 s² T(θ̇ = 0) = (f u/I1 − s² Q_R/R)² + u²/I1 + I3 s² Q_R²/R² (generic arithmetic).
+
+    From v = ω × r in the intermediate frame with s ω2' = u/I1 and ω3' = ρ Q_R (module docstring).
+    Works on numpy arrays, mpmath numbers and sympy expressions.
+    """
+    a1 = f * u / body.I1 - s2 * QR / R
+    return a1 * a1 + u * u / body.I1 + body.I3 * s2 * QR * QR / (R * R)
+
+
+def potential(x: Any, body: Body) -> Any:
+    """V = g a (1 − cos θ) = g a x (paper §2.4); generic arithmetic."""
+    return body.g * body.a * x
+
+
+def reduced_P(s2: Any, K: Any, N: Any) -> Any:
+    """P = s² D F = 2 s² K − N with K = E − V, regular on [0, π]; its roots are the turning points."""
+    return 2 * s2 * K - N
+
+
+def D_coefficient(x: Any, body: Body) -> Any:
+    """D = I1 + s² + f² = I1 + (1 − a)² + 2 a x, the coefficient of θ̇²/2 in the energy."""
+    return body.I1 + (1 - body.a) ** 2 + 2 * body.a * x
+
+
+def _N_xy(x, y, QR, QJ, body: Body):
+    s2 = x * y
+    f = _f(x, y, body)
+    R = _R(s2, f, body)
+    return reduced_N(s2, f, R, u_numerator(x, y, QR, QJ, body), QR, body)
+
+
+def _U_xy(x, y, QR, QJ, body: Body):
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return potential(x, body) + _N_xy(x, y, QR, QJ, body) / (2.0 * x * y)
+
+
+def _two_ga(body: Body) -> tuple[float, float]:
+    """2 g a as an unevaluated sum hi + lo of doubles (exact to ~1e-32 relative)."""
+    exact = 2 * Fraction(body.g) * Fraction(body.a)
+    hi = float(exact)
+    return hi, float(exact - Fraction(hi))
+
+
+def _kinetic(x, y, E, body: Body):
+    """E − V = E − g a x; near θ = π as ((E − 2ga)_hi − lo) + g a y, so that the small kinetic
+    energy at a turning point close to π keeps its relative precision."""
+    hi, lo = _two_ga(body)
+    return np.where(x <= y, E - potential(x, body), ((E - hi) - lo) + potential(y, body))
+
+
+def _P_xy(x, y, E, QR, QJ, body: Body):
+    """P = 2 s² (E − V) − N (= reduced_P, with E − V evaluated by _kinetic)."""
+    return reduced_P(x * y, _kinetic(x, y, E, body), _N_xy(x, y, QR, QJ, body))
+
+
+def _xy_from_w(w):
+    """x = 2/(1 + e^{−w}), y = 2/(1 + e^{w}) for w = log(x/y)."""
+    return 2.0 / (1.0 + np.exp(-w)), 2.0 / (1.0 + np.exp(w))
+
+
+# ----------------------------------------------------------------------------- public reduction
+def effective_potential(theta: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]:
+    """U(θ; Q_R, Q_J) = E at θ̇ = 0, so that E = ½ D θ̇² + U (module docstring). Vectorised.
+
+    Raises
+    ------
+    ValueError
+        If the body is not symmetric or θ is outside (0, π).
+    """
+    body.require_symmetric("the effective potential U(theta) of the reduction theta_dot^2 = F(theta)")
+    x, y = tilt_xy(theta)
+    _require_open(x, y, "theta")
+    return _U_xy(x, y, QR, QJ, body)
+
+
+def F(theta: ArrayLike, E: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]:
+    """F(θ; E, Q_R, Q_J) with θ̇² = F(θ) (paper eq. thetadotsq), explicit and vectorised.
+
+    F = P/(s² D) with P = 2 s² (E − g a (1 − c)) − N and D = I1 + s² + f²; see the module
+    docstring for N.  F has poles at θ = 0 and π (unless Q_J is critical there); s² F is regular.
+
+    Parameters
+    ----------
+    theta : array_like
+        Tilt angle(s) in (0, π).
+    E, QR, QJ : array_like
+        Energy, Routh's and Jellett's quantities (paper eqs. energy, routh, jellett); broadcast.
+    body : Body
+        A symmetric body (I1 == I2).
+
+    Raises
+    ------
+    ValueError
+        If the body is asymmetric or θ is outside (0, π).
+    """
+    body.require_symmetric("F(theta) of the reduction theta_dot^2 = F(theta) (paper eq. thetadotsq)")
+    x, y = tilt_xy(theta)
+    _require_open(x, y, "theta")
+    return _P_xy(x, y, E, QR, QJ, body) / (x * y * D_coefficient(x, body))
+
+
+def _require_open(x, y, name: str) -> None:
+    if np.any((x <= 0.0) | (y <= 0.0)):
+        raise ValueError(f"{name} must lie in the open interval (0, pi) (sin(theta) = 0 is a pole of F)")
+
+
+@dataclass(frozen=True)
+class TurningPoints:
+    """Turning points of θ̇² = F(θ), vectorised, never raising.
+
+    ``x_* = 1 − cos θ_*`` and ``y_* = 1 + cos θ_*`` carry the full relative precision at the ends;
+    ``status`` is OK, NO_MOTION or STEADY (see STATUS_TEXT); non-OK entries hold NaN in the
+    root fields (callers turn them into empty cells, never print them).  ``u0``, ``upi``
+    are the numerators of V_φ at θ = 0 and π.
+    """
+
+    E: NDArray[np.float64]
+    QR: NDArray[np.float64]
+    QJ: NDArray[np.float64]
+    x_N: NDArray[np.float64]
+    y_N: NDArray[np.float64]
+    x_X: NDArray[np.float64]
+    y_X: NDArray[np.float64]
+    U_min: NDArray[np.float64]
+    theta_min: NDArray[np.float64]
+    u0: NDArray[np.float64]
+    upi: NDArray[np.float64]
+    status: NDArray[np.int64]
+
+    @property
+    def theta_N(self) -> NDArray[np.float64]:
+        return theta_from_xy(self.x_N, self.y_N)
+
+    @property
+    def theta_X(self) -> NDArray[np.float64]:
+        return theta_from_xy(self.x_X, self.y_X)
+
+
+def _minimize_U(QR, QJ, body: Body):
+    """Golden-section search of U over w = log tan²(θ/2) ∈ [−_W_MAX, _W_MAX] (U is unimodal)."""
+    shape = np.broadcast(QR, QJ).shape
+    lo, hi = np.full(shape, -_W_MAX), np.full(shape, _W_MAX)
+    r = (np.sqrt(5.0) - 1.0) / 2.0
+    w1, w2 = hi - r * (hi - lo), lo + r * (hi - lo)
+    U1, U2 = _U_xy(*_xy_from_w(w1), QR, QJ, body), _U_xy(*_xy_from_w(w2), QR, QJ, body)
+    for _ in range(_GOLDEN_ITER):
+        left = U1 <= U2  # minimum in [lo, w2]
+        hi = np.where(left, w2, hi)
+        lo = np.where(left, lo, w1)
+        new_w1 = np.where(left, hi - r * (hi - lo), w2)
+        new_w2 = np.where(left, w1, lo + r * (hi - lo))
+        w_eval = np.where(left, new_w1, new_w2)
+        U_eval = _U_xy(*_xy_from_w(w_eval), QR, QJ, body)
+        U1, U2 = np.where(left, U_eval, U2), np.where(left, U1, U_eval)
+        w1, w2 = new_w1, new_w2
+    w = 0.5 * (lo + hi)
+    return w, _U_xy(*_xy_from_w(w), QR, QJ, body)
+
+
+def _bisect_root(lo, hi, E, QR, QJ, body: Body, rising: bool):
+    """Root of P in w between lo and hi (P(lo) < 0 < P(hi) if rising), then one regula-falsi step
+    in the exact small variable (x if the root has x ≤ 1, else y)."""
+    for _ in range(_BISECT_ITER):
+        mid = 0.5 * (lo + hi)
+        Pm = _P_xy(*_xy_from_w(mid), E, QR, QJ, body)
+        pos = Pm > 0.0
+        if rising:
+            hi, lo = np.where(pos, mid, hi), np.where(pos, lo, mid)
+        else:
+            lo, hi = np.where(pos, mid, lo), np.where(pos, hi, mid)
+    xl, yl = _xy_from_w(lo)
+    xh, yh = _xy_from_w(hi)
+    Pl, Ph = _P_xy(xl, yl, E, QR, QJ, body), _P_xy(xh, yh, E, QR, QJ, body)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(Pl != Ph, Pl / (Pl - Ph), 0.5)
+    t = np.clip(np.nan_to_num(t, nan=0.5), 0.0, 1.0)
+    use_x = xl + xh <= 2.0
+    x = np.where(use_x, xl + t * (xh - xl), 2.0 - (yl + t * (yh - yl)))
+    y = np.where(use_x, 2.0 - x, yl + t * (yh - yl))
+    return x, y
+
+
+def solve_turning_points(E: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: Body) -> TurningPoints:
+    """Turning points θ_N ≤ θ_X of θ̇² = F(θ), vectorised; never raises for physical reasons.
+
+    U(θ) (module docstring) is unimodal on (0, π), so the allowed set {E ≥ U} is one interval.
+    Its minimum is found by golden section in w = log tan²(θ/2), the two roots of P by bisection
+    in w and a final regula-falsi step in the exact end variable x or y.  Reaches θ_N ~ 1e-60
+    and π − θ_X ~ 1e-60.
+
+    Returns
+    -------
+    TurningPoints
+        ``status`` = NO_MOTION where E < min U − tol, STEADY (double root, steady circular
+        rolling, paper §2.3 "Pure Rolling") where |E − min U| ≤ tol with
+        tol = 64 ε min U; root fields are NaN there.
+
+    Raises
+    ------
+    ValueError
+        Asymmetric body, or non-finite input.
+    """
+    body.require_symmetric("the turning points of theta_dot^2 = F(theta)")
+    E, QR, QJ = np.broadcast_arrays(*(np.asarray(v, float) for v in (E, QR, QJ)))
+    for name, v in (("E", E), ("QR", QR), ("QJ", QJ)):
+        if not np.all(np.isfinite(v)):
+            raise ValueError(f"{name} must be finite, got {v!r}")
+    w_min, U_min = _minimize_U(QR, QJ, body)
+    u0, upi = u_ends(QR, QJ, body)
+    tol = _STEADY_RTOL * np.abs(U_min)
+    status = np.where(E < U_min - tol, NO_MOTION, np.where(E <= U_min + tol, STEADY, OK)).astype(np.int64)
+    ok = status == OK
+    # a root may sit beyond the search range only if u0 (u_pi) is ~0: then it is at the end itself
+    lo = np.full(E.shape, -_W_MAX)
+    hi = np.full(E.shape, _W_MAX)
+    xN, yN = _bisect_root(lo, np.where(ok, w_min, 0.0), E, QR, QJ, body, rising=True)
+    xX, yX = _bisect_root(np.where(ok, w_min, 0.0), hi, E, QR, QJ, body, rising=False)
+    nan = np.full(E.shape, np.nan)
+    return TurningPoints(
+        E=E, QR=QR, QJ=QJ,
+        x_N=np.where(ok, xN, nan), y_N=np.where(ok, yN, nan),
+        x_X=np.where(ok, xX, nan), y_X=np.where(ok, yX, nan),
+        U_min=U_min, theta_min=theta_from_xy(*_xy_from_w(w_min)), u0=u0, upi=upi, status=status,
+    )
+
+
+def turning_points(E: ArrayLike, QR: ArrayLike, QJ: ArrayLike,
+                   body: Body) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """(θ_N, θ_X), the roots of F in (0, π) (paper §2.5), vectorised.
+
+    Robust near both ends (θ_N down to 1e-10 and far below, θ_X up to π − 1e-8 and beyond).
+    See :func:`solve_turning_points` for the non-raising form with the exact end variables.
+
+    Raises
+    ------
+    NoMotionError (a ValueError)
+        If for some point F < 0 on all of (0, π) (E below the minimum of U).
+    SteadyRollingError (a ValueError)
+        If some point is a double root θ_N = θ_X (steady circular rolling): it is reported, never
+        integrated; the exception's ``theta`` attribute holds the steady tilt (NaN elsewhere).
+    ValueError
+        Asymmetric body or non-finite input.
+    """
+    tp = solve_turning_points(E, QR, QJ, body)
+    if np.any(tp.status == NO_MOTION):
+        i = np.flatnonzero(tp.status == NO_MOTION)[0]
+        raise NoMotionError(
+            f"no motion: F(theta) < 0 on all of (0, pi) for E={tp.E.flat[i]!r}, QR={tp.QR.flat[i]!r}, "
+            f"QJ={tp.QJ.flat[i]!r}; E must be >= min U = {tp.U_min.flat[i]!r}")
+    if np.any(tp.status == STEADY):
+        i = np.flatnonzero(tp.status == STEADY)[0]
+        raise SteadyRollingError(
+            f"double root: E={tp.E.flat[i]!r} equals min U to round-off for QR={tp.QR.flat[i]!r}, "
+            f"QJ={tp.QJ.flat[i]!r}; this is steady circular rolling at theta={tp.theta_min.flat[i]!r}, "
+            "not a rocking motion", np.where(tp.status == STEADY, tp.theta_min, np.nan))
+    return tp.theta_N, tp.theta_X
+
+
+# ----------------------------------------------------------------------------- conversions
+def invariants_from_euler(body: Body, theta: ArrayLike, theta_dot: ArrayLike, phi_dot: ArrayLike,
+                          psi_dot: ArrayLike, psi: ArrayLike = 0.0) -> tuple[NDArray, NDArray, NDArray]:
+    """(E, Q_R, Q_J) of an Euler-angle state (paper eqs. energy, routh, jellett).
+
+    Valid for any body (the paper's definitions); ψ matters only if I1 ≠ I2.
+
+    Raises
+    ------
+    ValueError
+        If θ is outside [0, π] or a rate is non-finite.
+    """
+    tilt_xy(theta)  # validates θ
+    for name, v in (("theta_dot", theta_dot), ("phi_dot", phi_dot), ("psi_dot", psi_dot), ("psi", psi)):
+        if not np.all(np.isfinite(np.asarray(v, float))):
+            raise ValueError(f"{name} must be finite, got {v!r}")
+    gamma = vertical_in_body(theta, psi)
+    omega = omega_from_rates(theta, psi, theta_dot, phi_dot, psi_dot)
+    return invariants(body, gamma, omega)
+
+
+@dataclass(frozen=True)
+class TurningPointState:
+    """A state at a turning point θ0 (θ̇ = 0) with given (Q_R, Q_J), and its energy."""
+
+    theta: NDArray[np.float64]
+    E: NDArray[np.float64]
+    theta_dot: NDArray[np.float64]
+    phi_dot: NDArray[np.float64]
+    psi_dot: NDArray[np.float64]
+
+
+def state_from_turning_point(body: Body, theta0: ArrayLike, QR: ArrayLike, QJ: ArrayLike) -> TurningPointState:
+    """E and the rates (θ̇ = 0, φ̇ = V_φ(θ0), ψ̇ = V_ψ(θ0)) of the state at the turning point θ0.
+
+    E = U(θ0; Q_R, Q_J) (paper eqs. phidotCJQR, psidotCJQR, energy).  Whether θ0 is the upper
+    or the lower turning point follows from the sign of U'(θ0); see quadrature.
+
+    Raises
+    ------
+    ValueError
+        If θ0 is outside the open interval (0, π), or the body is asymmetric.
+    """
+    body.require_symmetric("a turning-point state of Routh's sphere")
+    theta0 = np.asarray(theta0, float)
+    if not np.all(np.isfinite(theta0)) or np.any((theta0 <= 0.0) | (theta0 >= np.pi)):
+        raise ValueError(f"theta0 must lie in the open interval (0, pi), got theta0={theta0!r}")
+    x, y = tilt_xy(theta0)
+    E = _U_xy(x, y, QR, QJ, body)
+    zero = np.zeros(np.broadcast(theta0, QR, QJ).shape)
+    return TurningPointState(theta=theta0 + zero, E=E, theta_dot=zero,
+                             phi_dot=V_phi(theta0, QJ, QR, body) + zero, psi_dot=V_psi(theta0, QJ, QR, body) + zero)
