@@ -1,0 +1,799 @@
+"""First-order ε-averaging of the slow (Q_R, Q_J) dynamics of the asymmetric rock'n'roller.
+
+The motion is sampled at successive maxima of θ.  The slow variables are Q = (Q_R, Q_J)
+(paper eq. JelletandRouth_Qtys) and the phase Θ = 2ψ mod 2π (ψ itself jumps by about ±π at each
+passage near θ = 0; 2ψ does not).  The energy E is exact and fixed by the start: the tables
+belong to (body, θ0) with E = U(θ0; 0, 0), the energy of the body released from rest at θ0.
+
+One step (maximum n → maximum n+1), to first order in ε = (I2 − I1)/I1 at fixed Q_n:
+
+    Q_{n+1} = Q_n + ε ΔQ(Q_n, Θ_n),     Θ_{n+1} = Θ_n + W(Q_n) + ε ΔΘ(Q_n, Θ_n),
+    t_{n+1} = t_n + T_θ(Q_n) + ε Δt(Q_n, Θ_n),   φ_{n+1} = φ_n + Δφ(Q_n) + ε Δφ₁(Q_n, Θ_n),
+
+with T_θ, W = 2(Δψ − π) and Δφ from the symmetric quadratures (``analysis.quadrature``) and the
+first-order terms from the symmetric orbit integrated together with its first-order variational
+equations in ε (heyoka, on ``numerics.equations.body_frame_rhs`` with I2 = (1 + ε) I1):
+
+    ż = (∂f/∂y) z + ∂f/∂ε,   z(0) = ∂y₀/∂ε,
+
+where z(0) is the shift of the starting maximum θ_X at fixed (E, Q, ψ) (the kinetic energy depends
+on I2), and the shift of the event time (the next zero of dγ3/dt) is included:
+dy_{n+1}/dε = z + f dt₁/dε,  dt₁/dε = −∇h·z / ∇h·f,  h = dγ3/dt.
+
+By the rotational symmetry of Routh's sphere, the first-order response contains only the
+harmonics 0 and 2 of ψ_n (0 and 1 of Θ_n): three orbits per Q (ψ_n = 0, π/3, 2π/3) determine it.
+
+Reversible form.  The exact map is reversible under (Q, Θ) → (−Q, Θ) (time reversal).  The same
+first-order data are written as drift–kick–drift: a half twist Θ += W(Q)/2, a kick
+(Q, Θ) += ε k((x + x')/2) by the implicit midpoint rule, and a half twist W(Q')/2, with
+
+    k_Q(Q, Θ') = ΔQ(Q, Θ' − W/2),   k_Θ(Q, Θ') = ΔΘ(Q, Θ' − W/2) − ½ ∇W·k_Q(Q, Θ'),
+
+k_Q even and k_Θ odd in Q (enforced on the symmetric grid).  The ε ΔΘ term is kept: it is the phase
+change of the part of the kick received before the passage near θ = 0, multiplied by the large ∂W/∂Q.
+
+Tables.  The coefficient functions are tabulated once per (body, θ0) on a Chebyshev grid in the
+frame (u, v) of the kick direction at Q = 0 (the slow orbit lies close to the line v = 0) and cached
+on disk (``numerics.integrate.cache_dir()/averaging``); they depend on neither ε nor ψ0.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import os
+import tempfile
+import warnings
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from analysis.body import Body
+from analysis.kinematics import angles_from_frame
+from analysis.invariants import energy, jellett, routh
+from analysis.quadrature import precession, wrap_angle
+from analysis.reduction import effective_potential, state_from_turning_point, turning_points
+from analysis.slow_diagnostics import slow_period, span
+from numerics.equations import body_frame_rhs, state_from_euler, turning_point_function
+
+__all__ = [
+    "HARMONIC_PSI",
+    "FIRST_ORDER_NAMES",
+    "AveragingRangeError",
+    "AveragingValidityWarning",
+    "rest_energy",
+    "directional_derivative",
+    "eps_derivative_rhs",
+    "FirstOrderStep",
+    "first_order_step",
+    "StepCoefficients",
+    "step_coefficients",
+    "TABLE_FUNCTIONS",
+    "SlowMapTable",
+    "build_table",
+    "load_or_build_table",
+    "SlowSeries",
+    "iterate_slow_map",
+    "SlowPrediction",
+    "predict_slow_motion",
+    "line_slope",
+]
+
+#: Spin angles ψ_n of the three orbits that determine the harmonics 0 and 2 of ψ_n.
+HARMONIC_PSI = (0.0, math.pi / 3.0, 2.0 * math.pi / 3.0)
+#: First-order responses per step: ε-derivatives of Q_R, Q_J, Θ = 2ψ, the event time and φ.
+FIRST_ORDER_NAMES = ("QR", "QJ", "Theta", "t", "phi")
+#: Bump when the table construction changes (part of the cache key).
+_TABLE_VERSION = "1"
+_INTEGRATOR: dict[str, Any] = {}
+_TABLES: dict[str, "SlowMapTable"] = {}
+
+
+class AveragingRangeError(ValueError):
+    """The slow orbit leaves the region where the averaging tables were built."""
+
+
+class AveragingValidityWarning(UserWarning):
+    """The prediction is outside the regime where the first-order theory is expected to hold."""
+
+
+# ----------------------------------------------------------------------------- small helpers
+def rest_energy(body: Body, theta0: float) -> float:
+    """E of the body released from rest at θ0: U(θ0; 0, 0) = g a (1 − cos θ0) (paper eq. energy)."""
+    theta0 = _check_theta0(theta0)
+    return float(effective_potential(theta0, 0.0, 0.0, body.symmetric()))
+
+
+def _check_theta0(theta0: float) -> float:
+    theta0 = float(theta0)
+    if not math.isfinite(theta0) or not 0.0 < theta0 < math.pi:
+        raise ValueError(f"theta0 must lie in the open interval (0, pi), got theta0={theta0!r}")
+    return theta0
+
+
+def directional_derivative(fun: Callable[[NDArray[np.float64]], float], y: ArrayLike, v: ArrayLike,
+                           *, angle: bool = False, h: float = 1e-4) -> float:
+    """D fun(y)[v] by the fourth-order central difference along v/|v| (step h), times |v|.
+
+    Exact to round-off for quadratic functions (Q_J, dγ3/dt); truncation ~h⁴ otherwise.
+    ``angle=True`` wraps the differences to (−π, π] (for ψ and φ from ``atan2``).
+    """
+    y, v = np.asarray(y, float), np.asarray(v, float)
+    norm = float(np.linalg.norm(v))
+    if norm == 0.0:
+        return 0.0
+    e = v / norm
+    wrap = (lambda x: float(wrap_angle(x))) if angle else float
+    d1 = wrap(fun(y + h * e) - fun(y - h * e))
+    d2 = wrap(fun(y + 2 * h * e) - fun(y - 2 * h * e))
+    return norm * (8.0 * d1 - d2) / (12.0 * h)
+
+
+def eps_derivative_rhs(y: ArrayLike, body: Body) -> NDArray[np.float64]:
+    """∂f/∂ε of ``body_frame_rhs`` at ε = 0, I2 = (1 + ε) I1, by the complex step (exact to round-off)."""
+    a, I1, _, I3, g = body.params
+    h = 1e-30
+    out = body_frame_rhs(np.asarray(y, float).astype(complex), (a, I1, I1 * complex(1.0, h), I3, g))
+    return np.array([complex(v).imag / h for v in out])
+
+
+def _psi_of(y: NDArray[np.float64]) -> float:
+    return float(angles_from_frame(y[0:3], y[6:9])[2])
+
+
+def _phi_of(y: NDArray[np.float64]) -> float:
+    return float(angles_from_frame(y[0:3], y[6:9])[1])
+
+
+def _QR_of(body: Body) -> Callable[[NDArray[np.float64]], float]:
+    return lambda y: float(routh(body, y[0:3], y[3:6]))
+
+
+def _QJ_of(body: Body) -> Callable[[NDArray[np.float64]], float]:
+    return lambda y: float(jellett(body, y[0:3], y[3:6]))
+
+
+def _variational_integrator() -> Any:
+    """heyoka integrator of form (i) with its first-order variational equations in ε.
+
+    State (y, z), 22 components; parameters (a, I1, I3, g, ε) with I2 = (1 + ε) I1.
+    """
+    if "ta" in _INTEGRATOR:
+        return _INTEGRATOR["ta"]
+    import heyoka as hy
+
+    names = ["g1", "g2", "g3", "w1", "w2", "w3", "x1", "x2", "x3", "X", "Y"]
+    y = hy.make_vars(*names)
+    z = hy.make_vars(*("d" + n for n in names))
+    a, I1, I3, g, eps = (hy.par[i] for i in range(5))
+    f = body_frame_rhs(y, (a, I1, I1 * (1.0 + eps), I3, g))
+    fz = []
+    for fi in f:
+        expr = hy.diff(fi, eps)
+        for yj, zj in zip(y, z):
+            expr = expr + hy.diff(fi, yj) * zj
+        fz.append(expr)
+    ta = hy.taylor_adaptive(list(zip(y, f)) + list(zip(z, fz)), np.zeros(22), pars=np.zeros(5),
+                            compact_mode=True)
+    _INTEGRATOR["ta"] = ta
+    return ta
+
+
+# ----------------------------------------------------------------------------- one orbit
+@dataclass(frozen=True)
+class FirstOrderStep:
+    """One step maximum → maximum of the symmetric orbit with its first-order ε-responses.
+
+    Attributes
+    ----------
+    QR, QJ, psi : the starting point (Q_R, Q_J, ψ_n) at the maximum θ_X.
+    theta_X : the symmetric body's maximum for (E, Q_R, Q_J).
+    T : time to the next maximum (symmetric orbit, event on dγ3/dt located to round-off).
+    dpsi, dphi : the symmetric increments of ψ and φ, wrapped to (−π/2, π/2] (mod π).
+    d : ε-derivatives at fixed (E, Q_n, ψ_n) of Q_R, Q_J, Θ = 2ψ, the event time and φ at the
+        next maximum (keys of ``FIRST_ORDER_NAMES``).
+    """
+
+    QR: float
+    QJ: float
+    psi: float
+    theta_X: float
+    T: float
+    dpsi: float
+    dphi: float
+    d: dict[str, float]
+
+
+def _max_state(sym: Body, theta: float, QR: float, QJ: float, psi: float) -> NDArray[np.float64]:
+    st = state_from_turning_point(sym, theta, QR, QJ)
+    return state_from_euler(theta, 0.0, psi, 0.0, float(st.phi_dot), float(st.psi_dot))
+
+
+def first_order_step(body: Body, theta0: float, QR: float, QJ: float, psi: float, *,
+                     theta_X: float | None = None) -> FirstOrderStep:
+    """Integrate one step of the symmetric orbit and its first-order variational equations in ε.
+
+    Parameters
+    ----------
+    body : Body
+        Any body; its symmetric part (a, I1, I3, g) is used, with I2 = (1 + ε) I1.
+    theta0 : float
+        Release angle defining the energy E = U(θ0; 0, 0), 0 < θ0 < π.
+    QR, QJ : float
+        Routh's and Jellett's quantities at the starting maximum.
+    psi : float
+        Spin angle ψ_n at the starting maximum.
+    theta_X : float, optional
+        The maximum θ_X(E, Q_R, Q_J) if already known (``reduction.turning_points``).
+    """
+    sym = body.symmetric()
+    if theta_X is None:
+        theta_X = float(turning_points(rest_energy(sym, theta0), QR, QJ, sym)[1])
+    y0 = _max_state(sym, theta_X, QR, QJ, psi)
+    # shift of θ_X at fixed (E, Q, ψ): ∂E/∂ε (E is linear in I2) over ∂U/∂θ
+    e_half = 0.5 * (sym.I3 / sym.I1 - 1.0)
+    dE_deps = float(energy(sym.with_epsilon(e_half), y0[0:3], y0[3:6]) - energy(sym, y0[0:3], y0[3:6])) / e_half
+    hth = 1e-4 * min(theta_X, math.pi - theta_X)
+    U = lambda th: float(effective_potential(th, QR, QJ, sym))  # noqa: E731
+    dU = (8.0 * (U(theta_X + hth) - U(theta_X - hth)) - (U(theta_X + 2 * hth) - U(theta_X - 2 * hth))) / (12 * hth)
+    ys = lambda th: _max_state(sym, th, QR, QJ, psi)  # noqa: E731
+    dy_dth = (8.0 * (ys(theta_X + hth) - ys(theta_X - hth)) - (ys(theta_X + 2 * hth) - ys(theta_X - 2 * hth))) / (12 * hth)
+    z0 = dy_dth * (-dE_deps / dU)
+
+    ta = _variational_integrator()
+    ta.time = 0.0
+    ta.state[:11] = y0
+    ta.state[11:] = z0
+    ta.pars[:] = [sym.a, sym.I1, sym.I3, sym.g, 0.0]
+    # step until dγ3/dt rises through zero (a maximum of θ) after the minimum
+    h_prev, passed_min = turning_point_function(y0), False
+    for _ in range(100000):
+        outcome = ta.step(write_tc=True)[0]
+        if outcome.name != "success":
+            raise RuntimeError(f"heyoka step failed: {outcome}")
+        hv = turning_point_function(ta.state[:11])
+        if h_prev > 0.0 >= hv:
+            passed_min = True
+        if passed_min and h_prev < 0.0 <= hv:
+            break
+        h_prev = hv
+    else:  # pragma: no cover
+        raise RuntimeError("no next maximum of theta found")
+    p0 = sym.params
+    t1 = float(ta.time)
+    for _ in range(50):  # Newton on the dense output
+        ta.update_d_output(t1)
+        Y = np.array(ta.d_output[:11])
+        dt = -turning_point_function(Y) / directional_derivative(turning_point_function, Y,
+                                                                  np.array(body_frame_rhs(Y, p0)))
+        t1 += dt
+        if abs(dt) <= 4e-16 * t1:
+            break
+    ta.update_d_output(t1)
+    Y, Z = np.array(ta.d_output[:11]), np.array(ta.d_output[11:])
+    fY = np.array(body_frame_rhs(Y, p0))
+    dt1 = -directional_derivative(turning_point_function, Y, Z) / directional_derivative(turning_point_function, Y, fY)
+    dY = Z + fY * dt1
+    d = {
+        "QR": directional_derivative(_QR_of(sym), Y, dY),
+        "QJ": directional_derivative(_QJ_of(sym), Y, dY),
+        "Theta": 2.0 * directional_derivative(_psi_of, Y, dY, angle=True),
+        "t": dt1,
+        "phi": directional_derivative(_phi_of, Y, dY, angle=True),
+    }
+    return FirstOrderStep(QR=float(QR), QJ=float(QJ), psi=float(psi), theta_X=theta_X, T=t1,
+                          dpsi=float(wrap_angle(_psi_of(Y) - psi, math.pi)),
+                          dphi=float(wrap_angle(_phi_of(Y) - _phi_of(y0), math.pi)), d=d)
+
+
+# ----------------------------------------------------------------------------- coefficients at one Q
+@dataclass(frozen=True)
+class StepCoefficients:
+    """First-order one-step coefficients at a given Q (paper-body units).
+
+    Attributes
+    ----------
+    QR, QJ : float
+    T : float
+        T_θ(Q), time between maxima of the symmetric body (quadrature).
+    W : float
+        2(Δψ − π) wrapped to (−π, π] (quadrature, per T_θ).
+    dphi : float
+        Δφ per T_θ mod π in (−π/2, π/2] (quadrature).
+    harmonics : dict
+        For each name of ``FIRST_ORDER_NAMES``, (c0, c1, s1) with
+        ε-response(Θ_n) = c0 + c1 cos Θ_n + s1 sin Θ_n, Θ_n = 2ψ_n.
+    steps : tuple of FirstOrderStep
+        The three orbits (ψ_n in ``HARMONIC_PSI``).
+    """
+
+    QR: float
+    QJ: float
+    T: float
+    W: float
+    dphi: float
+    harmonics: dict[str, tuple[float, float, float]]
+    steps: tuple[FirstOrderStep, ...] = field(repr=False)
+
+    def response(self, name: str, psi: ArrayLike) -> NDArray[np.float64]:
+        """ε-response ``name`` at spin angle(s) ψ_n."""
+        c0, c1, s1 = self.harmonics[name]
+        Th = 2.0 * np.asarray(psi, float)
+        return c0 + c1 * np.cos(Th) + s1 * np.sin(Th)
+
+
+def _harmonics(values: ArrayLike) -> NDArray[np.float64]:
+    """(c0, c1, s1) from values at Θ = 0, 2π/3, 4π/3 (last axis)."""
+    v = np.asarray(values, float)
+    Th = 2.0 * np.asarray(HARMONIC_PSI)
+    return np.stack([v.mean(axis=-1), (2.0 / 3.0) * (v * np.cos(Th)).sum(axis=-1),
+                     (2.0 / 3.0) * (v * np.sin(Th)).sum(axis=-1)], axis=-1)
+
+
+def _symmetric_data(sym: Body, theta0: float, QR: ArrayLike, QJ: ArrayLike) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """(T_θ, W, Δφ mod π, θ_X) from the quadratures, vectorised."""
+    E0 = rest_energy(sym, theta0)
+    pr = precession(E0, QR, QJ, sym)
+    bad = np.asarray(pr.status) != 0
+    if np.any(bad):
+        raise ValueError(f"the symmetric quadrature failed at some Q (status {pr.status_text()[bad][:3]})")
+    return (np.asarray(pr.T_theta, float), np.asarray(wrap_angle(2.0 * np.asarray(pr.delta_psi) - 2.0 * math.pi)),
+            np.asarray(pr.visible_half_phi, float), np.asarray(pr.theta_X, float))
+
+
+def step_coefficients(body: Body, theta0: float, QR: float, QJ: float) -> StepCoefficients:
+    """The first-order one-step coefficients at Q = (Q_R, Q_J) (three variational orbits)."""
+    sym = body.symmetric()
+    T, W, dphi, theta_X = (float(x) for x in _symmetric_data(sym, theta0, QR, QJ))
+    steps = tuple(first_order_step(sym, theta0, QR, QJ, psi, theta_X=theta_X) for psi in HARMONIC_PSI)
+    harm = {name: tuple(float(c) for c in _harmonics([s.d[name] for s in steps])) for name in FIRST_ORDER_NAMES}
+    return StepCoefficients(QR=float(QR), QJ=float(QJ), T=T, W=W, dphi=dphi, harmonics=harm, steps=steps)
+
+
+# ----------------------------------------------------------------------------- tables
+#: Functions of the table, in order: symmetric data, then the harmonics (c0, c1, s1) of
+#: k_Q (Q_R, Q_J) and k_Θ in the drift–kick–drift form, then of the time and φ responses.
+TABLE_FUNCTIONS = ("T", "W", "dphi",
+                   "kQR_c0", "kQR_c1", "kQR_s1", "kQJ_c0", "kQJ_c1", "kQJ_s1", "kTh_c0", "kTh_c1", "kTh_s1",
+                   "dt_c0", "dt_c1", "dt_s1", "dphi1_c0", "dphi1_c1", "dphi1_s1")
+_ODD = {"W", "dphi", "kTh_c0", "kTh_c1", "kTh_s1"}
+_EVEN = {"T", "kQR_c0", "kQR_c1", "kQR_s1", "kQJ_c0", "kQJ_c1", "kQJ_s1"}
+
+
+def _cheb_nodes(n: int) -> NDArray[np.float64]:
+    return np.cos(math.pi * (np.arange(n) + 0.5) / n)
+
+
+def _cheb_basis(x: ArrayLike, n: int) -> NDArray[np.float64]:
+    """T_0..T_{n−1} at x ∈ [−1, 1], shape (n, ...)."""
+    x = np.clip(np.asarray(x, float), -1.0, 1.0)
+    return np.cos(np.arange(n).reshape((n,) + (1,) * x.ndim) * np.arccos(x))
+
+
+def _cheb_fit_matrix(n: int) -> NDArray[np.float64]:
+    """A with c = A f for the interpolant at the first-kind nodes."""
+    A = (2.0 / n) * _cheb_basis(_cheb_nodes(n), n)
+    A[0] *= 0.5
+    return A
+
+
+@dataclass(frozen=True)
+class SlowMapTable:
+    """Tabulated first-order slow map of one (body, θ0): Chebyshev series on a rectangle in (u, v).
+
+    Q = u e + v n, with e the kick direction at Q = 0 and n ⟂ e; |u| ≤ U, |v| ≤ V.
+
+    Attributes
+    ----------
+    a, I1, I3, g, theta0, E0 : the symmetric body, the release angle and the energy.
+    e, n : unit vectors in the (Q_R, Q_J) plane.
+    U, V : half-widths of the tabulated rectangle.
+    coef : ndarray (len(TABLE_FUNCTIONS), Nu, Nv), Chebyshev coefficients in (u/U, v/V).
+    kappa : ∇W·C0 at Q = 0 (the standard-map constant, K = ε κ), from the table.
+    C0 : the kick ΔQ(0, Θ) = C0 sin Θ, from the variational orbits at Q = 0.
+    """
+
+    a: float
+    I1: float
+    I3: float
+    g: float
+    theta0: float
+    E0: float
+    e: NDArray[np.float64]
+    n: NDArray[np.float64]
+    U: float
+    V: float
+    coef: NDArray[np.float64]
+    C0: NDArray[np.float64]
+    kappa: float
+
+    @property
+    def body(self) -> Body:
+        """The symmetric body the table was built for."""
+        return Body(a=self.a, I1=self.I1, I2=self.I1, I3=self.I3, g=self.g)
+
+    def contains(self, Q: ArrayLike) -> bool:
+        """True if Q lies in the tabulated rectangle."""
+        Q = np.asarray(Q, float)
+        return bool(abs(self.e @ Q) <= self.U and abs(self.n @ Q) <= self.V)
+
+    def evaluate(self, Q: ArrayLike) -> NDArray[np.float64]:
+        """All ``TABLE_FUNCTIONS`` at Q = (Q_R, Q_J); raises AveragingRangeError outside the table."""
+        Q = np.asarray(Q, float)
+        x, y = (self.e @ Q) / self.U, (self.n @ Q) / self.V
+        if not (abs(x) <= 1.0 and abs(y) <= 1.0):
+            raise AveragingRangeError(
+                f"the slow orbit left the tabulated region at Q=({Q[0]:.4g}, {Q[1]:.4g}): the tables cover "
+                f"|u| <= {self.U:.4g} along the kick direction e=({self.e[0]:.4f}, {self.e[1]:.4f}) and "
+                f"|v| <= {self.V:.3g} across it; the averaging is valid for K = eps*kappa < 4 "
+                f"(eps < {4.0 / abs(self.kappa):.4g}) and orbits near pure rocking")
+        nu, nv = self.coef.shape[1:]
+        return (self.coef @ _cheb_basis(y, nv)) @ _cheb_basis(x, nu)
+
+    def function(self, name: str, Q: ArrayLike) -> float:
+        """One tabulated function at Q."""
+        return float(self.evaluate(Q)[TABLE_FUNCTIONS.index(name)])
+
+
+def _table_key(sym: Body, theta0: float, nu: int, nv: int, u_factor: float, v_ratio: float) -> str:
+    text = f"{_TABLE_VERSION}|{sym.params!r}|{theta0!r}|{nu}|{nv}|{u_factor!r}|{v_ratio!r}"
+    return hashlib.sha256(text.encode()).hexdigest()[:20]
+
+
+def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_factor: float = 2.5,
+                v_ratio: float = 0.002) -> SlowMapTable:
+    """Tabulate the reversible first-order slow map of (body, θ0).
+
+    Parameters
+    ----------
+    body : Body
+        Its symmetric part is used (the tables do not depend on ε).
+    theta0 : float
+        Release angle, 0 < θ0 < π; E = U(θ0; 0, 0).
+    nu, nv : int
+        Chebyshev nodes along and across the kick direction (even, ≥ 4).
+    u_factor : float
+        U = u_factor · 4/|∂W/∂u|(0): the libration amplitude of the standard map at K = 4, times u_factor.
+    v_ratio : float
+        V = v_ratio · U.
+    """
+    theta0 = _check_theta0(theta0)
+    for name, val in (("nu", nu), ("nv", nv)):
+        if int(val) != val or val < 4 or val % 2:
+            raise ValueError(f"{name} must be an even integer >= 4, got {name}={val!r}")
+    if not (u_factor > 0 and 0 < v_ratio <= 1):
+        raise ValueError(f"u_factor must be > 0 and v_ratio in (0, 1], got {u_factor!r}, {v_ratio!r}")
+    sym = body.symmetric()
+    E0 = rest_energy(sym, theta0)
+    # kick direction and twist slope at Q = 0
+    at0 = [first_order_step(sym, theta0, 0.0, 0.0, psi) for psi in HARMONIC_PSI]
+    C0 = np.array([_harmonics([s.d[k] for s in at0])[2] for k in ("QR", "QJ")])
+    e = C0 / np.linalg.norm(C0)
+    nvec = np.array([-e[1], e[0]])
+    hq = 1e-7
+    Wp = _symmetric_data(sym, theta0, np.array([hq * e[0], -hq * e[0]]), np.array([hq * e[1], -hq * e[1]]))[1]
+    dW_du = (Wp[0] - Wp[1]) / (2 * hq)
+    U = u_factor * 4.0 / abs(dW_du)
+    V = v_ratio * U
+    xu, xv = _cheb_nodes(nu), _cheb_nodes(nv)
+    uu, vv = np.meshgrid(U * xu, V * xv, indexing="ij")
+    QRg, QJg = uu * e[0] + vv * nvec[0], uu * e[1] + vv * nvec[1]
+    T, W, dphi, thX = _symmetric_data(sym, theta0, QRg, QJg)
+    # continuous branches along u (both are ~0 at the centre)
+    W = np.unwrap(W, axis=0)
+    W -= 2 * math.pi * np.round(W[nu // 2] / (2 * math.pi))
+    dphi = np.unwrap(dphi, axis=0, period=math.pi)
+    dphi -= math.pi * np.round(dphi[nu // 2] / math.pi)
+    resp = np.empty((len(FIRST_ORDER_NAMES), nu, nv, 3))
+    for i in range(nu):
+        for j in range(nv):
+            steps = [first_order_step(sym, theta0, QRg[i, j], QJg[i, j], psi, theta_X=thX[i, j])
+                     for psi in HARMONIC_PSI]
+            for k, name in enumerate(FIRST_ORDER_NAMES):
+                resp[k, i, j] = _harmonics([s.d[name] for s in steps])
+    Au, Av = _cheb_fit_matrix(nu), _cheb_fit_matrix(nv)
+
+    def parity(F: NDArray, kind: str) -> NDArray:
+        flipped = F[::-1, ::-1]
+        return 0.5 * (F + flipped) if kind == "even" else 0.5 * (F - flipped) if kind == "odd" else F
+
+    def fit(F: NDArray) -> NDArray:
+        return Au @ F @ Av.T
+
+    half = 0.5 * parity(W, "odd")
+    cw, sw = np.cos(half), np.sin(half)
+
+    def rotate(h: NDArray) -> NDArray:  # harmonics of F(Θ' − W/2) from those of F(Θ)
+        c0, c1, s1 = h[..., 0], h[..., 1], h[..., 2]
+        return np.stack([c0, c1 * cw - s1 * sw, c1 * sw + s1 * cw], axis=-1)
+
+    kQR, kQJ = rotate(resp[0]), rotate(resp[1])
+
+    def half_grad_dot_kQ(F: NDArray, kind: str) -> NDArray:
+        """½ ∇F·k_Q at the nodes (harmonics), F a symmetric-orbit function fitted on the grid."""
+        c = fit(parity(F, kind))
+        gu = np.polynomial.chebyshev.chebgrid2d(xu, xv, np.polynomial.chebyshev.chebder(c, axis=0) / U)
+        gv = np.polynomial.chebyshev.chebgrid2d(xu, xv, np.polynomial.chebyshev.chebder(c, axis=1) / V)
+        return 0.5 * (gu[..., None] * (e[0] * kQR + e[1] * kQJ) + gv[..., None] * (nvec[0] * kQR + nvec[1] * kQJ))
+
+    # the part of each response received after the kick is carried by the second half-drift
+    kTh = rotate(resp[2]) - half_grad_dot_kQ(W, "odd")
+    kT = rotate(resp[3]) - half_grad_dot_kQ(T, "even")
+    kP = rotate(resp[4]) - half_grad_dot_kQ(dphi, "odd")
+    data = {"T": T, "W": W, "dphi": dphi}
+    for pre, arr in (("kQR", kQR), ("kQJ", kQJ), ("kTh", kTh), ("dt", kT), ("dphi1", kP)):
+        for m, suf in enumerate(("c0", "c1", "s1")):
+            data[f"{pre}_{suf}"] = arr[..., m]
+    coef = np.empty((len(TABLE_FUNCTIONS), nu, nv))
+    for k, name in enumerate(TABLE_FUNCTIONS):
+        kind = "odd" if name in _ODD else "even" if name in _EVEN else "none"
+        coef[k] = fit(parity(np.asarray(data[name], float), kind))
+    kappa = float(dW_du * np.linalg.norm(C0))
+    return SlowMapTable(a=sym.a, I1=sym.I1, I3=sym.I3, g=sym.g, theta0=theta0, E0=E0, e=e, n=nvec, U=U, V=V,
+                        coef=coef, C0=C0, kappa=kappa)
+
+
+def _table_cache_dir() -> str:
+    from numerics.integrate import cache_dir
+
+    return os.path.join(str(cache_dir()), "averaging")
+
+
+def load_or_build_table(body: Body, theta0: float, *, build: bool = True, use_cache: bool = True,
+                        **grid: Any) -> SlowMapTable:
+    """The tables of (body, θ0): from memory, from the disk cache, or built (and cached).
+
+    Parameters
+    ----------
+    build : bool
+        If False and no cached table exists, raise ValueError instead of building.
+    use_cache : bool
+        Read and write the disk cache (``numerics.integrate.cache_dir()/averaging``).
+    grid : keyword arguments of :func:`build_table`.
+    """
+    theta0 = _check_theta0(theta0)
+    sym = body.symmetric()
+    opts = {"nu": 128, "nv": 6, "u_factor": 2.5, "v_ratio": 0.002}
+    unknown = set(grid) - set(opts)
+    if unknown:
+        raise ValueError(f"unknown table options {sorted(unknown)}; allowed: {sorted(opts)}")
+    opts.update(grid)
+    key = _table_key(sym, theta0, opts["nu"], opts["nv"], opts["u_factor"], opts["v_ratio"])
+    if key in _TABLES:
+        return _TABLES[key]
+    path = os.path.join(_table_cache_dir(), f"slowmap-{key}.npz")
+    table = None
+    if use_cache and os.path.exists(path):
+        try:
+            with np.load(path) as z:
+                table = SlowMapTable(**{k: (z[k] if z[k].ndim else float(z[k])) for k in z.files})
+        except Exception:  # a stale or truncated cache entry is rebuilt
+            table = None
+    if table is None:
+        if not build:
+            raise ValueError(
+                f"no averaging tables for theta0={theta0!r} and this body ({sym.describe()}); they are built "
+                "on first use (a few seconds): call without build=False / --cached-only")
+        table = build_table(sym, theta0, **opts)
+        if use_cache:
+            try:
+                os.makedirs(os.path.dirname(path), exist_ok=True)
+                with tempfile.NamedTemporaryFile(dir=os.path.dirname(path), suffix=".npz", delete=False) as fh:
+                    np.savez(fh, **{k: np.asarray(getattr(table, k)) for k in table.__dataclass_fields__})
+                os.replace(fh.name, path)
+            except OSError:  # a read-only cache is not an error
+                pass
+    _TABLES[key] = table
+    return table
+
+
+# ----------------------------------------------------------------------------- the map
+@dataclass(frozen=True)
+class SlowSeries:
+    """Samples of the slow map at the θ-maxima n = 1, 2, ... with t_n ≤ t_end.
+
+    ``Theta`` is unwrapped (continuous); ``phi`` is the accumulated azimuth modulo π-jumps (use mod π).
+    """
+
+    t: NDArray[np.float64]
+    QR: NDArray[np.float64]
+    QJ: NDArray[np.float64]
+    Theta: NDArray[np.float64]
+    phi: NDArray[np.float64]
+
+    @property
+    def psi_mod_pi(self) -> NDArray[np.float64]:
+        """ψ mod π at the maxima."""
+        return np.mod(0.5 * self.Theta, math.pi)
+
+    @property
+    def phi_mod_pi(self) -> NDArray[np.float64]:
+        """φ mod π at the maxima (the visible half-angle)."""
+        return np.mod(self.phi, math.pi)
+
+
+_IDX = {name: i for i, name in enumerate(TABLE_FUNCTIONS)}
+
+
+def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float, *,
+                     Q0: ArrayLike = (0.0, 0.0), phi0: float = 0.0) -> SlowSeries:
+    """Iterate the reversible drift–kick–drift slow map from a maximum at t = 0.
+
+    Parameters
+    ----------
+    table : SlowMapTable
+    eps : float
+        Asymmetry ε ≥ 0.
+    psi0 : float
+        ψ at the starting maximum (Θ0 = 2ψ0).
+    t_end : float
+        Last time, > 0.
+    Q0 : (Q_R, Q_J) at the start (default: released from rest, Q = 0).
+    phi0 : φ at the start.
+
+    Raises
+    ------
+    AveragingRangeError
+        If the orbit leaves the tabulated region.
+    """
+    eps, t_end, psi0 = float(eps), float(t_end), float(psi0)
+    if not math.isfinite(eps) or eps < 0.0:
+        raise ValueError(f"eps must be a finite number >= 0, got eps={eps!r}")
+    if not math.isfinite(t_end) or t_end <= 0.0:
+        raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}")
+    if not math.isfinite(psi0):
+        raise ValueError(f"psi0 must be finite, got psi0={psi0!r}")
+    iT, iW, iP = _IDX["T"], _IDX["W"], _IDX["dphi"]
+    kq = [_IDX[f"kQR_{s}"] for s in ("c0", "c1", "s1")], [_IDX[f"kQJ_{s}"] for s in ("c0", "c1", "s1")]
+    kth = [_IDX[f"kTh_{s}"] for s in ("c0", "c1", "s1")]
+    dtk = [_IDX[f"dt_{s}"] for s in ("c0", "c1", "s1")]
+    dpk = [_IDX[f"dphi1_{s}"] for s in ("c0", "c1", "s1")]
+
+    def harm(vals: NDArray, idx: list[int], c: float, s: float) -> float:
+        return float(vals[idx[0]] + vals[idx[1]] * c + vals[idx[2]] * s)
+
+    Q = np.array(Q0, float)
+    Th, t, phi = 2.0 * psi0, 0.0, float(phi0)
+    vals = table.evaluate(Q)
+    out_t, out_Q, out_Th, out_phi = [], [], [], []
+    while True:
+        Tha = Th + 0.5 * float(vals[iW])
+        x = np.array([Q[0], Q[1], Tha])
+        x1 = x.copy()
+        for _ in range(60):  # implicit midpoint for the kick
+            m = 0.5 * (x + x1)
+            vm = table.evaluate(m[:2])
+            cm, sm = math.cos(m[2]), math.sin(m[2])
+            k = np.array([harm(vm, kq[0], cm, sm), harm(vm, kq[1], cm, sm), harm(vm, kth, cm, sm)])
+            x_new = x + eps * k
+            done = bool(np.all(np.abs(x_new - x1) <= 1e-13 * np.abs(eps * k) + 1e-300))
+            x1 = x_new
+            if done:
+                break
+        else:
+            raise AveragingRangeError(
+                f"the implicit kick did not converge at eps={eps!r}: eps is too large for the first-order map")
+        vals_next = table.evaluate(x1[:2])
+        # time and azimuth: half drifts with the old and the new Q around the kick
+        t_next = t + 0.5 * float(vals[iT] + vals_next[iT]) + eps * harm(vm, dtk, cm, sm)
+        if t_next > t_end:
+            break
+        phi += 0.5 * float(vals[iP] + vals_next[iP]) + eps * harm(vm, dpk, cm, sm)
+        t, Q, vals = t_next, x1[:2], vals_next
+        Th = float(x1[2]) + 0.5 * float(vals[iW])
+        out_t.append(t)
+        out_Q.append(Q.copy())
+        out_Th.append(Th)
+        out_phi.append(phi)
+    Qa = np.array(out_Q).reshape(-1, 2)
+    return SlowSeries(t=np.array(out_t), QR=Qa[:, 0], QJ=Qa[:, 1], Theta=np.unwrap(np.array(out_Th)),
+                      phi=np.array(out_phi))
+
+
+def line_slope(QR: ArrayLike, QJ: ArrayLike) -> float:
+    """Slope dQ_J/dQ_R of the straight line through turning-point samples (total least squares)."""
+    X = np.vstack([np.asarray(QR, float), np.asarray(QJ, float)])
+    X = X - X.mean(axis=1, keepdims=True)
+    w, vecs = np.linalg.eigh(X @ X.T)
+    d = vecs[:, np.argmax(w)]
+    return float(d[1] / d[0])
+
+
+@dataclass(frozen=True)
+class SlowPrediction:
+    """Averaged prediction of the slow motion of a body released from rest at (θ0, ψ0).
+
+    Attributes
+    ----------
+    eps, theta0, psi0, t_end : inputs.
+    K : ε κ, the standard-map parameter near pure rocking.
+    slow_period : period of Θ = 2ψ at the maxima (None if not measurable within t_end).
+    QR_extent, QJ_extent : max − min of Q_R, Q_J at the maxima within t_end.
+    Phi : span of φ mod π at the maxima within t_end.
+    line_slope : dQ_J/dQ_R of the line through the samples.
+    series : SlowSeries.
+    regions, rocks_per_region, crossings : criticality bookkeeping (None if unavailable).
+    """
+
+    eps: float
+    theta0: float
+    psi0: float
+    t_end: float
+    K: float
+    slow_period: float | None
+    QR_extent: float
+    QJ_extent: float
+    Phi: float
+    line_slope: float
+    series: SlowSeries = field(repr=False)
+    regions: Any = field(default=None, repr=False)
+    rocks_per_region: dict[str, int] | None = None
+    crossings: list[tuple[float, str, str]] | None = field(default=None, repr=False)
+
+
+def predict_slow_motion(body: Body, theta0: float, psi0: float, t_end: float = 1000.0, *,
+                        table: SlowMapTable | None = None, build: bool = True) -> SlowPrediction:
+    """Predict the slow (Q_R, Q_J) motion of ``body`` released from rest at θ0 with spin angle ψ0.
+
+    Parameters
+    ----------
+    body : Body
+        The asymmetric body (ε = body.epsilon ≥ 0).
+    theta0 : float
+        Release tilt, 0 < θ0 < π.
+    psi0 : float
+        Release spin angle (Θ0 = 2ψ0).
+    t_end : float
+        Time span, > 0.
+    table : SlowMapTable, optional
+        Precomputed tables of (body, θ0); by default :func:`load_or_build_table`.
+    build : bool
+        Build the tables if they are not cached (else ValueError).
+
+    Warns
+    -----
+    AveragingValidityWarning
+        If K = ε κ > 4 (pure rocking about the stable axis has period-doubled).
+    """
+    theta0 = _check_theta0(theta0)
+    eps = body.epsilon
+    if table is None:
+        table = load_or_build_table(body, theta0, build=build)
+    elif not np.isclose(table.theta0, theta0, rtol=0, atol=1e-15):
+        raise ValueError(f"the table is for theta0={table.theta0!r}, not {theta0!r}")
+    K = eps * table.kappa
+    if abs(K) > 4.0:
+        warnings.warn(
+            f"K = eps*kappa = {K:.3g} > 4: pure rocking about the stable principal axis is unstable "
+            f"(period doubling at eps = {4.0 / abs(table.kappa):.4g}); the first-order averaging is "
+            "expected to hold for K < 4", AveragingValidityWarning, stacklevel=2)
+    series = iterate_slow_map(table, eps, psi0, t_end)
+    from numerics.trajectory import azimuth_span
+
+    regions = rocks = crossings = None
+    try:
+        from analysis.criticality import region as _region  # type: ignore[attr-defined]
+    except ImportError:  # pragma: no cover - criticality not available
+        _region = None
+    if _region is not None and series.t.size:
+        regions, rocks, crossings = _region_bookkeeping(_region, series, table.body)
+    return SlowPrediction(
+        eps=eps, theta0=theta0, psi0=float(psi0), t_end=float(t_end), K=K,
+        slow_period=slow_period(series.t, series.Theta) if series.t.size >= 3 else None,
+        QR_extent=span(series.QR), QJ_extent=span(series.QJ), Phi=azimuth_span(series.phi),
+        line_slope=line_slope(series.QR, series.QJ) if series.t.size >= 2 else float("nan"),
+        series=series, regions=regions, rocks_per_region=rocks, crossings=crossings)
+
+
+def _region_bookkeeping(region_fn: Callable[..., Any], series: SlowSeries, body: Body):
+    """Region of each sample, rocks per region, and the sequence of region changes (t, from, to)."""
+    regions = np.asarray(region_fn(series.QR, series.QJ, body))
+    labels = [str(r) for r in regions.reshape(-1)]
+    rocks: dict[str, int] = {}
+    for lab in labels:
+        rocks[lab] = rocks.get(lab, 0) + 1
+    crossings = [(float(series.t[i]), labels[i - 1], labels[i]) for i in range(1, len(labels))
+                 if labels[i] != labels[i - 1]]
+    return regions, rocks, crossings

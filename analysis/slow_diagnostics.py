@@ -1,0 +1,93 @@
+"""Diagnostics of the slow (Q_R, Q_J) oscillation, shared by the direct ODE and the averaged map.
+
+Definitions (issue "ε-averaging", used identically for the trajectory and for the prediction):
+
+* the slow period is the period of Θ = 2ψ sampled at the θ-maxima, measured from the times at
+  which the samples cross their mean (linear interpolation between samples), not from extrema;
+* the extents of Q_R and Q_J are max − min over the turning-point samples within t_end;
+* the azimuth span Φ is the span of φ mod π at the maxima (``numerics.trajectory.azimuth_span``).
+
+Pure functions over numpy arrays; no imports from ``numerics`` so that the trajectory can use them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = ["unwrap_phase", "mean_crossings", "slow_period", "span"]
+
+
+def unwrap_phase(Theta: ArrayLike) -> NDArray[np.float64]:
+    """Θ = 2ψ samples made continuous (steps taken in (−π, π]).
+
+    Θ changes by W(Q) + O(ε) per rock, which is < π in the regime of the averaging
+    (|W| < π is required for the sampled phase to be meaningful at all).
+    """
+    return np.unwrap(np.asarray(Theta, float))
+
+
+def mean_crossings(t: ArrayLike, x: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """Times at which the samples ``x(t)`` cross their mean, by linear interpolation.
+
+    Returns
+    -------
+    (times, directions)
+        Crossing times in increasing order and their directions (+1 upward, −1 downward).
+    """
+    t, x = np.asarray(t, float), np.asarray(x, float)
+    if t.shape != x.shape or t.ndim != 1:
+        raise ValueError(f"t and x must be 1-D arrays of equal length, got shapes {t.shape} and {x.shape}")
+    d = x - x.mean()
+    # a sample exactly at the mean counts with the sign of the next sample
+    s = np.sign(d)
+    for i in range(s.size - 2, -1, -1):
+        if s[i] == 0:
+            s[i] = s[i + 1]
+    idx = np.flatnonzero(s[:-1] * s[1:] < 0)
+    frac = d[idx] / (d[idx] - d[idx + 1])
+    return t[idx] + frac * (t[idx + 1] - t[idx]), np.where(d[idx + 1] > d[idx], 1, -1).astype(np.int64)
+
+
+def slow_period(t: ArrayLike, Theta: ArrayLike) -> float | None:
+    """Slow period of Θ = 2ψ sampled at the θ-maxima (times ``t``), from crossings of the mean.
+
+    Upward and downward crossings are used separately: each direction with at least two crossings
+    gives (last − first)/(count − 1), and the estimates are averaged weighted by their counts − 1.
+    With only one crossing of each direction the period is twice their separation.
+
+    Parameters
+    ----------
+    t : array_like
+        Sample times (increasing).
+    Theta : array_like
+        Θ = 2ψ at those times (any branch: it is unwrapped first).
+
+    Returns
+    -------
+    float or None
+        The period, or None if the samples cross their mean fewer than twice (t_end shorter than
+        about half a slow period): the period is then not measurable.
+    """
+    t = np.asarray(t, float)
+    if t.size < 3:
+        return None
+    times, dirs = mean_crossings(t, unwrap_phase(Theta))
+    total, weight = 0.0, 0
+    for sgn in (1, -1):
+        tc = times[dirs == sgn]
+        if tc.size >= 2:
+            total += tc[-1] - tc[0]
+            weight += tc.size - 1
+    if weight:
+        return float(total / weight)
+    if times.size >= 2:
+        return float(2.0 * (times[1] - times[0]))
+    return None
+
+
+def span(x: ArrayLike) -> float:
+    """max − min of the samples (0.0 for none)."""
+    x = np.asarray(x, float)
+    return float(x.max() - x.min()) if x.size else 0.0
+
