@@ -615,11 +615,94 @@ class SlowSeries:
 
 
 _IDX = {name: i for i, name in enumerate(TABLE_FUNCTIONS)}
+_HARM = ("c0", "c1", "s1")
+#: Points of the fine uniform grid in u used at run time (6-point Lagrange interpolation between them).
+_FINE_POINTS = 8193
+_LAGRANGE_OFFSETS = np.arange(-2, 4, dtype=float)
+_LAGRANGE_DENOM = np.array([np.prod([k - j for j in _LAGRANGE_OFFSETS if j != k]) for k in _LAGRANGE_OFFSETS])
+_FAST: dict[int, "_FastTable"] = {}
+
+
+class _FastTable:
+    """Run-time form of a SlowMapTable: values on a fine uniform grid in u, Chebyshev series in v.
+
+    Kick group (evaluated at the implicit midpoint): harmonics of k_u = e·k_Q, k_v = n·k_Q, k_Θ, and of
+    the time and φ responses; drift group (at the maxima): T_θ, W, Δφ.  6-point Lagrange
+    interpolation in u on 8193 points reproduces the Chebyshev interpolant to ~1e-13 relative.
+    """
+
+    def __init__(self, table: SlowMapTable) -> None:
+        c = table.coef
+        e, n = table.e, table.n
+        rows = []
+        for h in _HARM:
+            qr, qj = c[_IDX[f"kQR_{h}"]], c[_IDX[f"kQJ_{h}"]]
+            rows.append((e[0] * qr + e[1] * qj, n[0] * qr + n[1] * qj))
+        kick = [rows[m][0] for m in range(3)] + [rows[m][1] for m in range(3)]
+        kick += [c[_IDX[f"{pre}_{h}"]] for pre in ("kTh", "dt", "dphi1") for h in _HARM]
+        drift = [c[_IDX[name]] for name in ("T", "W", "dphi")]
+        self.U, self.V, self.nv = table.U, table.V, c.shape[2]
+        self.e, self.n = e, n
+        x = np.linspace(-1.0, 1.0, _FINE_POINTS)
+        self.dx = x[1] - x[0]
+        Bu = _cheb_basis(x, c.shape[1])                                   # (nu, Nf)
+        self.kick = np.einsum("fkj,ki->ifj", np.array(kick), Bu).reshape(_FINE_POINTS, 6, -1)
+        self.drift = np.einsum("fkj,ki->ifj", np.array(drift), Bu).reshape(_FINE_POINTS, 6, -1)
+        self.table = table
+
+    def _weights(self, x: float) -> tuple[int, NDArray[np.float64]]:
+        s = (x + 1.0) / self.dx
+        i = min(max(int(s), 2), _FINE_POINTS - 4)
+        r = s - i
+        d = [r + 2.0, r + 1.0, r, r - 1.0, r - 2.0, r - 3.0]
+        w = []
+        for k in range(6):
+            p = 1.0
+            for j in range(6):
+                if j != k:
+                    p *= d[j]
+            w.append(p / _LAGRANGE_DENOM[k])
+        return i, np.array(w)
+
+    def _cheb_v(self, y: float) -> NDArray[np.float64]:
+        T = [1.0, y]
+        for _ in range(self.nv - 2):
+            T.append(2.0 * y * T[-1] - T[-2])
+        return np.array(T[: self.nv])
+
+    def _check(self, u: float, v: float) -> tuple[float, float]:
+        x, y = u / self.U, v / self.V
+        if not (abs(x) <= 1.0 and abs(y) <= 1.0):
+            Q = u * self.e + v * self.n
+            self.table.evaluate(Q)  # raises AveragingRangeError with the explanation
+        return x, y
+
+    def kick_values(self, u: float, v: float) -> NDArray[np.float64]:
+        x, y = self._check(u, v)
+        i, w = self._weights(x)
+        return (w @ self.kick[i - 2:i + 4].reshape(6, -1)).reshape(-1, self.nv) @ self._cheb_v(y)
+
+    def drift_values(self, u: float, v: float) -> NDArray[np.float64]:
+        x, y = self._check(u, v)
+        i, w = self._weights(x)
+        return (w @ self.drift[i - 2:i + 4].reshape(6, -1)).reshape(-1, self.nv) @ self._cheb_v(y)
+
+
+def _fast(table: SlowMapTable) -> _FastTable:
+    ft = _FAST.get(id(table))
+    if ft is None or ft.table is not table:
+        ft = _FastTable(table)
+        _FAST[id(table)] = ft
+    return ft
 
 
 def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float, *,
                      Q0: ArrayLike = (0.0, 0.0), phi0: float = 0.0) -> SlowSeries:
     """Iterate the reversible drift–kick–drift slow map from a maximum at t = 0.
+
+    One step: Θ += W(Q)/2; (Q, Θ) += ε k(midpoint) (implicit midpoint, solved by fixed-point
+    iteration to 1e-13 of the kick); Θ += W(Q')/2; t += ½[T_θ(Q) + T_θ(Q')] + ε k_t(midpoint);
+    φ += ½[Δφ(Q) + Δφ(Q')] + ε k_φ(midpoint).
 
     Parameters
     ----------
@@ -636,7 +719,7 @@ def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float,
     Raises
     ------
     AveragingRangeError
-        If the orbit leaves the tabulated region.
+        If the orbit leaves the tabulated region, or the implicit kick does not converge.
     """
     eps, t_end, psi0 = float(eps), float(t_end), float(psi0)
     if not math.isfinite(eps) or eps < 0.0:
@@ -645,51 +728,44 @@ def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float,
         raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}")
     if not math.isfinite(psi0):
         raise ValueError(f"psi0 must be finite, got psi0={psi0!r}")
-    iT, iW, iP = _IDX["T"], _IDX["W"], _IDX["dphi"]
-    kq = [_IDX[f"kQR_{s}"] for s in ("c0", "c1", "s1")], [_IDX[f"kQJ_{s}"] for s in ("c0", "c1", "s1")]
-    kth = [_IDX[f"kTh_{s}"] for s in ("c0", "c1", "s1")]
-    dtk = [_IDX[f"dt_{s}"] for s in ("c0", "c1", "s1")]
-    dpk = [_IDX[f"dphi1_{s}"] for s in ("c0", "c1", "s1")]
-
-    def harm(vals: NDArray, idx: list[int], c: float, s: float) -> float:
-        return float(vals[idx[0]] + vals[idx[1]] * c + vals[idx[2]] * s)
-
-    Q = np.array(Q0, float)
+    ft = _fast(table)
+    Q0 = np.asarray(Q0, float)
+    u, v = float(ft.e @ Q0), float(ft.n @ Q0)
     Th, t, phi = 2.0 * psi0, 0.0, float(phi0)
-    vals = table.evaluate(Q)
-    out_t, out_Q, out_Th, out_phi = [], [], [], []
+    T, W, P = ft.drift_values(u, v)
+    out = []
+    cos, sin, ulp = math.cos, math.sin, math.ulp
     while True:
-        Tha = Th + 0.5 * float(vals[iW])
-        x = np.array([Q[0], Q[1], Tha])
-        x1 = x.copy()
+        Tha = Th + 0.5 * W
+        u1, v1, th1 = u, v, Tha
         for _ in range(60):  # implicit midpoint for the kick
-            m = 0.5 * (x + x1)
-            vm = table.evaluate(m[:2])
-            cm, sm = math.cos(m[2]), math.sin(m[2])
-            k = np.array([harm(vm, kq[0], cm, sm), harm(vm, kq[1], cm, sm), harm(vm, kth, cm, sm)])
-            x_new = x + eps * k
-            done = bool(np.all(np.abs(x_new - x1) <= 1e-13 * np.abs(eps * k) + 1e-300))
-            x1 = x_new
+            um, vm, thm = 0.5 * (u + u1), 0.5 * (v + v1), 0.5 * (Tha + th1)
+            k = ft.kick_values(um, vm)
+            cm, sm = cos(thm), sin(thm)
+            ku = eps * (k[0] + k[1] * cm + k[2] * sm)
+            kv = eps * (k[3] + k[4] * cm + k[5] * sm)
+            kt = eps * (k[6] + k[7] * cm + k[8] * sm)
+            un, vn, thn = u + ku, v + kv, Tha + kt
+            tol_q = 1e-13 * (abs(ku) + abs(kv)) + 4 * ulp(abs(un) + abs(vn))
+            done = (abs(un - u1) <= tol_q and abs(vn - v1) <= tol_q
+                    and abs(thn - th1) <= 1e-13 * abs(kt) + 4 * ulp(thn))
+            u1, v1, th1 = un, vn, thn
             if done:
                 break
         else:
             raise AveragingRangeError(
                 f"the implicit kick did not converge at eps={eps!r}: eps is too large for the first-order map")
-        vals_next = table.evaluate(x1[:2])
-        # time and azimuth: half drifts with the old and the new Q around the kick
-        t_next = t + 0.5 * float(vals[iT] + vals_next[iT]) + eps * harm(vm, dtk, cm, sm)
+        T1, W1, P1 = ft.drift_values(u1, v1)
+        t_next = t + 0.5 * (T + T1) + eps * (k[9] + k[10] * cm + k[11] * sm)
         if t_next > t_end:
             break
-        phi += 0.5 * float(vals[iP] + vals_next[iP]) + eps * harm(vm, dpk, cm, sm)
-        t, Q, vals = t_next, x1[:2], vals_next
-        Th = float(x1[2]) + 0.5 * float(vals[iW])
-        out_t.append(t)
-        out_Q.append(Q.copy())
-        out_Th.append(Th)
-        out_phi.append(phi)
-    Qa = np.array(out_Q).reshape(-1, 2)
-    return SlowSeries(t=np.array(out_t), QR=Qa[:, 0], QJ=Qa[:, 1], Theta=np.unwrap(np.array(out_Th)),
-                      phi=np.array(out_phi))
+        phi += 0.5 * (P + P1) + eps * (k[12] + k[13] * cm + k[14] * sm)
+        t, u, v, T, W, P = t_next, u1, v1, T1, W1, P1
+        Th = th1 + 0.5 * W
+        out.append((t, u, v, Th, phi))
+    arr = np.array(out, float).reshape(-1, 5)
+    Q = np.outer(arr[:, 1], ft.e) + np.outer(arr[:, 2], ft.n)
+    return SlowSeries(t=arr[:, 0], QR=Q[:, 0], QJ=Q[:, 1], Theta=np.unwrap(arr[:, 3]), phi=arr[:, 4])
 
 
 def line_slope(QR: ArrayLike, QJ: ArrayLike) -> float:
