@@ -18,6 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 from analysis.body import Body
 from analysis.invariants import energy, jellett, routh
 from analysis.kinematics import angles_from_frame
+from analysis.slow_diagnostics import slow_period, span
 
 __all__ = ["TurningPoints", "Trajectory", "azimuth_span", "wrap_to_pi"]
 
@@ -191,6 +192,22 @@ class Trajectory:
     def Phi(self) -> float:
         """Azimuth span Φ of the visible half-angle φ mod π at the θ-maxima (paper §7.2)."""
         return azimuth_span(self.maxima.phi)
+
+    @property
+    def slow_period(self) -> float | None:
+        """Period of Θ = 2ψ sampled at the θ-maxima, from interpolated crossings of the mean
+        (:func:`analysis.slow_diagnostics.slow_period`); None if not measurable within the run."""
+        return slow_period(self.maxima.t, 2.0 * self.maxima.psi)
+
+    @property
+    def QR_extent(self) -> float:
+        """max − min of Q_R over the θ-maxima (the samples of the averaged map)."""
+        return span(self.maxima.QR)
+
+    @property
+    def QJ_extent(self) -> float:
+        """max − min of Q_J over the θ-maxima (the samples of the averaged map)."""
+        return span(self.maxima.QJ)
 
     def state_at(self, t: ArrayLike) -> NDArray[np.float64]:
         """Body-frame state(s) at time(s) ``t`` from the integrator's dense output, shape (..., 11)."""

@@ -158,3 +158,13 @@ def test_azimuth_span_is_cut_independent():
 def test_bad_input(make, fragment):
     with pytest.raises(ValueError, match=fragment):
         make()
+
+
+def test_slow_diagnostics_follow_their_definitions(fig5_runs):
+    from analysis.slow_diagnostics import slow_period, span
+
+    traj = fig5_runs[1e-3]
+    assert traj.slow_period == slow_period(traj.maxima.t, 2 * traj.maxima.psi)
+    assert traj.QR_extent == span(traj.maxima.QR) > 0
+    assert traj.QJ_extent == span(traj.maxima.QJ) > 0
+    assert fig5_runs[0.0].QR_extent < 1e-15
