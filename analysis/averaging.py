@@ -86,7 +86,7 @@ HARMONIC_PSI = (0.0, math.pi / 3.0, 2.0 * math.pi / 3.0)
 #: First-order responses per step: ε-derivatives of Q_R, Q_J, Θ = 2ψ, the event time and φ.
 FIRST_ORDER_NAMES = ("QR", "QJ", "Theta", "t", "phi")
 #: Bump when the table construction changes (part of the cache key).
-_TABLE_VERSION = "1"
+_TABLE_VERSION = "2"
 _INTEGRATOR: dict[str, Any] = {}
 _TABLES: dict[str, "SlowMapTable"] = {}
 
@@ -358,8 +358,9 @@ def step_coefficients(body: Body, theta0: float, QR: float, QJ: float) -> StepCo
 TABLE_FUNCTIONS = ("T", "W", "dphi",
                    "kQR_c0", "kQR_c1", "kQR_s1", "kQJ_c0", "kQJ_c1", "kQJ_s1", "kTh_c0", "kTh_c1", "kTh_s1",
                    "dt_c0", "dt_c1", "dt_s1", "dphi1_c0", "dphi1_c1", "dphi1_s1")
-_ODD = {"W", "dphi", "kTh_c0", "kTh_c1", "kTh_s1"}
-_EVEN = {"T", "kQR_c0", "kQR_c1", "kQR_s1", "kQJ_c0", "kQJ_c1", "kQJ_s1"}
+#: Parities in Q of a reversible map (time reversal: Q → −Q, Θ kept, t and φ steps reversed in order/sign).
+_ODD = {"W", "dphi", "kTh_c0", "kTh_c1", "kTh_s1", "dphi1_c0", "dphi1_c1", "dphi1_s1"}
+_EVEN = {"T", "kQR_c0", "kQR_c1", "kQR_s1", "kQJ_c0", "kQJ_c1", "kQJ_s1", "dt_c0", "dt_c1", "dt_s1"}
 
 
 def _cheb_nodes(n: int) -> NDArray[np.float64]:
@@ -697,7 +698,7 @@ def _fast(table: SlowMapTable) -> _FastTable:
 
 
 def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float, *,
-                     Q0: ArrayLike = (0.0, 0.0), phi0: float = 0.0) -> SlowSeries:
+                     Q0: ArrayLike = (0.0, 0.0), phi0: float = 0.0, n_steps: int | None = None) -> SlowSeries:
     """Iterate the reversible drift–kick–drift slow map from a maximum at t = 0.
 
     One step: Θ += W(Q)/2; (Q, Θ) += ε k(midpoint) (implicit midpoint, solved by fixed-point
@@ -715,6 +716,8 @@ def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float,
         Last time, > 0.
     Q0 : (Q_R, Q_J) at the start (default: released from rest, Q = 0).
     phi0 : φ at the start.
+    n_steps : int, optional
+        Stop after this many steps (even before t_end).
 
     Raises
     ------
@@ -763,6 +766,8 @@ def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float,
         t, u, v, T, W, P = t_next, u1, v1, T1, W1, P1
         Th = th1 + 0.5 * W
         out.append((t, u, v, Th, phi))
+        if n_steps is not None and len(out) >= n_steps:
+            break
     arr = np.array(out, float).reshape(-1, 5)
     Q = np.outer(arr[:, 1], ft.e) + np.outer(arr[:, 2], ft.n)
     return SlowSeries(t=arr[:, 0], QR=Q[:, 0], QJ=Q[:, 1], Theta=np.unwrap(arr[:, 3]), phi=arr[:, 4])
