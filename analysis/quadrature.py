@@ -355,21 +355,32 @@ def _mp_terms(x, y, E, QR, QJ, mb):
     return P, u, R
 
 
-def _mp_root(z0: float, small_is_x: bool, E, QR, QJ, mb):
-    """Root of P in the end variable z (x or y), bracketed around the double estimate z0."""
+def _mp_root(z0: float, small_is_x: bool, inward_up: bool, E, QR, QJ, mb):
+    """Root of P in the end variable z (x or y), bracketed around the double estimate z0.
+
+    ``inward_up``: the allowed interval lies at larger z (θ_N in x, θ_X in y); else at smaller z.
+    """
+    sign = 1 if inward_up else -1
+
     def P_of(z):
         x, y = (z, 2 - z) if small_is_x else (2 - z, z)
-        return _mp_terms(x, y, E, QR, QJ, mb)[0]
+        return sign * _mp_terms(x, y, E, QR, QJ, mb)[0]
 
     z0 = mpmath.mpf(z0)
     if z0 < 1e-100 and P_of(mpmath.mpf(0)) == 0:  # Q_J exactly critical here: the turning point is the end
         return mpmath.mpf(0)
-    for rel in (1e-9, 1e-6, 1e-3, 1e-1, 0.5, 1.0):
-        lo, hi = z0 * (1 - mpmath.mpf(rel)), min(z0 * (1 + mpmath.mpf(rel)), mpmath.mpf(2))
-        if P_of(lo) * P_of(hi) < 0:
+    # P < 0 on the end side of the root and P > 0 inside the allowed interval (in x and in y alike)
+    lo, hi = z0 * (1 - mpmath.mpf(1e-9)), z0 * (1 + mpmath.mpf(1e-9))
+    for _ in range(400):
+        if P_of(lo) < 0:
             break
-    else:
-        raise ValueError(f"mpmath backend: could not bracket a turning point near {z0} (in "
+        lo = lo / 10 if lo > 1e-300 else mpmath.mpf(0)
+    for _ in range(400):
+        if P_of(hi) > 0 or hi >= 1:
+            break
+        hi = min(hi * 10 if hi > 0 else mpmath.mpf(10) ** -300, mpmath.mpf(1))
+    if not (P_of(lo) < 0 < P_of(hi)):
+        raise ValueError(f"mpmath backend: could not bracket a turning point near {mpmath.nstr(z0, 17)} (in "
                          f"{'x = 1 - cos theta' if small_is_x else 'y = 1 + cos theta'})")
     z = mpmath.findroot(P_of, (lo, hi), solver="anderson")
     return z
@@ -425,12 +436,12 @@ def precession_mp(E: Any, QR: Any, QJ: Any, body: Body, dps: int = 40, *, theta0
             raise ValueError(f"steady circular rolling (double root) for E={E!r}, QR={QR!r}, QJ={QJ!r}; "
                              "not integrated")
         roots = []
-        for xr, yr in ((float(tp.x_N), float(tp.y_N)), (float(tp.x_X), float(tp.y_X))):
+        for (xr, yr), is_N in (((float(tp.x_N), float(tp.y_N)), True), ((float(tp.x_X), float(tp.y_X)), False)):
             small_is_x = xr <= yr
             if theta0 is not None and abs(np.log(xr / (2 * np.sin(theta0 / 2) ** 2))) < 1e-6:
                 roots.append((x0, y0))
                 continue
-            z = _mp_root(xr if small_is_x else yr, small_is_x, Em, QRm, QJm, mb)
+            z = _mp_root(xr if small_is_x else yr, small_is_x, small_is_x == is_N, Em, QRm, QJm, mb)
             roots.append((z, 2 - z) if small_is_x else (2 - z, z))
         (xN, yN), (xX, yX) = roots
         H = xX - xN

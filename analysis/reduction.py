@@ -25,8 +25,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from fractions import Fraction
+from functools import lru_cache
 from typing import Any
 
+import mpmath
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -137,10 +139,10 @@ def u_numerator(x: ArrayLike, y: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: 
     f = _f(x, y, body)
     R = _R(s2, f, body)
     out = _u_direct(f, R, QR, QJ, body)
-    for end_f, small, near in ((1.0 - body.a, x, (x <= 1.0) & (f > 0.0)),
-                               (-(1.0 + body.a), y, (y <= 1.0) & (f < 0.0))):
+    ends = u_ends(QR, QJ, body)
+    for end_f, small, near, u_end in ((1.0 - body.a, x, (x <= 1.0) & (f > 0.0), ends[0]),
+                                      (-(1.0 + body.a), y, (y <= 1.0) & (f < 0.0), ends[1])):
         R_end = _R(0.0, end_f, body)
-        u_end = _u_direct(end_f, R_end, QR, QJ, body)
         # end_f² R² − f² R_end² = I3 (end_f² − f²) + end_f² s², with end_f² − f² = ±small (end_f + f)
         sign = 1.0 if end_f > 0 else -1.0
         num = small * (sign * body.I3 * (end_f + f) + end_f * end_f * (2.0 - small))
@@ -149,12 +151,49 @@ def u_numerator(x: ArrayLike, y: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: 
     return out
 
 
+def _two_prod(a, b):
+    """Dekker's exact product: a b = p + e with p = fl(a b) (no fma needed)."""
+    split = 134217729.0  # 2^27 + 1
+    p = a * b
+    ta = split * a
+    ah = ta - (ta - a)
+    al = a - ah
+    tb = split * b
+    bh = tb - (tb - b)
+    bl = b - bh
+    e = ((ah * bh - p) + ah * bl + al * bh) + al * bl
+    return p, e
+
+
+@lru_cache(maxsize=64)
+def _critical_slopes(body: Body) -> tuple[tuple[float, float], tuple[float, float]]:
+    """I3 f_e ρ_e at θ = 0 (f_e = 1 − a) and θ = π (f_e = −(1 + a)) as double-double (hi, lo).
+
+    Q_J,e^crit = (I3 f_e ρ_e) Q_R (paper eqs. QJcrit_0, QJcrit_pi); computed at 40 digits from the
+    exact binary values of the body parameters.
+    """
+    out = []
+    with mpmath.workdps(40):
+        a, I1, I3 = (mpmath.mpf(v) for v in (body.a, body.I1, body.I3))
+        for fe in (1 - a, -(1 + a)):
+            c = I3 * fe / mpmath.sqrt(I3 + (I3 / I1) * fe * fe)
+            hi = float(c)
+            out.append((hi, float(c - hi)))
+    return out[0], out[1]
+
+
 def u_ends(QR: ArrayLike, QJ: ArrayLike, body: Body) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """(u₀, u_π) = (Q_J − Q_J,0^crit, Q_J − Q_J,π^crit): the numerator u at θ = 0 and θ = π."""
+    """(u₀, u_π) = (Q_J − Q_J,0^crit, Q_J − Q_J,π^crit): the numerator u at θ = 0 and θ = π.
+
+    Evaluated in double-double, so each is correctly rounded to ~ε |u_e| (not ε |Q_J|): its sign,
+    the side of the critical line, is exact for the given doubles down to |u_e| ~ 1e-300.
+    """
     QR, QJ = np.asarray(QR, float), np.asarray(QJ, float)
-    f0, fpi = 1.0 - body.a, -(1.0 + body.a)
-    return (_u_direct(f0, _R(0.0, f0, body), QR, QJ, body),
-            _u_direct(fpi, _R(0.0, fpi, body), QR, QJ, body))
+    res = []
+    for hi, lo in _critical_slopes(body):
+        p, e = _two_prod(QR, hi)
+        res.append(((QJ - p) - e) - QR * lo)
+    return res[0], res[1]
 
 
 def reduced_N(s2: Any, f: Any, R: Any, u: Any, QR: Any, body: Body) -> Any:
