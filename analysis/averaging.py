@@ -79,6 +79,7 @@ __all__ = [
     "SlowPrediction",
     "predict_slow_motion",
     "line_slope",
+    "critical_regions",
 ]
 
 #: Spin angles ψ_n of the three orbits that determine the harmonics 0 and 2 of ψ_n.
@@ -795,7 +796,8 @@ class SlowPrediction:
     Phi : span of φ mod π at the maxima within t_end.
     line_slope : dQ_J/dQ_R of the line through the samples.
     series : SlowSeries.
-    regions, rocks_per_region, crossings : criticality bookkeeping (None if unavailable).
+    regions, region_runs, crossings : critical region of each sample, runs of consecutive rocks in
+        one region, and the crossings of the critical lines (:func:`critical_regions`).
     """
 
     eps: float
@@ -810,8 +812,16 @@ class SlowPrediction:
     line_slope: float
     series: SlowSeries = field(repr=False)
     regions: Any = field(default=None, repr=False)
-    rocks_per_region: dict[str, int] | None = None
-    crossings: list[tuple[float, str, str]] | None = field(default=None, repr=False)
+    region_runs: list[tuple[str, int, float]] | None = field(default=None, repr=False)
+    crossings: list[tuple[float, str, str, str]] | None = field(default=None, repr=False)
+
+    @property
+    def rocks_per_region(self) -> dict[str, int]:
+        """Total number of rocks (maxima) in each critical region within t_end."""
+        out: dict[str, int] = {}
+        for lab, n, _ in self.region_runs or []:
+            out[lab] = out.get(lab, 0) + n
+        return out
 
 
 def predict_slow_motion(body: Body, theta0: float, psi0: float, t_end: float = 1000.0, *,
@@ -853,28 +863,46 @@ def predict_slow_motion(body: Body, theta0: float, psi0: float, t_end: float = 1
     series = iterate_slow_map(table, eps, psi0, t_end)
     from numerics.trajectory import azimuth_span
 
-    regions = rocks = crossings = None
-    try:
-        from analysis.criticality import region as _region  # type: ignore[attr-defined]
-    except ImportError:  # pragma: no cover - criticality not available
-        _region = None
-    if _region is not None and series.t.size:
-        regions, rocks, crossings = _region_bookkeeping(_region, series, table.body)
+    regions, runs, crossings = critical_regions(series.QR, series.QJ, series.t, table.body)
     return SlowPrediction(
         eps=eps, theta0=theta0, psi0=float(psi0), t_end=float(t_end), K=K,
         slow_period=slow_period(series.t, series.Theta) if series.t.size >= 3 else None,
         QR_extent=span(series.QR), QJ_extent=span(series.QJ), Phi=azimuth_span(series.phi),
         line_slope=line_slope(series.QR, series.QJ) if series.t.size >= 2 else float("nan"),
-        series=series, regions=regions, rocks_per_region=rocks, crossings=crossings)
+        series=series, regions=regions, region_runs=runs, crossings=crossings)
 
 
-def _region_bookkeeping(region_fn: Callable[..., Any], series: SlowSeries, body: Body):
-    """Region of each sample, rocks per region, and the sequence of region changes (t, from, to)."""
-    regions = np.asarray(region_fn(series.QR, series.QJ, body))
-    labels = [str(r) for r in regions.reshape(-1)]
-    rocks: dict[str, int] = {}
-    for lab in labels:
-        rocks[lab] = rocks.get(lab, 0) + 1
-    crossings = [(float(series.t[i]), labels[i - 1], labels[i]) for i in range(1, len(labels))
-                 if labels[i] != labels[i - 1]]
-    return regions, rocks, crossings
+#: Region of the (Q_R, Q_J) plane from the signs of (u₀, u_π) = (Q_J − Q_J,0^crit, Q_J − Q_J,π^crit)
+#: (paper §3.4, eqs. QJcrit_0, QJcrit_pi): I: u₀ < 0 < u_π; II: both > 0; III: u_π < 0 < u₀; IV: both < 0.
+_REGION_OF_SIGNS = {(False, True): "I", (True, True): "II", (True, False): "III", (False, False): "IV"}
+
+
+def critical_regions(QR: ArrayLike, QJ: ArrayLike, t: ArrayLike, body: Body):
+    """Critical region of each turning-point sample, the runs of consecutive rocks in one region, and
+    the crossings of the critical lines.
+
+    Returns
+    -------
+    (regions, runs, crossings)
+        regions: array of "I".."IV"; runs: list of (region, number of rocks, time of the first);
+        crossings: list of (t, from, to, line) with line "QJ0crit" (full-angle reversal) and/or
+        "QJpicrit" (visible-angle reversal).  A sample exactly on a line (u = 0) counts as above it.
+    """
+    from analysis.reduction import u_ends
+
+    u0, upi = u_ends(QR, QJ, body.symmetric())
+    up0, uppi = np.asarray(u0) >= 0.0, np.asarray(upi) >= 0.0
+    regions = np.array([_REGION_OF_SIGNS[(bool(a), bool(b))] for a, b in zip(up0, uppi)], dtype=object)
+    t = np.asarray(t, float)
+    runs: list[tuple[str, int, float]] = []
+    crossings: list[tuple[float, str, str, str]] = []
+    for i, lab in enumerate(regions):
+        if runs and runs[-1][0] == lab:
+            runs[-1] = (lab, runs[-1][1] + 1, runs[-1][2])
+            continue
+        if runs:
+            lines = [name for name, flip in (("QJ0crit", up0[i] != up0[i - 1]), ("QJpicrit", uppi[i] != uppi[i - 1]))
+                     if flip]
+            crossings.append((float(t[i]), str(regions[i - 1]), str(lab), "+".join(lines)))
+        runs.append((str(lab), 1, float(t[i])))
+    return regions, runs, crossings
