@@ -19,6 +19,8 @@ from analysis.body import Body
 from analysis.invariants import energy
 from analysis.quadrature import precession, wrap_angle
 from analysis.slow_diagnostics import mean_crossings, slow_period
+from analysis.averaging_check import (OdeSlowSummary, loglog_slope, ode_slow_summary, relative_errors,
+                                      sample_errors)
 from analysis.slow_pendulum import pendulum_constants, pendulum_prediction
 from numerics.equations import EulerState, euler_from_state, state_from_euler
 from numerics.integrate import simulate
@@ -47,32 +49,12 @@ def constants():
 _ODE: dict = {}
 
 
-def ode(eps: float, psi0: float, t_end: float = 1000.0):
+def ode(eps: float, psi0: float, t_end: float = 1000.0) -> OdeSlowSummary:
     """Direct-ODE turning-point samples of the body released from rest (memoised)."""
     key = (eps, psi0, t_end)
     if key not in _ODE:
-        tr = simulate(Body.paper(eps), EulerState(THETA0, 0.0, psi0), t_end, dt=t_end / 10)
-        m = tr.maxima
-        _ODE[key] = {"t": m.t, "QR": m.QR, "QJ": m.QJ, "Theta": 2 * m.psi, "phi": m.phi,
-                     "slow_period": slow_period(m.t, 2 * m.psi), "QR_extent": float(np.ptp(m.QR)),
-                     "QJ_extent": float(np.ptp(m.QJ)), "Phi": tr.Phi,
-                     "line_slope": av.line_slope(m.QR, m.QJ)}
+        _ODE[key] = ode_slow_summary(Body.paper(eps), THETA0, psi0, t_end)
     return _ODE[key]
-
-
-def rel_errors(pred, ref) -> dict[str, float]:
-    return {q: getattr(pred, q) / ref[q] - 1.0 for q in ("slow_period", "QR_extent", "Phi", "line_slope")}
-
-
-def slope_fit(eps, err) -> tuple[float, float]:
-    """Least-squares slope of log|err| against log ε and its standard error."""
-    x, y = np.log10(eps), np.log10(np.abs(err))
-    A = np.vstack([x, np.ones_like(x)]).T
-    coef, res, *_ = np.linalg.lstsq(A, y, rcond=None)
-    dof = max(len(x) - 2, 1)
-    s2 = float(res[0]) / dof if res.size else 0.0
-    cov = s2 * np.linalg.inv(A.T @ A)
-    return float(coef[0]), float(math.sqrt(cov[0, 0]))
 
 
 # ----------------------------------------------------------------------------- one step
@@ -198,16 +180,6 @@ def test_table_cache_round_trip(tmp_path, monkeypatch):
 
 
 # ----------------------------------------------------------------------------- against the ODE
-def sample_errors(series: av.SlowSeries, ref) -> dict[str, float]:
-    """Largest sample-by-sample differences map − ODE over the run (maxima n = 1, 2, ...)."""
-    n = min(series.t.size, ref["t"].size)
-    dQ = np.hypot(series.QR[:n] - ref["QR"][:n], series.QJ[:n] - ref["QJ"][:n])
-    return {"Q": float(dQ.max() / np.ptp(ref["QR"])),
-            "Theta": float(np.abs(wrap_angle(series.Theta[:n] - ref["Theta"][:n])).max()),
-            "t": float(np.abs(series.t[:n] - ref["t"][:n]).max()),
-            "phi": float(np.abs(wrap_angle(series.phi[:n] - ref["phi"][:n], math.pi)).max())}
-
-
 @pytest.mark.parametrize("name", list(PSI0))
 def test_map_agrees_with_ode_and_error_falls_linearly(table, name):
     """Slow period, Q_R extent and Φ: ≤ 5e-3 relative at ε = 1e-2; the map tracks the ODE maximum by
@@ -223,12 +195,12 @@ def test_map_agrees_with_ode_and_error_falls_linearly(table, name):
             pred = av.predict_slow_motion(Body.paper(eps), THETA0, psi0, 1000.0, table=table)
             ref = ode(eps, psi0)
             if eps == 1e-2:
-                errs = rel_errors(pred, ref)
+                errs = relative_errors(pred, ref)
                 for q in ("slow_period", "QR_extent", "Phi"):
                     assert abs(errs[q]) <= 5e-3, (q, errs[q])
             track.append(sample_errors(pred.series, ref))
     for q in ("Q", "Theta", "t", "phi"):
-        s, _ = slope_fit(EPS, [e[q] for e in track])
+        s = loglog_slope(EPS, [e[q] for e in track])
         assert s >= MIN_SLOPE, (q, s, [e[q] for e in track])
 
 
@@ -241,11 +213,11 @@ def test_straight_line_slope(table):
             pred = av.predict_slow_motion(Body.paper(eps), THETA0, PSI0["pi/4"], 1000.0, table=table)
             ref = ode(eps, PSI0["pi/4"])
             # the samples do lie on a line: residual across it ≪ extent along it
-            X = np.vstack([ref["QR"], ref["QJ"]])
+            X = np.vstack([ref.QR, ref.QJ])
             sv = np.linalg.svd(X - X.mean(axis=1, keepdims=True), compute_uv=False)
             assert sv[1] < 1e-3 * sv[0]
-            errs.append(pred.line_slope / ref["line_slope"] - 1.0)
-    s, _ = slope_fit(EPS, errs)
+            errs.append(pred.line_slope / ref.line_slope - 1.0)
+    s = loglog_slope(EPS, errs)
     assert s >= MIN_SLOPE, (s, errs)
 
 
@@ -270,9 +242,9 @@ def test_closed_form_error_falls_linearly(constants):
         for eps in eps_set:
             t_end = 1000.0 if eps >= 1e-4 else 3000.0
             pred = pendulum_prediction(Body.paper(eps), THETA0, psi0, t_end, constants=constants)
-            errs.append(rel_errors(pred, ode(eps, psi0, t_end)))
+            errs.append(relative_errors(pred, ode(eps, psi0, t_end)))
         for q in ("slow_period", "QR_extent", "Phi"):
-            s, _ = slope_fit(eps_set, [e[q] for e in errs])
+            s = loglog_slope(eps_set, [e[q] for e in errs])
             assert s >= MIN_SLOPE, (q, s, errs)
 
 

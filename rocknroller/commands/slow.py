@@ -39,12 +39,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(run=run, eps_default=1e-3)
 
 
-def _rel(a: float | None, b: float | None) -> float | None:
-    if a is None or b is None or b == 0.0 or not (math.isfinite(a) and math.isfinite(b)):
-        return None
-    return a / b - 1.0
-
-
 def _fmt(x: Any) -> str:
     if x is None:
         return "n/a"
@@ -91,23 +85,20 @@ def run(args: argparse.Namespace) -> int:
         **{q: getattr(pend, q) for q in _QUANTITIES}, "kappa": consts.kappa,
         "eps_period_doubling": consts.eps_period_doubling, "T0": consts.T0, "C0": list(consts.C0),
         "stable_psi": consts.stable_psi}
-    traj = None
+    ode = None
     if args.check or args.plot is not None:
-        from numerics.equations import EulerState
-        from numerics.integrate import simulate
+        from analysis.averaging_check import ode_slow_summary, relative_errors
 
-        traj = simulate(body, EulerState(theta0, 0.0, psi0), args.t_end, dt=args.t_end / 10)
-        ode = {q: getattr(traj, q) for q in _QUANTITIES}
-        ode["rocks_per_region"] = {}
-        runs = av.critical_regions(traj.maxima.QR, traj.maxima.QJ, traj.maxima.t, body)[1]
-        for lab, n, _ in runs:
-            ode["rocks_per_region"][lab] = ode["rocks_per_region"].get(lab, 0) + n
-        ode["region_runs"] = [list(r) for r in runs]
-        summary["ode"] = ode
-        summary["rel_error"] = {q: _rel(summary[q], ode[q]) for q in _QUANTITIES}
+        ode = ode_slow_summary(body, theta0, psi0, args.t_end)
+        summary["ode"] = {q: getattr(ode, q) for q in _QUANTITIES}
+        summary["ode"]["region_runs"] = [list(r) for r in ode.region_runs]
+        summary["ode"]["rocks_per_region"] = {}
+        for lab, n, _ in ode.region_runs:
+            summary["ode"]["rocks_per_region"][lab] = summary["ode"]["rocks_per_region"].get(lab, 0) + n
+        summary["rel_error"] = {q: relative_errors(pred, ode)[q] for q in _QUANTITIES}
         if pend is not None:
-            summary["pendulum"]["rel_error"] = {q: _rel(getattr(pend, q), ode[q]) for q in _QUANTITIES}
-    written = _plot(pred, traj, body, theta0, psi0, args.plot) if args.plot is not None else []
+            summary["pendulum"]["rel_error"] = {q: relative_errors(pend, ode)[q] for q in _QUANTITIES}
+    written = _plot(pred, ode, body, theta0, psi0, args.plot) if args.plot is not None else []
     summary["warnings"] = messages
     for msg in messages:
         print(f"rocknroller slow: warning: {msg}", file=sys.stderr)
@@ -147,7 +138,7 @@ def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: flo
               f"{', '.join(f'{lab}:{n}' for lab, n, _ in s['ode']['region_runs'])}")
 
 
-def _plot(pred, traj, body, theta0: float, psi0: float, out: Path) -> list[Path]:
+def _plot(pred, ode, body, theta0: float, psi0: float, out: Path) -> list[Path]:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -157,14 +148,13 @@ def _plot(pred, traj, body, theta0: float, psi0: float, out: Path) -> list[Path]
     from papers.output import save_figure
 
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
-    m = traj.maxima
-    ax1.plot(m.QR, m.QJ, "o", ms=5, mfc="none", color="tab:red", label="direct ODE (maxima)")
+    ax1.plot(ode.QR, ode.QJ, "o", ms=5, mfc="none", color="tab:red", label="direct ODE (maxima)")
     ax1.plot(pred.series.QR, pred.series.QJ, ".", ms=3, color="k", label="averaged map")
     ax1.set_xlabel("$Q_R$ at the maxima of $\\theta$")
     ax1.set_ylabel("$Q_J$")
     ax1.ticklabel_format(style="sci", scilimits=(-2, 2))
     ax1.legend(fontsize=8, loc="best")
-    ax2.plot(m.t, np.mod(m.psi, np.pi), "o", ms=4, mfc="none", color="tab:red", label="direct ODE")
+    ax2.plot(ode.t, np.mod(0.5 * ode.Theta, np.pi), "o", ms=4, mfc="none", color="tab:red", label="direct ODE")
     ax2.plot(pred.series.t, pred.series.psi_mod_pi, ".", ms=3, color="k", label="averaged map")
     ax2.set_xlabel("t")
     ax2.set_ylabel("$\\psi$ mod $\\pi$ at the maxima")

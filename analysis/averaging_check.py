@@ -1,0 +1,113 @@
+"""Comparison of the averaged predictions with the direct ODE (shared by the tests, the CLI and the docs table).
+
+The observables follow the shared definitions of :mod:`analysis.slow_diagnostics`: slow period of
+Θ = 2ψ at the θ-maxima (crossings of the mean), extents of Q_R and Q_J over the maxima within t_end,
+and Φ, the span of φ mod π at the maxima.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from analysis import averaging as av
+from analysis.body import Body
+from analysis.quadrature import wrap_angle
+from analysis.slow_pendulum import PendulumConstants, pendulum_prediction
+
+__all__ = ["OBSERVABLES", "OdeSlowSummary", "ode_slow_summary", "relative_errors", "sample_errors",
+           "loglog_slope", "Comparison", "compare_with_ode"]
+
+#: Observables compared with the ODE.
+OBSERVABLES = ("slow_period", "QR_extent", "QJ_extent", "Phi", "line_slope")
+
+
+@dataclass(frozen=True)
+class OdeSlowSummary:
+    """The direct ODE's turning-point samples and slow observables (released from rest)."""
+
+    t: np.ndarray
+    QR: np.ndarray
+    QJ: np.ndarray
+    Theta: np.ndarray
+    phi: np.ndarray
+    slow_period: float | None
+    QR_extent: float
+    QJ_extent: float
+    Phi: float
+    line_slope: float
+    region_runs: list[tuple[str, int, float]]
+
+
+def ode_slow_summary(body: Body, theta0: float, psi0: float, t_end: float) -> OdeSlowSummary:
+    """Run the direct ODE (heyoka) from rest at (θ0, ψ0) and summarise its θ-maxima."""
+    from numerics.equations import EulerState
+    from numerics.integrate import simulate
+
+    tr = simulate(body, EulerState(theta0, 0.0, psi0), t_end, dt=t_end / 10)
+    m = tr.maxima
+    return OdeSlowSummary(t=m.t, QR=m.QR, QJ=m.QJ, Theta=2.0 * m.psi, phi=m.phi, slow_period=tr.slow_period,
+                          QR_extent=tr.QR_extent, QJ_extent=tr.QJ_extent, Phi=tr.Phi,
+                          line_slope=av.line_slope(m.QR, m.QJ),
+                          region_runs=av.critical_regions(m.QR, m.QJ, m.t, body)[1])
+
+
+def relative_errors(pred: Any, ref: Any) -> dict[str, float | None]:
+    """pred/ref − 1 for each of ``OBSERVABLES`` present on both (None if not measurable)."""
+    out: dict[str, float | None] = {}
+    for q in OBSERVABLES:
+        a, b = getattr(pred, q, None), getattr(ref, q, None)
+        out[q] = None if a is None or b is None or b == 0.0 or not math.isfinite(a) else a / b - 1.0
+    return out
+
+
+def sample_errors(series: av.SlowSeries, ref: OdeSlowSummary) -> dict[str, float]:
+    """Largest differences map − ODE maximum by maximum: |ΔQ|/(Q_R extent), Θ, t and φ mod π."""
+    n = min(series.t.size, ref.t.size)
+    dQ = np.hypot(series.QR[:n] - ref.QR[:n], series.QJ[:n] - ref.QJ[:n])
+    return {"Q": float(dQ.max() / np.ptp(ref.QR)),
+            "Theta": float(np.abs(wrap_angle(series.Theta[:n] - ref.Theta[:n])).max()),
+            "t": float(np.abs(series.t[:n] - ref.t[:n]).max()),
+            "phi": float(np.abs(wrap_angle(series.phi[:n] - ref.phi[:n], math.pi)).max())}
+
+
+def loglog_slope(eps: ArrayLike, err: ArrayLike) -> float:
+    """Least-squares slope of log|err| against log ε."""
+    return float(np.polyfit(np.log10(np.asarray(eps, float)), np.log10(np.abs(np.asarray(err, float))), 1)[0])
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """Map, closed form and ODE for one (ε, ψ0)."""
+
+    eps: float
+    psi0: float
+    map: av.SlowPrediction
+    pendulum: Any
+    ode: OdeSlowSummary
+    map_errors: dict[str, float | None]
+    pendulum_errors: dict[str, float | None]
+    sample_errors: dict[str, float]
+
+
+def compare_with_ode(body: Body, theta0: float, psi0: float, t_end: float, *, table: av.SlowMapTable,
+                     constants: PendulumConstants) -> Comparison:
+    """Averaged map, closed form and direct ODE side by side (released from rest at (θ0, ψ0))."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", av.AveragingValidityWarning)
+        pred = av.predict_slow_motion(body, theta0, psi0, t_end, table=table)
+    try:
+        pend = pendulum_prediction(body, theta0, psi0, t_end, constants=constants)
+    except ValueError:
+        pend = None
+    ref = ode_slow_summary(body, theta0, psi0, t_end)
+    return Comparison(eps=body.epsilon, psi0=psi0, map=pred, pendulum=pend, ode=ref,
+                      map_errors=relative_errors(pred, ref),
+                      pendulum_errors=relative_errors(pend, ref) if pend is not None else {},
+                      sample_errors=sample_errors(pred.series, ref))
