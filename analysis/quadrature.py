@@ -82,8 +82,16 @@ _N_START = 16
 _N_MAX = 1024
 
 
-def wrap_angle(angle: Any, period: float = 2 * np.pi) -> Any:
-    """angle mod period in the symmetric range (−period/2, period/2]."""
+def wrap_angle(angle: Any, period: Any = None) -> Any:
+    """angle mod period in the symmetric range (−period/2, period/2] (default period 2π).
+
+    numpy arrays, or an mpmath number (then at the working precision, period 2π of that precision).
+    """
+    if isinstance(angle, mpmath.mpf):
+        period = 2 * mpmath.pi if period is None else mpmath.mpf(period)
+        r = mpmath.fmod(period / 2 - angle, period)
+        return period / 2 - (r + period if r < 0 else r)
+    period = 2 * np.pi if period is None else period
     a = np.asarray(angle, float)
     return period / 2 - np.remainder(period / 2 - a, period)
 
@@ -484,11 +492,6 @@ def precession_mp(E: Any, QR: Any, QJ: Any, body: Body, dps: int = 40, *, theta0
         T_half, phi_half, psi_half = integrate(0), integrate(1), integrate(2)
         T_theta = 2 * T_half
         dphi, dpsi = 2 * phi_half, 2 * psi_half
-        twopi = 2 * mpmath.pi
-
-        def wrap(a, period):
-            return period / 2 - mpmath.fmod(mpmath.fmod(period / 2 - a, period) + period, period)
-
         with mpmath.workdps(dps):
             rnd = lambda a: +a  # noqa: E731
             return Precession(
@@ -497,6 +500,6 @@ def precession_mp(E: Any, QR: Any, QJ: Any, body: Body, dps: int = 40, *, theta0
                 theta_X=rnd(2 * mpmath.atan2(mpmath.sqrt(xX), mpmath.sqrt(yX))),
                 T_theta=rnd(T_theta), tau=rnd(2 * T_theta),
                 delta_phi=rnd(dphi), delta_psi=rnd(dpsi), delta_phi_tau=rnd(2 * dphi), delta_psi_tau=rnd(2 * dpsi),
-                visible_phi=rnd(wrap(dphi, twopi)), visible_half_phi=rnd(wrap(dphi, twopi / 2)),
+                visible_phi=rnd(wrap_angle(dphi)), visible_half_phi=rnd(wrap_angle(dphi, mpmath.pi)),
                 status=OK, n_nodes=0,
             )

@@ -130,25 +130,30 @@ def u_numerator(x: ArrayLike, y: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: 
     Near θ = 0 (x ≤ 1, f > 0): u = u₀ + I3 Q_R (f₀ρ₀ − fρ) with f₀ = 1 − a and
     f₀ρ₀ − fρ = x [I3 (f₀ + f) + f₀² y] / [R R₀ (f₀ R + f R₀)], R = 1/ρ.
     Near θ = π (y ≤ 1, f < 0) the same with f_π = −(1 + a) and y in place of x (sign flipped).
-    Elsewhere u is evaluated directly.  u₀ and u_π are the numerators at θ = 0 and π, whose signs
-    are those of Q_J − Q_J,0^crit and Q_J − Q_J,π^crit (paper eqs. QJcrit_0, QJcrit_pi).
+    Elsewhere u is evaluated directly.  u₀ and u_π (:func:`u_ends`) are the numerators at θ = 0
+    and π, whose signs are those of Q_J − Q_J,0^crit and Q_J − Q_J,π^crit (paper eqs. QJcrit_0,
+    QJcrit_pi).
     """
     x, y = np.asarray(x, float), np.asarray(y, float)
-    QR, QJ = np.asarray(QR, float), np.asarray(QJ, float)
     s2 = x * y
     f = _f(x, y, body)
-    R = _R(s2, f, body)
-    out = _u_direct(f, R, QR, QJ, body)
-    ends = u_ends(QR, QJ, body)
-    for end_f, small, near, u_end in ((1.0 - body.a, x, (x <= 1.0) & (f > 0.0), ends[0]),
-                                      (-(1.0 + body.a), y, (y <= 1.0) & (f < 0.0), ends[1])):
-        R_end = _R(0.0, end_f, body)
-        # end_f² R² − f² R_end² = I3 (end_f² − f²) + end_f² s², with end_f² − f² = ±small (end_f + f)
-        sign = 1.0 if end_f > 0 else -1.0
-        num = small * (sign * body.I3 * (end_f + f) + end_f * end_f * (2.0 - small))
+    return _u_xy(x, y, f, _R(s2, f, body), np.asarray(QR, float), np.asarray(QJ, float), body)
+
+
+def _u_xy(x, y, f, R, QR, QJ, body: Body):
+    left = x <= 1.0
+    end_f = np.where(left, 1.0 - body.a, -(1.0 + body.a))
+    small = np.where(left, x, y)
+    sign = np.where(left, 1.0, -1.0)
+    R_end = _R(0.0, end_f, body)
+    u0, upi = u_ends(QR, QJ, body)
+    u_end = np.where(left, u0, upi)
+    near = np.where(left, f > 0.0, f < 0.0)
+    # end_f² R² − f² R_end² = I3 (end_f² − f²) + end_f² s², with end_f² − f² = ±small (end_f + f)
+    num = small * (sign * body.I3 * (end_f + f) + end_f * end_f * (2.0 - small))
+    with np.errstate(invalid="ignore", divide="ignore"):
         diff = num / (R * R_end * (end_f * R + f * R_end))  # end_f ρ_end − f ρ
-        out = np.where(near, u_end + body.I3 * QR * diff, out)
-    return out
+    return np.where(near, u_end + body.I3 * QR * diff, _u_direct(f, R, QR, QJ, body))
 
 
 def _two_prod(a, b):
@@ -225,7 +230,7 @@ def _N_xy(x, y, QR, QJ, body: Body):
     s2 = x * y
     f = _f(x, y, body)
     R = _R(s2, f, body)
-    return reduced_N(s2, f, R, u_numerator(x, y, QR, QJ, body), QR, body)
+    return reduced_N(s2, f, R, _u_xy(x, y, f, R, QR, QJ, body), QR, body)
 
 
 def _U_xy(x, y, QR, QJ, body: Body):
@@ -233,6 +238,7 @@ def _U_xy(x, y, QR, QJ, body: Body):
         return potential(x, body) + _N_xy(x, y, QR, QJ, body) / (2.0 * x * y)
 
 
+@lru_cache(maxsize=64)
 def _two_ga(body: Body) -> tuple[float, float]:
     """2 g a as an unevaluated sum hi + lo of doubles (exact to ~1e-32 relative)."""
     exact = 2 * Fraction(body.g) * Fraction(body.a)

@@ -1,0 +1,244 @@
+"""Precession quadratures of Routh's sphere against the direct ODE and against mpmath."""
+
+from __future__ import annotations
+
+import mpmath
+import numpy as np
+import pytest
+
+from analysis.body import Body
+from analysis.kinematics import primed_from_body
+from analysis.quadrature import (
+    UNRESOLVED,
+    precession,
+    precession_from_turning_point,
+    precession_mp,
+    wrap_angle,
+)
+from analysis.reduction import NO_MOTION, OK, STEADY, F, solve_turning_points, state_from_turning_point, u_ends
+from numerics.equations import EulerState
+from numerics.integrate import simulate
+
+BODY = Body.paper()
+_U0, _UPI = (float(v) for v in u_ends(0.01, 0.0, BODY))
+
+#: (label, θ0 = θ_X, Q_R, Q_J) for the ODE comparisons: generic, θ_N < 1e-4, θ_X > π − 1e-3, both.
+ODE_CASES = [
+    ("generic", 0.95 * np.pi, 0.01, 0.002),
+    ("mid-range", 2.0, -0.02, 0.03),
+    ("theta_N<1e-4", 0.95 * np.pi, 0.01, -_U0 + 2e-5),
+    ("theta_X>pi-1e-3", np.pi - 5e-4, 0.01, 0.002),
+    ("both ends", np.pi - 5e-4, 0.01, -_U0 + 2e-5),
+    ("theta_N<1e-6, recession side", 0.95 * np.pi, 0.01, -_U0 - 2e-7),
+]
+
+
+@pytest.fixture(scope="module")
+def ode_runs():
+    """For each case: the direct ODE (heyoka) over 12 oscillations and the quadrature on its invariants."""
+    out = {}
+    for label, theta0, QR, QJ in ODE_CASES:
+        st = state_from_turning_point(BODY, theta0, QR, QJ)
+        initial = EulerState(theta0, 0.0, 0.0, 0.0, float(st.phi_dot), float(st.psi_dot))
+        T_guess = float(precession(st.E, QR, QJ, BODY).T_theta)
+        traj = simulate(BODY, initial, 12.2 * T_guess)
+        # the invariants of the state actually integrated (what the quadrature must reproduce)
+        pr = precession(traj.E[0], traj.QR[0], traj.QJ[0], BODY)
+        assert pr.status == OK
+        out[label] = (traj, pr)
+    return out
+
+
+def _maxima_series(traj):
+    """Times and unwrapped φ, ψ at the maxima of θ, the start (a maximum, θ̇ = 0) included."""
+    t = np.concatenate([[0.0], traj.maxima.t])
+    phi = np.concatenate([[traj.phi[0]], traj.maxima.phi])
+    psi = np.concatenate([[traj.psi[0]], traj.maxima.psi])
+    return t, phi, psi
+
+
+@pytest.mark.parametrize("label", [c[0] for c in ODE_CASES])
+def test_ranges_of_the_cases(label, ode_runs):
+    """The cases cover what they claim (θ_N < 1e-4, θ_X > π − 1e-3)."""
+    traj, pr = ode_runs[label]
+    if "theta_N<1e-6" in label:
+        assert pr.theta_N < 1e-6
+    elif "theta_N" in label or "both" in label:
+        assert pr.theta_N < 1e-4
+    if "theta_X" in label or "both" in label:
+        assert pr.theta_X > np.pi - 1e-3
+    assert len(traj.maxima) >= 11
+
+
+@pytest.mark.parametrize("label", [c[0] for c in ODE_CASES if "theta_N" not in c[0] and "both" not in c[0]])
+def test_F_equals_theta_dot_squared_along_ode(label, ode_runs):
+    """F(θ(t)) = θ̇(t)² along the trajectory to ≤ 1e-11 of max θ̇².
+
+    Cases with θ_N ≥ 1e-3: near θ = 0 the body-frame state fixes θ only to ~ε absolutely, and
+    F' ~ F/θ there, so a passage at θ_N ≪ 1e-3 limits the comparison itself (not F).
+    """
+    traj, pr = ode_runs[label]
+    theta_dot = primed_from_body(traj.psi, traj.omega)[0]  # ω1' = θ̇ (paper eq. angledot)
+    F_val = F(traj.theta, traj.E[0], traj.QR[0], traj.QJ[0], BODY)
+    scale = np.max(theta_dot**2)
+    assert np.max(np.abs(F_val - theta_dot**2)) <= 1e-11 * scale
+
+
+@pytest.mark.parametrize("label", [c[0] for c in ODE_CASES])
+def test_T_theta_equals_spacing_of_ode_maxima(label, ode_runs):
+    traj, pr = ode_runs[label]
+    t, _, _ = _maxima_series(traj)
+    assert np.max(np.abs(np.diff(t) / pr.T_theta - 1.0)) <= 1e-10
+    assert pr.tau == 2 * pr.T_theta
+    assert abs((t[2::2] - t[:-2:2]) / pr.tau - 1.0).max() <= 1e-10
+
+
+@pytest.mark.parametrize("label", [c[0] for c in ODE_CASES])
+def test_increments_equal_ode_unwrapped_angles_between_maxima(label, ode_runs):
+    """Δφ, Δψ per T_θ (and per τ) against the unwrapped φ, ψ of the ODE between maxima, ≤ 1e-9."""
+    traj, pr = ode_runs[label]
+    _, phi, psi = _maxima_series(traj)
+    assert np.max(np.abs(np.diff(phi) - pr.delta_phi)) <= 1e-9
+    assert np.max(np.abs(np.diff(psi) - pr.delta_psi)) <= 1e-9
+    assert np.max(np.abs(phi[2:] - phi[:-2] - pr.delta_phi_tau)) <= 2e-9
+    assert np.max(np.abs(psi[2:] - psi[:-2] - pr.delta_psi_tau)) <= 2e-9
+    # visible angles: what an observer sees of the same increments
+    assert np.max(np.abs(wrap_angle(np.diff(phi) - pr.visible_phi))) <= 1e-9
+    assert np.max(np.abs(wrap_angle(np.diff(phi) - pr.visible_half_phi, np.pi))) <= 1e-9
+    assert -np.pi < pr.visible_phi <= np.pi and -np.pi / 2 < pr.visible_half_phi <= np.pi / 2
+
+
+def test_full_angle_jump_sign_follows_critical_line(ode_runs):
+    """Passing near θ = 0, φ jumps by ≈ ±π with the sign of Q_J − Q_J,0^crit (paper §2.6)."""
+    _, above = ode_runs["theta_N<1e-4"]
+    _, below = ode_runs["theta_N<1e-6, recession side"]
+    assert above.delta_phi - below.delta_phi == pytest.approx(2 * np.pi, abs=1e-2)
+
+
+# ----------------------------------------------------------------------------- against mpmath
+def _plane_points(rng, n_generic, n_small_N, n_near_pi):
+    """(E, Q_R, Q_J) spread over the plane; some with θ_N < 1e-3, some with θ_X > π − 1e-3."""
+    pts = []
+    while len(pts) < n_generic:
+        theta0 = rng.uniform(0.55, 0.99) * np.pi
+        QR, QJ = rng.uniform(-0.03, 0.03, 2)
+        pts.append((theta0, QR, QJ))
+    while len(pts) < n_generic + n_small_N:
+        QR = rng.uniform(-0.03, 0.03)
+        u0 = float(u_ends(QR, 0.0, BODY)[0])
+        QJ = -u0 + rng.choice([-1, 1]) * 10 ** rng.uniform(-12, -4)
+        theta0 = rng.uniform(0.55, 0.99) * np.pi
+        pts.append((theta0, QR, QJ))
+    while len(pts) < n_generic + n_small_N + n_near_pi:
+        theta0 = np.pi - 10 ** rng.uniform(-8, -3)
+        QR = rng.uniform(-0.03, 0.03)
+        upi = float(u_ends(QR, 0.0, BODY)[1])
+        QJ = -upi + rng.choice([-1, 1]) * 10 ** rng.uniform(-9, -2)
+        pts.append((theta0, QR, QJ))
+    theta0, QR, QJ = (np.array(v) for v in zip(*pts))
+    E = state_from_turning_point(BODY, theta0, QR, QJ).E
+    return E, QR, QJ
+
+
+def _compare_with_mpmath(E, QR, QJ, dps=40):
+    """Largest relative differences of T_θ, τ and (per T_θ) Δφ, Δψ, the angles relative to max(|Δ|, 1 rad)."""
+    dbl = precession(E, QR, QJ, BODY)
+    assert np.all(dbl.status == OK)
+    errs = {"T_theta": 0.0, "delta_phi": 0.0, "delta_psi": 0.0, "visible_phi": 0.0}
+    for i in range(E.size):
+        ref = precession_mp(E[i], QR[i], QJ[i], BODY, dps=dps)
+        errs["T_theta"] = max(errs["T_theta"], abs(float(dbl.T_theta[i] / ref.T_theta - 1)))
+        for k in ("delta_phi", "delta_psi", "visible_phi"):
+            r = getattr(ref, k)
+            d = abs(float(getattr(dbl, k)[i] - r)) / max(abs(float(r)), 1.0)
+            errs[k] = max(errs[k], d)
+    return errs, dbl
+
+
+def _check_spread(dbl, n_small_N, n_near_pi):
+    assert np.count_nonzero(dbl.theta_N < 1e-3) >= n_small_N
+    assert np.count_nonzero(dbl.theta_X > np.pi - 1e-3) >= n_near_pi
+
+
+def test_double_against_mpmath_40_digits_small():
+    """12 points (4 with θ_N < 1e-3, 4 with θ_X > π − 1e-3): double precision to ≤ 2e-13 relative."""
+    E, QR, QJ = _plane_points(np.random.default_rng(11), 4, 4, 4)
+    errs, dbl = _compare_with_mpmath(E, QR, QJ)
+    _check_spread(dbl, 4, 4)
+    assert max(errs.values()) <= 2e-13, errs
+
+
+@pytest.mark.slow
+def test_double_against_mpmath_40_digits_200_points():
+    """≥ 200 points over the plane, ≥ 50 with θ_N < 1e-3 and ≥ 20 with θ_X > π − 1e-3: ≤ 2e-13 relative."""
+    E, QR, QJ = _plane_points(np.random.default_rng(12), 130, 50, 20)
+    errs, dbl = _compare_with_mpmath(E, QR, QJ)
+    assert E.size >= 200
+    _check_spread(dbl, 50, 20)
+    assert max(errs.values()) <= 2e-13, errs
+
+
+@pytest.mark.parametrize("theta0,QR,QJ", [
+    (0.95 * np.pi, 0.01, 0.002),
+    (0.95 * np.pi, 0.01, -_U0 + 1e-9),  # θ_N ~ 2e-9
+    (np.pi - 1e-6, 0.01, -_UPI + 1e-7),  # θ_X = π − 1e-6
+])
+def test_mpmath_30_and_50_digits_agree(theta0, QR, QJ):
+    E = float(state_from_turning_point(BODY, theta0, QR, QJ).E)
+    lo, hi = precession_mp(E, QR, QJ, BODY, dps=30), precession_mp(E, QR, QJ, BODY, dps=50)
+    for k in ("T_theta", "delta_phi", "delta_psi", "theta_N", "theta_X"):
+        a, b = getattr(lo, k), getattr(hi, k)
+        assert abs(a - b) <= mpmath.mpf(1e-25) * max(abs(b), 1), k
+
+
+def test_mpmath_theta0_mode_pins_the_turning_point():
+    ref = precession_mp(None, 0.01, 0.002, BODY, dps=30, theta0=0.95 * np.pi)
+    assert abs(ref.theta_X - mpmath.mpf(0.95 * np.pi)) <= mpmath.mpf(10) ** -28
+    dbl, upper = precession_from_turning_point(0.95 * np.pi, 0.01, 0.002, BODY)
+    assert upper and dbl.theta_X == 0.95 * np.pi
+    assert abs(float(dbl.T_theta / ref.T_theta) - 1) <= 2e-13
+
+
+# ----------------------------------------------------------------------------- the rule itself
+def test_node_count_follows_the_tolerance():
+    """Looser tolerance, fewer nodes and a larger (but still bounded) error: the check is real."""
+    E, QR, QJ = _plane_points(np.random.default_rng(5), 20, 0, 10)
+    tight = precession(E, QR, QJ, BODY)
+    loose = precession(E, QR, QJ, BODY, rtol=1e-4)
+    assert np.all(loose.n_nodes <= tight.n_nodes) and np.any(loose.n_nodes < tight.n_nodes)
+    err_loose = np.max(np.abs(loose.T_theta / tight.T_theta - 1))
+    assert 0 < err_loose <= 1e-4
+    near_pi = tight.theta_X > np.pi - 1e-3
+    assert np.median(tight.n_nodes[near_pi]) >= np.median(tight.n_nodes[~near_pi])
+
+
+def test_vectorised_statuses_never_nan_silently():
+    E = np.array([1.0, 0.0, 1.0])
+    QR = np.array([0.01, 0.01, 0.01])
+    QJ = np.array([0.002, 0.002, 0.002])
+    tp = solve_turning_points(1.0, 0.01, 0.002, BODY)
+    E[2] = float(tp.U_min)
+    pr = precession(E, QR, QJ, BODY)
+    assert list(pr.status) == [OK, NO_MOTION, STEADY]
+    assert np.isfinite(pr.T_theta[0]) and np.all(np.isnan(pr.T_theta[1:]))
+    assert "no_motion" in pr.status_text()[1] and "steady" in pr.status_text()[2]
+    assert UNRESOLVED not in pr.status
+
+
+def test_bad_input_raises():
+    with pytest.raises(ValueError, match="no motion"):
+        precession_mp(0.0, 0.01, 0.002, BODY)
+    with pytest.raises(ValueError, match="steady circular rolling"):
+        precession_mp(float(solve_turning_points(1.0, 0.01, 0.002, BODY).U_min), 0.01, 0.002, BODY)
+    with pytest.raises(ValueError, match="theta0 must lie in the open interval"):
+        precession_from_turning_point(np.pi, 0.01, 0.0, BODY)
+    with pytest.raises(ValueError, match="theta0 must lie in the open interval"):
+        precession_mp(None, 0.01, 0.0, BODY, theta0=0.0)
+    with pytest.raises(ValueError, match="dps must be"):
+        precession_mp(1.0, 0.01, 0.0, BODY, dps=5)
+    with pytest.raises(ValueError, match="rtol must"):
+        precession(1.0, 0.01, 0.0, BODY, rtol=0.5)
+    for call in (lambda: precession(1.0, 0.01, 0.0, Body.paper(1e-3)),
+                 lambda: precession_mp(1.0, 0.01, 0.0, Body.paper(1e-3))):
+        with pytest.raises(ValueError, match="symmetric body"):
+            call()
