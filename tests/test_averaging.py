@@ -298,3 +298,47 @@ def test_bad_input(table):
 def test_azimuth_span_definition_shared():
     """Φ of the prediction uses the trajectory's azimuth_span (circle of circumference π)."""
     assert azimuth_span(np.array([0.1, math.pi - 0.1])) == pytest.approx(0.2)
+
+
+# ----------------------------------------------------------------------------- slow validations
+@pytest.mark.slow
+def test_period_doubling_within_one_percent(constants):
+    """The first-order ε_pd = 4/κ places the bifurcation to within 1 %: runs at 0.99 and 1.01 ε_pd."""
+    c, d = constants, 1e-4
+
+    def growth(eps: float) -> float:
+        tr = simulate(Body.paper(eps), EulerState(THETA0, 0.0, math.pi / 2 - d), 3000.0, dt=300.0)
+        return float(np.abs(wrap_angle(tr.maxima.psi - math.pi / 2, math.pi)).max() / d)
+
+    assert growth(0.99 * c.eps_period_doubling) < 3.0
+    assert growth(1.01 * c.eps_period_doubling) > 30.0
+
+
+@pytest.mark.slow
+def test_other_release_angle():
+    """θ0 = 0.9π (its own tables, ε_pd = 0.037): map vs ODE at ε = 1e-2 and 1e-3 for ψ0 = π/4."""
+    theta0 = 0.9 * math.pi
+    tab = av.build_table(SYM, theta0)
+    errs = []
+    for eps in (1e-2, 1e-3):
+        pred = av.predict_slow_motion(Body.paper(eps), theta0, math.pi / 4, 1000.0, table=tab)
+        ref = ode_slow_summary(Body.paper(eps), theta0, math.pi / 4, 1000.0)
+        errs.append(relative_errors(pred, ref))
+        # the same sequence of critical regions; a rock whose sample lies within the map's O(ε)
+        # error of a critical line may be counted on the other side at ε = 1e-2
+        assert [r[0] for r in pred.region_runs] == [r[0] for r in ref.region_runs]
+        slack = 1 if eps == 1e-2 else 0
+        assert all(abs(a[1] - b[1]) <= slack for a, b in zip(pred.region_runs, ref.region_runs))
+    for q in ("slow_period", "QR_extent", "Phi"):
+        assert abs(errs[0][q]) <= 5e-3 and abs(errs[1][q]) <= 5e-4, (q, errs)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["pi/8", "3.9pi/8"])
+def test_closed_form_other_psi0(constants, name):
+    eps_set = (1e-3, 1e-4, 1e-5)
+    errs = [relative_errors(pendulum_prediction(Body.paper(e), THETA0, PSI0[name], t, constants=constants),
+                            ode(e, PSI0[name], t))
+            for e, t in zip(eps_set, (1000.0, 1000.0, 3000.0))]
+    for q in ("slow_period", "QR_extent"):
+        assert loglog_slope(eps_set, [e[q] for e in errs]) >= MIN_SLOPE, (q, errs)
