@@ -40,7 +40,10 @@ def parse_grid(text: str, name: str) -> np.ndarray:
             count = int(parts[2])
             if count < 1 or str(count) != parts[2].strip():
                 raise ValueError
-            values = np.linspace(float(parts[0]), float(parts[1]), count)
+            start, stop = float(parts[0]), float(parts[1])
+            if not (np.isfinite(start) and np.isfinite(stop)):
+                raise ValueError
+            values = np.linspace(start, stop, count)
         else:
             raise ValueError
     except ValueError:
