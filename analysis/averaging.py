@@ -622,6 +622,7 @@ _HARM = ("c0", "c1", "s1")
 _FINE_POINTS = 8193
 _LAGRANGE_OFFSETS = np.arange(-2, 4, dtype=float)
 _LAGRANGE_DENOM = np.array([np.prod([k - j for j in _LAGRANGE_OFFSETS if j != k]) for k in _LAGRANGE_OFFSETS])
+_LAGRANGE_INV_DENOM = 1.0 / _LAGRANGE_DENOM
 _FAST: dict[int, "_FastTable"] = {}
 
 
@@ -653,18 +654,17 @@ class _FastTable:
         self.table = table
 
     def _weights(self, x: float) -> tuple[int, NDArray[np.float64]]:
+        """Stencil start and the 6-point Lagrange weights Π_{j≠k} (r − j)/Π_{j≠k} (k − j)."""
         s = (x + 1.0) / self.dx
         i = min(max(int(s), 2), _FINE_POINTS - 4)
         r = s - i
-        d = [r + 2.0, r + 1.0, r, r - 1.0, r - 2.0, r - 3.0]
-        w = []
-        for k in range(6):
-            p = 1.0
-            for j in range(6):
-                if j != k:
-                    p *= d[j]
-            w.append(p / _LAGRANGE_DENOM[k])
-        return i, np.array(w)
+        d0, d1, d2, d3, d4, d5 = r + 2.0, r + 1.0, r, r - 1.0, r - 2.0, r - 3.0
+        l1, r4 = d0, d5
+        l2, r3 = l1 * d1, r4 * d4
+        l3, r2 = l2 * d2, r3 * d3
+        l4, r1 = l3 * d3, r2 * d2
+        l5, r0 = l4 * d4, r1 * d1
+        return i, np.array([r0, l1 * r1, l2 * r2, l3 * r3, l4 * r4, l5]) * _LAGRANGE_INV_DENOM
 
     def _cheb_v(self, y: float) -> NDArray[np.float64]:
         T = [1.0, y]
