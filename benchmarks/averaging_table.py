@@ -29,6 +29,15 @@ def fmt(x: float | None) -> str:
     return "n/a" if x is None else f"{x:+.2e}"
 
 
+def print_table(title: str, header: list[str], rows: list[list[str]]) -> None:
+    """A Markdown table with a ### title."""
+    print(f"\n### {title}\n")
+    print("| " + " | ".join(header) + " |")
+    print("|---" * len(header) + "|")
+    for r in rows:
+        print("| " + " | ".join(r) + " |")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--theta0", default="0.95pi")
@@ -41,45 +50,29 @@ def main() -> None:
     print(f"θ0 = {theta0:.6g}, t_end = {args.t_end:g}; κ = {consts.kappa:.6g}, ε_pd = 4/κ = "
           f"{consts.eps_period_doubling:.6g}, λ = {consts.lam:.6g}, T0 = {consts.T0:.10g}, "
           f"C0 = ({consts.C0[0]:.8g}, {consts.C0[1]:.8g})\n")
-    print("### Averaged map: relative errors against the direct ODE\n")
-    print("| ψ0 | ε | K | slow period | Q_R extent | Φ | line slope | max ΔQ/extent | max ΔΘ | max Δt | max Δφ |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
-    slopes_map = {}
+    samples = ("Q", "Theta", "t", "phi")
+    map_rows, cf_rows, slopes_map, slopes_cf = [], [], [], []
     for name, psi0 in PSI0.items():
-        rows = []
-        for eps in EPS_MAP:
-            c = compare_with_ode(Body.paper(eps), theta0, psi0, args.t_end, table=table, constants=consts)
-            rows.append(c)
-            e, s = c.map_errors, c.sample_errors
-            print(f"| {name} | {eps:g} | {c.map.K:.3g} | " + " | ".join(fmt(e[q]) for q in QUANT) + " | "
-                  + " | ".join(f"{s[q]:.2e}" for q in ("Q", "Theta", "t", "phi")) + " |")
-        slopes_map[name] = {q: loglog_slope(EPS_MAP, [r.map_errors[q] for r in rows]) for q in QUANT}
-        slopes_map[name].update({f"sample {q}": loglog_slope(EPS_MAP, [r.sample_errors[q] for r in rows])
-                                 for q in ("Q", "Theta", "t", "phi")})
-    print("\n### Averaged map: log-log slopes of |error| over ε ∈ {1e-2, 1e-3, 1e-4}\n")
-    keys = list(next(iter(slopes_map.values())))
-    print("| ψ0 | " + " | ".join(keys) + " |")
-    print("|---" * (len(keys) + 1) + "|")
-    for name, sl in slopes_map.items():
-        print(f"| {name} | " + " | ".join(f"{sl[k]:.2f}" for k in keys) + " |")
-    print("\n### Closed form (pendulum): relative errors against the direct ODE\n")
-    print("| ψ0 | ε | K | slow period | Q_R extent | Φ | line slope |")
-    print("|---|---|---|---|---|---|---|")
-    slopes_cf = {}
-    for name, psi0 in PSI0.items():
-        rows = []
-        for eps in EPS_CF:
-            t_end = args.t_end if eps >= 1e-4 else 3.0 * args.t_end
-            c = compare_with_ode(Body.paper(eps), theta0, psi0, t_end, table=table, constants=consts)
-            rows.append(c)
-            print(f"| {name} | {eps:g} | {c.pendulum.K:.3g} | "
-                  + " | ".join(fmt(c.pendulum_errors[q]) for q in QUANT) + " |")
-        slopes_cf[name] = {q: loglog_slope(EPS_CF, [r.pendulum_errors[q] for r in rows]) for q in QUANT}
-    print("\n### Closed form: log-log slopes over ε ∈ {1e-3, 1e-4, 1e-5}\n")
-    print("| ψ0 | " + " | ".join(QUANT) + " |")
-    print("|---" * (len(QUANT) + 1) + "|")
-    for name, sl in slopes_cf.items():
-        print(f"| {name} | " + " | ".join(f"{sl[q]:.2f}" for q in QUANT) + " |")
+        runs = [compare_with_ode(Body.paper(eps), theta0, psi0, args.t_end, table=table, constants=consts)
+                for eps in EPS_MAP]
+        for eps, c in zip(EPS_MAP, runs):
+            map_rows.append([name, f"{eps:g}", f"{c.map.K:.3g}"] + [fmt(c.map_errors[q]) for q in QUANT]
+                            + [f"{c.sample_errors[q]:.2e}" for q in samples])
+        slopes_map.append([name] + [f"{loglog_slope(EPS_MAP, [r.map_errors[q] for r in runs]):.2f}" for q in QUANT]
+                          + [f"{loglog_slope(EPS_MAP, [r.sample_errors[q] for r in runs]):.2f}" for q in samples])
+        runs = [compare_with_ode(Body.paper(eps), theta0, psi0, args.t_end if eps >= 1e-4 else 3.0 * args.t_end,
+                                 table=table, constants=consts) for eps in EPS_CF]
+        for eps, c in zip(EPS_CF, runs):
+            cf_rows.append([name, f"{eps:g}", f"{c.pendulum.K:.3g}"] + [fmt(c.pendulum_errors[q]) for q in QUANT])
+        slopes_cf.append([name] + [f"{loglog_slope(EPS_CF, [r.pendulum_errors[q] for r in runs]):.2f}"
+                                   for q in QUANT])
+    cols = ["slow period", "Q_R extent", "Φ", "line slope"]
+    print_table("Averaged map: relative errors against the direct ODE",
+                ["ψ0", "ε", "K"] + cols + ["max ΔQ/extent", "max ΔΘ", "max Δt", "max Δφ"], map_rows)
+    print_table("Averaged map: log-log slopes of |error| over ε ∈ {1e-2, 1e-3, 1e-4}",
+                ["ψ0"] + cols + [f"sample {q}" for q in samples], slopes_map)
+    print_table("Closed form (pendulum): relative errors against the direct ODE", ["ψ0", "ε", "K"] + cols, cf_rows)
+    print_table("Closed form: log-log slopes over ε ∈ {1e-3, 1e-4, 1e-5}", ["ψ0"] + cols, slopes_cf)
 
 
 if __name__ == "__main__":
