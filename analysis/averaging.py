@@ -87,7 +87,7 @@ HARMONIC_PSI = (0.0, math.pi / 3.0, 2.0 * math.pi / 3.0)
 #: First-order responses per step: ε-derivatives of Q_R, Q_J, Θ = 2ψ, the event time and φ.
 FIRST_ORDER_NAMES = ("QR", "QJ", "Theta", "t", "phi")
 #: Bump when the table construction changes (part of the cache key).
-_TABLE_VERSION = "2"
+_TABLE_VERSION = "3"
 _INTEGRATOR: dict[str, Any] = {}
 _TABLES: dict[str, "SlowMapTable"] = {}
 
@@ -395,6 +395,8 @@ class SlowMapTable:
     coef : ndarray (len(TABLE_FUNCTIONS), Nu, Nv), Chebyshev coefficients in (u/U, v/V).
     kappa : ∇W·C0 at Q = 0 (the standard-map constant, K = ε κ), from the table.
     C0 : the kick ΔQ(0, Θ) = C0 sin Θ, from the variational orbits at Q = 0.
+    interp_error : largest relative error of the table against direct coefficients at three
+        off-grid points, measured when the table was built.
     """
 
     a: float
@@ -410,6 +412,7 @@ class SlowMapTable:
     coef: NDArray[np.float64]
     C0: NDArray[np.float64]
     kappa: float
+    interp_error: float
 
     @property
     def body(self) -> Body:
@@ -533,8 +536,36 @@ def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_fact
         kind = "odd" if name in _ODD else "even" if name in _EVEN else "none"
         coef[k] = fit(parity(np.asarray(data[name], float), kind))
     kappa = float(dW_du * np.linalg.norm(C0))
-    return SlowMapTable(a=sym.a, I1=sym.I1, I3=sym.I3, g=sym.g, theta0=theta0, E0=E0, e=e, n=nvec, U=U, V=V,
-                        coef=coef, C0=C0, kappa=kappa)
+    table = SlowMapTable(a=sym.a, I1=sym.I1, I3=sym.I3, g=sym.g, theta0=theta0, E0=E0, e=e, n=nvec, U=U, V=V,
+                         coef=coef, C0=C0, kappa=kappa, interp_error=0.0)
+    err = _interpolation_error(table)
+    if err > _INTERP_WARN:
+        warnings.warn(f"the averaging tables for theta0={theta0!r} interpolate the coefficients only to {err:.1e} "
+                      f"(relative); use more nodes (nu={nu}, nv={nv})", AveragingValidityWarning, stacklevel=2)
+    return SlowMapTable(**{**{k: getattr(table, k) for k in table.__dataclass_fields__}, "interp_error": err})
+
+
+#: Off-grid points (u/U, v/V) at which a new table is checked against direct coefficients.
+_CHECK_POINTS = ((0.37, 0.3), (-0.81, -0.55), (0.93, 0.8))
+_INTERP_WARN = 1e-7
+
+
+def _interpolation_error(table: SlowMapTable) -> float:
+    """Largest relative error of the table against :func:`step_coefficients` at ``_CHECK_POINTS``."""
+    sym, worst = table.body, 0.0
+    for x, y in _CHECK_POINTS:
+        Q = x * table.U * table.e + y * table.V * table.n
+        sc = step_coefficients(sym, table.theta0, float(Q[0]), float(Q[1]))
+        vals = dict(zip(TABLE_FUNCTIONS, table.evaluate(Q)))
+        w = 0.5 * vals["W"]
+        errs = [abs(vals["T"] / sc.T - 1.0), abs(float(wrap_angle(vals["W"] - sc.W))) / max(abs(sc.W), 1e-300)]
+        for name in ("QR", "QJ"):  # k_Q is ΔQ with its phase advanced by W/2; relative to the largest harmonic
+            c0, c1, s1 = (vals[f"k{name}_{h}"] for h in ("c0", "c1", "s1"))
+            scale = max(abs(v) for v in sc.harmonics[name])
+            back = (c0, c1 * math.cos(w) + s1 * math.sin(w), -c1 * math.sin(w) + s1 * math.cos(w))
+            errs += [abs(b - a) / scale for b, a in zip(back, sc.harmonics[name])]
+        worst = max(worst, *errs)
+    return float(worst)
 
 
 def _table_cache_dir() -> str:
@@ -854,6 +885,8 @@ def predict_slow_motion(body: Body, theta0: float, psi0: float, t_end: float = 1
         table = load_or_build_table(body, theta0, build=build)
     elif not np.isclose(table.theta0, theta0, rtol=0, atol=1e-15):
         raise ValueError(f"the table is for theta0={table.theta0!r}, not {theta0!r}")
+    elif table.body != body.symmetric():
+        raise ValueError(f"the table is for the body {table.body.describe()}, not {body.symmetric().describe()}")
     K = eps * table.kappa
     if abs(K) > 4.0:
         warnings.warn(

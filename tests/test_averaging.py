@@ -122,6 +122,7 @@ def test_pure_rocking_is_exact_and_kick_is_sin_theta():
 
 # ----------------------------------------------------------------------------- tables and map
 def test_table_interpolates_the_coefficients(table):
+    assert table.interp_error < 1e-9  # its own check at three off-grid points
     rng = np.random.default_rng(7)
     for _ in range(3):
         u, v = rng.uniform(-1, 1) * table.U, rng.uniform(-1, 1) * table.V
@@ -172,11 +173,13 @@ def test_table_cache_round_trip(tmp_path, monkeypatch):
     monkeypatch.setattr(av, "_TABLES", {})
     with pytest.raises(ValueError, match="no averaging tables"):
         av.load_or_build_table(SYM, 0.9 * math.pi, build=False, nu=8, nv=4)
-    t1 = av.load_or_build_table(SYM, 0.9 * math.pi, nu=8, nv=4)
+    with pytest.warns(av.AveragingValidityWarning, match="interpolate"):  # 8 nodes are too few: it says so
+        t1 = av.load_or_build_table(SYM, 0.9 * math.pi, nu=8, nv=4)
     assert list((tmp_path / "averaging").glob("slowmap-*.npz"))
     monkeypatch.setattr(av, "_TABLES", {})
     t2 = av.load_or_build_table(SYM, 0.9 * math.pi, build=False, nu=8, nv=4)
     assert np.array_equal(t1.coef, t2.coef) and t1.U == t2.U and t1.kappa == t2.kappa
+    assert t2.interp_error == t1.interp_error > 1e-7
 
 
 # ----------------------------------------------------------------------------- against the ODE
@@ -287,6 +290,8 @@ def test_bad_input(table):
         av.predict_slow_motion(Body.paper(1e-3), 3.5, 0.3)
     with pytest.raises(ValueError, match="theta0"):
         av.predict_slow_motion(Body.paper(1e-3), 0.9 * math.pi, 0.3, table=table)
+    with pytest.raises(ValueError, match="the table is for the body"):
+        av.predict_slow_motion(Body.from_polar_cap(0.6, epsilon=1e-3), THETA0, 0.3, table=table)
     with pytest.warns(av.AveragingValidityWarning, match="K = "):
         av.predict_slow_motion(Body.paper(1.2e-2), THETA0, PSI0["pi/4"], 200.0, table=table)
     with pytest.raises(av.AveragingRangeError, match="tabulated region"):
