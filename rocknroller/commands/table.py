@@ -14,6 +14,7 @@ from typing import Any, Callable
 
 import numpy as np
 
+from analysis.quadrature import DEFAULT_RTOL
 from rocknroller.options import add_body_options, body_from_args, parse_angle
 
 COLUMNS = ("Q_R", "Q_J", "E", "theta_N", "theta_X", "T_theta", "tau", "delta_phi", "delta_psi", "visible_phi",
@@ -80,7 +81,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "or per tau = 2 T_theta (the paper's)")
     p.add_argument("--dps", type=int, default=None, metavar="N",
                    help="use the mpmath reference at N digits (slow) instead of double precision")
-    p.add_argument("--rtol", type=float, default=1e-12, help="double backend convergence tolerance (default 1e-12)")
+    p.add_argument("--rtol", type=float, default=DEFAULT_RTOL,
+                   help=f"double backend: tolerance on the change between n/2 and n nodes (default {DEFAULT_RTOL:g})")
     p.add_argument("--out", type=Path, default=Path("precession_table.csv"), metavar="FILE",
                    help="CSV output (default precession_table.csv)")
     p.add_argument("--json", action="store_true", help="print a one-object JSON summary on stdout")
