@@ -103,13 +103,24 @@ def run(args: argparse.Namespace) -> int:
     for msg in messages:
         print(f"rocknroller slow: warning: {msg}", file=sys.stderr)
     if args.json:
-        json.dump(summary, sys.stdout)
+        json.dump(_finite_or_none(summary), sys.stdout)
         sys.stdout.write("\n")
     else:
         _print_table(summary, body, theta0, psi0, args.t_end)
     for path in written:
         print(f"wrote {path}", file=sys.stderr)
     return 0
+
+
+def _finite_or_none(x: Any) -> Any:
+    """JSON has no inf/nan: non-finite numbers become null."""
+    if isinstance(x, dict):
+        return {k: _finite_or_none(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_finite_or_none(v) for v in x]
+    if isinstance(x, float) and not math.isfinite(x):
+        return None
+    return x
 
 
 def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: float) -> None:
