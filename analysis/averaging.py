@@ -336,7 +336,7 @@ def _harmonics(values: ArrayLike) -> NDArray[np.float64]:
 def _symmetric_data(sym: Body, theta0: float, QR: ArrayLike, QJ: ArrayLike) -> tuple[NDArray, NDArray, NDArray, NDArray]:
     """(T_θ, W, Δφ mod π, θ_X) from the quadratures, vectorised."""
     E0 = rest_energy(sym, theta0)
-    pr = precession(E0, QR, QJ, sym)
+    pr = precession(E0, QR, QJ, sym, rtol=1e-12)  # W errors are amplified by the twist: full precision
     bad = np.asarray(pr.status) != 0
     if np.any(bad):
         raise ValueError(f"the symmetric quadrature failed at some Q (status {pr.status_text()[bad][:3]})")
