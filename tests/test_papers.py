@@ -76,3 +76,19 @@ def test_reproduce_only_and_index(tmp_path, capsys):
     assert "wrote" in out and "index.md" in out
     assert "table_polar_cap" in (tmp_path / "index.md").read_text()
     assert main(["reproduce", "--only", "nope", "--out", str(tmp_path)]) == 2
+
+
+def test_azimuth_span_figure_data(tmp_path):
+    """Φ(ψ0): the CSV rows are the library's ODE, map and closed-form values, and they agree."""
+    from analysis.slow_pendulum import pendulum_prediction
+    from papers.lynch_bustamante import fig_azimuth_span as fig
+
+    res = fig.run(tmp_path)
+    rows = _read_csv(tmp_path / "fig_azimuth_span.csv")
+    body = Body.paper(fig.EPSILON)
+    k = len(rows) // 2
+    psi0 = float(rows[k]["psi0"])
+    assert float(rows[k]["Phi_ODE"]) == simulate(body, EulerState(fig.THETA0, 0.0, psi0), fig.T_END).Phi
+    assert float(rows[k]["Phi_pendulum"]) == pendulum_prediction(body, fig.THETA0, psi0, fig.T_END).Phi
+    assert res.numbers["max |map/ODE - 1|"] < 0.02
+    assert res.numbers["max |(pi-2psi0)/ODE - 1|"] > res.numbers["max |pendulum/ODE - 1|"]

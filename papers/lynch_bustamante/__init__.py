@@ -16,6 +16,8 @@ MODULES = (
     "table_polar_cap",
     "table_small_amplitude",
     "table_periodic_orbit",
+    "fig_azimuth_span",
+    "fig_slow_period",
 )
 
 
