@@ -409,6 +409,11 @@ def _mp_root(z0: float, small_is_x: bool, inward_up: bool, E, QR, QJ, mb):
     return z
 
 
+def _same_tilt(x: float, y: float, x0: float, y0: float) -> bool:
+    """Whether (x, y) is θ0 = (x0, y0) to 1e-6 relative in the end variable that is exact at θ0."""
+    return abs(x / x0 - 1) < 1e-6 if x0 <= y0 else abs(y / y0 - 1) < 1e-6
+
+
 def precession_mp(E: Any, QR: Any, QJ: Any, body: Body, dps: int = 40, *, theta0: float | None = None) -> Precession:
     """Reference values of :class:`Precession` with mpmath at ``dps`` significant digits.
 
@@ -461,7 +466,7 @@ def precession_mp(E: Any, QR: Any, QJ: Any, body: Body, dps: int = 40, *, theta0
         roots = []
         for (xr, yr), is_N in (((float(tp.x_N), float(tp.y_N)), True), ((float(tp.x_X), float(tp.y_X)), False)):
             small_is_x = xr <= yr
-            if theta0 is not None and abs(np.log(xr / (2 * np.sin(theta0 / 2) ** 2))) < 1e-6:
+            if theta0 is not None and _same_tilt(xr, yr, float(x0), float(y0)):
                 roots.append((x0, y0))
                 continue
             z = _mp_root(xr if small_is_x else yr, small_is_x, small_is_x == is_N, Em, QRm, QJm, mb)
