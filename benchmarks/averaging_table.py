@@ -14,7 +14,7 @@ import argparse
 import math
 
 from analysis.averaging import load_or_build_table
-from analysis.averaging_check import compare_with_ode, loglog_slope
+from papers.averaging_check import compare_with_ode, loglog_slope
 from analysis.body import Body
 from analysis.slow_pendulum import pendulum_constants
 from rocknroller.options import parse_angle

@@ -19,7 +19,7 @@ from analysis.body import Body
 from analysis.invariants import energy
 from analysis.quadrature import precession, wrap_angle
 from analysis.slow_diagnostics import mean_crossings, slow_period
-from analysis.averaging_check import (OdeSlowSummary, loglog_slope, ode_slow_summary, relative_errors,
+from papers.averaging_check import (OdeSlowSummary, loglog_slope, ode_slow_summary, relative_errors,
                                       sample_errors)
 from analysis.slow_pendulum import pendulum_constants, pendulum_prediction
 from numerics.equations import EulerState, euler_from_state, state_from_euler

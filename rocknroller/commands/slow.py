@@ -87,7 +87,7 @@ def run(args: argparse.Namespace) -> int:
         "stable_psi": consts.stable_psi}
     ode = None
     if args.check or args.plot is not None:
-        from analysis.averaging_check import ode_slow_summary, relative_errors
+        from papers.averaging_check import ode_slow_summary, relative_errors
 
         ode = ode_slow_summary(body, theta0, psi0, args.t_end)
         summary["ode"] = {q: getattr(ode, q) for q in _QUANTITIES}
