@@ -80,6 +80,7 @@ __all__ = [
     "precession",
     "precession_from_turning_point",
     "precession_mp",
+    "turning_points_mp",
 ]
 
 #: Extra status of the double-precision quadrature: the roots are so close (near-steady rolling)
@@ -414,6 +415,59 @@ def _same_tilt(x: float, y: float, x0: float, y0: float) -> bool:
     return abs(x / x0 - 1) < 1e-6 if x0 <= y0 else abs(y / y0 - 1) < 1e-6
 
 
+def _check_dps(dps: Any) -> int:
+    if not isinstance(dps, (int, np.integer)) or not 15 <= int(dps) <= 1000:
+        raise ValueError(f"dps must be an integer in [15, 1000], got dps={dps!r}")
+    return int(dps)
+
+
+def _mp_turning_points(E: Any, QR: Any, QJ: Any, body: Body, mb: SimpleNamespace, theta0: float | None):
+    """(E, (x_N, y_N), (x_X, y_X)) in mpmath at the working precision (see turning_points_mp)."""
+    body.require_symmetric("the precession quadratures")
+    QRm, QJm = mpmath.mpf(QR), mpmath.mpf(QJ)
+    if theta0 is not None:
+        theta0 = float(theta0)
+        if not 0.0 < theta0 < np.pi:
+            raise ValueError(f"theta0 must lie in the open interval (0, pi), got theta0={theta0!r}")
+        x0 = 2 * mpmath.sin(mpmath.mpf(theta0) / 2) ** 2
+        y0 = 2 * mpmath.cos(mpmath.mpf(theta0) / 2) ** 2
+        Em = -_mp_terms(x0, y0, 0, QRm, QJm, mb)[0] / (2 * x0 * y0)  # U(θ0): the E with P(θ0) = 0
+    else:
+        Em = mpmath.mpf(E)
+    # double-precision estimates to bracket the roots
+    tp = solve_turning_points(float(Em), float(QR), float(QJ), body)
+    if int(tp.status) == NO_MOTION:
+        raise ValueError(f"no motion: F(theta) < 0 on all of (0, pi) for E={E!r}, QR={QR!r}, QJ={QJ!r}")
+    if int(tp.status) == STEADY:
+        raise ValueError(f"steady circular rolling (double root) for E={E!r}, QR={QR!r}, QJ={QJ!r}; "
+                         "not integrated")
+    roots = []
+    for (xr, yr), is_N in (((float(tp.x_N), float(tp.y_N)), True), ((float(tp.x_X), float(tp.y_X)), False)):
+        small_is_x = xr <= yr
+        if theta0 is not None and _same_tilt(xr, yr, float(x0), float(y0)):
+            roots.append((x0, y0))
+            continue
+        z = _mp_root(xr if small_is_x else yr, small_is_x, small_is_x == is_N, Em, QRm, QJm, mb)
+        roots.append((z, 2 - z) if small_is_x else (2 - z, z))
+    return Em, roots[0], roots[1]
+
+
+def turning_points_mp(E: Any, QR: Any, QJ: Any, body: Body, dps: int = 40) -> tuple[Any, Any]:
+    """(θ_N, θ_X) with mpmath.findroot at ``dps`` digits (the reference for reduction.turning_points).
+
+    Raises
+    ------
+    ValueError
+        dps out of range, no motion, steady rolling, asymmetric body.
+    """
+    dps = _check_dps(dps)
+    with mpmath.workdps(2 * dps + 20):
+        _, (xN, yN), (xX, yX) = _mp_turning_points(E, QR, QJ, body, _mp_body(body), None)
+        thetas = [2 * mpmath.atan2(mpmath.sqrt(x), mpmath.sqrt(y)) for x, y in ((xN, yN), (xX, yX))]
+    with mpmath.workdps(dps):
+        return +thetas[0], +thetas[1]
+
+
 def precession_mp(E: Any, QR: Any, QJ: Any, body: Body, dps: int = 40, *, theta0: float | None = None) -> Precession:
     """Reference values of :class:`Precession` with mpmath at ``dps`` significant digits.
 
@@ -436,42 +490,12 @@ def precession_mp(E: Any, QR: Any, QJ: Any, body: Body, dps: int = 40, *, theta0
     ValueError
         dps out of range, no motion, steady rolling, asymmetric body, θ0 outside (0, π).
     """
-    body.require_symmetric("the precession quadratures")
-    if not 15 <= int(dps) <= 1000:
-        raise ValueError(f"dps must be an integer in [15, 1000], got dps={dps!r}")
-    dps = int(dps)
+    dps = _check_dps(dps)
     work = 2 * (dps + 15) + 30
     with mpmath.workdps(work):
         mb = _mp_body(body)
         QRm, QJm = mpmath.mpf(QR), mpmath.mpf(QJ)
-        if theta0 is not None:
-            theta0 = float(theta0)
-            if not 0.0 < theta0 < np.pi:
-                raise ValueError(f"theta0 must lie in the open interval (0, pi), got theta0={theta0!r}")
-            x0 = 2 * mpmath.sin(mpmath.mpf(theta0) / 2) ** 2
-            y0 = 2 * mpmath.cos(mpmath.mpf(theta0) / 2) ** 2
-            P0, u0_, R0 = _mp_terms(x0, y0, 0, QRm, QJm, mb)
-            Em = -P0 / (2 * x0 * y0)  # U(θ0) = E at which P(θ0) = 0
-            E_double = float(Em)
-        else:
-            Em = mpmath.mpf(E)
-            E_double = float(E)
-        # double-precision estimates to bracket the roots
-        tp = solve_turning_points(E_double, float(QR), float(QJ), body)
-        if int(tp.status) == NO_MOTION:
-            raise ValueError(f"no motion: F(theta) < 0 on all of (0, pi) for E={E!r}, QR={QR!r}, QJ={QJ!r}")
-        if int(tp.status) == STEADY:
-            raise ValueError(f"steady circular rolling (double root) for E={E!r}, QR={QR!r}, QJ={QJ!r}; "
-                             "not integrated")
-        roots = []
-        for (xr, yr), is_N in (((float(tp.x_N), float(tp.y_N)), True), ((float(tp.x_X), float(tp.y_X)), False)):
-            small_is_x = xr <= yr
-            if theta0 is not None and _same_tilt(xr, yr, float(x0), float(y0)):
-                roots.append((x0, y0))
-                continue
-            z = _mp_root(xr if small_is_x else yr, small_is_x, small_is_x == is_N, Em, QRm, QJm, mb)
-            roots.append((z, 2 - z) if small_is_x else (2 - z, z))
-        (xN, yN), (xX, yX) = roots
+        Em, (xN, yN), (xX, yX) = _mp_turning_points(E, QR, QJ, body, mb, theta0)
         H = xX - xN
 
         cache: dict = {}

@@ -11,7 +11,7 @@ import sympy as sp
 
 from analysis.body import Body
 from analysis.invariants import V_phi
-from analysis.quadrature import _mp_body, _mp_terms, precession_mp
+from analysis.quadrature import _mp_body, _mp_terms, turning_points_mp
 from analysis.reduction import (
     OK,
     STEADY,
@@ -77,19 +77,22 @@ def test_F_derived_symbolically_from_energy_and_invariants():
 
 @pytest.mark.parametrize("end", ["zero", "pi"])
 def test_cancellation_free_u_is_an_identity(end):
-    """f_e ρ_e − f ρ = ±z [I3 (f_e + f) + f_e² (2 − z)] / [R R_e (f_e R + f R_e)], z = x or y."""
+    """f_e ρ_e − f ρ = ±z [I3 (f_e + f) + f_e² (2 − z)] / [R R_e (f_e R + f R_e)], z = x or y.
+
+    Since f_e ρ_e − f ρ = (f_e R − f R_e)/(R R_e) = (f_e² R² − f² R_e²)/(R R_e (f_e R + f R_e)), it is
+    the polynomial identity f_e² R² − f² R_e² = ±z [...] with R² = I3 + s² + (I3/I1) f², s² = z (2 − z).
+    """
     z, a, I1, I3 = sp.symbols("z a I1 I3", positive=True)
     k = I3 / I1
     if end == "zero":
         fe, f, sign = 1 - a, 1 - a - z, 1
     else:
         fe, f, sign = -(1 + a), z - 1 - a, -1
-    s2 = z * (2 - z)
-    R = sp.sqrt(I3 + s2 + k * f**2)
-    Re = sp.sqrt(I3 + k * fe**2)
-    lhs = fe / Re - f / R
-    rhs = z * (sign * I3 * (fe + f) + fe**2 * (2 - z)) / (R * Re * (fe * R + f * Re))
-    assert sp.simplify(sp.expand((lhs - rhs) * R * Re * (fe * R + f * Re))) == 0
+    R2 = I3 + z * (2 - z) + k * f**2
+    Re2 = I3 + k * fe**2
+    num = z * (sign * I3 * (fe + f) + fe**2 * (2 - z))
+    assert sp.expand(fe**2 * R2 - f**2 * Re2 - num) == 0
+    assert sp.expand(fe**2 * R2 - f**2 * Re2 + num) != 0  # the sign matters: the check can fail
 
 
 # ----------------------------------------------------------------------------- numeric consistency
@@ -200,7 +203,7 @@ def test_turning_points_against_mpmath(label, E, QR, QJ):
     """
     body = Body.paper()
     tN, tX = turning_points(E, QR, QJ, body)
-    ref = precession_mp(E, QR, QJ, body, dps=30)
+    ref = SimpleNamespace(**dict(zip(("theta_N", "theta_X"), turning_points_mp(E, QR, QJ, body, dps=30))))
     assert 0.0 <= tN < tX < np.pi
     rel_N = 1e-13 + 16 * EPS * _amplification(E, QR, QJ, ref.theta_N, body)
     rel_X = 1e-13 + 16 * EPS * _amplification(E, QR, QJ, ref.theta_X, body)
