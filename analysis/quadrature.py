@@ -60,6 +60,7 @@ from analysis.reduction import (
     STEADY,
     D_coefficient,
     TurningPoints,
+    _P_and_terms,
     _P_xy,
     _R,
     _U_xy,
@@ -83,13 +84,18 @@ __all__ = [
     "turning_points_mp",
 ]
 
-#: Extra status of the double-precision quadrature: the roots are so close (near-steady rolling)
-#: or the integrand so hard that the rule did not converge in double precision; use precession_mp.
+#: Extra status of the double-precision quadrature: the rule did not converge, or its estimated rounding
+#: error exceeds 1e-12 (near-steady rolling: E − U(θ) is a small difference everywhere); use precession_mp.
 UNRESOLVED = 3
-QUADRATURE_STATUS_TEXT = {**STATUS_TEXT, UNRESOLVED: "unresolved: quadrature did not converge in double "
-                          "precision (near-steady rolling); use the mpmath backend (dps=)"}
+QUADRATURE_STATUS_TEXT = {**STATUS_TEXT, UNRESOLVED: "unresolved: not resolved to full accuracy in double "
+                          "precision (near-steady rolling, E close to min U); use the mpmath backend (dps=)"}
 
 _N_START = 16
+_EPS = float(np.finfo(float).eps)
+#: Largest estimated rounding error of a result in double precision; above it the point is UNRESOLVED
+#: (near-steady rolling, where E − U(θ) is a small difference over the whole interval).  The estimate
+#: adds |rounding| node by node, so it lies 10–100× above the actual error (≲ 1e-14 for ordinary points).
+_MAX_ROUNDING = 1e-12
 _N_MAX = 1024
 #: Default tolerance on the change between n/2 and n nodes (see :func:`precession`).
 DEFAULT_RTOL = 1e-9
@@ -124,7 +130,11 @@ class Precession:
     visible_phi : Δφ per T_θ mod 2π in (−π, π].
     visible_half_phi : Δφ per T_θ mod π in (−π/2, π/2].
     status : OK, NO_MOTION, STEADY or UNRESOLVED (QUADRATURE_STATUS_TEXT); other fields NaN if not OK.
-    n_nodes : Gauss–Chebyshev nodes used (double backend), 0 for mpmath.
+    n_nodes : Gauss–Legendre nodes per point (double backend), 0 for mpmath.
+    rounding_error : estimated rounding error of the double backend (relative for T_θ, radians for the
+        angles per T_θ), from the cancellation in P at the nodes, summed in absolute value (an upper
+        bound in practice); above 1e-12 the point is UNRESOLVED (this happens near steady rolling,
+        E − min U ≲ 1e-2 |U|).  None for mpmath.
     """
 
     E: Any
@@ -142,6 +152,7 @@ class Precession:
     visible_half_phi: Any
     status: Any
     n_nodes: Any
+    rounding_error: Any = None
 
     def status_text(self) -> NDArray[np.str_]:
         """Explanatory text of each status code."""
@@ -190,7 +201,7 @@ def _half_integrals(xN, yN, xX, yX, E, QR, QJ, u0, upi, body: Body, n: int):
     A = col(np.sign(u0) * 0.5 * np.sqrt(xN * xX))
     B = col(np.sign(upi) * 0.5 * np.sqrt(yN * yX))
     tg, wg = _gauss_legendre(n)
-    out = np.zeros((4, xN.size))
+    out = np.zeros((6, xN.size))
     positive = np.ones(xN.size, dtype=bool)
     for near_X in (True, False):
         if near_X:
@@ -211,7 +222,7 @@ def _half_integrals(xN, yN, xX, yX, E, QR, QJ, u0, upi, body: Body, n: int):
             x, y = col(xN) + e, col(yN) - e
         dc_dt = 2.0 * col(delta) * sh * np.cosh(t)
         with np.errstate(invalid="ignore", divide="ignore"):
-            P = _P_xy(x, y, E_, QR_, QJ_, body)
+            P, terms = _P_and_terms(x, y, E_, QR_, QJ_, body)
             j = np.sqrt(D_coefficient(x, body) / P) * dc_dt  # dt/dθ-measure in t
             m = dc_dt / np.sqrt(e * (col(H) - e))  # dv/dt
             u = u_numerator(x, y, QR_, QJ_, body)
@@ -220,12 +231,17 @@ def _half_integrals(xN, yN, xX, yX, E, QR, QJ, u0, upi, body: Body, n: int):
             f = np.where(x <= 1.0, (1.0 - body.a) - x, y - (1.0 + body.a))
             omega3 = QR_ / _R(x * y, f, body)  # ω3' = ρ Q_R (paper eq. routh)
             Rpsi = omega3 * j - c * Rphi + (A - B) * m
+            # rounding of P (relative ε·terms/|P|) enters √(1/P) halved: the integrands' rounding error
+            cond = 0.5 * _EPS * terms / np.abs(P)
+            vphi_j = np.abs(u * j / (body.I1 * x * y))
         out[0] += (w * j).sum(1)
         out[1] += (w * Rphi).sum(1)
         out[2] += (w * Rpsi).sum(1)
         out[3] += (w * (np.abs(Rphi) + np.abs(Rpsi))).sum(1)
+        out[4] += (w * np.abs(j) * cond).sum(1)
+        out[5] += (w * (vphi_j + np.abs(omega3 * j) + vphi_j) * cond).sum(1)
         positive &= np.all(P > 0.0, axis=1)
-    return out[0], out[1], out[2], out[3], positive
+    return out[0], out[1], out[2], out[3], positive, out[4], out[5]
 
 
 def _precession_from_tp(tp: TurningPoints, body: Body, rtol: float, max_nodes: int) -> Precession:
@@ -239,6 +255,7 @@ def _precession_from_tp(tp: TurningPoints, body: Body, rtol: float, max_nodes: i
     Iphi = np.full(m, np.nan)
     Ipsi = np.full(m, np.nan)
     nodes = np.zeros(m, dtype=np.int64)
+    err = np.full(m, np.nan)
     active = np.flatnonzero(status == OK)
     prev = None
     n = _N_START
@@ -253,10 +270,18 @@ def _precession_from_tp(tp: TurningPoints, body: Body, rtol: float, max_nodes: i
         positive = cur[4]
         dT = np.abs(cur[0] - prev[0]) <= rtol * np.abs(cur[0])
         dA = (np.abs(cur[1] - prev[1]) + np.abs(cur[2] - prev[2])) <= rtol * cur[3]
-        done = dT & dA & positive
-        idx = active[done]
-        T[idx], Iphi[idx], Ipsi[idx] = cur[0][done], cur[1][done], cur[2][done]
+        # P ≤ 0 at a node: the roots are not separated from the rounding of P (near-steady rolling);
+        # more nodes would only come closer to them, so such points stop here, unresolved
+        done = (dT & dA) | ~positive
+        # estimated rounding error: relative for T_θ, in radians (per T_θ) for the angles
+        with np.errstate(invalid="ignore", divide="ignore"):
+            rounding = np.where(positive, np.maximum(cur[5] / cur[0], 2.0 * cur[6]), np.inf)
+        resolved = done & (rounding <= _MAX_ROUNDING)
+        idx = active[resolved]
+        T[idx], Iphi[idx], Ipsi[idx] = cur[0][resolved], cur[1][resolved], cur[2][resolved]
         nodes[idx] = n
+        err[active[done]] = rounding[done]
+        status[active[done & ~resolved]] = UNRESOLVED
         keep = ~done
         active = active[keep]
         prev = tuple(p[keep] for p in cur)
@@ -281,6 +306,7 @@ def _precession_from_tp(tp: TurningPoints, body: Body, rtol: float, max_nodes: i
         T_theta=r(T_theta), tau=r(2.0 * T_theta),
         delta_phi=r(dphi), delta_psi=r(dpsi), delta_phi_tau=r(2.0 * dphi), delta_psi_tau=r(2.0 * dpsi),
         visible_phi=r(vis), visible_half_phi=r(vis_half), status=r(status), n_nodes=r(nodes),
+        rounding_error=r(err),
     )
 
 

@@ -258,6 +258,13 @@ def _P_xy(x, y, E, QR, QJ, body: Body):
     return reduced_P(x * y, _kinetic(x, y, E, body), _N_xy(x, y, QR, QJ, body))
 
 
+def _P_and_terms(x, y, E, QR, QJ, body: Body):
+    """P and the size |2 s² (E − V)| + N of the terms it is the difference of (its rounding scale)."""
+    two_s2K = 2.0 * x * y * _kinetic(x, y, E, body)
+    N = _N_xy(x, y, QR, QJ, body)
+    return reduced_P(1.0, 0.5 * two_s2K, N), np.abs(two_s2K) + np.abs(N)
+
+
 def _xy_from_w(w):
     """x = 2/(1 + e^{−w}), y = 2/(1 + e^{w}) for w = log(x/y)."""
     return 2.0 / (1.0 + np.exp(-w)), 2.0 / (1.0 + np.exp(w))

@@ -242,3 +242,21 @@ def test_bad_input_raises():
                  lambda: precession_mp(1.0, 0.01, 0.0, Body.paper(1e-3))):
         with pytest.raises(ValueError, match="symmetric body"):
             call()
+
+
+def test_near_steady_rolling_is_flagged_not_silently_inaccurate():
+    """Close to steady rolling E − U(θ) is a small difference on the whole interval: such points are
+    UNRESOLVED (use mpmath) rather than returned with lost digits; a little further away, full accuracy."""
+    QR, QJ = 0.02, 0.05
+    U_min = float(solve_turning_points(1.0, QR, QJ, BODY).U_min)
+    near = precession(U_min * (1 + np.array([1e-10, 1e-6, 1e-4])), QR, QJ, BODY)
+    assert np.all(near.status == UNRESOLVED) and np.all(np.isnan(near.T_theta))
+    for d in (0.05, 0.5):
+        E = U_min * (1 + d)
+        pr, ref = precession(E, QR, QJ, BODY), precession_mp(E, QR, QJ, BODY, dps=30)
+        assert pr.status == OK and pr.rounding_error <= 1e-12
+        assert abs(float(pr.T_theta / ref.T_theta) - 1) <= 2e-13
+        assert abs(float(pr.delta_phi - ref.delta_phi)) <= 2e-13 * max(abs(float(ref.delta_phi)), 1)
+    # the mpmath backend resolves what double precision cannot
+    ref = precession_mp(U_min * (1 + 1e-6), QR, QJ, BODY, dps=30)
+    assert 0 < ref.theta_X - ref.theta_N < 1e-2
