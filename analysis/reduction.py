@@ -17,8 +17,10 @@ and F = 2(E − U)/D = P/(s² D) with P = 2 s² (E − g a (1 − c)) − N regu
 Precision.  Everything is written in x = 1 − c = 2 sin²(θ/2) and y = 1 + c = 2 cos²(θ/2)
 (x + y = 2, s² = x y), each of which keeps full relative precision at its own end,
 and u is evaluated near θ = 0 (θ = π) as u₀ + I3 Q_R (f₀ρ₀ − fρ) (u_π + ...) with the
-difference written without cancellation.  Turning points are searched in
-w = log(x/y) = log tan²(θ/2), which resolves θ_N down to ~1e-60 and π − θ_X down to ~1e-60.
+difference written without cancellation; u₀ = Q_J − Q_J,0^crit and u_π = Q_J − Q_J,π^crit are
+evaluated in double-double (their signs decide the ±π jumps of φ), and E − V near θ = π as
+(E − 2ga) + g a y with 2ga split exactly.  Turning points are searched in
+w = log(x/y) = log tan²(θ/2), which resolves θ_N and π − θ_X down to ~1e-60.
 """
 
 from __future__ import annotations

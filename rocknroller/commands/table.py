@@ -26,7 +26,7 @@ STATUS_LEGEND = {
     "theta0_is_theta_N": "theta0 is the LOWER turning point here (U'(theta0) < 0); the row describes that motion",
     "no_motion": "E < min U(theta): F(theta) < 0 on all of (0, pi), no motion; numeric cells empty",
     "steady_rolling": "double root theta_N = theta_X (steady circular rolling), not integrated; cells empty",
-    "unresolved": "double-precision rule did not converge (near-steady rolling); rerun with --dps",
+    "unresolved": "not resolved to full accuracy in double precision (near-steady rolling); rerun with --dps",
 }
 _CHUNK = 2048
 
