@@ -14,17 +14,18 @@ from numpy.typing import ArrayLike, NDArray
 
 from analysis.body import Body
 
-__all__ = ["rho", "energy", "jellett", "routh", "invariants", "V_phi", "V_psi"]
+__all__ = ["rho", "rho_inv", "energy", "jellett", "routh", "invariants", "V_phi", "V_psi"]
 
 
-def _rho_inv_from_cs(body: Body, s2: ArrayLike, f: ArrayLike) -> NDArray[np.float64]:
+def rho_inv(body: Body, s2: ArrayLike, f: ArrayLike) -> NDArray[np.float64]:
+    """1/ρ = [I3 + s² + (I3/I1) f²]^(1/2) from s² = sin²θ and f = cos θ − a (paper eq. measure)."""
     return np.sqrt(body.I3 + s2 + (body.I3 / body.I1) * np.square(f))
 
 
 def rho(theta: ArrayLike, body: Body) -> NDArray[np.float64]:
     """Measure ρ(θ) = [I3 + s² + (I3/I1) f²]^(−1/2), f = cos θ − a (paper eq. measure)."""
     theta = np.asarray(theta, float)
-    return 1.0 / _rho_inv_from_cs(body, np.sin(theta) ** 2, np.cos(theta) - body.a)
+    return 1.0 / rho_inv(body, np.sin(theta) ** 2, np.cos(theta) - body.a)
 
 
 def energy(body: Body, gamma: ArrayLike, omega: ArrayLike) -> NDArray[np.float64]:
@@ -48,7 +49,7 @@ def routh(body: Body, gamma: ArrayLike, omega: ArrayLike) -> NDArray[np.float64]
     """Routh's quantity Q_R = ω3'/ρ (paper eqs. routh, measure)."""
     g1, g2, g3 = np.asarray(gamma, float)
     w3 = np.asarray(omega, float)[2]
-    return w3 * _rho_inv_from_cs(body, g1 * g1 + g2 * g2, g3 - body.a)
+    return w3 * rho_inv(body, g1 * g1 + g2 * g2, g3 - body.a)
 
 
 def invariants(body: Body, gamma: ArrayLike, omega: ArrayLike) -> tuple[NDArray, NDArray, NDArray]:

@@ -35,7 +35,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from analysis.body import Body
-from analysis.invariants import _rho_inv_from_cs, invariants, V_phi, V_psi
+from analysis.invariants import rho_inv, invariants, V_phi, V_psi
 from analysis.kinematics import omega_from_rates, vertical_in_body
 
 __all__ = [
@@ -118,7 +118,7 @@ def _f(x, y, body: Body):
 
 def _R(s2, f, body: Body):
     """1/ρ = √(I3 + s² + (I3/I1) f²) (paper eq. measure; formula owned by analysis.invariants)."""
-    return _rho_inv_from_cs(body, s2, f)
+    return rho_inv(body, s2, f)
 
 
 def _u_direct(f, R, QR, QJ, body: Body):
