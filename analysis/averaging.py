@@ -653,16 +653,28 @@ _HARM = ("c0", "c1", "s1")
 _FINE_POINTS = 8193
 _LAGRANGE_OFFSETS = np.arange(-2, 4, dtype=float)
 _LAGRANGE_DENOM = np.array([np.prod([k - j for j in _LAGRANGE_OFFSETS if j != k]) for k in _LAGRANGE_OFFSETS])
-_LAGRANGE_INV_DENOM = 1.0 / _LAGRANGE_DENOM
+_LAGRANGE_INV = tuple(float(x) for x in 1.0 / _LAGRANGE_DENOM)
+#: Run-time functions: 0-8 the harmonics (c0, c1, s1) of k_u = e·k_Q, k_v = n·k_Q and k_Θ (solved for
+#: implicitly), 9-14 those of the time and φ kicks, 15-17 the drifts T_θ, W, Δφ.
+_N_KICK = 15
+#: Iterations of the implicit midpoint kick before giving up; relative tolerance on the kick.
+_MAX_ITER, _KICK_RTOL = 60, 1e-13
+#: A simplified-Newton iterate is accepted when its estimated error is below this fraction of the
+#: tolerance (the fixed-point iteration this replaces ended ~ρ ≈ 1e-4..1e-2 tolerances from the root).
+_NEWTON_SAFETY = 1e-3
 _FAST: dict[int, "_FastTable"] = {}
 
 
 class _FastTable:
     """Run-time form of a SlowMapTable: values on a fine uniform grid in u, Chebyshev series in v.
 
-    Kick group (evaluated at the implicit midpoint): harmonics of k_u = e·k_Q, k_v = n·k_Q, k_Θ, and of
-    the time and φ responses; drift group (at the maxima): T_θ, W, Δφ.  6-point Lagrange
-    interpolation in u on 8193 points reproduces the Chebyshev interpolant to ~1e-13 relative.
+    Each row of ``rows`` holds the 18 run-time functions (see ``_N_KICK``) at one grid point as
+    Chebyshev coefficients in v; 6-point Lagrange interpolation in u on 8193 points reproduces the
+    Chebyshev interpolant to ~1e-13 relative.  ``rows_jac`` adds the u- and v-derivatives of the
+    Chebyshev series of the kick functions 0-14, for the Jacobian of the implicit kick and a
+    first-order correction of ε k_t, ε k_φ by less than the kick tolerance (they set the speed of
+    convergence, not the converged value).  One evaluation is a six-row stencil and two small dot
+    products: a few µs, almost all of it interpreter overhead.
     """
 
     def __init__(self, table: SlowMapTable) -> None:
@@ -675,50 +687,51 @@ class _FastTable:
         kick = [rows[m][0] for m in range(3)] + [rows[m][1] for m in range(3)]
         kick += [c[_IDX[f"{pre}_{h}"]] for pre in ("kTh", "dt", "dphi1") for h in _HARM]
         drift = [c[_IDX[name]] for name in ("T", "W", "dphi")]
-        self.U, self.V, self.nv = table.U, table.V, c.shape[2]
+        self.U, self.V, self.nv = float(table.U), float(table.V), c.shape[2]
         self.e, self.n = e, n
         x = np.linspace(-1.0, 1.0, _FINE_POINTS)
         self.dx = x[1] - x[0]
         Bu = _cheb_basis(x, c.shape[1])                                   # (nu, Nf)
-        self.kick = np.einsum("fkj,ki->ifj", np.array(kick), Bu).reshape(_FINE_POINTS, 6, -1)
-        self.drift = np.einsum("fkj,ki->ifj", np.array(drift), Bu).reshape(_FINE_POINTS, 6, -1)
+        fine = np.concatenate([np.einsum("fkj,ki->ifj", np.array(kick), Bu),
+                               np.einsum("fkj,ki->ifj", np.array(drift), Bu)], axis=1)  # (Nf, 18, nv)
+        kick = np.array(kick)
+        du = np.polynomial.chebyshev.chebder(kick, axis=1) / self.U                 # (15, nu − 1, nv)
+        dv = np.polynomial.chebyshev.chebder(kick, axis=2) / self.V                 # (15, nu, nv − 1)
+        dv = np.concatenate([dv, np.zeros(dv.shape[:2] + (1,))], axis=2)
+        fine_d = np.concatenate([np.einsum("fkj,ki->ifj", du, Bu[: du.shape[1]]),
+                                 np.einsum("fkj,ki->ifj", dv, Bu)], axis=1)         # (Nf, 30, nv)
+        self.rows = np.ascontiguousarray(fine.reshape(_FINE_POINTS, -1))
+        self.rows_jac = np.ascontiguousarray(np.concatenate([fine, fine_d], axis=1).reshape(_FINE_POINTS, -1))
         self.table = table
 
-    def _weights(self, x: float) -> tuple[int, NDArray[np.float64]]:
-        """Stencil start and the 6-point Lagrange weights Π_{j≠k} (r − j)/Π_{j≠k} (k − j)."""
+    def _stencil(self, u: float, v: float) -> tuple[int, list[float], list[float]]:
+        """Stencil start i, the 6-point Lagrange weights Π_{j≠k} (r − j)/Π_{j≠k} (k − j), T_0..T_{nv−1}(v/V)."""
+        x, y = u / self.U, v / self.V
+        if not (abs(x) <= 1.0 and abs(y) <= 1.0):
+            self.table.evaluate(u * self.e + v * self.n)  # raises AveragingRangeError with the explanation
         s = (x + 1.0) / self.dx
-        i = min(max(int(s), 2), _FINE_POINTS - 4)
+        i = int(s)
+        i = 2 if i < 2 else _FINE_POINTS - 4 if i > _FINE_POINTS - 4 else i
         r = s - i
         d0, d1, d2, d3, d4, d5 = r + 2.0, r + 1.0, r, r - 1.0, r - 2.0, r - 3.0
-        l1, r4 = d0, d5
-        l2, r3 = l1 * d1, r4 * d4
+        l2, r3 = d0 * d1, d5 * d4
         l3, r2 = l2 * d2, r3 * d3
         l4, r1 = l3 * d3, r2 * d2
-        l5, r0 = l4 * d4, r1 * d1
-        return i, np.array([r0, l1 * r1, l2 * r2, l3 * r3, l4 * r4, l5]) * _LAGRANGE_INV_DENOM
-
-    def _cheb_v(self, y: float) -> NDArray[np.float64]:
+        c0, c1, c2, c3, c4, c5 = _LAGRANGE_INV
         T = [1.0, y]
         for _ in range(self.nv - 2):
             T.append(2.0 * y * T[-1] - T[-2])
-        return np.array(T[: self.nv])
+        return i, [r1 * d1 * c0, d0 * r1 * c1, l2 * r2 * c2, l3 * r3 * c3, l4 * d5 * c4, l4 * d4 * c5], T
 
-    def _check(self, u: float, v: float) -> tuple[float, float]:
-        x, y = u / self.U, v / self.V
-        if not (abs(x) <= 1.0 and abs(y) <= 1.0):
-            Q = u * self.e + v * self.n
-            self.table.evaluate(Q)  # raises AveragingRangeError with the explanation
-        return x, y
+    def values(self, u: float, v: float) -> list[float]:
+        """The 18 run-time functions at Q = u e + v n."""
+        i, w, T = self._stencil(u, v)
+        return np.dot(np.dot(w, self.rows[i - 2:i + 4]).reshape(-1, self.nv), T).tolist()
 
-    def kick_values(self, u: float, v: float) -> NDArray[np.float64]:
-        x, y = self._check(u, v)
-        i, w = self._weights(x)
-        return (w @ self.kick[i - 2:i + 4].reshape(6, -1)).reshape(-1, self.nv) @ self._cheb_v(y)
-
-    def drift_values(self, u: float, v: float) -> NDArray[np.float64]:
-        x, y = self._check(u, v)
-        i, w = self._weights(x)
-        return (w @ self.drift[i - 2:i + 4].reshape(6, -1)).reshape(-1, self.nv) @ self._cheb_v(y)
+    def values_and_jacobian(self, u: float, v: float) -> list[float]:
+        """The 18 functions, then ∂/∂u and ∂/∂v of the kick functions (0-14): 48 values."""
+        i, w, T = self._stencil(u, v)
+        return np.dot(np.dot(w, self.rows_jac[i - 2:i + 4]).reshape(-1, self.nv), T).tolist()
 
 
 def _fast(table: SlowMapTable) -> _FastTable:
@@ -729,12 +742,82 @@ def _fast(table: SlowMapTable) -> _FastTable:
     return ft
 
 
+def _inverse3(a: list[float]) -> list[float]:
+    """Inverse of the row-major 3×3 matrix a (cofactors)."""
+    a0, a1, a2, a3, a4, a5, a6, a7, a8 = a
+    c0, c3, c6 = a4 * a8 - a5 * a7, a5 * a6 - a3 * a8, a3 * a7 - a4 * a6
+    det = a0 * c0 + a1 * c3 + a2 * c6
+    return [c0 / det, (a2 * a7 - a1 * a8) / det, (a1 * a5 - a2 * a4) / det,
+            c3 / det, (a0 * a8 - a2 * a6) / det, (a2 * a3 - a0 * a5) / det,
+            c6 / det, (a1 * a6 - a0 * a7) / det, (a0 * a4 - a1 * a3) / det]
+
+
+def _implicit_kick(ft: _FastTable, eps: float, u: float, v: float, th: float,
+                   k0: list[float]) -> tuple[float, float, float, float, float]:
+    """Solve the implicit midpoint kick m = a + ½ ε k(m), a = (u, v, Θ) (after the first half twist).
+
+    k = (k_u, k_v, k_Θ) with k_j(m) = c0_j + c1_j cos m_Θ + s1_j sin m_Θ, the harmonics at (m_u, m_v).
+    The first iterate is the explicit kick with ``k0`` (the functions at a); then simplified Newton
+    with the Jacobian at that iterate.  Stops when the change of the end point 2m − a is within
+    1e-13 of the kick (+ 4 ulp), or when the contraction η observed between successive corrections
+    puts the remaining error η/(1 − η) × change below ``_NEWTON_SAFETY`` of that (Hairer & Wanner,
+    Solving ODEs II, §IV.8).
+
+    Returns
+    -------
+    (u', v', Θ', ε k_t, ε k_φ): the end point, and the time and φ kicks at the midpoint (corrected to
+    first order by the last Newton correction).
+    """
+    h = 0.5 * eps
+    c, s = math.cos(th), math.sin(th)
+    mu = u + h * (k0[0] + k0[1] * c + k0[2] * s)
+    mv = v + h * (k0[3] + k0[4] * c + k0[5] * s)
+    mt = th + h * (k0[6] + k0[7] * c + k0[8] * s)
+    ulp, jinv, prev = math.ulp, None, 0.0
+    for _ in range(_MAX_ITER):
+        if jinv is None:
+            k = ft.values_and_jacobian(mu, mv)
+            kdu, kdv = k[_N_KICK + 3:2 * _N_KICK + 3], k[2 * _N_KICK + 3:]
+        else:
+            k = ft.values(mu, mv)
+        c, s = math.cos(mt), math.sin(mt)
+        ku = k[0] + k[1] * c + k[2] * s
+        kv = k[3] + k[4] * c + k[5] * s
+        kth = k[6] + k[7] * c + k[8] * s
+        if jinv is None:  # J = I − ½ ε ∂k/∂m at this iterate
+            jinv = _inverse3([
+                1.0 - h * (kdu[0] + kdu[1] * c + kdu[2] * s), -h * (kdv[0] + kdv[1] * c + kdv[2] * s),
+                -h * (k[2] * c - k[1] * s),
+                -h * (kdu[3] + kdu[4] * c + kdu[5] * s), 1.0 - h * (kdv[3] + kdv[4] * c + kdv[5] * s),
+                -h * (k[5] * c - k[4] * s),
+                -h * (kdu[6] + kdu[7] * c + kdu[8] * s), -h * (kdv[6] + kdv[7] * c + kdv[8] * s),
+                1.0 - h * (k[8] * c - k[7] * s)])
+        fu, fv, fth = mu - u - h * ku, mv - v - h * kv, mt - th - h * kth
+        du = -(jinv[0] * fu + jinv[1] * fv + jinv[2] * fth)
+        dv = -(jinv[3] * fu + jinv[4] * fv + jinv[5] * fth)
+        dth = -(jinv[6] * fu + jinv[7] * fv + jinv[8] * fth)
+        mu, mv, mt = mu + du, mv + dv, mt + dth
+        u1, v1, th1 = 2.0 * mu - u, 2.0 * mv - v, 2.0 * mt - th
+        tol_q = _KICK_RTOL * eps * (abs(ku) + abs(kv)) + 4 * ulp(abs(u1) + abs(v1))
+        change = max(2.0 * max(abs(du), abs(dv)) / tol_q, 2.0 * abs(dth) / (_KICK_RTOL * eps * abs(kth) + 4 * ulp(th1)))
+        eta = change / prev if prev > 0.0 else 1.0
+        if change <= 1.0 or (eta < 1.0 and eta * change <= _NEWTON_SAFETY * (1.0 - eta)):
+            kt = (k[9] + k[10] * c + k[11] * s + (kdu[9] + kdu[10] * c + kdu[11] * s) * du
+                  + (kdv[9] + kdv[10] * c + kdv[11] * s) * dv + (k[11] * c - k[10] * s) * dth)
+            kp = (k[12] + k[13] * c + k[14] * s + (kdu[12] + kdu[13] * c + kdu[14] * s) * du
+                  + (kdv[12] + kdv[13] * c + kdv[14] * s) * dv + (k[14] * c - k[13] * s) * dth)
+            return u1, v1, th1, eps * kt, eps * kp
+        prev = change
+    raise AveragingRangeError(
+        f"the implicit kick did not converge at eps={eps!r}: eps is too large for the first-order map")
+
+
 def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float, *,
                      Q0: ArrayLike = (0.0, 0.0), phi0: float = 0.0, n_steps: int | None = None) -> SlowSeries:
     """Iterate the reversible drift–kick–drift slow map from a maximum at t = 0.
 
-    One step: Θ += W(Q)/2; (Q, Θ) += ε k(midpoint) (implicit midpoint, solved by fixed-point
-    iteration to 1e-13 of the kick); Θ += W(Q')/2; t += ½[T_θ(Q) + T_θ(Q')] + ε k_t(midpoint);
+    One step: Θ += W(Q)/2; (Q, Θ) += ε k(midpoint) (implicit midpoint, solved to 1e-13 of the kick by
+    :func:`_implicit_kick`); Θ += W(Q')/2; t += ½[T_θ(Q) + T_θ(Q')] + ε k_t(midpoint);
     φ += ½[Δφ(Q) + Δφ(Q')] + ε k_φ(midpoint).
 
     Parameters
@@ -767,36 +850,17 @@ def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float,
     Q0 = np.asarray(Q0, float)
     u, v = float(ft.e @ Q0), float(ft.n @ Q0)
     Th, t, phi = 2.0 * psi0, 0.0, float(phi0)
-    T, W, P = ft.drift_values(u, v)
+    f = ft.values(u, v)
     out = []
-    cos, sin, ulp = math.cos, math.sin, math.ulp
     while True:
-        Tha = Th + 0.5 * W
-        u1, v1, th1 = u, v, Tha
-        for _ in range(60):  # implicit midpoint for the kick
-            um, vm, thm = 0.5 * (u + u1), 0.5 * (v + v1), 0.5 * (Tha + th1)
-            k = ft.kick_values(um, vm)
-            cm, sm = cos(thm), sin(thm)
-            ku = eps * (k[0] + k[1] * cm + k[2] * sm)
-            kv = eps * (k[3] + k[4] * cm + k[5] * sm)
-            kt = eps * (k[6] + k[7] * cm + k[8] * sm)
-            un, vn, thn = u + ku, v + kv, Tha + kt
-            tol_q = 1e-13 * (abs(ku) + abs(kv)) + 4 * ulp(abs(un) + abs(vn))
-            done = (abs(un - u1) <= tol_q and abs(vn - v1) <= tol_q
-                    and abs(thn - th1) <= 1e-13 * abs(kt) + 4 * ulp(thn))
-            u1, v1, th1 = un, vn, thn
-            if done:
-                break
-        else:
-            raise AveragingRangeError(
-                f"the implicit kick did not converge at eps={eps!r}: eps is too large for the first-order map")
-        T1, W1, P1 = ft.drift_values(u1, v1)
-        t_next = t + 0.5 * (T + T1) + eps * (k[9] + k[10] * cm + k[11] * sm)
+        u1, v1, th1, kt, kphi = _implicit_kick(ft, eps, u, v, Th + 0.5 * f[_N_KICK + 1], f)
+        f1 = ft.values(u1, v1)
+        t_next = t + 0.5 * (f[_N_KICK] + f1[_N_KICK]) + kt
         if t_next > t_end:
             break
-        phi += 0.5 * (P + P1) + eps * (k[12] + k[13] * cm + k[14] * sm)
-        t, u, v, T, W, P = t_next, u1, v1, T1, W1, P1
-        Th = th1 + 0.5 * W
+        phi += 0.5 * (f[_N_KICK + 2] + f1[_N_KICK + 2]) + kphi
+        t, u, v, f = t_next, u1, v1, f1
+        Th = th1 + 0.5 * f[_N_KICK + 1]
         out.append((t, u, v, Th, phi))
         if n_steps is not None and len(out) >= n_steps:
             break

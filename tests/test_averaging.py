@@ -168,6 +168,102 @@ def test_map_is_reversible(table):
     assert back.t[-1] == pytest.approx(fwd.t[-1], rel=1e-13)
 
 
+def _reference_map(table: av.SlowMapTable, eps: float, psi0: float, t_end: float,
+                   Q0=(0.0, 0.0), n_steps: int | None = None) -> np.ndarray:
+    """The drift–kick–drift map evaluated plainly: 6-point Lagrange weights Π (r − j)/(k − j) on the
+    fine grid, T_j(y) = cos(j arccos y), and the implicit midpoint kick by fixed-point iteration until
+    the change is within 1e-13 of the kick (+ 4 ulp).  Rows (t, u, v, Θ, φ) at the maxima."""
+    ft = av._fast(table)
+    off = np.arange(-2, 4)
+
+    def ev(u, v):
+        x, y = u / ft.U, v / ft.V
+        assert abs(x) <= 1.0 and abs(y) <= 1.0
+        s = (x + 1.0) / ft.dx
+        i = min(max(int(s), 2), av._FINE_POINTS - 4)
+        w = np.array([np.prod([(s - i - j) / (k - j) for j in off if j != k]) for k in off])
+        return (w @ ft.rows[i - 2:i + 4]).reshape(-1, ft.nv) @ np.cos(np.arange(ft.nv) * np.arccos(y))
+
+    def kick(k, th, first, n):
+        return eps * (k[first] + k[first + 1] * math.cos(th) + k[first + 2] * math.sin(th))
+
+    u, v = float(ft.e @ np.asarray(Q0, float)), float(ft.n @ np.asarray(Q0, float))
+    Th, t, phi, f, out = 2.0 * psi0, 0.0, 0.0, ev(u, v), []
+    while True:
+        a = np.array([u, v, Th + 0.5 * f[16]])
+        x = a.copy()
+        for _ in range(60):
+            m = 0.5 * (a + x)
+            k = ev(m[0], m[1])
+            dk = np.array([kick(k, m[2], j, 3) for j in (0, 3, 6)])
+            x_new = a + dk
+            tol = np.array([1e-13 * (abs(dk[0]) + abs(dk[1])) + 4 * math.ulp(abs(x_new[0]) + abs(x_new[1]))] * 2
+                           + [1e-13 * abs(dk[2]) + 4 * math.ulp(x_new[2])])
+            done = bool(np.all(np.abs(x_new - x) <= tol))
+            x = x_new
+            if done:
+                break
+        else:
+            raise AssertionError("reference kick did not converge")
+        f1 = ev(x[0], x[1])
+        t_next = t + 0.5 * (f[15] + f1[15]) + kick(k, m[2], 9, 3)
+        if t_next > t_end:
+            break
+        phi += 0.5 * (f[17] + f1[17]) + kick(k, m[2], 12, 3)
+        t, u, v, f = t_next, x[0], x[1], f1
+        Th = x[2] + 0.5 * f[16]
+        out.append((t, u, v, Th, phi))
+        if n_steps is not None and len(out) >= n_steps:
+            break
+    return np.array(out)
+
+
+@pytest.mark.parametrize("eps, psi0, Q0", [(1e-3, math.pi / 8, None), (5e-3, math.pi / 4, None),
+                                           (1e-4, 3 * math.pi / 8, None), (3e-3, 0.7, (0.2, 0.1))])
+def test_fast_map_equals_plain_evaluation(table, eps, psi0, Q0):
+    """The run-time path (simplified Newton, stencil dot products) is the same map as the plain
+    evaluation to round-off: 1e-12 of each series' largest value over 1000 t.u. (≈ 75 steps whose
+    twist amplifies round-off ~100-fold; at ε = 1e-2, K > 4, the map is chaotic and round-off grows
+    to ~1e-12 in both).  Also checks the cost: one Jacobian and two or three plain evaluations per step."""
+    Q0 = (0.0, 0.0) if Q0 is None else tuple(Q0[0] * table.U * table.e + Q0[1] * table.V * table.n)
+    ft = av._fast(table)
+    calls = {"values": 0, "values_and_jacobian": 0}
+    for name in calls:
+        def counted(u, v, _f=getattr(ft, name), _n=name):
+            calls[_n] += 1
+            return _f(u, v)
+        setattr(ft, name, counted)
+    try:
+        fast = av.iterate_slow_map(table, eps, psi0, 1000.0, Q0=Q0)
+    finally:
+        for name in calls:
+            delattr(ft, name)
+    ref = _reference_map(table, eps, psi0, 1000.0, Q0=Q0)
+    assert ref.shape == (fast.t.size, 5) and fast.t.size > 50
+    QR, QJ = (ref[:, 1] * table.e[k] + ref[:, 2] * table.n[k] for k in (0, 1))
+    for got, want in ((fast.t, ref[:, 0]), (fast.QR, QR), (fast.QJ, QJ), (fast.Theta, np.unwrap(ref[:, 3])),
+                      (fast.phi, ref[:, 4])):
+        assert np.max(np.abs(got - want)) <= 1e-12 * np.max(np.abs(want))
+    # per step: the Jacobian at the predictor, one confirming kick evaluation (occasionally two),
+    # the drift at the end point; the fixed-point iteration it replaces needed 5-6 kick evaluations
+    n = fast.t.size + 1  # the step past t_end is computed too
+    assert calls["values_and_jacobian"] == n and calls["values"] <= 3 * n
+
+
+def test_run_time_jacobian(table):
+    """The derivative rows of the run-time table equal central differences of its values."""
+    ft = av._fast(table)
+    for x, y in ((0.1, 0.2), (-0.5, -0.3), (0.8, 0.6)):
+        u, v = x * table.U, y * table.V
+        out = np.array(ft.values_and_jacobian(u, v))
+        assert np.array_equal(out[:18], ft.values(u, v))
+        for d, (hu, hv) in enumerate(((1e-6 * table.U, 0.0), (0.0, 1e-4 * table.V))):
+            fd = (np.array(ft.values(u + hu, v + hv)) - np.array(ft.values(u - hu, v - hv)))[:15] / (2 * (hu + hv))
+            got = out[18 + 15 * d:33 + 15 * d]
+            # central difference: truncation ~ (h/scale)² ≈ 1e-9 of the largest derivative
+            assert np.max(np.abs(got - fd)) <= 1e-7 * np.max(np.abs(fd))
+
+
 def test_table_cache_round_trip(tmp_path, monkeypatch):
     monkeypatch.setenv("ROCKNROLLER_CACHE", str(tmp_path))
     monkeypatch.setattr(av, "_TABLES", {})
