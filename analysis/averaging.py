@@ -704,10 +704,11 @@ class _FastTable:
         self.rows_jac = np.ascontiguousarray(np.concatenate([fine, fine_d], axis=1).reshape(_FINE_POINTS, -1))
         self.table = table
 
-    def _stencil(self, u: float, v: float) -> tuple[int, list[float], list[float]]:
-        """Stencil start i, the 6-point Lagrange weights Π_{j≠k} (r − j)/Π_{j≠k} (k − j), T_0..T_{nv−1}(v/V)."""
+    def _evaluate(self, rows: NDArray[np.float64], u: float, v: float) -> list[float]:
+        """Σ_k w_k Σ_j T_j(v/V) rows[i − 2 + k, f, j]: 6-point Lagrange weights
+        w_k = Π_{j≠k} (r − j)/Π_{j≠k} (k − j) on the stencil i − 2 .. i + 3, Chebyshev series in v."""
         x, y = u / self.U, v / self.V
-        if not (abs(x) <= 1.0 and abs(y) <= 1.0):
+        if not (-1.0 <= x <= 1.0 and -1.0 <= y <= 1.0):
             self.table.evaluate(u * self.e + v * self.n)  # raises AveragingRangeError with the explanation
         s = (x + 1.0) / self.dx
         i = int(s)
@@ -718,20 +719,20 @@ class _FastTable:
         l3, r2 = l2 * d2, r3 * d3
         l4, r1 = l3 * d3, r2 * d2
         c0, c1, c2, c3, c4, c5 = _LAGRANGE_INV
-        T = [1.0, y]
+        T, a, b, y2 = [1.0, y], 1.0, y, 2.0 * y
         for _ in range(self.nv - 2):
-            T.append(2.0 * y * T[-1] - T[-2])
-        return i, [r1 * d1 * c0, d0 * r1 * c1, l2 * r2 * c2, l3 * r3 * c3, l4 * d5 * c4, l4 * d4 * c5], T
+            a, b = b, y2 * b - a
+            T.append(b)
+        w = [r1 * d1 * c0, d0 * r1 * c1, l2 * r2 * c2, l3 * r3 * c3, l4 * d5 * c4, l4 * d4 * c5]
+        return np.dot(np.dot(w, rows[i - 2:i + 4]).reshape(-1, self.nv), T).tolist()
 
     def values(self, u: float, v: float) -> list[float]:
         """The 18 run-time functions at Q = u e + v n."""
-        i, w, T = self._stencil(u, v)
-        return np.dot(np.dot(w, self.rows[i - 2:i + 4]).reshape(-1, self.nv), T).tolist()
+        return self._evaluate(self.rows, u, v)
 
     def values_and_jacobian(self, u: float, v: float) -> list[float]:
         """The 18 functions, then ∂/∂u and ∂/∂v of the kick functions (0-14): 48 values."""
-        i, w, T = self._stencil(u, v)
-        return np.dot(np.dot(w, self.rows_jac[i - 2:i + 4]).reshape(-1, self.nv), T).tolist()
+        return self._evaluate(self.rows_jac, u, v)
 
 
 def _fast(table: SlowMapTable) -> _FastTable:
