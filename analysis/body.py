@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-__all__ = ["Body", "PAPER_A", "PAPER_I3", "PAPER_G", "polar_cap_volume"]
+__all__ = ["Body", "require_finite", "PAPER_A", "PAPER_I3", "PAPER_G", "polar_cap_volume"]
 
 #: Paper defaults (paper §7: a = 0.05, I3 = 2/5, I1 = (1 - 5a/2) I3, g = 9.87).
 PAPER_A = 0.05
@@ -18,7 +18,8 @@ PAPER_I3 = 0.4
 PAPER_G = 9.87
 
 
-def _require_finite(name: str, value: float) -> float:
+def require_finite(name: str, value: float) -> float:
+    """``float(value)``, or a ValueError naming ``name`` if it is not a finite real number."""
     try:
         v = float(value)
     except (TypeError, ValueError):
@@ -65,7 +66,7 @@ class Body:
 
     def __post_init__(self) -> None:
         for name in ("a", "I1", "I2", "I3", "g"):
-            object.__setattr__(self, name, _require_finite(name, getattr(self, name)))
+            object.__setattr__(self, name, require_finite(name, getattr(self, name)))
         if not 0.0 <= self.a < 1.0:
             raise ValueError(f"a must satisfy 0 <= a < 1 (mass centre inside the sphere), got a={self.a!r}")
         for name in ("I1", "I2", "I3"):
@@ -116,7 +117,7 @@ class Body:
         epsilon : float
             Optional asymmetry ε, I2 = (1 + ε) I1.
         """
-        d = _require_finite("d", d)
+        d = require_finite("d", d)
         if not -1.0 < d <= 1.0:
             raise ValueError(f"polar-cap height d = cos(Theta) must satisfy -1 < d <= 1, got d={d!r}")
         V = polar_cap_volume(d)
@@ -127,7 +128,7 @@ class Body:
 
     @classmethod
     def _from_epsilon(cls, a: float, I1: float, I3: float, g: float, epsilon: float) -> "Body":
-        epsilon = _require_finite("epsilon", epsilon)
+        epsilon = require_finite("epsilon", epsilon)
         if epsilon < 0.0:
             raise ValueError(f"epsilon = (I2 - I1)/I1 must be >= 0, got epsilon={epsilon!r}")
         if (1.0 + epsilon) * I1 >= I3:

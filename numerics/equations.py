@@ -28,7 +28,7 @@ from typing import Any, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from analysis.body import Body
+from analysis.body import Body, require_finite
 from analysis.kinematics import (
     angles_from_frame,
     omega_from_rates,
@@ -162,14 +162,7 @@ class EulerState:
 
     def __post_init__(self) -> None:
         for name in ("theta", "phi", "psi", "theta_dot", "phi_dot", "psi_dot", "X", "Y"):
-            value = getattr(self, name)
-            try:
-                v = float(value)
-            except (TypeError, ValueError):
-                raise ValueError(f"{name} must be a finite real number, got {value!r}") from None
-            if not math.isfinite(v):
-                raise ValueError(f"{name} must be a finite real number, got {value!r}")
-            object.__setattr__(self, name, v)
+            object.__setattr__(self, name, require_finite(name, getattr(self, name)))
         if not 0.0 <= self.theta <= math.pi:
             raise ValueError(f"theta0 must satisfy 0 <= theta0 <= pi, got theta0={self.theta!r}")
 
