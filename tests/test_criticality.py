@@ -1,0 +1,305 @@
+"""Critical lines, regions, cos θ_z, θ_e, the δ^½ bound, critical-line starts and reversals (issue 4)."""
+
+from __future__ import annotations
+
+import math
+
+import mpmath
+import numpy as np
+import pytest
+import sympy as sp
+from scipy.optimize import brentq
+
+from analysis import criticality as C
+from analysis.body import Body
+from analysis.invariants import V_phi, invariants
+from analysis.kinematics import vertical_in_body
+from analysis.laurent import SYMBOLS, V_phi_sym, laurent_coefficients
+from analysis.reduction import state_from_turning_point, turning_points
+
+BODY = Body.paper()
+BODY_EPS = Body.paper(1e-3)
+OTHER = Body(a=0.2, I1=0.3, I2=0.3, I3=0.5, g=9.81)
+
+
+def _random_points(rng, n, body):
+    """Random (Q_R, Q_J) in a box wide enough to reach all four regions."""
+    QR = rng.uniform(-1.0, 1.0, n)
+    QJ = rng.uniform(-0.6, 0.6, n)
+    return QR, QJ
+
+
+# ----------------------------------------------------------------------------- lines
+@pytest.mark.parametrize("body", [BODY, OTHER])
+def test_critical_lines_are_the_laurent_leading_zeros(body):
+    """Q_J,e^crit zeroes the leading Laurent coefficient of V_φ (paper eqs. QJcrit_0/pi), and equals the
+    printed ρ_e (1 ∓ a) I3 Q_R."""
+    QR = np.array([-0.7, 0.003, 2.5])
+    subs = {SYMBOLS["a"]: body.a, SYMBOLS["I1"]: body.I1, SYMBOLS["I3"]: body.I3}
+    for about, fn in (("0", C.QJ_crit_0), ("pi", C.QJ_crit_pi)):
+        A = laurent_coefficients("phi", about, -2)[-2]
+        for qr, qj in zip(QR, fn(QR, body)):
+            val = A.evalf(30, subs={**subs, SYMBOLS["QR"]: qr, SYMBOLS["QJ"]: qj})
+            assert abs(float(val)) <= 4e-16 * abs(qj) / body.I1
+    rho0 = 1 / math.sqrt(body.I3 + body.I3 / body.I1 * (1 - body.a) ** 2)
+    rhopi = 1 / math.sqrt(body.I3 + body.I3 / body.I1 * (1 + body.a) ** 2)
+    np.testing.assert_allclose(C.QJ_crit_0(QR, body), rho0 * (1 - body.a) * body.I3 * QR, rtol=4e-16)
+    np.testing.assert_allclose(C.QJ_crit_pi(QR, body), -rhopi * (1 + body.a) * body.I3 * QR, rtol=4e-16)
+
+
+def test_region_matches_signs_of_V_phi_near_both_ends():
+    """≥ 1000 random points: the region from the lines equals the one read off the signs of V_φ computed
+    directly (analysis.invariants.V_phi) at θ = 1e-6 and θ = π − 1e-6."""
+    rng = np.random.default_rng(4)
+    for body in (BODY, OTHER):
+        QR, QJ = _random_points(rng, 1500, body)
+        reg = C.region(QR, QJ, body)
+        s0 = np.sign(V_phi(1e-6, QJ, QR, body))
+        spi = np.sign(V_phi(np.pi - 1e-6, QJ, QR, body))
+        expected = np.select([(s0 < 0) & (spi > 0), (s0 > 0) & (spi > 0), (s0 > 0) & (spi < 0), (s0 < 0) & (spi < 0)],
+                             ["I", "II", "III", "IV"], "?")
+        assert np.all(reg == expected)
+        assert set(reg) == set(C.REGIONS)  # every region sampled
+        assert np.all(QR[reg == "I"] > 0) and np.all(QR[reg == "III"] < 0)
+
+
+def test_region_on_line_labels_and_tolerance():
+    QR = np.array([1.0, 1.0, 0.0, 1.0])
+    QJ = np.array([C.QJ_crit_0(1.0, BODY), C.QJ_crit_pi(1.0, BODY), 0.0, C.QJ_crit_pi(1.0, BODY) * (1 + 1e-9)])
+    assert list(C.region(QR, QJ, BODY)) == [C.ON_LINE_0, C.ON_LINE_PI, C.ON_BOTH, "IV"]
+    assert C.region(1.0, QJ[3], BODY, tol=1e-8) == C.ON_LINE_PI
+    assert C.region(2.0, 0.0, BODY) == "I"
+    with pytest.raises(ValueError, match="tol"):
+        C.region(1.0, 0.0, BODY, tol=1.5)
+    with pytest.raises(ValueError, match="QJ"):
+        C.region(1.0, float("nan"), BODY)
+
+
+# ----------------------------------------------------------------------------- cos θ_z
+def _numeric_zero_cos(QR, QJ, body):
+    """cos of the zero of V_φ by Brent's method on analysis.invariants.V_phi (independent of the closed form)."""
+    out = []
+    for r, j in zip(QR, QJ):
+        th = brentq(lambda t: float(V_phi(t, j, r, body)), 1e-9, np.pi - 1e-9, xtol=1e-16, rtol=4 * np.finfo(float).eps, maxiter=500)
+        out.append(math.cos(th))
+    return np.array(out)
+
+
+@pytest.mark.parametrize("body", [BODY, OTHER])
+def test_cos_theta_z_equals_numeric_zero(body):
+    """Corrected closed form = numeric zero of V_φ to ≤ 1e-12 in ≥ 1000 random Region I/III cases."""
+    rng = np.random.default_rng(7)
+    QR = rng.uniform(-1.0, 1.0, 1000)
+    t = np.concatenate([rng.uniform(0, 1, 980), rng.uniform(0, 1e-6, 10), 1 - rng.uniform(0, 1e-6, 10)])
+    QJ = C.QJ_crit_pi(QR, body) + t * (C.QJ_crit_0(QR, body) - C.QJ_crit_pi(QR, body))  # between the lines
+    assert np.all(np.isin(C.region(QR, QJ, body), ("I", "III")))
+    assert np.any(QJ / QR < 0) and np.any(QJ / QR > 0)
+    err = np.abs(C.cos_theta_z(QR, QJ, body) - _numeric_zero_cos(QR, QJ, body))
+    assert err.max() <= 1e-12
+
+
+def test_cos_theta_z_printed_form_fails():
+    """Erratum: the printed β = I3 − q² (no 1/I1) and the always-+ root miss the zero of V_φ."""
+    QR = np.array([1.0, 1.0, -1.0])
+    QJ = np.array([0.2, -0.2, 0.2])  # q = 0.2, −0.2 (Region I), −0.2 (Region III)
+    assert set(C.region(QR, QJ, BODY)) <= {"I", "III"}
+    good, printed = C.cos_theta_z(QR, QJ, BODY), C.cos_theta_z_printed(QR, QJ, BODY)
+    assert np.max(np.abs(good - _numeric_zero_cos(QR, QJ, BODY))) <= 1e-12
+    assert np.all(np.abs(printed - good) > 0.05)
+    assert np.all(np.abs(V_phi(np.arccos(np.clip(printed, -1, 1)), QJ, QR, BODY)) > 1e-3)
+    # each error alone also fails: the right β with the + root fails for q < 0
+    q = -0.2
+    beta = BODY.I3 - q * q / BODY.I1
+    a, I1, I3 = BODY.a, BODY.I1, BODY.I3
+    plus = (a * beta * I3 + math.sqrt(I1 * (I3 - beta) * (beta * (I3 - I1) * (I3 + 1) - a * a * beta * I3
+                                                          + I1 * I3 * (I3 + 1)))) / (beta * (I3 - I1) + I1 * I3)
+    assert abs(V_phi(math.acos(plus), q, 1.0, BODY)) > 1e-3
+
+
+def test_cos_theta_z_sympy_derivation():
+    """The closed form is the root of the squared condition selected by sgn(q) (sympy, exact)."""
+    d = C.cos_theta_z_sympy()
+    q, beta = d["symbols"]["q"], d["symbols"]["beta"]
+    I1 = SYMBOLS["I1"]
+    I3 = SYMBOLS["I3"]
+    qpos = sp.sqrt(I1 * (I3 - beta))
+    plus, minus = d["roots"]
+    closed = d["closed_form"]
+    rng = np.random.default_rng(5)
+    for _ in range(20):  # exact rationals, evaluated at 50 digits
+        I1v = sp.Rational(int(rng.integers(20, 40)), 100)
+        I3v = I1v + sp.Rational(int(rng.integers(1, 15)), 100)
+        av = sp.Rational(int(rng.integers(0, 30)), 100)
+        bv = I3v - sp.Rational(int(rng.integers(1, 99)), 100) * I3v * I1v  # q² = I1 (I3 − β) < I1² I3 ... I1 I3
+        sub = {SYMBOLS["a"]: av, I1: I1v, I3: I3v, beta: bv}
+        r_plus, r_minus = (sp.N(r.subs(sub), 50) for r in (plus, minus))
+        c_pos = sp.N(closed.subs(q, qpos).subs(sub), 50)
+        c_neg = sp.N(closed.subs(q, -qpos).subs(sub), 50)
+        # q > 0 takes one root, q < 0 the other: the sign of the root follows sgn(q)
+        pos_is_plus = abs(c_pos - r_plus) < 1e-45
+        assert pos_is_plus or abs(c_pos - r_minus) < 1e-45
+        assert abs(c_neg - (r_minus if pos_is_plus else r_plus)) < 1e-45
+        assert abs(r_plus - r_minus) > 1e-10
+
+
+def test_cos_theta_z_errors():
+    with pytest.raises(ValueError, match="QR must be nonzero"):
+        C.cos_theta_z(0.0, 0.1, BODY)
+    with pytest.raises(ValueError, match="Regions I/III"):
+        C.cos_theta_z(0.0001, 0.3, BODY)  # Region II
+
+
+# ----------------------------------------------------------------------------- θ_e and the necessary condition
+def test_theta_e_is_the_extremum():
+    rng = np.random.default_rng(3)
+    QR, QJ = _random_points(rng, 400, BODY)
+    m = np.isin(C.region(QR, QJ, BODY), ("II", "IV"))
+    QR, QJ = QR[m][:40], QJ[m][:40]
+    te = C.theta_e(QR, QJ, BODY)
+    h = 1e-4
+    for r, j, t in zip(QR, QJ, te):
+        v, vl, vr = (float(V_phi(x, j, r, BODY)) for x in (t, t - h, t + h))
+        if j > C.QJ_crit_0(r, BODY):  # Region II: minimum
+            assert v < vl and v < vr
+        else:
+            assert v > vl and v > vr
+    with pytest.raises(ValueError, match="Regions II/IV"):
+        C.theta_e(1.0, 0.0, BODY)
+
+
+def test_necessary_condition():
+    QR, QJ = np.array([1.0, 1.0, 0.0]), np.array([0.0, 0.0, 0.5])  # Region I twice, Region II
+    tz = float(C.theta_z(1.0, 0.0, BODY))
+    te = float(C.theta_e(0.0, 0.5, BODY))
+    got = C.necessary_condition(np.array([tz + 1e-6, tz - 1e-6, te + 1e-6]), QR, QJ, BODY)
+    assert list(got) == [True, False, True]
+    with pytest.raises(ValueError, match="theta_X"):
+        C.necessary_condition(0.0, 1.0, 0.0, BODY)
+
+
+# ----------------------------------------------------------------------------- δ^½ bound
+def test_delta_bound_coefficient_matches_paper():
+    d = C.delta_bound_sympy()
+    assert sp.simplify(d["C1"] ** 2 - d["C1_paper"] ** 2) == 0
+
+
+def _theta_z_mp(delta, body, dps=40):
+    """θ_z(δ) at 40 digits: the zero of the numerator of V_φ (sympy V_phi_sym, mpmath)."""
+    s = SYMBOLS
+    numer = sp.expand(V_phi_sym(s["theta"]) * s["I1"] * sp.sin(s["theta"]) ** 2)
+    f = sp.lambdify((s["theta"], s["QJ"], s["QR"], s["a"], s["I1"], s["I3"]), numer, modules="mpmath")
+    with mpmath.workdps(dps):
+        a, I1, I3 = (mpmath.mpf(v) for v in (body.a, body.I1, body.I3))
+        rpi = 1 / mpmath.sqrt(I3 + I3 / I1 * (1 + a) ** 2)
+        QR = mpmath.mpf(1)
+        QJ = -rpi * (1 + a) * I3 * QR * (1 - mpmath.mpf(delta))
+        x = mpmath.findroot(lambda x: f(mpmath.pi - x, QJ, QR, a, I1, I3),
+                            (mpmath.mpf(1e-12), mpmath.mpf(1.2) * mpmath.sqrt(delta) * 2), solver="anderson")
+        return mpmath.pi - x
+
+
+@pytest.mark.parametrize("body", [BODY, OTHER])
+def test_delta_expansion_error_powers(body):
+    """θ_z(δ) vs a 40-digit root: one-term error ∝ δ^{3/2}, two-term error ∝ δ^{5/2} (fitted slopes)."""
+    deltas = np.array([1e-2, 3e-3, 1e-3, 3e-4, 1e-4])
+    exact = np.array([float(_theta_z_mp(d, body)) for d in deltas])
+    e1 = np.abs(C.theta_z_expansion(deltas, body, terms=1) - exact)
+    e2 = np.abs(C.theta_z_expansion(deltas, body, terms=2) - exact)
+    s1 = np.polyfit(np.log(deltas), np.log(e1), 1)[0]
+    s2 = np.polyfit(np.log(deltas), np.log(e2), 1)[0]
+    assert abs(s1 - 1.5) < 0.05 and abs(s2 - 2.5) < 0.1
+    assert np.all(e2 < e1)
+
+
+def test_delta_bound_against_turning_points():
+    """The bound is saturated at θ_X = θ_z: a symmetric start at the turning point θ_z(δ) has θ_X = θ_z from
+    analysis.reduction.turning_points, V_φ(θ_X) = 0, and the expansions approach that θ_X with the powers of δ."""
+    QR = 0.003
+    deltas = np.array([3e-3, 1e-3, 3e-4, 1e-4])  # two-term error 3e-8 .. 6e-12, above arccos rounding (~1e-14)
+    QJ = C.QJ_crit_pi(QR, BODY) * (1 - deltas)
+    tz = C.theta_z(QR, QJ, BODY)
+    E = state_from_turning_point(BODY, tz, QR, QJ).E
+    _, theta_X = turning_points(E, QR, QJ, BODY)
+    np.testing.assert_allclose(theta_X, tz, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(C.delta_of(QR, QJ, BODY), deltas, rtol=0, atol=4e-16)  # 1 − ratio: absolute rounding
+    e1 = np.abs(C.theta_z_expansion(deltas, BODY, 1) - theta_X)
+    e2 = np.abs(C.theta_z_expansion(deltas, BODY, 2) - theta_X)
+    assert abs(np.polyfit(np.log(deltas), np.log(e1), 1)[0] - 1.5) < 0.05
+    assert abs(np.polyfit(np.log(deltas), np.log(e2), 1)[0] - 2.5) < 0.1
+
+
+def test_delta_errors():
+    for bad in (0.0, 1.0, -0.1, 1.5):
+        with pytest.raises(ValueError, match=r"delta must lie in the open interval \(0, 1\)"):
+            C.theta_z_expansion(bad, BODY)
+    with pytest.raises(ValueError, match="QR must be nonzero"):
+        C.delta_of(0.0, 0.1, BODY)
+
+
+# ----------------------------------------------------------------------------- critical-line starts
+@pytest.mark.parametrize("body", [BODY, BODY_EPS])
+@pytest.mark.parametrize("line", C.LINES)
+def test_critical_start_lands_on_line(body, line):
+    """(Q_R, Q_J) recomputed from the body-frame state (analysis.invariants) lie on the line to ≤ 1e-14 relative."""
+    rng = np.random.default_rng(11)
+    theta0 = rng.uniform(0.55 * np.pi, 0.99 * np.pi, 200)
+    psi0 = rng.uniform(0, np.pi, 200)
+    QR = rng.uniform(-0.1, 0.1, 200)
+    for kw in ({"QR": QR}, {"psi_dot0": rng.uniform(-0.5, 0.5, 200)}):
+        st = C.critical_start(body, theta0, psi0, line, **kw)
+        _, QRr, QJr = invariants(body, vertical_in_body(theta0, psi0), st.omega)
+        crit = C.QJ_crit(line, QRr, body)
+        assert np.max(np.abs(QJr - crit) / np.abs(QJr)) <= 1e-14
+        assert np.max(np.abs(QRr - st.QR) / np.abs(st.QR)) <= 1e-14
+    # the requested spin rate is reproduced to rounding (ω3' = c φ̇ + ψ̇ cancels near θ = π)
+    pd = rng.uniform(-0.5, 0.5, 200)
+    st = C.critical_start(body, theta0, psi0, line, psi_dot0=pd)
+    assert np.max(np.abs(st.psi_dot0 - pd) / np.abs(pd)) <= 1e-10
+
+
+def test_critical_start_offset_is_signed_distance():
+    st = C.critical_start(BODY, 0.95 * np.pi, 0.0, "pi", QR=0.003, offset=np.array([-1e-4, 1e-4]))
+    _, QR, QJ = invariants(BODY, vertical_in_body(0.95 * np.pi, 0.0), st.omega)
+    np.testing.assert_allclose(QJ - C.QJ_crit_pi(QR, BODY), [-1e-4, 1e-4], rtol=1e-11)
+    assert list(C.region(QR, QJ, BODY)) == ["IV", "I"]
+
+
+def test_critical_start_errors():
+    for bad in (0.0, np.pi, -0.1, 4.0):
+        with pytest.raises(ValueError, match="theta0 must lie in the open interval"):
+            C.critical_start(BODY, bad, 0.0, "pi", QR=0.003)
+    with pytest.raises(ValueError, match="exactly one of QR and psi_dot0"):
+        C.critical_start(BODY, 2.0, 0.0, "pi")
+    with pytest.raises(ValueError, match="exactly one of QR and psi_dot0"):
+        C.critical_start(BODY, 2.0, 0.0, "pi", QR=0.1, psi_dot0=0.1)
+    with pytest.raises(ValueError, match="line must be one of"):
+        C.critical_start(BODY, 2.0, 0.0, "2pi", QR=0.1)
+    # a steady-rolling tilt is not a turning point: find (QR, QJ) whose U has its minimum at theta0
+    from analysis.reduction import solve_turning_points
+
+    QR, QJ = 0.5, C.QJ_crit_pi(0.5, BODY) + 0.05
+    tp = solve_turning_points(1.0, QR, QJ, BODY)
+    with pytest.raises(ValueError, match="steady circular rolling"):
+        C.critical_start(BODY, float(tp.theta_min), 0.0, "pi", QR=QR, offset=0.05)
+
+
+# ----------------------------------------------------------------------------- reversals against the direct ODE
+@pytest.mark.parametrize("line", C.LINES)
+def test_ode_started_on_line_crosses_it(line):
+    """Paper §7.3 (figs. 8, 9): ε = 1e-3, θ0 = 0.95π, ψ0 = π/4, started on each line; the direct ODE shows ≥ 1
+    crossing of that line within 200 time units; φ̇ at the turning points has the sign of V_φ there."""
+    from numerics.equations import EulerState
+    from numerics.integrate import simulate
+
+    st = C.critical_start(BODY_EPS, 0.95 * np.pi, np.pi / 4, line, psi_dot0=0.378 if line == "0" else 0.002)
+    init = EulerState.from_omega(0.95 * np.pi, 0.0, np.pi / 4, st.omega)
+    traj = simulate(BODY_EPS, init, 200.0)
+    ra = C.reversal_analysis(traj)
+    assert ra.count(line) >= 1
+    other = "pi" if line == "0" else "0"
+    assert ra.count(other) == 0  # paper: "no visible (full) angle reversal"
+    tp = ra.turning_points
+    assert tp.t.size == len(traj.maxima) + len(traj.minima) and np.all(np.diff(tp.t) > 0)
+    assert np.all(tp.phi_dot_sign == np.sign(V_phi(tp.theta, tp.QJ, tp.QR, BODY_EPS)))
+    for c in ra.crossings:
+        assert c.region_before != c.region_after
