@@ -1,0 +1,112 @@
+"""``rocknroller diagram``: the four critical regions (paper fig. 4), optionally with a simulated orbit (figs. 7–10)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from rocknroller.options import (add_body_options, add_initial_state_options, body_from_args,
+                                 initial_state_from_args, parse_angle)
+
+#: Defaults of the paper's critical-line runs (§7.3): ε = 1e-3, θ0 = 0.95π, ψ0 = π/4, 200 time units.
+SIM_EPS, SIM_PSI0, SIM_T_END = 1e-3, "pi/4", 200.0
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "diagram",
+        help="critical Jellett lines and regions I-IV (paper fig. 4), optionally with a simulated orbit",
+        description="Draw the (Q_R, Q_J) plane with the critical lines Q_J = Q_J,pi^crit (red) and Q_J = Q_J,0^crit "
+        "(blue, dashed), the four regions, and V_phi(theta) at one representative point of each region. With "
+        "--simulate, integrate the direct ODE (same initial-state options as 'simulate'; defaults: the paper's "
+        f"critical-line runs, eps={SIM_EPS:g}, theta0=0.95pi, psi0={SIM_PSI0}, t_end={SIM_T_END:g}) and overlay the "
+        "orbit (Q_R(t), Q_J(t)) with dots at the theta-maxima (red) and minima (blue) (paper figs. 7-10).",
+    )
+    add_body_options(p)
+    p.add_argument("--QR-max", type=float, default=1.0, help="half-width of the Q_R axis without --simulate (default 1)")
+    p.add_argument("--out", type=Path, default=Path("."), metavar="DIR",
+                   help="write regions[_orbit].png and .pdf to DIR (default: current directory)")
+    p.add_argument("--json", action="store_true", help="print a JSON summary (files, representative points, crossings)")
+    sim = p.add_argument_group("orbit overlay")
+    sim.add_argument("--simulate", action="store_true", help="integrate the direct ODE and overlay its orbit")
+    sim.add_argument("--t-end", type=float, default=SIM_T_END, help=f"final time (default {SIM_T_END:g})")
+    sim.add_argument("--method", choices=("heyoka", "scipy"), default="heyoka", help="integrator (default heyoka)")
+    sim.add_argument("--critical-line", choices=("pi", "0"), default=None,
+                     help="start on Q_J,pi^crit or Q_J,0^crit (paper figs. 8, 9): phi_dot0 is computed from "
+                          "--theta0 and either --QR or --psi-dot0; theta_dot0 = 0")
+    sim.add_argument("--QR", type=float, default=None, help="with --critical-line: Routh's quantity of the start")
+    sim.add_argument("--offset", type=float, default=0.0,
+                     help="with --critical-line: signed distance Q_J - Q_J^crit(Q_R) of the start (default 0)")
+    add_initial_state_options(p)
+    p.set_defaults(run=run, psi0=None)
+
+
+def _initial_state(args, body):
+    from analysis.criticality import critical_start
+    from numerics.equations import EulerState
+
+    if args.psi0 is None:
+        args.psi0 = SIM_PSI0
+    if args.critical_line is None:
+        if args.QR is not None:
+            raise ValueError("--QR needs --critical-line")
+        return initial_state_from_args(args), None
+    if args.omega is not None or args.phi_dot0 or args.theta_dot0:
+        raise ValueError("--critical-line computes phi_dot0 (theta_dot0 = 0): do not give --omega, --phi-dot0 "
+                         "or --theta-dot0")
+    theta0, phi0, psi0 = parse_angle(args.theta0), parse_angle(args.phi0), parse_angle(args.psi0)
+    kw = {"QR": args.QR} if args.QR is not None else {"psi_dot0": args.psi_dot0}
+    start = critical_start(body, theta0, psi0, args.critical_line, offset=args.offset, **kw)
+    return EulerState.from_omega(theta0, phi0, psi0, start.omega), start
+
+
+def run(args: argparse.Namespace) -> int:
+    from analysis import criticality as crit
+    from papers.output import save_figure
+    from papers.plotting import region_diagram
+
+    summary: dict = {}
+    traj = None
+    if args.simulate:
+        from numerics.integrate import simulate
+
+        if args.eps is None and args.I2 is None:
+            args.eps = SIM_EPS
+        body = body_from_args(args)
+        initial, start = _initial_state(args, body)
+        traj = simulate(body, initial, args.t_end, method=args.method)
+        ra = crit.reversal_analysis(traj)
+        summary.update({
+            "initial": {"theta0": initial.theta, "psi0": initial.psi, "phi_dot0": initial.phi_dot,
+                        "psi_dot0": initial.psi_dot},
+            "QR0": float(traj.QR[0]), "QJ0": float(traj.QJ[0]),
+            "region0": str(crit.region(traj.QR[0], traj.QJ[0], body)),
+            "crossings_QJ0crit": ra.count("0"), "crossings_QJpicrit": ra.count("pi"),
+            "energy_rel_error": traj.energy_rel_error,
+        })
+        name = "regions_orbit"
+    else:
+        if args.critical_line is not None or args.QR is not None:
+            raise ValueError("--critical-line and --QR need --simulate")
+        body = body_from_args(args)
+        name = "regions"
+    fig, data = region_diagram(body, QR_max=args.QR_max, traj=traj)
+    paths = save_figure(fig, args.out, name)
+    summary["files"] = [str(p) for p in paths]
+    summary["representatives"] = {k: list(v) for k, v in data.representatives.items()}
+    if args.json:
+        json.dump(summary, sys.stdout)
+        sys.stdout.write("\n")
+    else:
+        print(f"body: {body.describe()}")
+        print(f"Q_J,0^crit = {float(crit.QJ_crit_0(1.0, body)):.12g} Q_R,  "
+              f"Q_J,pi^crit = {float(crit.QJ_crit_pi(1.0, body)):.12g} Q_R")
+        if traj is not None:
+            print(f"start (Q_R, Q_J) = ({summary['QR0']:.6g}, {summary['QJ0']:.6g}) in {summary['region0']}; "
+                  f"crossings of Q_J,0^crit: {summary['crossings_QJ0crit']}, of Q_J,pi^crit: "
+                  f"{summary['crossings_QJpicrit']} (t_end={args.t_end:g})")
+        for p in paths:
+            print(f"wrote {p}")
+    return 0
