@@ -1,12 +1,12 @@
 """Critical Jellett lines, the regions I–IV, cos θ_z, θ_e, the δ^½ bound, and starts on a critical line.
 
-Paper §2.6 (eqs. phidotCJQR th=0, th=pi, QJcrit_0, QJcrit_pi), §2.7 (eq. range_X) and §3.
+Paper §criticality (eqs. phidotCJQR th=0, th=pi, QJcrit_0, QJcrit_pi), §range_X (eq. range_X) and §Recession.
 
 * The critical lines Q_J = Q_J,0^crit(Q_R) = ρ₀(1 − a) I3 Q_R and Q_J = Q_J,π^crit(Q_R) = −ρ_π(1 + a) I3 Q_R are the
   zeros of the numerator u = Q_J − ρ f I3 Q_R of V_φ (paper eq. phidotCJQR) at θ = 0 and θ = π.  Their signed
   distances u₀ = Q_J − Q_J,0^crit and u_π = Q_J − Q_J,π^crit are evaluated once, in double-double, by
   :func:`analysis.reduction.u_ends`; everything here is built on them.
-* Regions (paper §2.6): I: u₀ < 0 < u_π (Q_R > 0); II: u₀, u_π > 0; III: u_π < 0 < u₀ (Q_R < 0); IV: u₀, u_π < 0.
+* Regions (paper §criticality): I: u₀ < 0 < u_π (Q_R > 0); II: u₀, u_π > 0; III: u_π < 0 < u₀ (Q_R < 0); IV: u₀, u_π < 0.
 * cos θ_z (zero of V_φ in Regions I and III).  With q = Q_J/Q_R, V_φ = 0 ⇔ q = ρ f I3, squared a quadratic in
   c = cos θ.  Its root is (derived by :func:`cos_theta_z_sympy`)
 
@@ -118,7 +118,7 @@ def _finite(name: str, v: ArrayLike) -> NDArray[np.float64]:
 
 
 def region(QR: ArrayLike, QJ: ArrayLike, body: Body, tol: float = REGION_TOL) -> NDArray[np.str_] | str:
-    """Critical region I–IV of (Q_R, Q_J) (paper §2.6), vectorised.
+    """Critical region I–IV of (Q_R, Q_J) (paper §criticality), vectorised.
 
     A point with |Q_J − Q_J,e^crit| ≤ tol · max(|Q_J|, |Q_J,e^crit|) is reported as on that line:
     ``ON_LINE_0`` ("on QJ0crit"), ``ON_LINE_PI`` ("on QJpicrit"), or ``ON_BOTH`` ("origin", only Q_R = Q_J = 0
@@ -166,7 +166,7 @@ def _ratio(QR: NDArray, QJ: NDArray) -> NDArray:
 
 # ----------------------------------------------------------------------------- cos θ_z
 def cos_theta_z(QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]:
-    """cos θ_z, the single zero of V_φ(θ) in Regions I and III, in closed form (corrected paper §2.7).
+    """cos θ_z, the single zero of V_φ(θ) in Regions I and III, in closed form (corrected paper §range_X).
 
     cos θ_z = [a β I3 + q √(β(I3 − I1)(I3 + 1) − a² β I3 + I1 I3 (I3 + 1))]/[β(I3 − I1) + I1 I3],
     q = Q_J/Q_R, β = I3 − q²/I1; equal to the form with sgn(q) √(I1(I3 − β)[…]) (module docstring).
@@ -186,7 +186,7 @@ def cos_theta_z(QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]
 
 
 def cos_theta_z_printed(QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]:
-    """The paper's printed formula for cos θ_z (§2.7), with β = I3 − (Q_J/Q_R)² and the + root. WRONG.
+    """The paper's printed formula for cos θ_z (§range_X), with β = I3 − (Q_J/Q_R)² and the + root. WRONG.
 
     Kept only to document the erratum (tests show it misses the zero of V_φ).  Returns NaN where the printed
     square root is of a negative number.
@@ -233,7 +233,10 @@ def cos_theta_z_sympy() -> dict[str, sp.Expr]:
 
 
 def theta_z(QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]:
-    """θ_z = arccos(cos θ_z), the zero of V_φ in Regions I and III (:func:`cos_theta_z`)."""
+    """θ_z = arccos(cos θ_z), the zero of V_φ in Regions I and III (:func:`cos_theta_z`).
+
+    Near θ = π the arccos costs precision: the absolute error is ~ε/sin θ_z (1e-14 at π − θ_z = 0.01).
+    """
     return np.arccos(np.clip(cos_theta_z(QR, QJ, body), -1.0, 1.0))
 
 
@@ -262,7 +265,7 @@ def _theta_e_one(QR: float, QJ: float, body: Body) -> float:
 
 
 def theta_e(QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]:
-    """θ_e, the extremum of V_φ(θ) in Regions II (minimum) and IV (maximum), found numerically (paper §2.7).
+    """θ_e, the extremum of V_φ(θ) in Regions II (minimum) and IV (maximum), found numerically (paper §range_X).
 
     Root of dV_φ/dθ (differentiated by sympy from paper eq. phidotCJQR) by Brent's method, to round-off.
 
@@ -278,14 +281,15 @@ def theta_e(QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]:
 
 
 def necessary_condition(theta_X: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.bool_]:
-    """The paper's necessary condition (§2.7) for the Laurent expansion about π to decide φ̇(θ_X).
+    """The paper's necessary condition (§range_X) for the Laurent expansion about π to decide φ̇(θ_X).
 
     Regions I and III: θ_z < θ_X; Regions II and IV: θ_e < θ_X.  Vectorised.
 
     Raises
     ------
     ValueError
-        θ_X outside (0, π], Q_R = 0 with Q_J ≠ 0, or a point exactly on a critical line (no region).
+        θ_X outside (0, π], or a point exactly on a critical line (no region); Q_R = 0 in Regions I/III
+        cannot occur (there Q_J,π^crit < Q_J < Q_J,0^crit forces Q_R ≠ 0).
     """
     theta_X, QR, QJ = np.broadcast_arrays(_finite("theta_X", theta_X), _finite("QR", QR), _finite("QJ", QJ))
     if np.any((theta_X <= 0.0) | (theta_X > np.pi)):
@@ -420,7 +424,7 @@ def _check_turning_theta(theta0: NDArray, body: Body, QR: NDArray, QJ: NDArray) 
 def critical_start(body: Body, theta0: ArrayLike, psi0: ArrayLike = 0.0, line: str = "pi", *,
                    QR: ArrayLike | None = None, psi_dot0: ArrayLike | None = None,
                    offset: ArrayLike = 0.0) -> CriticalStart:
-    """Initial rates that put (Q_R, Q_J) on a critical line, or at a signed distance from it (paper §7.3).
+    """Initial rates that put (Q_R, Q_J) on a critical line, or at a signed distance from it (paper §numerics, figs. 8, 9).
 
     The start is a turning point, θ̇0 = 0, at θ0.  With the paper's definitions (eq. JelletandRouth_Qtys,
     valid for I1 ≠ I2 too) Q_J = I1 s² φ̇ + I3 f ω3' and Q_R = ω3'/ρ with ω3' = c φ̇ + ψ̇, independent of ψ0:
@@ -502,7 +506,7 @@ class TurningPointRegion:
 
 @dataclass(frozen=True)
 class Crossing:
-    """A critical crossing between two consecutive turning points of the relevant kind (paper §3).
+    """A critical crossing between two consecutive turning points of the relevant kind (paper §Recession).
 
     ``line`` "0": Q_J,0^crit judged at the θ-minima (full-angle reversal); "pi": Q_J,π^crit judged at
     the θ-maxima (visible-angle reversal).
@@ -529,7 +533,7 @@ class ReversalAnalysis:
 def reversal_analysis(traj: "Trajectory", tol: float = 0.0) -> ReversalAnalysis:
     """Regions and φ̇ signs at every turning point of a direct-ODE trajectory, and its critical crossings.
 
-    Paper §3: the full angle reverses when Q_J − Q_J,0^crit changes sign between passages near θ_N
+    Paper §Recession: the full angle reverses when Q_J − Q_J,0^crit changes sign between passages near θ_N
     (checked at consecutive θ-minima); the visible angle reverses when Q_J − Q_J,π^crit changes sign between
     passages near θ_X (checked at consecutive θ-maxima).  φ̇ at a turning point comes from the body-frame state
     (φ̇ = (γ1 ω1 + γ2 ω2)/s², :func:`analysis.kinematics.rates_from_omega`), not from V_φ.

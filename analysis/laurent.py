@@ -1,4 +1,4 @@
-"""Laurent expansions of V_φ and V_ψ about θ = 0 and θ = π (paper §2.5, eqs. phidotCJQR th=0 and th=pi).
+"""Laurent expansions of V_φ and V_ψ about θ = 0 and θ = π (paper §criticality, eqs. phidotCJQR th=0 and th=pi).
 
 The exact rates of Routh's sphere (paper eqs. phidotCJQR, psidotCJQR) are
 
@@ -19,7 +19,7 @@ the paper:
 
 and V_ψ ≈ −(Q_J − Q_J,0^crit)/(I1 θ²) about 0, V_ψ ≈ +(Q_J − Q_J,π^crit)/(I1 (π − θ)²) about π.
 
-Measured at the paper's high-Q_R case (§7.3: Q_R = 0.1, θ_X = 0.95π, Q_J on Q_J,π^crit) see
+Measured at the paper's high-Q_R case (§numerics "Recession and Criticality": Q_R = 0.1, θ_X = 0.95π, Q_J on Q_J,π^crit) see
 :func:`phidot_turning_point_errors` and ``tests/test_laurent.py``.
 """
 
@@ -229,7 +229,7 @@ def laurent_function(quantity: str, about: str | float, order: int,
 
 def phidot_turning_point_errors(body: Body, theta_X: float, QR: float, QJ: float,
                                 orders: tuple[int, ...] = (-2, 0, 2, 4, 6)) -> dict[int, dict[str, float]]:
-    """How well the series about π predicts φ̇ at the turning point θ_X, order by order (paper §7.3).
+    """How well the series about π predicts φ̇ at the turning point θ_X, order by order (paper §numerics "Recession and Criticality").
 
     The exact value is V_φ(θ_X; Q_J, Q_R) (paper eq. phidotCJQR); the prediction is the series about θ = π
     truncated after x^order, x = π − θ_X.

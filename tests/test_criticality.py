@@ -286,7 +286,7 @@ def test_critical_start_errors():
 # ----------------------------------------------------------------------------- reversals against the direct ODE
 @pytest.mark.parametrize("line", C.LINES)
 def test_ode_started_on_line_crosses_it(line):
-    """Paper §7.3 (figs. 8, 9): ε = 1e-3, θ0 = 0.95π, ψ0 = π/4, started on each line; the direct ODE shows ≥ 1
+    """Paper §numerics "Recession and Criticality" (figs. 8, 9): ε = 1e-3, θ0 = 0.95π, ψ0 = π/4, started on each line; the direct ODE shows ≥ 1
     crossing of that line within 200 time units; φ̇ at the turning points has the sign of V_φ there."""
     from numerics.equations import EulerState
     from numerics.integrate import simulate

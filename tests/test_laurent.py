@@ -102,7 +102,7 @@ def test_numeric_function_matches_series():
 
 
 def test_phidot_at_theta_X_high_QR():
-    """Paper §7.3: at Q_R = 0.1 and θ_X = 0.95π, each added order improves the prediction of φ̇(θ_X).
+    """Paper §numerics "Recession and Criticality": at Q_R = 0.1 and θ_X = 0.95π, each added order improves the prediction of φ̇(θ_X).
 
     On the line Q_J = Q_J,π^crit the leading term predicts φ̇ = 0 (100 % error); O(1) brings it to a few %,
     each further even order by a factor ~ (π − θ_X)² × O(1)."""

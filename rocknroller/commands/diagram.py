@@ -10,7 +10,7 @@ from pathlib import Path
 from rocknroller.options import (add_body_options, add_initial_state_options, body_from_args,
                                  initial_state_from_args, parse_angle)
 
-#: Defaults of the paper's critical-line runs (§7.3): ε = 1e-3, θ0 = 0.95π, ψ0 = π/4, 200 time units.
+#: Defaults of the paper's critical-line runs (§numerics "Recession and Criticality"): ε = 1e-3, θ0 = 0.95π, ψ0 = π/4, 200 time units.
 SIM_EPS, SIM_PSI0, SIM_T_END = 1e-3, "pi/4", 200.0
 
 
