@@ -11,8 +11,14 @@ import importlib
 from types import ModuleType
 
 MODULES = (
+    "fig4_regions",
     "fig5_symmetry_breaking",
     "fig6_contact_tracks",
+    "fig7_rest_start",
+    "fig8_visible_reversal",
+    "fig9_full_reversal",
+    "fig10_combined",
+    "fig11_high_QR",
     "table_polar_cap",
     "table_small_amplitude",
     "table_periodic_orbit",

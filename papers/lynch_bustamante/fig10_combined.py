@@ -1,0 +1,50 @@
+"""Paper fig. 10: the (Q_R, Q_J) orbits of figs. 7, 8 and 9 together, with the critical lines."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from numerics.equations import EulerState  # noqa: E402
+from papers.lynch_bustamante import fig8_visible_reversal as fig8  # noqa: E402
+from papers.lynch_bustamante import fig9_full_reversal as fig9  # noqa: E402
+from papers.lynch_bustamante import reversals  # noqa: E402
+from papers.output import Reproduction, save_figure  # noqa: E402
+from papers.plotting import draw_critical_lines  # noqa: E402
+
+NAME = "fig10"
+
+
+def runs() -> list[reversals.ReversalRun]:
+    return [reversals.run("fig. 7: from rest", EulerState(reversals.THETA0, 0.0, reversals.PSI0)),
+            reversals.run("fig. 8: on Q_J,pi crit", reversals.start_on_line("pi", fig8.PSI_DOT0)),
+            reversals.run("fig. 9: on Q_J,0 crit", reversals.start_on_line("0", fig9.PSI_DOT0))]
+
+
+def run(out: Path) -> Reproduction:
+    rr = runs()
+    fig, ax = plt.subplots(figsize=(7, 5.5))
+    QR_all = np.concatenate([r.traj.QR for r in rr])
+    QJ_all = np.concatenate([r.traj.QJ for r in rr])
+    pad = 0.1 * np.ptp(QR_all)
+    draw_critical_lines(ax, rr[0].traj.body, QR_all.min() - pad, QR_all.max() + pad)
+    for k, r in enumerate(rr):
+        ax.plot(r.traj.QR, r.traj.QJ, lw=0.6, color=f"C{k + 2}", label=r.label)
+    ax.set_ylim(QJ_all.min() - 0.1 * np.ptp(QJ_all), QJ_all.max() + 0.1 * np.ptp(QJ_all))
+    ax.set_xlabel(r"$Q_R$")
+    ax.set_ylabel(r"$Q_J$")
+    ax.ticklabel_format(style="sci", scilimits=(-2, 2))
+    ax.legend(fontsize=8)
+    ax.set_title(r"Paper fig. 10: orbits of figs. 7–9, $\epsilon=10^{-3}$, 200 time units", fontsize=10)
+    paths = save_figure(fig, out, "fig10_combined")
+    numbers = {f"Q_R extent, {r.label}": float(np.ptp(r.traj.QR)) for r in rr}
+    numbers.update({f"Q_J extent, {r.label}": float(np.ptp(r.traj.QJ)) for r in rr})
+    caption = ("The three orbits together. Their extent along Q_R is "
+               + ", ".join(f"{np.ptp(r.traj.QR):.4f}" for r in rr)
+               + " (figs. 7, 8, 9); the paper estimates 0.001 from this figure.")
+    return Reproduction(NAME, caption, paths, numbers)

@@ -1,0 +1,26 @@
+"""Paper fig. 8: a start on the critical line Q_J = Q_J,π^crit (visible-angle reversals), ψ̇0 = 0.002.
+
+The paper gives φ̇0 = −0.002, ψ̇0 = 0.002 and quotes Q_R = 0.0030 in the caption; here φ̇0 is solved so that
+the start lies exactly on the line, and Q_R is computed.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from papers.lynch_bustamante import reversals
+from papers.output import Reproduction
+
+NAME = "fig8"
+PSI_DOT0 = 0.002
+
+
+def run(out: Path) -> Reproduction:
+    r = reversals.run("on QJ,pi crit", reversals.start_on_line("pi", PSI_DOT0))
+    nums = reversals.numbers(r)
+    paths = reversals.three_panels(r, out, "fig8_visible_reversal",
+                                   r"Paper fig. 8: start on $Q_J=Q_{J,\pi}^{crit}$, $\dot\psi_0=0.002$")
+    caption = (f"Start on Q_J,π^crit with φ̇0 = {r.initial.phi_dot:.6f}: Q_R(0) = {nums['Q_R(0)']:.6f} (caption: 0.0030), "
+               f"Q_J(0) = {nums['Q_J(0)']:.6f}; {nums['visible-angle reversals (Q_J,pi crossings)']} visible-angle and "
+               f"{nums['full-angle reversals (Q_J,0 crossings)']} full-angle reversals in 200 time units.")
+    return Reproduction(NAME, caption, paths, nums)

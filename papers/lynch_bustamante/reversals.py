@@ -1,0 +1,100 @@
+"""Shared machinery of the paper's recession figures 7–11: the runs and their three-panel plots.
+
+Paper §numerics (Recession and criticality): ε = 1e-3, released at θ0 = 0.95π with θ̇0 = 0, φ0 = 0,
+ψ0 = π/4, 200 time units.  Starts "on a critical line" are placed by computation
+(:func:`analysis.criticality.critical_start`), not by the paper's rounded rates.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from analysis.body import Body  # noqa: E402
+from analysis.criticality import critical_start, reversal_analysis  # noqa: E402
+from numerics.equations import EulerState  # noqa: E402
+from numerics.integrate import simulate  # noqa: E402
+from numerics.trajectory import Trajectory  # noqa: E402
+from papers.output import save_figure, write_csv  # noqa: E402
+from papers.plotting import draw_critical_lines  # noqa: E402
+from papers.trajectory_plots import plot_invariant_orbit  # noqa: E402
+
+EPSILON = 1e-3
+THETA0 = 0.95 * math.pi
+PSI0 = math.pi / 4
+T_END = 200.0
+
+
+@dataclass(frozen=True)
+class ReversalRun:
+    label: str
+    initial: EulerState
+    traj: Trajectory
+
+
+def body() -> Body:
+    return Body.paper(EPSILON)
+
+
+def start_on_line(line: str, psi_dot0: float) -> EulerState:
+    """Turning-point start at θ0 = 0.95π, ψ0 = π/4 with the given ψ̇0, exactly on the critical line."""
+    cs = critical_start(body(), THETA0, PSI0, line, psi_dot0=psi_dot0)
+    return EulerState.from_omega(THETA0, 0.0, PSI0, np.asarray(cs.omega, float).reshape(3))
+
+
+def run(label: str, initial: EulerState, t_end: float = T_END) -> ReversalRun:
+    return ReversalRun(label, initial, simulate(body(), initial, t_end))
+
+
+def numbers(r: ReversalRun) -> dict[str, float | int | str]:
+    """Initial invariants, extents and the critical crossings of each type."""
+    ra = reversal_analysis(r.traj)
+    return {"Q_R(0)": float(r.traj.QR[0]), "Q_J(0)": float(r.traj.QJ[0]),
+            "phi_dot0": r.initial.phi_dot, "psi_dot0": r.initial.psi_dot,
+            "Q_R extent (orbit)": float(np.ptp(r.traj.QR)), "Q_J extent (orbit)": float(np.ptp(r.traj.QJ)),
+            "full-angle reversals (Q_J,0 crossings)": ra.count("0"),
+            "visible-angle reversals (Q_J,pi crossings)": ra.count("pi")}
+
+
+def three_panels(r: ReversalRun, out: Path, name: str, title: str) -> list[Path]:
+    """Orbit with critical lines; φ(t) solid where θ ≥ θ0/2, dashed otherwise; φ mod π where θ ≥ θ0/2."""
+    traj = r.traj
+    fig, axes = plt.subplots(3, 1, figsize=(6.5, 10))
+    ax = axes[0]
+    pad = 0.15 * max(np.ptp(traj.QR), 1e-12)
+    draw_critical_lines(ax, traj.body, traj.QR.min() - pad, traj.QR.max() + pad)
+    plot_invariant_orbit(traj, ax)
+    qj_pad = 0.15 * np.ptp(traj.QJ)
+    ax.set_ylim(traj.QJ.min() - qj_pad, traj.QJ.max() + qj_pad)
+    ax.legend(fontsize=7, loc="best")
+    ax.set_title(r"orbit in the $(Q_R, Q_J)$ plane", fontsize=10)
+    high = traj.theta >= 0.5 * THETA0
+    ax = axes[1]
+    ax.plot(traj.t, np.where(high, traj.phi, np.nan) / math.pi, "-", color="tab:red", lw=1,
+            label=r"$\theta\geq 0.5\theta_0$")
+    ax.plot(traj.t, np.where(high, np.nan, traj.phi) / math.pi, "--", color="tab:blue", lw=1,
+            label=r"$\theta<0.5\theta_0$")
+    ax.set_xlabel("t (time units)")
+    ax.set_ylabel(r"$\phi$ ($\pi$ rad)")
+    ax.legend(fontsize=7)
+    ax = axes[2]
+    ax.plot(traj.t[high], np.mod(traj.phi[high], math.pi) / math.pi, ".", ms=1, color="tab:red")
+    ax.set_xlabel("t (time units)")
+    ax.set_ylabel(r"$\phi$ mod $\pi$ ($\pi$ rad)")
+    ax.set_ylim(0, 1)
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    paths = save_figure(fig, out, name)
+    header = [title, f"body: {traj.body.describe()}", f"initial: {r.initial}"]
+    paths.append(write_csv(out / f"{name}_turning_points.csv", {
+        "kind": ["max"] * len(traj.maxima) + ["min"] * len(traj.minima),
+        "t": [*traj.maxima.t, *traj.minima.t], "Q_R": [*traj.maxima.QR, *traj.minima.QR],
+        "Q_J": [*traj.maxima.QJ, *traj.minima.QJ], "phi": [*traj.maxima.phi, *traj.minima.phi]}, header))
+    return paths
