@@ -144,6 +144,65 @@ def check_reduction_and_quadrature() -> list[Check]:
     return out
 
 
+# ----------------------------------------------------------------------------------- criticality
+def _loglog_slope(x: np.ndarray, y: np.ndarray) -> float:
+    return float(np.polyfit(np.log(x), np.log(y), 1)[0])
+
+
+def check_criticality() -> list[Check]:
+    """Critical lines, regions, cos θ_z, the δ expansion, the Laurent series and critical-line starts."""
+    from scipy.optimize import brentq
+
+    from analysis import criticality as C
+    from analysis.invariants import V_phi
+    from analysis.laurent import laurent_function
+
+    body = Body.paper()
+    rng = np.random.default_rng(17)
+    out = []
+    # regions from the critical lines against the signs of V_φ next to θ = 0 and θ = π
+    QR, QJ = rng.uniform(-1, 1, 500), rng.uniform(-0.4, 0.4, 500)
+    near0, nearpi = np.sign(V_phi(1e-6, QJ, QR, body)), np.sign(V_phi(math.pi - 1e-6, QJ, QR, body))
+    expected = np.select([(near0 < 0) & (nearpi > 0), (near0 > 0) & (nearpi > 0), (near0 > 0) & (nearpi < 0)],
+                         ["I", "II", "III"], "IV")
+    out.append(Check("criticality", "region I-IV from the critical lines (500 random points)",
+                     "signs of V_phi at theta = 1e-6 and pi - 1e-6",
+                     float(np.mean(C.region(QR, QJ, body) != expected)), 0.0))
+    # corrected cos θ_z against the numeric zero of V_φ
+    t = rng.uniform(0, 1, 200)
+    QR = rng.uniform(-1, 1, 200)
+    QJ = C.QJ_crit_pi(QR, body) + t * (C.QJ_crit_0(QR, body) - C.QJ_crit_pi(QR, body))
+    roots = np.array([math.cos(brentq(lambda th: float(V_phi(th, j, r, body)), 1e-9, math.pi - 1e-9, xtol=1e-16,
+                                      rtol=4 * np.finfo(float).eps)) for r, j in zip(QR, QJ)])
+    out.append(Check("criticality", "cos(theta_z), corrected closed form (200 points in Regions I, III)",
+                     "Brent root of V_phi", float(np.max(np.abs(C.cos_theta_z(QR, QJ, body) - roots))), 1e-12))
+    out.append(Check("criticality", "cos(theta_z) as printed in the paper is wrong (must fail: error > 0.01)",
+                     "Brent root of V_phi", float(0.01 / max(np.max(np.abs(C.cos_theta_z_printed(QR, QJ, body)
+                                                                         - roots)), 1e-300)), 1.0))
+    # δ expansion of θ_z near Q_J = Q_J,π^crit (1 − δ): error powers 3/2 (one term) and 5/2 (two terms)
+    deltas = np.array([1e-2, 3e-3, 1e-3, 3e-4])
+    QR1 = 0.01
+    exact = C.theta_z(QR1, C.QJ_crit_pi(QR1, body) * (1 - deltas), body)
+    for terms, power in ((1, 1.5), (2, 2.5)):
+        err = np.abs(C.theta_z_expansion(deltas, body, terms=terms) - exact)
+        out.append(Check("criticality", f"delta expansion of theta_z, {terms} term(s): error power {power}",
+                         "closed-form theta_z, fitted log-log slope", abs(_loglog_slope(deltas, err) - power), 0.1))
+    # Laurent series about θ = π truncated at order 2: error falls as x⁴
+    xs = np.array([0.2, 0.1, 0.05, 0.025])
+    fn = laurent_function("phi", "pi", 2, body)
+    err = np.abs(fn(xs, 0.0123, -0.0456) - V_phi(math.pi - xs, 0.0123, -0.0456, body))
+    out.append(Check("criticality", "Laurent series of V_phi about pi to order 2: error power 4",
+                     "V_phi, fitted log-log slope", abs(_loglog_slope(xs, err) - 4.0), 0.1))
+    # starts placed on the critical lines
+    worst = 0.0
+    for line, crit in (("pi", C.QJ_crit_pi), ("0", C.QJ_crit_0)):
+        cs = C.critical_start(Body.paper(1e-3), 0.95 * math.pi, math.pi / 4, line, QR=rng.uniform(-0.01, 0.01, 50))
+        worst = max(worst, float(np.max(np.abs(cs.QJ / crit(cs.QR, body) - 1))))
+    out.append(Check("criticality", "initial states placed on the critical lines (100 starts)",
+                     "Q_J^crit(Q_R) of the start", worst, 1e-14))
+    return out
+
+
 # ------------------------------------------------------------------------------------- averaging
 def check_averaging() -> list[Check]:
     """Averaged map and pendulum closed form against the direct ODE (θ0 = 0.95π, ψ0 = π/4, at rest).
@@ -178,6 +237,7 @@ CHECKS: tuple[Callable[[], list[Check]], ...] = (
     check_integrators,
     check_small_amplitude,
     check_reduction_and_quadrature,
+    check_criticality,
     check_averaging,
 )
 
