@@ -972,7 +972,6 @@ def predict_slow_motion(body: Body, theta0: float, psi0: float, t_end: float = 1
 
 #: Region of the (Q_R, Q_J) plane from the signs of (u₀, u_π) = (Q_J − Q_J,0^crit, Q_J − Q_J,π^crit)
 #: (paper §3.4, eqs. QJcrit_0, QJcrit_pi): I: u₀ < 0 < u_π; II: both > 0; III: u_π < 0 < u₀; IV: both < 0.
-_REGION_OF_SIGNS = {(False, True): "I", (True, True): "II", (True, False): "III", (False, False): "IV"}
 
 
 def critical_regions(QR: ArrayLike, QJ: ArrayLike, t: ArrayLike, body: Body):
@@ -986,11 +985,12 @@ def critical_regions(QR: ArrayLike, QJ: ArrayLike, t: ArrayLike, body: Body):
         crossings: list of (t, from, to, line) with line "QJ0crit" (full-angle reversal) and/or
         "QJpicrit" (visible-angle reversal).  A sample exactly on a line (u = 0) counts as above it.
     """
+    from analysis.criticality import region_from_offsets
     from analysis.reduction import u_ends
 
     u0, upi = u_ends(QR, QJ, body.symmetric())
     up0, uppi = np.asarray(u0) >= 0.0, np.asarray(upi) >= 0.0
-    regions = np.array([_REGION_OF_SIGNS[(bool(a), bool(b))] for a, b in zip(up0, uppi)], dtype=object)
+    regions = region_from_offsets(u0, upi).astype(object)
     t = np.asarray(t, float)
     runs: list[tuple[str, int, float]] = []
     crossings: list[tuple[float, str, str, str]] = []

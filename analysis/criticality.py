@@ -52,6 +52,7 @@ __all__ = [
     "ON_BOTH",
     "LINES",
     "QJ_crit_0",
+    "region_from_offsets",
     "QJ_crit_pi",
     "QJ_crit",
     "region",
@@ -117,6 +118,19 @@ def _finite(name: str, v: ArrayLike) -> NDArray[np.float64]:
     return arr
 
 
+def region_from_offsets(u0: ArrayLike, upi: ArrayLike) -> NDArray[np.str_]:
+    """Region I–IV from the signs of u0 = Q_J − Q_J,0^crit and uπ = Q_J − Q_J,π^crit (paper §criticality).
+
+    A zero offset counts as above its line; :func:`region` reports points near a line separately.
+    """
+    s0 = np.where(np.asarray(u0) >= 0, 1, -1)
+    spi = np.where(np.asarray(upi) >= 0, 1, -1)
+    out = np.empty(np.broadcast(s0, spi).shape, dtype="<U11")
+    for key, lab in _REGION_OF_SIGNS.items():
+        out[(s0 == key[0]) & (spi == key[1])] = lab
+    return out
+
+
 def region(QR: ArrayLike, QJ: ArrayLike, body: Body, tol: float = REGION_TOL) -> NDArray[np.str_] | str:
     """Critical region I–IV of (Q_R, Q_J) (paper §criticality), vectorised.
 
@@ -137,10 +151,7 @@ def region(QR: ArrayLike, QJ: ArrayLike, body: Body, tol: float = REGION_TOL) ->
     c0, cpi = QJ - u0, QJ - upi
     on0 = np.abs(u0) <= tol * np.maximum(np.abs(QJ), np.abs(c0))
     onpi = np.abs(upi) <= tol * np.maximum(np.abs(QJ), np.abs(cpi))
-    s0, spi = np.where(u0 > 0, 1, -1), np.where(upi > 0, 1, -1)
-    out = np.empty(np.broadcast(QR, QJ).shape, dtype="<U11")
-    for key, lab in _REGION_OF_SIGNS.items():
-        out[(s0 == key[0]) & (spi == key[1])] = lab
+    out = np.broadcast_to(region_from_offsets(u0, upi), np.broadcast(QR, QJ).shape).copy()
     out[on0] = ON_LINE_0
     out[onpi] = ON_LINE_PI
     out[on0 & onpi] = ON_BOTH
