@@ -135,3 +135,12 @@ def test_orbit_extent_and_high_QR(tmp_path):
     res = fig11_high_QR.run(tmp_path)
     assert res.numbers["regions at the maxima"] == "I"
     assert res.numbers["min visible delta_phi"] < 0 < res.numbers["max visible delta_phi"]
+
+
+def test_every_reproduction_writes_its_outputs(tmp_path):
+    """Each registered figure/table module writes non-empty files and reports a caption."""
+    for name, mod in registry().items():
+        res = mod.run(tmp_path / name)
+        assert res.caption and res.outputs, name
+        for path in res.outputs:
+            assert path.exists() and path.stat().st_size > 0, path

@@ -66,14 +66,14 @@ def numbers(r: ReversalRun) -> dict[str, float | int | str]:
 def three_panels(r: ReversalRun, out: Path, name: str, title: str) -> list[Path]:
     """Orbit with critical lines; φ(t) solid where θ ≥ θ0/2, dashed otherwise; φ mod π where θ ≥ θ0/2."""
     traj = r.traj
-    fig, axes = plt.subplots(3, 1, figsize=(6.5, 10))
+    fig, axes = plt.subplots(3, 1, figsize=(8.5, 10))
     ax = axes[0]
     pad = 0.15 * max(np.ptp(traj.QR), 1e-12)
     draw_critical_lines(ax, traj.body, traj.QR.min() - pad, traj.QR.max() + pad)
     plot_invariant_orbit(traj, ax)
     qj_pad = 0.15 * np.ptp(traj.QJ)
     ax.set_ylim(traj.QJ.min() - qj_pad, traj.QJ.max() + qj_pad)
-    ax.legend(fontsize=7, loc="best")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     ax.set_title(r"orbit in the $(Q_R, Q_J)$ plane", fontsize=10)
     high = traj.theta >= 0.5 * THETA0
     ax = axes[1]
