@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-__all__ = ["Body", "require_finite", "PAPER_A", "PAPER_I3", "PAPER_G", "polar_cap_volume"]
+__all__ = ["Body", "require_finite", "polar_cap_offset_as_printed", "PAPER_A", "PAPER_I3", "PAPER_G", "polar_cap_volume"]
 
 #: Paper defaults (paper §7: a = 0.05, I3 = 2/5, I1 = (1 - 5a/2) I3, g = 9.87).
 PAPER_A = 0.05
@@ -35,6 +35,14 @@ def polar_cap_volume(d: float) -> float:
     Paper App. A.1: V = π (2/3 + d − d³/3).
     """
     return math.pi * (2.0 / 3.0 + d - d**3 / 3.0)
+
+
+def polar_cap_offset_as_printed(d: float) -> float:
+    """The paper's App. A.1 formula a = (π/4)(d²(2 − d²) − 1)/V, kept to show its sign error.
+
+    It equals −a for every d: d²(2 − d²) − 1 = −(1 − d²)².  See :meth:`Body.from_polar_cap`.
+    """
+    return (math.pi / 4.0) * (d * d * (2.0 - d * d) - 1.0) / polar_cap_volume(d)
 
 
 @dataclass(frozen=True)

@@ -51,6 +51,8 @@ __all__ = [
     "euler_angle_state_from_body",
     "lagrange_state_from_euler_angle",
     "intermediate_state_from_euler_angle",
+    "omega_dot_from_lagrange",
+    "omega_dot_from_intermediate",
 ]
 
 #: Slices of the 11-component body-frame state of form (i).
@@ -300,3 +302,22 @@ def intermediate_state_from_euler_angle(x: ArrayLike) -> NDArray[np.float64]:
     """Form (ii) state → form (iv) state (θ, φ, ψ, ω1', ω2', ω3')."""
     x = np.asarray(x, float)
     return np.concatenate([x[:3], primed_from_body(x[2], x[3:6])])
+
+
+def omega_dot_from_lagrange(x: ArrayLike, xdot: ArrayLike) -> NDArray[np.float64]:
+    """Body-frame ω̇ = Σ θ̈ + Σ̇ θ̇ from a form-(iii) state x = (θ, φ, ψ, θ̇, φ̇, ψ̇) and its derivative."""
+    theta, _, psi, td, pd, sd = (float(v) for v in x)
+    s, c, sg, ch = math.sin(theta), math.cos(theta), math.sin(psi), math.cos(psi)
+    sigma_dot = np.array([[-sg * sd, c * sg * td + s * ch * sd, 0.0],
+                          [-ch * sd, c * ch * td - s * sg * sd, 0.0],
+                          [0.0, -s * td, 0.0]])
+    return _sigma_matrix(theta, psi) @ np.asarray(xdot, float)[3:] + sigma_dot @ np.array([td, pd, sd])
+
+
+def omega_dot_from_intermediate(x: ArrayLike, xdot: ArrayLike) -> NDArray[np.float64]:
+    """Body-frame ω̇ from a form-(iv) state x = (θ, φ, ψ, ω1', ω2', ω3') and its derivative (ω = R(ψ) ω')."""
+    _, _, psi, u1, u2, _ = (float(v) for v in x)
+    d = np.asarray(xdot, float)
+    sg, ch, sd = math.sin(psi), math.cos(psi), d[2]
+    return np.array([ch * d[3] + sg * d[4] + sd * (-sg * u1 + ch * u2),
+                     -sg * d[3] + ch * d[4] + sd * (-ch * u1 - sg * u2), d[5]])

@@ -2,14 +2,13 @@
 
 from __future__ import annotations
 
-import math
 
 import pytest
 import sympy as sp
 from hypothesis import given
 from hypothesis import strategies as st
 
-from analysis.body import Body, polar_cap_volume
+from analysis.body import Body, polar_cap_offset_as_printed, polar_cap_volume
 
 
 def test_paper_defaults():
@@ -91,7 +90,7 @@ def test_polar_cap_against_exact_integration(d):
 def test_polar_cap_printed_sign_is_wrong():
     """Paper App. A.1 prints a = (π/4)(d²(2 − d²) − 1)/V, which is negative for every |d| < 1."""
     d = 0.6
-    printed = (math.pi / 4) * (d**2 * (2 - d**2) - 1) / polar_cap_volume(d)
+    printed = polar_cap_offset_as_printed(d)
     assert printed < 0 < Body.from_polar_cap(d).a
     assert printed == pytest.approx(-Body.from_polar_cap(d).a, rel=1e-15)
 

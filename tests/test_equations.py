@@ -26,6 +26,8 @@ from numerics.equations import (
     intermediate_frame_rhs,
     intermediate_state_from_euler_angle,
     lagrange_state_from_euler_angle,
+    omega_dot_from_intermediate,
+    omega_dot_from_lagrange,
     state_from_euler,
 )
 
@@ -45,24 +47,6 @@ def _bodies():
     return [Body.paper(0.0), Body.paper(1e-3), Body.paper(0.1), Body(a=0.3, I1=0.2, I2=0.3, I3=0.45, g=3.0)]
 
 
-def _omega_dot_from_lagrange(x3, d3):
-    """ω̇ = Σ θ̈ + Σ̇ θ̇ from a form-(iii) state and derivative."""
-    th, _, ps, td, pd, sd = x3
-    s, c, sg, ch = math.sin(th), math.cos(th), math.sin(ps), math.cos(ps)
-    sigma = np.array([[ch, s * sg, 0], [-sg, s * ch, 0], [0, c, 1]])
-    sigma_dot = np.array([[-sg * sd, c * sg * td + s * ch * sd, 0], [-ch * sd, c * ch * td - s * sg * sd, 0],
-                          [0, -s * td, 0]])
-    return sigma @ d3[3:] + sigma_dot @ np.array([td, pd, sd])
-
-
-def _omega_dot_from_intermediate(x4, d4):
-    """Body-frame ω̇ from the intermediate-frame ω̇' (ω = R(ψ) ω')."""
-    _, _, ps, u1, u2, _ = x4
-    sg, ch, sd = math.sin(ps), math.cos(ps), d4[2]
-    return np.array([ch * d4[3] + sg * d4[4] + sd * (-sg * u1 + ch * u2),
-                     -sg * d4[3] + ch * d4[4] + sd * (-ch * u1 - sg * u2), d4[5]])
-
-
 @pytest.mark.parametrize("body", _bodies(), ids=lambda b: f"eps={b.epsilon:.3g},a={b.a}")
 def test_forms_ii_iii_agree_with_body_frame(body):
     rng = np.random.default_rng(2024)
@@ -76,7 +60,7 @@ def test_forms_ii_iii_agree_with_body_frame(body):
         # kinematics: Euler rates from form (i)'s ω
         assert np.allclose(d2[:3], euler_from_state(y)[3:], rtol=0, atol=ROUNDOFF * (1 + np.abs(d2[:3]).max()))
         x3 = lagrange_state_from_euler_angle(x2)
-        wdot3 = _omega_dot_from_lagrange(x3, euler_lagrange_rhs(x3, body))
+        wdot3 = omega_dot_from_lagrange(x3, euler_lagrange_rhs(x3, body))
         worst = max(worst, np.max(np.abs(d2[3:] - d[3:6])) / scale, np.max(np.abs(wdot3 - d[3:6])) / scale)
     assert worst < ROUNDOFF
 
@@ -89,7 +73,7 @@ def test_form_iv_agrees_with_body_frame():
     worst = 0.0
     for y, d in zip(Y.T, D.T):
         x4 = intermediate_state_from_euler_angle(euler_angle_state_from_body(y))
-        wdot = _omega_dot_from_intermediate(x4, intermediate_frame_rhs(x4, body))
+        wdot = omega_dot_from_intermediate(x4, intermediate_frame_rhs(x4, body))
         worst = max(worst, np.max(np.abs(wdot - d[3:6])) / (1.0 + np.max(np.abs(d[3:6]))))
     assert worst < ROUNDOFF
 

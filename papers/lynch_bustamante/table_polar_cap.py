@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from analysis.body import Body, polar_cap_volume
+from analysis.body import Body, polar_cap_offset_as_printed
 from papers.output import Reproduction, write_csv
 
 NAME = "table_polar_cap"
@@ -15,7 +15,7 @@ PAPER_D = 0.6  # Θ ≈ 53°, paper App. A.1
 
 def run(out: Path) -> Reproduction:
     bodies = [Body.from_polar_cap(d) for d in D_VALUES]
-    printed_a = [(math.pi / 4) * (d * d * (2 - d * d) - 1) / polar_cap_volume(d) for d in D_VALUES]
+    printed_a = [polar_cap_offset_as_printed(d) for d in D_VALUES]
     path = write_csv(out / "table_polar_cap.csv", {
         "d": D_VALUES, "Theta_deg": [math.degrees(math.acos(d)) for d in D_VALUES],
         "a": [b.a for b in bodies], "a_as_printed": printed_a, "I1": [b.I1 for b in bodies],
@@ -24,7 +24,7 @@ def run(out: Path) -> Reproduction:
          "a = (pi/4)(1-d^2)^2/V (corrected sign); a_as_printed = the paper's formula, negative"])
     b = Body.from_polar_cap(PAPER_D)
     numbers = {"d": PAPER_D, "a": b.a, "I1": b.I1, "I3": b.I3,
-               "a_as_printed": (math.pi / 4) * (PAPER_D**2 * (2 - PAPER_D**2) - 1) / polar_cap_volume(PAPER_D)}
+               "a_as_printed": polar_cap_offset_as_printed(PAPER_D)}
     caption = (f"Bowling ball, d = {PAPER_D} (Θ ≈ {math.degrees(math.acos(PAPER_D)):.1f}°): a = {b.a:.4f}, "
                f"I1 = {b.I1:.4f}, I3 = {b.I3:.4f} (paper: 0.085, 0.362, 0.42). The printed formula for a has "
                "the wrong sign.")

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from analysis.body import Body
+from analysis.rocking import small_amplitude_frequency, small_amplitude_frequency_as_printed
 from numerics.equations import EulerState
 from numerics.integrate import simulate
 from papers.output import Reproduction, write_csv
@@ -19,16 +20,6 @@ from papers.output import Reproduction, write_csv
 NAME = "table_small_amplitude"
 AMPLITUDE = 1e-3
 EPSILON = 1e-3
-
-
-def linear_frequency(body: Body, moment: float) -> float:
-    """ν = √(g a/(I + (1 − a)²)), the exact small-amplitude rocking frequency about an axis of moment I."""
-    return math.sqrt(body.g * body.a / (moment + (1.0 - body.a) ** 2))
-
-
-def paper_frequency(body: Body, moment: float) -> float:
-    """The paper's approximation √(g a/(I + 1)) (paper eq. smallamprock)."""
-    return math.sqrt(body.g * body.a / (moment + 1.0))
 
 
 def measured_frequency(body: Body, psi0: float) -> float:
@@ -41,8 +32,8 @@ def run(out: Path) -> Reproduction:
     body = Body.paper(EPSILON)
     rows = []
     for axis, moment, psi0 in (("i (I1)", body.I1, 0.0), ("j (I2)", body.I2, math.pi / 2)):
-        rows.append((axis, measured_frequency(body, psi0), linear_frequency(body, moment),
-                     paper_frequency(body, moment)))
+        rows.append((axis, measured_frequency(body, psi0), small_amplitude_frequency(body, moment),
+                     small_amplitude_frequency_as_printed(body, moment)))
     path = write_csv(out / "table_small_amplitude.csv", {
         "axis": [r[0] for r in rows], "nu_ODE": [r[1] for r in rows], "nu_exact_linear": [r[2] for r in rows],
         "nu_paper": [r[3] for r in rows]},

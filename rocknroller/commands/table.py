@@ -120,7 +120,7 @@ def _cell(v: Any, dps: int | None) -> Any:
 
 def run(args: argparse.Namespace) -> int:
     from analysis.quadrature import OK, STEADY, UNRESOLVED, precession, precession_from_turning_point
-    from analysis.reduction import NO_MOTION, solve_turning_points
+    from analysis.reduction import NO_MOTION
 
     body = body_from_args(args)
     body.require_symmetric("rocknroller table (Routh's sphere quadratures)")
@@ -187,7 +187,7 @@ def run(args: argparse.Namespace) -> int:
         f"mode: {mode}",
         f"grid: QR={args.QR} QJ={args.QJ}" + (f" E={args.E}" if args.E is not None else ""),
         f"backend: {'mpmath dps=' + str(args.dps) if args.dps else 'double precision, rtol=' + repr(args.rtol)}",
-        f"T_theta: time between successive maxima of theta; tau = 2 T_theta (the paper's tau = 4 integral)",
+        "T_theta: time between successive maxima of theta; tau = 2 T_theta (the paper's tau = 4 integral)",
         f"delta_phi, delta_psi: full unwrapped increments per {args.per}; visible_phi = delta_phi mod 2pi in (-pi, pi]",
         "region: " + ("I-IV from analysis.criticality.region" if region is not None
                       else "empty (analysis.criticality not available)"),
