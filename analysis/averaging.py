@@ -55,8 +55,10 @@ from analysis.kinematics import angles_from_frame
 from analysis.invariants import energy, jellett, routh
 from analysis.quadrature import precession, wrap_angle
 from analysis.reduction import effective_potential, state_from_turning_point, turning_points
-from analysis.slow_diagnostics import slow_period, span
+from analysis.slow_diagnostics import slow_period, span, unwrap_phase
 from numerics.equations import body_frame_rhs, state_from_euler, turning_point_function
+
+from analysis import _slow_map_kernel as _kernel
 
 __all__ = [
     "HARMONIC_PSI",
@@ -651,18 +653,15 @@ _IDX = {name: i for i, name in enumerate(TABLE_FUNCTIONS)}
 _HARM = ("c0", "c1", "s1")
 #: Points of the fine uniform grid in u used at run time (6-point Lagrange interpolation between them).
 _FINE_POINTS = 8193
-_LAGRANGE_OFFSETS = np.arange(-2, 4, dtype=float)
-_LAGRANGE_DENOM = np.array([np.prod([k - j for j in _LAGRANGE_OFFSETS if j != k]) for k in _LAGRANGE_OFFSETS])
-_LAGRANGE_INV = tuple(float(x) for x in 1.0 / _LAGRANGE_DENOM)
 #: Run-time functions: 0-8 the harmonics (c0, c1, s1) of k_u = e·k_Q, k_v = n·k_Q and k_Θ (solved for
 #: implicitly), 9-14 those of the time and φ kicks, 15-17 the drifts T_θ, W, Δφ.
 _N_KICK = 15
-#: Iterations of the implicit midpoint kick before giving up; relative tolerance on the kick.
-_MAX_ITER, _KICK_RTOL = 60, 1e-13
-#: A simplified-Newton iterate is accepted when its estimated error is below this fraction of the
-#: tolerance (the fixed-point iteration this replaces ended ~ρ ≈ 1e-4..1e-2 tolerances from the root).
-_NEWTON_SAFETY = 1e-3
+_N_FUN = _N_KICK + 3
 _FAST: dict[int, "_FastTable"] = {}
+#: Kernel statuses (analysis/_slow_map_kernel.c).
+_DONE, _FULL, _LEFT_TABLE, _NO_CONVERGENCE = range(4)
+#: Largest number of output rows the kernel fills per call.
+_CHUNK = 1 << 16
 
 
 class _FastTable:
@@ -673,8 +672,8 @@ class _FastTable:
     Chebyshev interpolant to ~1e-13 relative.  ``rows_jac`` adds the u- and v-derivatives of the
     Chebyshev series of the kick functions 0-14, for the Jacobian of the implicit kick and a
     first-order correction of ε k_t, ε k_φ by less than the kick tolerance (they set the speed of
-    convergence, not the converged value).  One evaluation is a six-row stencil and two small dot
-    products: a few µs, almost all of it interpreter overhead.
+    convergence, not the converged value).  The rows are evaluated, and the map stepped, by the
+    compiled kernel ``analysis._slow_map_kernel`` (about 1 µs a step).
     """
 
     def __init__(self, table: SlowMapTable) -> None:
@@ -690,7 +689,7 @@ class _FastTable:
         self.U, self.V, self.nv = float(table.U), float(table.V), c.shape[2]
         self.e, self.n = e, n
         x = np.linspace(-1.0, 1.0, _FINE_POINTS)
-        self.dx = x[1] - x[0]
+        self.dx = float(x[1] - x[0])
         Bu = _cheb_basis(x, c.shape[1])                                   # (nu, Nf)
         fine = np.concatenate([np.einsum("fkj,ki->ifj", np.array(kick), Bu),
                                np.einsum("fkj,ki->ifj", np.array(drift), Bu)], axis=1)  # (Nf, 18, nv)
@@ -705,26 +704,10 @@ class _FastTable:
         self.table = table
 
     def _evaluate(self, rows: NDArray[np.float64], u: float, v: float) -> list[float]:
-        """Σ_k w_k Σ_j T_j(v/V) rows[i − 2 + k, f, j]: 6-point Lagrange weights
-        w_k = Π_{j≠k} (r − j)/Π_{j≠k} (k − j) on the stencil i − 2 .. i + 3, Chebyshev series in v."""
-        x, y = u / self.U, v / self.V
-        if not (-1.0 <= x <= 1.0 and -1.0 <= y <= 1.0):
+        out = _kernel.evaluate(rows, rows.shape[1] // self.nv, self.nv, self.U, self.V, self.dx, u, v)
+        if out is None:
             self.table.evaluate(u * self.e + v * self.n)  # raises AveragingRangeError with the explanation
-        s = (x + 1.0) / self.dx
-        i = int(s)
-        i = 2 if i < 2 else _FINE_POINTS - 4 if i > _FINE_POINTS - 4 else i
-        r = s - i
-        d0, d1, d2, d3, d4, d5 = r + 2.0, r + 1.0, r, r - 1.0, r - 2.0, r - 3.0
-        l2, r3 = d0 * d1, d5 * d4
-        l3, r2 = l2 * d2, r3 * d3
-        l4, r1 = l3 * d3, r2 * d2
-        c0, c1, c2, c3, c4, c5 = _LAGRANGE_INV
-        T, a, b, y2 = [1.0, y], 1.0, y, 2.0 * y
-        for _ in range(self.nv - 2):
-            a, b = b, y2 * b - a
-            T.append(b)
-        w = [r1 * d1 * c0, d0 * r1 * c1, l2 * r2 * c2, l3 * r3 * c3, l4 * d5 * c4, l4 * d4 * c5]
-        return np.dot(np.dot(w, rows[i - 2:i + 4]).reshape(-1, self.nv), T).tolist()
+        return out
 
     def values(self, u: float, v: float) -> list[float]:
         """The 18 run-time functions at Q = u e + v n."""
@@ -733,6 +716,33 @@ class _FastTable:
     def values_and_jacobian(self, u: float, v: float) -> list[float]:
         """The 18 functions, then ∂/∂u and ∂/∂v of the kick functions (0-14): 48 values."""
         return self._evaluate(self.rows_jac, u, v)
+
+    def iterate(self, eps: float, u: float, v: float, Th: float, phi: float, t_end: float,
+                n_steps: int | None) -> tuple[NDArray[np.float64], tuple[int, int]]:
+        """Rows (t, u, v, Θ, φ) of the maxima after the start with t ≤ t_end (at most ``n_steps``),
+        and the numbers of table evaluations with and without the Jacobian rows."""
+        # room for t_end / (T_θ(0)/2) maxima, at most _CHUNK rows at a time
+        cap = min(int(t_end / (0.5 * abs(self.values(0.0, 0.0)[_N_KICK]))) + 8, _CHUNK)
+        cap = cap if n_steps is None else min(int(n_steps), cap)
+        chunks, t, counts = [], 0.0, [0, 0]
+        while True:
+            out = np.empty((max(cap, 1), 5))
+            n, status, ub, vb, n_jac, n_plain = _kernel.iterate(self.rows, self.rows_jac, out, self.U, self.V,
+                                                                 self.dx, self.nv, eps, u, v, Th, t, phi, t_end)
+            counts[0] += n_jac
+            counts[1] += n_plain
+            chunks.append(out[:n])
+            done = sum(len(c) for c in chunks)
+            if status == _LEFT_TABLE:
+                self.table.evaluate(ub * self.e + vb * self.n)  # raises AveragingRangeError with the explanation
+            if status == _NO_CONVERGENCE:
+                raise AveragingRangeError(
+                    f"the implicit kick did not converge at eps={eps!r}: eps is too large for the first-order map")
+            if status == _DONE or (n_steps is not None and done >= n_steps):
+                break
+            t, u, v, Th, phi = (float(x) for x in out[n - 1])  # out was full: go on from the last maximum
+            cap = _CHUNK if n_steps is None else min(_CHUNK, n_steps - done)
+        return np.concatenate(chunks), (counts[0], counts[1])
 
 
 def _fast(table: SlowMapTable) -> _FastTable:
@@ -743,83 +753,15 @@ def _fast(table: SlowMapTable) -> _FastTable:
     return ft
 
 
-def _inverse3(a: list[float]) -> list[float]:
-    """Inverse of the row-major 3×3 matrix a (cofactors)."""
-    a0, a1, a2, a3, a4, a5, a6, a7, a8 = a
-    c0, c3, c6 = a4 * a8 - a5 * a7, a5 * a6 - a3 * a8, a3 * a7 - a4 * a6
-    det = a0 * c0 + a1 * c3 + a2 * c6
-    return [c0 / det, (a2 * a7 - a1 * a8) / det, (a1 * a5 - a2 * a4) / det,
-            c3 / det, (a0 * a8 - a2 * a6) / det, (a2 * a3 - a0 * a5) / det,
-            c6 / det, (a1 * a6 - a0 * a7) / det, (a0 * a4 - a1 * a3) / det]
-
-
-def _implicit_kick(ft: _FastTable, eps: float, u: float, v: float, th: float,
-                   k0: list[float]) -> tuple[float, float, float, float, float]:
-    """Solve the implicit midpoint kick m = a + ½ ε k(m), a = (u, v, Θ) (after the first half twist).
-
-    k = (k_u, k_v, k_Θ) with k_j(m) = c0_j + c1_j cos m_Θ + s1_j sin m_Θ, the harmonics at (m_u, m_v).
-    The first iterate is the explicit kick with ``k0`` (the functions at a); then simplified Newton
-    with the Jacobian at that iterate.  Stops when the change of the end point 2m − a is within
-    1e-13 of the kick (+ 4 ulp), or when the contraction η observed between successive corrections
-    puts the remaining error η/(1 − η) × change below ``_NEWTON_SAFETY`` of that (Hairer & Wanner,
-    Solving ODEs II, §IV.8).
-
-    Returns
-    -------
-    (u', v', Θ', ε k_t, ε k_φ): the end point, and the time and φ kicks at the midpoint (corrected to
-    first order by the last Newton correction).
-    """
-    h = 0.5 * eps
-    c, s = math.cos(th), math.sin(th)
-    mu = u + h * (k0[0] + k0[1] * c + k0[2] * s)
-    mv = v + h * (k0[3] + k0[4] * c + k0[5] * s)
-    mt = th + h * (k0[6] + k0[7] * c + k0[8] * s)
-    ulp, jinv, prev = math.ulp, None, 0.0
-    for _ in range(_MAX_ITER):
-        if jinv is None:
-            k = ft.values_and_jacobian(mu, mv)
-            kdu, kdv = k[_N_KICK + 3:2 * _N_KICK + 3], k[2 * _N_KICK + 3:]
-        else:
-            k = ft.values(mu, mv)
-        c, s = math.cos(mt), math.sin(mt)
-        ku = k[0] + k[1] * c + k[2] * s
-        kv = k[3] + k[4] * c + k[5] * s
-        kth = k[6] + k[7] * c + k[8] * s
-        if jinv is None:  # J = I − ½ ε ∂k/∂m at this iterate
-            jinv = _inverse3([
-                1.0 - h * (kdu[0] + kdu[1] * c + kdu[2] * s), -h * (kdv[0] + kdv[1] * c + kdv[2] * s),
-                -h * (k[2] * c - k[1] * s),
-                -h * (kdu[3] + kdu[4] * c + kdu[5] * s), 1.0 - h * (kdv[3] + kdv[4] * c + kdv[5] * s),
-                -h * (k[5] * c - k[4] * s),
-                -h * (kdu[6] + kdu[7] * c + kdu[8] * s), -h * (kdv[6] + kdv[7] * c + kdv[8] * s),
-                1.0 - h * (k[8] * c - k[7] * s)])
-        fu, fv, fth = mu - u - h * ku, mv - v - h * kv, mt - th - h * kth
-        du = -(jinv[0] * fu + jinv[1] * fv + jinv[2] * fth)
-        dv = -(jinv[3] * fu + jinv[4] * fv + jinv[5] * fth)
-        dth = -(jinv[6] * fu + jinv[7] * fv + jinv[8] * fth)
-        mu, mv, mt = mu + du, mv + dv, mt + dth
-        u1, v1, th1 = 2.0 * mu - u, 2.0 * mv - v, 2.0 * mt - th
-        tol_q = _KICK_RTOL * eps * (abs(ku) + abs(kv)) + 4 * ulp(abs(u1) + abs(v1))
-        change = max(2.0 * max(abs(du), abs(dv)) / tol_q, 2.0 * abs(dth) / (_KICK_RTOL * eps * abs(kth) + 4 * ulp(th1)))
-        eta = change / prev if prev > 0.0 else 1.0
-        if change <= 1.0 or (eta < 1.0 and eta * change <= _NEWTON_SAFETY * (1.0 - eta)):
-            kt = (k[9] + k[10] * c + k[11] * s + (kdu[9] + kdu[10] * c + kdu[11] * s) * du
-                  + (kdv[9] + kdv[10] * c + kdv[11] * s) * dv + (k[11] * c - k[10] * s) * dth)
-            kp = (k[12] + k[13] * c + k[14] * s + (kdu[12] + kdu[13] * c + kdu[14] * s) * du
-                  + (kdv[12] + kdv[13] * c + kdv[14] * s) * dv + (k[14] * c - k[13] * s) * dth)
-            return u1, v1, th1, eps * kt, eps * kp
-        prev = change
-    raise AveragingRangeError(
-        f"the implicit kick did not converge at eps={eps!r}: eps is too large for the first-order map")
-
-
 def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float, *,
                      Q0: ArrayLike = (0.0, 0.0), phi0: float = 0.0, n_steps: int | None = None) -> SlowSeries:
     """Iterate the reversible drift–kick–drift slow map from a maximum at t = 0.
 
-    One step: Θ += W(Q)/2; (Q, Θ) += ε k(midpoint) (implicit midpoint, solved to 1e-13 of the kick by
-    :func:`_implicit_kick`); Θ += W(Q')/2; t += ½[T_θ(Q) + T_θ(Q')] + ε k_t(midpoint);
-    φ += ½[Δφ(Q) + Δφ(Q')] + ε k_φ(midpoint).
+    One step: Θ += W(Q)/2; (Q, Θ) += ε k(midpoint) (implicit midpoint, solved by simplified Newton
+    to 1e-13 of the kick, + 4 ulp, or until the observed contraction η puts the remaining error
+    η/(1 − η) × change below 1e-3 of that; Hairer & Wanner, Solving ODEs II, §IV.8); Θ += W(Q')/2;
+    t += ½[T_θ(Q) + T_θ(Q')] + ε k_t(midpoint); φ += ½[Δφ(Q) + Δφ(Q')] + ε k_φ(midpoint).
+    The loop runs in the compiled kernel ``analysis._slow_map_kernel``.
 
     Parameters
     ----------
@@ -847,36 +789,26 @@ def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float,
         raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}")
     if not math.isfinite(psi0):
         raise ValueError(f"psi0 must be finite, got psi0={psi0!r}")
-    ft = _fast(table)
+    if n_steps is not None and (int(n_steps) != n_steps or n_steps < 1):
+        raise ValueError(f"n_steps must be a positive integer, got n_steps={n_steps!r}")
     Q0 = np.asarray(Q0, float)
-    u, v = float(ft.e @ Q0), float(ft.n @ Q0)
-    Th, t, phi = 2.0 * psi0, 0.0, float(phi0)
-    f = ft.values(u, v)
-    out = []
-    while True:
-        u1, v1, th1, kt, kphi = _implicit_kick(ft, eps, u, v, Th + 0.5 * f[_N_KICK + 1], f)
-        f1 = ft.values(u1, v1)
-        t_next = t + 0.5 * (f[_N_KICK] + f1[_N_KICK]) + kt
-        if t_next > t_end:
-            break
-        phi += 0.5 * (f[_N_KICK + 2] + f1[_N_KICK + 2]) + kphi
-        t, u, v, f = t_next, u1, v1, f1
-        Th = th1 + 0.5 * f[_N_KICK + 1]
-        out.append((t, u, v, Th, phi))
-        if n_steps is not None and len(out) >= n_steps:
-            break
-    arr = np.array(out, float).reshape(-1, 5)
+    if Q0.shape != (2,) or not np.all(np.isfinite(Q0)) or not math.isfinite(float(phi0)):
+        raise ValueError(f"Q0 must be two finite numbers (Q_R, Q_J) and phi0 finite, got Q0={Q0!r}, phi0={phi0!r}")
+    ft = _fast(table)
+    arr, _ = ft.iterate(eps, float(ft.e @ Q0), float(ft.n @ Q0), 2.0 * psi0, float(phi0), t_end, n_steps)
     Q = np.outer(arr[:, 1], ft.e) + np.outer(arr[:, 2], ft.n)
-    return SlowSeries(t=arr[:, 0], QR=Q[:, 0], QJ=Q[:, 1], Theta=np.unwrap(arr[:, 3]), phi=arr[:, 4])
+    return SlowSeries(t=arr[:, 0], QR=Q[:, 0], QJ=Q[:, 1], Theta=unwrap_phase(arr[:, 3]), phi=arr[:, 4])
 
 
 def line_slope(QR: ArrayLike, QJ: ArrayLike) -> float:
-    """Slope dQ_J/dQ_R of the straight line through turning-point samples (total least squares)."""
-    X = np.vstack([np.asarray(QR, float), np.asarray(QJ, float)])
-    X = X - X.mean(axis=1, keepdims=True)
-    w, vecs = np.linalg.eigh(X @ X.T)
-    d = vecs[:, np.argmax(w)]
-    return float(d[1] / d[0])
+    """Slope dQ_J/dQ_R of the straight line through turning-point samples (total least squares).
+
+    The line's direction is the principal axis of the samples' 2×2 scatter matrix S, at the angle
+    α = ½ atan2(2 S_RJ, S_RR − S_JJ); the slope is tan α.
+    """
+    x, y = np.asarray(QR, float), np.asarray(QJ, float)
+    x, y = x - x.mean(), y - y.mean()
+    return math.tan(0.5 * math.atan2(2.0 * float(x @ y), float(x @ x) - float(y @ y)))
 
 
 @dataclass(frozen=True)
@@ -948,7 +880,7 @@ def predict_slow_motion(body: Body, theta0: float, psi0: float, t_end: float = 1
     eps = body.epsilon
     if table is None:
         table = load_or_build_table(body, theta0, build=build)
-    elif not np.isclose(table.theta0, theta0, rtol=0, atol=1e-15):
+    elif abs(table.theta0 - theta0) > 1e-15:
         raise ValueError(f"the table is for theta0={table.theta0!r}, not {theta0!r}")
     elif table.body != body.symmetric():
         raise ValueError(f"the table is for the body {table.body.describe()}, not {body.symmetric().describe()}")
@@ -970,10 +902,6 @@ def predict_slow_motion(body: Body, theta0: float, psi0: float, t_end: float = 1
         series=series, regions=regions, region_runs=runs, crossings=crossings)
 
 
-#: Region of the (Q_R, Q_J) plane from the signs of (u₀, u_π) = (Q_J − Q_J,0^crit, Q_J − Q_J,π^crit)
-#: (paper §3.4, eqs. QJcrit_0, QJcrit_pi): I: u₀ < 0 < u_π; II: both > 0; III: u_π < 0 < u₀; IV: both < 0.
-
-
 def critical_regions(QR: ArrayLike, QJ: ArrayLike, t: ArrayLike, body: Body):
     """Critical region of each turning-point sample, the runs of consecutive rocks in one region, and
     the crossings of the critical lines.
@@ -989,18 +917,14 @@ def critical_regions(QR: ArrayLike, QJ: ArrayLike, t: ArrayLike, body: Body):
     from analysis.reduction import u_ends
 
     u0, upi = u_ends(QR, QJ, body.symmetric())
-    up0, uppi = np.asarray(u0) >= 0.0, np.asarray(upi) >= 0.0
     regions = region_from_offsets(u0, upi).astype(object)
-    t = np.asarray(t, float)
-    runs: list[tuple[str, int, float]] = []
-    crossings: list[tuple[float, str, str, str]] = []
-    for i, lab in enumerate(regions):
-        if runs and runs[-1][0] == lab:
-            runs[-1] = (lab, runs[-1][1] + 1, runs[-1][2])
-            continue
-        if runs:
-            lines = [name for name, flip in (("QJ0crit", up0[i] != up0[i - 1]), ("QJpicrit", uppi[i] != uppi[i - 1]))
-                     if flip]
-            crossings.append((float(t[i]), str(regions[i - 1]), str(lab), "+".join(lines)))
-        runs.append((str(lab), 1, float(t[i])))
+    side = 2 * (np.asarray(u0) >= 0.0) + (np.asarray(upi) >= 0.0)  # the pair of signs as one integer
+    starts = np.flatnonzero(np.concatenate([[True], side[1:] != side[:-1]]))[: side.size].tolist()
+    labels, sides, times = regions.tolist(), side.tolist(), np.asarray(t, float).tolist()
+    runs = [(labels[i], j - i, times[i]) for i, j in zip(starts, starts[1:] + [len(labels)])]
+    crossings = []
+    for i in starts[1:]:
+        flip = sides[i] ^ sides[i - 1]  # bit 1: the Q_J,0 line, bit 0: the Q_J,π line
+        lines = "+".join(name for name, bit in (("QJ0crit", 2), ("QJpicrit", 1)) if flip & bit)
+        crossings.append((times[i], labels[i - 1], labels[i], lines))
     return regions, runs, crossings

@@ -83,6 +83,8 @@ LINES = ("0", "pi")
 REGION_TOL = 1e-12
 
 _REGION_OF_SIGNS = {(-1, 1): "I", (1, 1): "II", (1, -1): "III", (-1, -1): "IV"}
+#: The same table indexed by 2 [u0 ≥ 0] + [uπ ≥ 0].
+_REGION_BY_CODE = np.array([_REGION_OF_SIGNS[(2 * (c // 2) - 1, 2 * (c % 2) - 1)] for c in range(4)], dtype="<U11")
 
 
 # ----------------------------------------------------------------------------- critical lines
@@ -123,12 +125,8 @@ def region_from_offsets(u0: ArrayLike, upi: ArrayLike) -> NDArray[np.str_]:
 
     A zero offset counts as above its line; :func:`region` reports points near a line separately.
     """
-    s0 = np.where(np.asarray(u0) >= 0, 1, -1)
-    spi = np.where(np.asarray(upi) >= 0, 1, -1)
-    out = np.empty(np.broadcast(s0, spi).shape, dtype="<U11")
-    for key, lab in _REGION_OF_SIGNS.items():
-        out[(s0 == key[0]) & (spi == key[1])] = lab
-    return out
+    code = 2 * (np.asarray(u0) >= 0) + (np.asarray(upi) >= 0)  # index of (sign u0, sign uπ) in _REGION_BY_CODE
+    return np.asarray(_REGION_BY_CODE[code], dtype=_REGION_BY_CODE.dtype)  # an array also for scalar input
 
 
 def region(QR: ArrayLike, QJ: ArrayLike, body: Body, tol: float = REGION_TOL) -> NDArray[np.str_] | str:

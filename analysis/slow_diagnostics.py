@@ -17,14 +17,21 @@ from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["unwrap_phase", "mean_crossings", "slow_period", "span"]
 
+_TWO_PI = 2.0 * np.pi
+
 
 def unwrap_phase(Theta: ArrayLike) -> NDArray[np.float64]:
-    """Θ = 2ψ samples made continuous (steps taken in (−π, π]).
+    """Θ = 2ψ samples made continuous (each step taken in [−π, π]).
 
     Θ changes by W(Q) + O(ε) per rock, which is < π in the regime of the averaging
     (|W| < π is required for the sampled phase to be meaningful at all).
     """
-    return np.unwrap(np.asarray(Theta, float))
+    x = np.array(Theta, dtype=float)
+    if x.ndim != 1:
+        raise ValueError(f"Theta must be a 1-D array, got shape {x.shape}")
+    if x.size > 1:  # subtract the multiple of 2π nearest to each step, accumulated
+        x[1:] -= _TWO_PI * np.cumsum(np.round((x[1:] - x[:-1]) / _TWO_PI))
+    return x
 
 
 def mean_crossings(t: ArrayLike, x: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
@@ -41,9 +48,9 @@ def mean_crossings(t: ArrayLike, x: ArrayLike) -> tuple[NDArray[np.float64], NDA
     d = x - x.mean()
     # a sample exactly at the mean counts with the sign of the next sample
     s = np.sign(d)
-    for i in range(s.size - 2, -1, -1):
-        if s[i] == 0:
-            s[i] = s[i + 1]
+    n = s.size
+    nxt = np.minimum.accumulate(np.where(s != 0, np.arange(n), n)[::-1])[::-1]  # next nonzero sign, n if none
+    s = np.where(nxt < n, s[np.minimum(nxt, n - 1)], 0.0)
     idx = np.flatnonzero(s[:-1] * s[1:] < 0)
     frac = d[idx] / (d[idx] - d[idx + 1])
     return t[idx] + frac * (t[idx + 1] - t[idx]), np.where(d[idx + 1] > d[idx], 1, -1).astype(np.int64)

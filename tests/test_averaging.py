@@ -18,7 +18,7 @@ from analysis import averaging as av
 from analysis.body import Body
 from analysis.invariants import energy
 from analysis.quadrature import precession, wrap_angle
-from analysis.slow_diagnostics import mean_crossings, slow_period
+from analysis.slow_diagnostics import mean_crossings, slow_period, unwrap_phase
 from papers.averaging_check import (OdeSlowSummary, loglog_slope, ode_slow_summary, relative_errors,
                                       sample_errors)
 from analysis.slow_pendulum import pendulum_constants, pendulum_prediction
@@ -221,23 +221,12 @@ def _reference_map(table: av.SlowMapTable, eps: float, psi0: float, t_end: float
 @pytest.mark.parametrize("eps, psi0, Q0", [(1e-3, math.pi / 8, None), (5e-3, math.pi / 4, None),
                                            (1e-4, 3 * math.pi / 8, None), (3e-3, 0.7, (0.2, 0.1))])
 def test_fast_map_equals_plain_evaluation(table, eps, psi0, Q0):
-    """The run-time path (simplified Newton, stencil dot products) is the same map as the plain
+    """The compiled kernel (simplified Newton, stencil dot products in C) is the same map as the plain
     evaluation to round-off: 1e-12 of each series' largest value over 1000 t.u. (≈ 75 steps whose
     twist amplifies round-off ~100-fold; at ε = 1e-2, K > 4, the map is chaotic and round-off grows
     to ~1e-12 in both).  Also checks the cost: one Jacobian and two or three plain evaluations per step."""
     Q0 = (0.0, 0.0) if Q0 is None else tuple(Q0[0] * table.U * table.e + Q0[1] * table.V * table.n)
-    ft = av._fast(table)
-    calls = {"values": 0, "values_and_jacobian": 0}
-    for name in calls:
-        def counted(u, v, _f=getattr(ft, name), _n=name):
-            calls[_n] += 1
-            return _f(u, v)
-        setattr(ft, name, counted)
-    try:
-        fast = av.iterate_slow_map(table, eps, psi0, 1000.0, Q0=Q0)
-    finally:
-        for name in calls:
-            delattr(ft, name)
+    fast = av.iterate_slow_map(table, eps, psi0, 1000.0, Q0=Q0)
     ref = _reference_map(table, eps, psi0, 1000.0, Q0=Q0)
     assert ref.shape == (fast.t.size, 5) and fast.t.size > 50
     QR, QJ = (ref[:, 1] * table.e[k] + ref[:, 2] * table.n[k] for k in (0, 1))
@@ -246,8 +235,24 @@ def test_fast_map_equals_plain_evaluation(table, eps, psi0, Q0):
         assert np.max(np.abs(got - want)) <= 1e-12 * np.max(np.abs(want))
     # per step: the Jacobian at the predictor, one confirming kick evaluation (occasionally two),
     # the drift at the end point; the fixed-point iteration it replaces needed 5-6 kick evaluations
+    ft = av._fast(table)
+    u, v = float(ft.e @ np.asarray(Q0)), float(ft.n @ np.asarray(Q0))
+    rows, (n_jac, n_plain) = ft.iterate(eps, u, v, 2.0 * psi0, 0.0, 1000.0, None)
+    assert np.array_equal(rows[:, 0], fast.t)
     n = fast.t.size + 1  # the step past t_end is computed too
-    assert calls["values_and_jacobian"] == n and calls["values"] <= 3 * n
+    assert n_jac == n and n_plain <= 3 * n
+
+
+def test_kernel_output_in_chunks(table, monkeypatch):
+    """A run longer than one output chunk continues from the last maximum: identical rows."""
+    whole = av.iterate_slow_map(table, 1e-3, 0.4, 1000.0)
+    monkeypatch.setattr(av, "_CHUNK", 7)
+    chunked = av.iterate_slow_map(table, 1e-3, 0.4, 1000.0)
+    assert whole.t.size > 3 * 7
+    for name in ("t", "QR", "QJ", "Theta", "phi"):
+        assert np.array_equal(getattr(whole, name), getattr(chunked, name)), name
+    few = av.iterate_slow_map(table, 1e-3, 0.4, 1000.0, n_steps=10)
+    assert few.t.size == 10 and np.array_equal(few.t, whole.t[:10])
 
 
 def test_run_time_jacobian(table):
@@ -377,6 +382,29 @@ def test_slow_period_estimator():
     assert np.allclose(times, [1 / 3, 5 / 3]) and list(dirs) == [-1, 1]  # mean 1/3
 
 
+def test_mean_crossings_sample_on_the_mean():
+    """A sample exactly at the mean takes the sign of the next sample (one crossing, not two)."""
+    times, dirs = mean_crossings(np.arange(5.0), np.array([-1.0, 0.0, 0.0, 1.0, 0.0]))
+    assert np.allclose(times, [1.0]) and list(dirs) == [1]
+
+
+def test_unwrap_phase_and_line_slope():
+    """unwrap_phase agrees with numpy.unwrap (steps off ±π); line_slope with the principal
+    eigenvector of the scatter matrix (numpy.linalg.eigh)."""
+    rng = np.random.default_rng(7)
+    Theta = np.cumsum(rng.uniform(-3.1, 3.1, 500)) + 2 * math.pi * rng.integers(-3, 4, 500)
+    assert np.allclose(unwrap_phase(Theta), np.unwrap(Theta), rtol=0, atol=1e-11)
+    assert np.array_equal(unwrap_phase(Theta[:1]), Theta[:1])
+    for slope in (0.03, -2.0, 40.0):
+        x = rng.normal(size=200)
+        y = slope * x + 0.1 * rng.normal(size=200)
+        X = np.vstack([x - x.mean(), y - y.mean()])
+        w, vecs = np.linalg.eigh(X @ X.T)
+        d = vecs[:, np.argmax(w)]
+        assert av.line_slope(x, y) == pytest.approx(d[1] / d[0], rel=1e-12)
+        assert av.line_slope(x, slope * x) == pytest.approx(slope, rel=1e-12)
+
+
 def test_bad_input(table):
     with pytest.raises(ValueError, match="eps"):
         av.iterate_slow_map(table, -1e-3, 0.3, 100.0)
@@ -392,6 +420,12 @@ def test_bad_input(table):
         av.predict_slow_motion(Body.paper(1.2e-2), THETA0, PSI0["pi/4"], 200.0, table=table)
     with pytest.raises(av.AveragingRangeError, match="tabulated region"):
         av.iterate_slow_map(table, 1e-3, 0.3, 100.0, Q0=(2 * table.U, 0.0))
+    with pytest.raises(av.AveragingRangeError, match="tabulated region"):  # inside at the start, leaves
+        av.iterate_slow_map(table, 0.05, 0.3, 100.0)
+    with pytest.raises(ValueError, match="Q0 must be two finite numbers"):
+        av.iterate_slow_map(table, 1e-3, 0.3, 100.0, Q0=(math.nan, 0.0))
+    with pytest.raises(ValueError, match="n_steps"):
+        av.iterate_slow_map(table, 1e-3, 0.3, 100.0, n_steps=0)
     with pytest.raises(ValueError, match="unstable equilibrium"):
         pendulum_prediction(Body.paper(1e-3), THETA0, 0.0, constants=pendulum_constants(SYM, THETA0))
 
