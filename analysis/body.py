@@ -113,26 +113,36 @@ class Body:
 
         * a = (π/4)(1 − d²)²/V  (the paper prints the opposite sign: d²(2 − d²) − 1 = −(1 − d²)²),
         * I3 = (π/2)(8/15 + d − 2d³/3 + d⁵/5)/V,
-        * I1 = π(4/15 + d/4 + d³/6 − 3d⁵/20)/V − a²  (parallel-axis theorem, unit mass).
+        * I1 = π(4/15 + d/4 + d³/6 − 3d⁵/20)/V − a²  (parallel-axis theorem, unit mass),
+
+        computed as I1 = I3 − a(d + a): the difference of the two bracketed polynomials is
+        (π/4) d (1 − d²)² = a V d, so I3 − I1 = a d + a², free of cancellation.
 
         Parameters
         ----------
         d : float
-            Height of the planar face above the geometric centre, ``-1 < d <= 1``
-            (d = 1: full ball; d = 0: hemisphere).
+            Height of the planar face above the geometric centre.  The asymmetry I3 − I1 = a(d + a)
+            ≈ (3/4)(1 − d)² vanishes at d = 1 (the homogeneous ball); d must satisfy −1 < d < 1 with
+            I3 − I1 resolved in double precision to 1e-6 relative (1 − d ≳ 6e-6).
         g : float
             Gravity.
         epsilon : float
             Optional asymmetry ε, I2 = (1 + ε) I1.
         """
         d = require_finite("d", d)
-        if not -1.0 < d <= 1.0:
-            raise ValueError(f"polar-cap height d = cos(Theta) must satisfy -1 < d <= 1, got d={d!r}")
+        if not -1.0 < d < 1.0:
+            raise ValueError(f"polar-cap height d = cos(Theta) must satisfy -1 < d < 1 (d = 1 is the homogeneous "
+                             f"ball, I1 = I3), got d={d!r}")
         V = polar_cap_volume(d)
         a = (math.pi / 4.0) * (1.0 - d * d) ** 2 / V
         I3 = (math.pi / 2.0) * (8.0 / 15.0 + d - 2.0 * d**3 / 3.0 + d**5 / 5.0) / V
-        I1_centre = math.pi * (4.0 / 15.0 + d / 4.0 + d**3 / 6.0 - 3.0 * d**5 / 20.0) / V
-        return cls._from_epsilon(a, I1_centre - a * a, I3, g, epsilon)
+        gap = a * (d + a)
+        I1 = I3 - gap
+        if gap > 0.0 and not abs((I3 - I1) - gap) <= 1e-6 * gap:
+            raise ValueError(
+                f"polar-cap height d={d!r} is too close to 1: I3 - I1 = a(d + a) = {gap:.3g} cannot be "
+                "represented to 1e-6 relative beside I3 in double precision; use -1 < d <= 1 - 6e-6")
+        return cls._from_epsilon(a, I1, I3, g, epsilon)
 
     @classmethod
     def _from_epsilon(cls, a: float, I1: float, I3: float, g: float, epsilon: float) -> "Body":

@@ -22,7 +22,7 @@ Forms (ii)-(iv) are transcribed from the paper as printed and serve as independe
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Sequence
 
 import numpy as np
@@ -151,6 +151,10 @@ class EulerState:
         Euler rates.
     X, Y : float
         Initial contact point (default 0).
+    omega : (ω1, ω2, ω3), optional
+        The body-frame angular velocity the rates were computed from (set by :meth:`from_omega`).
+        When present, :meth:`to_body_state` uses it as given rather than rebuilding it from the rates,
+        which near θ = π (or 0) would cost digits: φ̇ and ψ̇ are then large and nearly opposite.
     """
 
     theta: float
@@ -161,12 +165,18 @@ class EulerState:
     psi_dot: float = 0.0
     X: float = 0.0
     Y: float = 0.0
+    omega: tuple[float, float, float] | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         for name in ("theta", "phi", "psi", "theta_dot", "phi_dot", "psi_dot", "X", "Y"):
             object.__setattr__(self, name, require_finite(name, getattr(self, name)))
         if not 0.0 <= self.theta <= math.pi:
             raise ValueError(f"theta0 must satisfy 0 <= theta0 <= pi, got theta0={self.theta!r}")
+        if self.omega is not None:
+            om = np.asarray(self.omega, float)
+            if om.shape != (3,) or not np.all(np.isfinite(om)):
+                raise ValueError(f"omega must be three finite numbers (w1, w2, w3), got {self.omega!r}")
+            object.__setattr__(self, "omega", tuple(float(w) for w in om))
 
     @classmethod
     def from_omega(cls, theta: float, phi: float, psi: float, omega: Sequence[float],
@@ -181,12 +191,15 @@ class EulerState:
                 f"(the Euler rates are singular at theta = 0, pi), got theta0={theta!r}"
             )
         td, pd, sd = rates_from_omega(theta, psi, omega)
-        return cls(theta, phi, psi, float(td), float(pd), float(sd), X, Y)
+        return cls(theta, phi, psi, float(td), float(pd), float(sd), X, Y, omega=tuple(omega))
 
     def to_body_state(self) -> NDArray[np.float64]:
-        """The 11-component body-frame state of form (i)."""
-        return state_from_euler(self.theta, self.phi, self.psi, self.theta_dot, self.phi_dot, self.psi_dot,
-                                self.X, self.Y)
+        """The 11-component body-frame state of form (i) (with ``omega`` as given, if present)."""
+        y = state_from_euler(self.theta, self.phi, self.psi, self.theta_dot, self.phi_dot, self.psi_dot,
+                             self.X, self.Y)
+        if self.omega is not None:
+            y[3:6] = self.omega
+        return y
 
 
 def state_from_euler(theta: ArrayLike, phi: ArrayLike, psi: ArrayLike, theta_dot: ArrayLike,

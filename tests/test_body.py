@@ -60,8 +60,26 @@ def test_frozen():
 
 @given(st.floats(min_value=-0.95, max_value=1.0))
 def test_polar_cap_bodies_are_valid(d):
-    b = Body.from_polar_cap(d)
-    assert 0.0 <= b.a < 1.0 and b.I1 <= b.I3
+    """A valid body with its asymmetry I3 − I1 = a(d + a) resolved, or (d within ~6e-6 of 1, where
+    I3 − I1 ≈ (3/4)(1 − d)² vanishes beside I3 in double precision) a ValueError that says so."""
+    try:
+        b = Body.from_polar_cap(d)
+    except ValueError as exc:
+        assert d > 1.0 - 1e-5 and ("too close to 1" in str(exc) or "-1 < d < 1" in str(exc))
+        return
+    assert 0.0 <= b.a < 1.0 and b.I1 < b.I3
+    assert (b.I3 - b.I1) == pytest.approx(b.a * (d + b.a), rel=1e-6)
+
+
+def test_polar_cap_moment_gap_identity():
+    """I3 − I1 = a(d + a) for every d (sympy, exact integration with symbolic d): the form
+    Body.from_polar_cap uses, free of cancellation as d → 1."""
+    d = sp.symbols("d", real=True)
+    _, a, I3, I1 = _truncated_ball_exact(d)
+    assert sp.simplify(I3 - I1 - a * (d + a)) == 0
+    for bad in (1.0, 1.0 - 1e-7, 1.0 - 1e-15):
+        with pytest.raises(ValueError, match="d < 1|too close to 1"):
+            Body.from_polar_cap(bad)
 
 
 def _truncated_ball_exact(d_value: sp.Rational):

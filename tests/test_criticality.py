@@ -257,6 +257,24 @@ def test_critical_start_lands_on_line(body, line):
     assert np.max(np.abs(st.psi_dot0 - pd) / np.abs(pd)) <= 1e-10
 
 
+@pytest.mark.parametrize("line", C.LINES)
+def test_critical_start_reaches_the_ode_on_the_line(line):
+    """The ODE's initial body-frame state (EulerState.from_omega → to_body_state) keeps ω as given:
+    started on a line, it lies on it to ≤ 4e-15 relative also at θ0 = 0.999π and 0.001π, where φ̇ and ψ̇
+    are large and nearly opposite.  (Rebuilding ω from the Euler rates, as before, put the θ0 = 0.999π
+    start on the Q_J,0 line 6e-12 off it.)"""
+    from numerics.equations import EulerState
+
+    for theta0 in (0.001 * np.pi, 0.05 * np.pi, 0.95 * np.pi, 0.999 * np.pi):
+        for psi0 in (0.0, np.pi / 4, 2.0):
+            st = C.critical_start(BODY_EPS, theta0, psi0, line, QR=0.01)
+            omega = np.asarray(st.omega, float).reshape(3)
+            y = EulerState.from_omega(theta0, 0.0, psi0, omega).to_body_state()
+            assert np.array_equal(y[3:6], omega)
+            _, QR, QJ = invariants(BODY_EPS, y[:3], y[3:6])
+            assert abs(QJ - C.QJ_crit(line, QR, BODY_EPS)) <= 4e-15 * abs(QJ)
+
+
 def test_critical_start_offset_is_signed_distance():
     st = C.critical_start(BODY, 0.95 * np.pi, 0.0, "pi", QR=0.003, offset=np.array([-1e-4, 1e-4]))
     _, QR, QJ = invariants(BODY, vertical_in_body(0.95 * np.pi, 0.0), st.omega)

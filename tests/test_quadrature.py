@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from analysis.body import Body
+from analysis.criticality import QJ_crit_pi
 from analysis.kinematics import primed_from_body
 from analysis.quadrature import (
     UNRESOLVED,
@@ -260,3 +261,48 @@ def test_near_steady_rolling_is_flagged_not_silently_inaccurate():
     # the mpmath backend resolves what double precision cannot
     ref = precession_mp(U_min * (1 + 1e-6), QR, QJ, BODY, dps=30)
     assert 0 < ref.theta_X - ref.theta_N < 1e-2
+
+
+# ----------------------------------------------------------------------------- ERRATA §12
+def _phi_sweep_across_pi_line(delta: float, offsets: np.ndarray):
+    """Δφ per T_θ (unwrapped along the offsets) at θ_X = π − δ, Q_R = 0.01, Q_J = Q_J,π^crit + offset·|Q_J,π^crit|."""
+    QR = 0.01
+    crit = float(QJ_crit_pi(QR, BODY))
+    pr, upper = precession_from_turning_point(np.pi - delta, QR, crit + offsets * abs(crit), BODY)
+    assert np.all(pr.status == OK) and np.all(upper)
+    return np.unwrap(pr.delta_phi), crit
+
+
+def test_visible_reversal_across_QJpi_line_is_continuous():
+    """ERRATA §12.  Across Q_J = Q_J,π^crit at fixed θ_X = π − δ < π, Δφ per T_θ changes continuously:
+    refining the Q_J grid 4× shrinks the largest step between neighbours ~4×, as for any smooth
+    function, while a jump (α0 → −α0) would keep it.  The change totals 2π − O(δ²) over a band in Q_J
+    that shrinks faster than δ^1.5, so the paper's jump is the θ_X → π limit; inside the band the
+    visible angle sweeps through ±π (on the line it is nearer π than one band-width either side).
+    The direct ODE, on the line and one band-width either side, follows the quadrature."""
+    totals, widths = [], []
+    for delta in (1e-2, 3e-3):
+        W = 3e2 * delta**2  # ~10 widths either side of the line
+        steps = []
+        for n in (101, 401):
+            d, _ = _phi_sweep_across_pi_line(delta, np.linspace(-W, W, n))
+            steps.append(np.max(np.abs(np.diff(d))))
+        assert steps[1] <= 0.3 * steps[0] and steps[1] < 0.1
+        far = np.concatenate([-np.logspace(-1, -10, 300), np.logspace(-10, -1, 300)])
+        d, _ = _phi_sweep_across_pi_line(delta, far)
+        f = (d - d[0]) / (d[-1] - d[0])
+        totals.append(abs(d[-1] - d[0]))
+        widths.append(far[np.argmin(np.abs(f - 0.9))] - far[np.argmin(np.abs(f - 0.1))])
+    assert abs(totals[1] - 2 * np.pi) < 0.2 * abs(totals[0] - 2 * np.pi) and abs(totals[1] - 2 * np.pi) < 0.05
+    assert widths[1] < (3e-3 / 1e-2) ** 1.5 * widths[0]
+    # the ODE on the line (offset 0, mid-sweep) and at ± one width: its increments between maxima
+    d_line, crit = _phi_sweep_across_pi_line(1e-2, np.array([-widths[0], 0.0, widths[0]]))
+    for off, want in zip((-widths[0], 0.0, widths[0]), d_line):
+        QJ = crit + off * abs(crit)
+        st = state_from_turning_point(BODY, np.pi - 1e-2, 0.01, QJ)
+        traj = simulate(BODY, EulerState(np.pi - 1e-2, 0.0, 0.0, 0.0, float(st.phi_dot), float(st.psi_dot)),
+                        3.2 * float(precession(st.E, 0.01, QJ, BODY).T_theta))
+        _, phi, _ = _maxima_series(traj)
+        assert np.max(np.abs(wrap_angle(np.diff(phi) - want))) <= 1e-9
+    vis = np.abs(wrap_angle(d_line))
+    assert np.pi - vis[1] < min(np.pi - vis[0], np.pi - vis[2])
