@@ -39,7 +39,9 @@ on disk (``numerics.integrate.cache_dir()/averaging``); they depend on neither �
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
+import inspect
 import math
 import os
 import tempfile
@@ -54,8 +56,9 @@ from analysis.body import Body
 from analysis.kinematics import angles_from_frame
 from analysis.invariants import energy, jellett, routh
 from analysis.quadrature import precession, wrap_angle
-from analysis.reduction import effective_potential, state_from_turning_point, turning_points
-from analysis.slow_diagnostics import slow_period, span, unwrap_phase
+from analysis.reduction import (effective_potential, require_open_tilt, state_from_turning_point, turning_points,
+                                u_ends)
+from analysis.slow_diagnostics import azimuth_span, slow_period, span, unwrap_phase
 from numerics.equations import body_frame_rhs, state_from_euler, turning_point_function
 
 from analysis import _slow_map_kernel as _kernel
@@ -82,6 +85,9 @@ __all__ = [
     "predict_slow_motion",
     "line_slope",
     "critical_regions",
+    "K_PERIOD_DOUBLING",
+    "eps_period_doubling",
+    "rocks_per_region",
 ]
 
 #: Spin angles ψ_n of the three orbits that determine the harmonics 0 and 2 of ψ_n.
@@ -90,8 +96,24 @@ HARMONIC_PSI = (0.0, math.pi / 3.0, 2.0 * math.pi / 3.0)
 FIRST_ORDER_NAMES = ("QR", "QJ", "Theta", "t", "phi")
 #: Bump when the table construction changes (part of the cache key).
 _TABLE_VERSION = "3"
+#: Chirikov's standard map I' = I + K sin Θ, Θ' = Θ + I' (the slow map near pure rocking, K = ε κ): the
+#: Jacobian at its stable fixed point has trace 2 − K, which reaches −2 (period doubling) at K = 4.
+K_PERIOD_DOUBLING = 4.0
 _INTEGRATOR: dict[str, Any] = {}
 _TABLES: dict[str, "SlowMapTable"] = {}
+
+
+def eps_period_doubling(kappa: float) -> float:
+    """ε at which K = ε κ reaches K_PERIOD_DOUBLING (rocking about the stable axis period-doubles)."""
+    return K_PERIOD_DOUBLING / abs(kappa)
+
+
+def rocks_per_region(runs: list[tuple[str, int, float]] | None) -> dict[str, int]:
+    """Total number of rocks (maxima) in each critical region, from the runs of :func:`critical_regions`."""
+    out: dict[str, int] = {}
+    for lab, n, _ in runs or []:
+        out[lab] = out.get(lab, 0) + n
+    return out
 
 
 class AveragingRangeError(ValueError):
@@ -110,10 +132,7 @@ def rest_energy(body: Body, theta0: float) -> float:
 
 
 def _check_theta0(theta0: float) -> float:
-    theta0 = float(theta0)
-    if not math.isfinite(theta0) or not 0.0 < theta0 < math.pi:
-        raise ValueError(f"theta0 must lie in the open interval (0, pi), got theta0={theta0!r}")
-    return theta0
+    return float(require_open_tilt(float(theta0)))
 
 
 def directional_derivative(fun: Callable[[NDArray[np.float64]], float], y: ArrayLike, v: ArrayLike,
@@ -129,9 +148,16 @@ def directional_derivative(fun: Callable[[NDArray[np.float64]], float], y: Array
         return 0.0
     e = v / norm
     wrap = (lambda x: float(wrap_angle(x))) if angle else float
-    d1 = wrap(fun(y + h * e) - fun(y - h * e))
-    d2 = wrap(fun(y + 2 * h * e) - fun(y - 2 * h * e))
-    return norm * (8.0 * d1 - d2) / (12.0 * h)
+    return norm * _central_difference(lambda s: fun(y + s * e), 0.0, h, wrap)
+
+
+def _central_difference(fun: Callable[[float], Any], x: float, h: float,
+                        wrap: Callable[[Any], Any] = lambda d: d) -> Any:
+    """f'(x) ≈ [8 (f(x + h) − f(x − h)) − (f(x + 2h) − f(x − 2h))]/(12 h), fourth order; ``wrap`` is applied
+    to each difference (for angles).  Works on scalar or array values of f."""
+    d1 = wrap(fun(x + h) - fun(x - h))
+    d2 = wrap(fun(x + 2 * h) - fun(x - 2 * h))
+    return (8.0 * d1 - d2) / (12.0 * h)
 
 
 def eps_derivative_rhs(y: ArrayLike, body: Body) -> NDArray[np.float64]:
@@ -240,9 +266,8 @@ def first_order_step(body: Body, theta0: float, QR: float, QJ: float, psi: float
     dE_deps = float(energy(sym.with_epsilon(e_half), y0[0:3], y0[3:6]) - energy(sym, y0[0:3], y0[3:6])) / e_half
     hth = 1e-4 * min(theta_X, math.pi - theta_X)
     U = lambda th: float(effective_potential(th, QR, QJ, sym))  # noqa: E731
-    dU = (8.0 * (U(theta_X + hth) - U(theta_X - hth)) - (U(theta_X + 2 * hth) - U(theta_X - 2 * hth))) / (12 * hth)
-    ys = lambda th: _max_state(sym, th, QR, QJ, psi)  # noqa: E731
-    dy_dth = (8.0 * (ys(theta_X + hth) - ys(theta_X - hth)) - (ys(theta_X + 2 * hth) - ys(theta_X - 2 * hth))) / (12 * hth)
+    dU = _central_difference(U, theta_X, hth)
+    dy_dth = _central_difference(lambda th: _max_state(sym, th, QR, QJ, psi), theta_X, hth)
     z0 = dy_dth * (-dE_deps / dU)
 
     ta = _variational_integrator()
@@ -421,11 +446,6 @@ class SlowMapTable:
         """The symmetric body the table was built for."""
         return Body(a=self.a, I1=self.I1, I2=self.I1, I3=self.I3, g=self.g)
 
-    def contains(self, Q: ArrayLike) -> bool:
-        """True if Q lies in the tabulated rectangle."""
-        Q = np.asarray(Q, float)
-        return bool(abs(self.e @ Q) <= self.U and abs(self.n @ Q) <= self.V)
-
     def evaluate(self, Q: ArrayLike) -> NDArray[np.float64]:
         """All ``TABLE_FUNCTIONS`` at Q = (Q_R, Q_J); raises AveragingRangeError outside the table."""
         Q = np.asarray(Q, float)
@@ -434,14 +454,10 @@ class SlowMapTable:
             raise AveragingRangeError(
                 f"the slow orbit left the tabulated region at Q=({Q[0]:.4g}, {Q[1]:.4g}): the tables cover "
                 f"|u| <= {self.U:.4g} along the kick direction e=({self.e[0]:.4f}, {self.e[1]:.4f}) and "
-                f"|v| <= {self.V:.3g} across it; the averaging is valid for K = eps*kappa < 4 "
-                f"(eps < {4.0 / abs(self.kappa):.4g}) and orbits near pure rocking")
+                f"|v| <= {self.V:.3g} across it; the averaging is valid for K = eps*kappa < {K_PERIOD_DOUBLING:g} "
+                f"(eps < {eps_period_doubling(self.kappa):.4g}) and orbits near pure rocking")
         nu, nv = self.coef.shape[1:]
         return (self.coef @ _cheb_basis(y, nv)) @ _cheb_basis(x, nu)
-
-    def function(self, name: str, Q: ArrayLike) -> float:
-        """One tabulated function at Q."""
-        return float(self.evaluate(Q)[TABLE_FUNCTIONS.index(name)])
 
 
 def _table_key(sym: Body, theta0: float, nu: int, nv: int, u_factor: float, v_ratio: float) -> str:
@@ -482,7 +498,7 @@ def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_fact
     hq = 1e-7
     Wp = _symmetric_data(sym, theta0, np.array([hq * e[0], -hq * e[0]]), np.array([hq * e[1], -hq * e[1]]))[1]
     dW_du = (Wp[0] - Wp[1]) / (2 * hq)
-    U = u_factor * 4.0 / abs(dW_du)
+    U = u_factor * K_PERIOD_DOUBLING / abs(dW_du)
     V = v_ratio * U
     xu, xv = _cheb_nodes(nu), _cheb_nodes(nv)
     uu, vv = np.meshgrid(U * xu, V * xv, indexing="ij")
@@ -544,7 +560,7 @@ def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_fact
     if err > _INTERP_WARN:
         warnings.warn(f"the averaging tables for theta0={theta0!r} interpolate the coefficients only to {err:.1e} "
                       f"(relative); use more nodes (nu={nu}, nv={nv})", AveragingValidityWarning, stacklevel=2)
-    return SlowMapTable(**{**{k: getattr(table, k) for k in table.__dataclass_fields__}, "interp_error": err})
+    return dataclasses.replace(table, interp_error=err)
 
 
 #: Off-grid points (u/U, v/V) at which a new table is checked against direct coefficients.
@@ -590,7 +606,8 @@ def load_or_build_table(body: Body, theta0: float, *, build: bool = True, use_ca
     """
     theta0 = _check_theta0(theta0)
     sym = body.symmetric()
-    opts = {"nu": 128, "nv": 6, "u_factor": 2.5, "v_ratio": 0.002}
+    opts = {name: p.default for name, p in inspect.signature(build_table).parameters.items()
+            if p.kind is p.KEYWORD_ONLY}
     unknown = set(grid) - set(opts)
     if unknown:
         raise ValueError(f"unknown table options {sorted(unknown)}; allowed: {sorted(opts)}")
@@ -656,7 +673,6 @@ _FINE_POINTS = 8193
 #: Run-time functions: 0-8 the harmonics (c0, c1, s1) of k_u = e·k_Q, k_v = n·k_Q and k_Θ (solved for
 #: implicitly), 9-14 those of the time and φ kicks, 15-17 the drifts T_θ, W, Δφ.
 _N_KICK = 15
-_N_FUN = _N_KICK + 3
 _FAST: dict[int, "_FastTable"] = {}
 #: Kernel statuses (analysis/_slow_map_kernel.c).
 _DONE, _FULL, _LEFT_TABLE, _NO_CONVERGENCE = range(4)
@@ -740,6 +756,7 @@ class _FastTable:
                     f"the implicit kick did not converge at eps={eps!r}: eps is too large for the first-order map")
             if status == _DONE or (n_steps is not None and done >= n_steps):
                 break
+            assert status == _FULL
             t, u, v, Th, phi = (float(x) for x in out[n - 1])  # out was full: go on from the last maximum
             cap = _CHUNK if n_steps is None else min(_CHUNK, n_steps - done)
         return np.concatenate(chunks), (counts[0], counts[1])
@@ -846,10 +863,7 @@ class SlowPrediction:
     @property
     def rocks_per_region(self) -> dict[str, int]:
         """Total number of rocks (maxima) in each critical region within t_end."""
-        out: dict[str, int] = {}
-        for lab, n, _ in self.region_runs or []:
-            out[lab] = out.get(lab, 0) + n
-        return out
+        return rocks_per_region(self.region_runs)
 
 
 def predict_slow_motion(body: Body, theta0: float, psi0: float, t_end: float = 1000.0, *,
@@ -885,14 +899,12 @@ def predict_slow_motion(body: Body, theta0: float, psi0: float, t_end: float = 1
     elif table.body != body.symmetric():
         raise ValueError(f"the table is for the body {table.body.describe()}, not {body.symmetric().describe()}")
     K = eps * table.kappa
-    if abs(K) > 4.0:
+    if abs(K) > K_PERIOD_DOUBLING:
         warnings.warn(
-            f"K = eps*kappa = {K:.3g} > 4: pure rocking about the stable principal axis is unstable "
-            f"(period doubling at eps = {4.0 / abs(table.kappa):.4g}); the first-order averaging is "
-            "expected to hold for K < 4", AveragingValidityWarning, stacklevel=2)
+            f"K = eps*kappa = {K:.3g} > {K_PERIOD_DOUBLING:g}: pure rocking about the stable principal axis is "
+            f"unstable (period doubling at eps = {eps_period_doubling(table.kappa):.4g}); the first-order "
+            f"averaging is expected to hold for K < {K_PERIOD_DOUBLING:g}", AveragingValidityWarning, stacklevel=2)
     series = iterate_slow_map(table, eps, psi0, t_end)
-    from numerics.trajectory import azimuth_span
-
     regions, runs, crossings = critical_regions(series.QR, series.QJ, series.t, table.body)
     return SlowPrediction(
         eps=eps, theta0=theta0, psi0=float(psi0), t_end=float(t_end), K=K,
@@ -913,18 +925,17 @@ def critical_regions(QR: ArrayLike, QJ: ArrayLike, t: ArrayLike, body: Body):
         crossings: list of (t, from, to, line) with line "QJ0crit" (full-angle reversal) and/or
         "QJpicrit" (visible-angle reversal).  A sample exactly on a line (u = 0) counts as above it.
     """
-    from analysis.criticality import region_from_offsets
-    from analysis.reduction import u_ends
+    from analysis.criticality import region_from_offsets, side_code  # imported here: it loads sympy
 
     u0, upi = u_ends(QR, QJ, body.symmetric())
     regions = region_from_offsets(u0, upi).astype(object)
-    side = 2 * (np.asarray(u0) >= 0.0) + (np.asarray(upi) >= 0.0)  # the pair of signs as one integer
+    side = side_code(u0, upi)
     starts = np.flatnonzero(np.concatenate([[True], side[1:] != side[:-1]]))[: side.size].tolist()
     labels, sides, times = regions.tolist(), side.tolist(), np.asarray(t, float).tolist()
     runs = [(labels[i], j - i, times[i]) for i, j in zip(starts, starts[1:] + [len(labels)])]
     crossings = []
     for i in starts[1:]:
-        flip = sides[i] ^ sides[i - 1]  # bit 1: the Q_J,0 line, bit 0: the Q_J,π line
+        flip = sides[i] ^ sides[i - 1]  # the lines crossed (bits of side_code)
         lines = "+".join(name for name, bit in (("QJ0crit", 2), ("QJpicrit", 1)) if flip & bit)
         crossings.append((times[i], labels[i - 1], labels[i], lines))
     return regions, runs, crossings

@@ -10,12 +10,21 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-__all__ = ["Body", "require_finite", "polar_cap_offset_as_printed", "PAPER_A", "PAPER_I3", "PAPER_G", "polar_cap_volume"]
+__all__ = ["Body", "paper_I1", "require_finite", "polar_cap_offset_as_printed", "PAPER_A", "PAPER_I3", "PAPER_G", "polar_cap_volume"]
 
 #: Paper defaults (paper §7: a = 0.05, I3 = 2/5, I1 = (1 - 5a/2) I3, g = 9.87).
 PAPER_A = 0.05
 PAPER_I3 = 0.4
 PAPER_G = 9.87
+
+
+#: Relative accuracy to which Body.from_polar_cap must represent its asymmetry I3 − I1.
+POLAR_CAP_GAP_RTOL = 1e-6
+
+
+def paper_I1(a: float, I3: float) -> float:
+    """The paper's choice I1 = (1 − 5a/2) I3 (§numerics), used by Body.paper and as the CLI default."""
+    return (1.0 - 2.5 * a) * I3
 
 
 def require_finite(name: str, value: float) -> float:
@@ -102,8 +111,7 @@ class Body:
         epsilon : float
             Asymmetry ε = (I2 − I1)/I1, ``0 <= ε < I3/I1 − 1`` (= 1/7 for the paper body).
         """
-        I1 = (1.0 - 2.5 * PAPER_A) * PAPER_I3
-        return cls._from_epsilon(PAPER_A, I1, PAPER_I3, PAPER_G, epsilon)
+        return cls._from_epsilon(PAPER_A, paper_I1(PAPER_A, PAPER_I3), PAPER_I3, PAPER_G, epsilon)
 
     @classmethod
     def from_polar_cap(cls, d: float, g: float = PAPER_G, epsilon: float = 0.0) -> "Body":
@@ -123,7 +131,8 @@ class Body:
         d : float
             Height of the planar face above the geometric centre.  The asymmetry I3 − I1 = a(d + a)
             ≈ (3/4)(1 − d)² vanishes at d = 1 (the homogeneous ball); d must satisfy −1 < d < 1 with
-            I3 − I1 resolved in double precision to 1e-6 relative (1 − d ≳ 6e-6).
+            I3 − I1 resolved in double precision to ``POLAR_CAP_GAP_RTOL`` = 1e-6 relative: I3 − I1 = I3 − (I3 − gap)
+            is exact to ½ ulp(I3), so 1 − d ≳ √(½ ulp(I3) / (¾ · 1e-6)) ≈ 6e-6.
         g : float
             Gravity.
         epsilon : float
@@ -138,10 +147,11 @@ class Body:
         I3 = (math.pi / 2.0) * (8.0 / 15.0 + d - 2.0 * d**3 / 3.0 + d**5 / 5.0) / V
         gap = a * (d + a)
         I1 = I3 - gap
-        if gap > 0.0 and not abs((I3 - I1) - gap) <= 1e-6 * gap:
+        if gap > 0.0 and not abs((I3 - I1) - gap) <= POLAR_CAP_GAP_RTOL * gap:
+            limit = math.sqrt(0.5 * math.ulp(I3) / (0.75 * POLAR_CAP_GAP_RTOL))
             raise ValueError(
-                f"polar-cap height d={d!r} is too close to 1: I3 - I1 = a(d + a) = {gap:.3g} cannot be "
-                "represented to 1e-6 relative beside I3 in double precision; use -1 < d <= 1 - 6e-6")
+                f"polar-cap height d={d!r} is too close to 1: I3 - I1 = a(d + a) = {gap:.3g} cannot be represented "
+                f"to {POLAR_CAP_GAP_RTOL:g} relative beside I3 in double precision; use -1 < d <= 1 - {limit:.1g}")
         return cls._from_epsilon(a, I1, I3, g, epsilon)
 
     @classmethod

@@ -40,7 +40,7 @@ from analysis.body import Body
 from analysis.invariants import V_phi, V_psi, rho
 from analysis.kinematics import omega_from_rates, rates_from_omega
 from analysis.laurent import SYMBOLS, V_phi_sym
-from analysis.reduction import u_ends
+from analysis.reduction import require_open_tilt, u_ends
 
 if TYPE_CHECKING:  # pragma: no cover
     from numerics.trajectory import Trajectory
@@ -53,6 +53,7 @@ __all__ = [
     "LINES",
     "QJ_crit_0",
     "region_from_offsets",
+    "side_code",
     "QJ_crit_pi",
     "QJ_crit",
     "region",
@@ -83,7 +84,7 @@ LINES = ("0", "pi")
 REGION_TOL = 1e-12
 
 _REGION_OF_SIGNS = {(-1, 1): "I", (1, 1): "II", (1, -1): "III", (-1, -1): "IV"}
-#: The same table indexed by 2 [u0 ≥ 0] + [uπ ≥ 0].
+#: The same table indexed by side_code(u0, uπ) = 2 [u0 ≥ 0] + [uπ ≥ 0].
 _REGION_BY_CODE = np.array([_REGION_OF_SIGNS[(2 * (c // 2) - 1, 2 * (c % 2) - 1)] for c in range(4)], dtype="<U11")
 
 
@@ -125,8 +126,18 @@ def region_from_offsets(u0: ArrayLike, upi: ArrayLike) -> NDArray[np.str_]:
 
     A zero offset counts as above its line; :func:`region` reports points near a line separately.
     """
-    code = 2 * (np.asarray(u0) >= 0) + (np.asarray(upi) >= 0)  # index of (sign u0, sign uπ) in _REGION_BY_CODE
-    return np.asarray(_REGION_BY_CODE[code], dtype=_REGION_BY_CODE.dtype)  # an array also for scalar input
+    return np.asarray(_REGION_BY_CODE[side_code(u0, upi)], dtype=_REGION_BY_CODE.dtype)  # an array also for scalars
+
+
+def side_code(u0: ArrayLike, upi: ArrayLike) -> NDArray[np.int64]:
+    """The sides of both critical lines as one integer 2 [u0 ≥ 0] + [uπ ≥ 0]: bit 1 is the side of
+    Q_J,0^crit, bit 0 that of Q_J,π^crit (so the XOR of two codes names the lines crossed)."""
+    return 2 * (np.asarray(u0) >= 0).astype(np.int64) + (np.asarray(upi) >= 0)
+
+
+def _on_line(u: NDArray, QJ: NDArray, tol: float) -> NDArray[np.bool_]:
+    """|Q_J − Q_J,e^crit| = |u_e| ≤ tol · max(|Q_J|, |Q_J,e^crit|): on the critical line e within tol."""
+    return np.abs(u) <= tol * np.maximum(np.abs(QJ), np.abs(QJ - u))
 
 
 def region(QR: ArrayLike, QJ: ArrayLike, body: Body, tol: float = REGION_TOL) -> NDArray[np.str_] | str:
@@ -134,7 +145,7 @@ def region(QR: ArrayLike, QJ: ArrayLike, body: Body, tol: float = REGION_TOL) ->
 
     A point with |Q_J − Q_J,e^crit| ≤ tol · max(|Q_J|, |Q_J,e^crit|) is reported as on that line:
     ``ON_LINE_0`` ("on QJ0crit"), ``ON_LINE_PI`` ("on QJpicrit"), or ``ON_BOTH`` ("origin", only Q_R = Q_J = 0
-    for tol < 1).  The default tol = 1e-12 is a few hundred rounding units: the side of a line is then
+    for tol < 1).  The default tol = 1e-12 is about 4500 rounding units (2⁻⁵²): the side of a line is then
     decided by the sign of the double-double distance u_e, which is exact for the given doubles.
 
     Returns
@@ -146,9 +157,7 @@ def region(QR: ArrayLike, QJ: ArrayLike, body: Body, tol: float = REGION_TOL) ->
     if not 0.0 <= tol < 1.0:
         raise ValueError(f"tol must satisfy 0 <= tol < 1, got tol={tol!r}")
     u0, upi = u_ends(QR, QJ, body)
-    c0, cpi = QJ - u0, QJ - upi
-    on0 = np.abs(u0) <= tol * np.maximum(np.abs(QJ), np.abs(c0))
-    onpi = np.abs(upi) <= tol * np.maximum(np.abs(QJ), np.abs(cpi))
+    on0, onpi = _on_line(u0, QJ, tol), _on_line(upi, QJ, tol)
     out = np.broadcast_to(region_from_offsets(u0, upi), np.broadcast(QR, QJ).shape).copy()
     out[on0] = ON_LINE_0
     out[onpi] = ON_LINE_PI
@@ -414,9 +423,7 @@ class CriticalStart:
 
 
 def _check_theta_range(theta0: NDArray) -> None:
-    if np.any((theta0 <= 0.0) | (theta0 >= np.pi)):
-        raise ValueError(f"theta0 must lie in the open interval (0, pi) to be a turning point "
-                         f"(phi_dot is undefined at sin(theta0) = 0), got theta0={theta0!r}")
+    require_open_tilt(theta0, why=" to be a turning point (phi_dot is undefined at sin(theta0) = 0)")
 
 
 def _check_turning_theta(theta0: NDArray, body: Body, QR: NDArray, QJ: NDArray) -> None:
@@ -571,8 +578,7 @@ def reversal_analysis(traj: "Trajectory", tol: float = 0.0) -> ReversalAnalysis:
         if idx.size < 2:
             continue
         u = u_ends(QR[idx], QJ[idx], body)[0 if line == "0" else 1]
-        crit = QJ[idx] - u
-        side = np.where(np.abs(u) <= tol * np.maximum(np.abs(QJ[idx]), np.abs(crit)), 0, np.sign(u))
+        side = np.where(_on_line(u, QJ[idx], tol), 0, np.sign(u))
         prev = None
         for j, sgn in zip(idx, side):
             if sgn == 0:

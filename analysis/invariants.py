@@ -9,17 +9,28 @@ All functions are vectorised: body-frame vectors have shape (3, ...).
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from analysis.body import Body
 
-__all__ = ["rho", "rho_inv", "energy", "jellett", "routh", "invariants", "V_phi", "V_psi"]
+__all__ = ["rho", "rho_inv", "rho_inv_sq", "energy", "jellett", "routh", "invariants", "V_phi", "V_psi"]
+
+
+def rho_inv_sq(body: Any, s2: Any, f: Any) -> Any:
+    """ρ⁻² = I3 + s² + (I3/I1) f² from s² = sin²θ and f = cos θ − a (paper eq. measure).
+
+    Generic arithmetic: numpy arrays, mpmath numbers or sympy expressions; ``body`` needs only the
+    attributes I1 and I3 (a Body, or the same numbers in another arithmetic).
+    """
+    return body.I3 + s2 + (body.I3 / body.I1) * f * f
 
 
 def rho_inv(body: Body, s2: ArrayLike, f: ArrayLike) -> NDArray[np.float64]:
     """1/ρ = [I3 + s² + (I3/I1) f²]^(1/2) from s² = sin²θ and f = cos θ − a (paper eq. measure)."""
-    return np.sqrt(body.I3 + s2 + (body.I3 / body.I1) * np.square(f))
+    return np.sqrt(rho_inv_sq(body, np.asarray(s2, float), np.asarray(f, float)))
 
 
 def rho(theta: ArrayLike, body: Body) -> NDArray[np.float64]:

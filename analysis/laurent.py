@@ -19,13 +19,15 @@ the paper:
 
 and V_ψ ≈ −(Q_J − Q_J,0^crit)/(I1 θ²) about 0, V_ψ ≈ +(Q_J − Q_J,π^crit)/(I1 (π − θ)²) about π.
 
-Measured at the paper's high-Q_R case (§numerics "Recession and Criticality": Q_R = 0.1, θ_X = 0.95π, Q_J on Q_J,π^crit) see
-:func:`phidot_turning_point_errors` and ``tests/test_laurent.py``.
+The error of φ̇ at a turning point by the highest order kept, at the paper's high-Q_R case (§numerics
+"Recession and Criticality": Q_R = 0.1, θ_X = 0.95π, Q_J on Q_J,π^crit), is computed by
+:func:`phidot_turning_point_errors` and checked in ``tests/test_laurent.py``.
 """
 
 from __future__ import annotations
 
 from functools import lru_cache
+from types import SimpleNamespace
 from typing import Callable
 
 import numpy as np
@@ -33,7 +35,7 @@ import sympy as sp
 from numpy.typing import ArrayLike, NDArray
 
 from analysis.body import Body
-from analysis.invariants import V_phi
+from analysis.invariants import V_phi, rho_inv_sq
 
 __all__ = [
     "SYMBOLS",
@@ -57,8 +59,8 @@ _QUANTITIES = ("phi", "psi")
 
 
 def _rho_inv_sq(c: sp.Expr) -> sp.Expr:
-    """ρ⁻² = I3 + s² + (I3/I1) f² as a polynomial in c (paper eq. measure)."""
-    return I3 + 1 - c**2 + (I3 / I1) * (c - a) ** 2
+    """ρ⁻² (paper eq. measure, analysis.invariants.rho_inv_sq) as a polynomial in c = cos θ."""
+    return rho_inv_sq(SimpleNamespace(I1=I1, I3=I3), 1 - c**2, c - a)
 
 
 def _numerators(c: sp.Expr, rho: sp.Expr) -> dict[str, sp.Expr]:

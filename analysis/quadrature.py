@@ -53,6 +53,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from analysis.body import Body
+from analysis.invariants import rho_inv, rho_inv_sq
 from analysis.reduction import (
     NO_MOTION,
     OK,
@@ -62,9 +63,11 @@ from analysis.reduction import (
     TurningPoints,
     _P_and_terms,
     _P_xy,
-    _R,
     _U_xy,
+    _f,
+    _u_direct,
     potential,
+    require_open_tilt,
     reduced_N,
     reduced_P,
     solve_turning_points,
@@ -172,7 +175,7 @@ def _end_scale(z_end, H, P_at):
 
     Near θ = π with θ_X → π, P(y) ≈ P2 (y − y_X)(y − y_s) with a second root y_s ≤ 0 close by;
     the stretch z − z_end = Δ sinh²t then removes both square-root branch points (module
-    docstring).  P1, P2 come from P at z_end + h and z_end + 2h, h = z_end/2; without a close
+    docstring).  P1, P2 come from P at z_end + h and z_end + 2h, h = ½ min(z_end, H/4); without a close
     shadow root (P2 ≤ 0 or Δ ≥ H/2) the stretch degenerates to the plain square-root map, Δ = H/2.
     """
     h = 0.5 * np.minimum(z_end, 0.25 * H)
@@ -193,7 +196,9 @@ def _half_integrals(xN, yN, xX, yX, E, QR, QJ, u0, upi, body: Body, n: int):
     :func:`_end_scale`); the integrands are even in t, so each half is ½∫_{−t_m}^{t_m} and needs
     n/2 evaluations (n per point in all).  Returns, per point: ∫ dt (the half period), the
     remainder integrals of φ̇ and ψ̇ after their residue parts (module docstring), the L1 norm of
-    those two integrands (the scale of the convergence test), and whether P > 0 at every node.
+    those two integrands (the scale of the convergence test), whether P > 0 at every node, and the
+    estimated rounding errors of the half period and of the two angle integrals (from the
+    cancellation in P at the nodes).
     """
     col = lambda a: a[:, None]  # noqa: E731
     H = np.where(xX <= 1.0, xX - xN, np.where(xN >= 1.0, yN - yX, xX - xN))
@@ -228,8 +233,8 @@ def _half_integrals(xN, yN, xX, yX, E, QR, QJ, u0, upi, body: Body, n: int):
             u = u_numerator(x, y, QR_, QJ_, body)
             Rphi = u * j / (body.I1 * x * y) - (A / x + B / y) * m
             c = np.where(x <= 1.0, 1.0 - x, y - 1.0)
-            f = np.where(x <= 1.0, (1.0 - body.a) - x, y - (1.0 + body.a))
-            omega3 = QR_ / _R(x * y, f, body)  # ω3' = ρ Q_R (paper eq. routh)
+            f = _f(x, y, body)
+            omega3 = QR_ / rho_inv(body, x * y, f)  # ω3' = ρ Q_R (paper eq. routh)
             Rpsi = omega3 * j - c * Rphi + (A - B) * m
             # rounding of P (relative ε·terms/|P|) enters √(1/P) halved: the integrands' rounding error
             cond = 0.5 * _EPS * terms / np.abs(P)
@@ -245,6 +250,8 @@ def _half_integrals(xN, yN, xX, yX, E, QR, QJ, u0, upi, body: Body, n: int):
 
 
 def _precession_from_tp(tp: TurningPoints, body: Body, rtol: float, max_nodes: int) -> Precession:
+    if not 0.0 < rtol <= 1e-3:
+        raise ValueError(f"rtol must lie in (0, 1e-3], got rtol={rtol!r}")
     shape = tp.E.shape
     status = tp.status.copy().ravel()
     flat = lambda a: np.asarray(a, float).ravel()  # noqa: E731
@@ -343,8 +350,6 @@ def precession(E: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: Body, *, rtol: 
     ValueError
         Asymmetric body, non-finite input, or rtol outside (0, 1e-3].
     """
-    if not 0.0 < rtol <= 1e-3:
-        raise ValueError(f"rtol must lie in (0, 1e-3], got rtol={rtol!r}")
     tp = solve_turning_points(E, QR, QJ, body)
     return _precession_from_tp(tp, body, rtol, max_nodes)
 
@@ -366,12 +371,8 @@ def precession_from_turning_point(theta0: ArrayLike, QR: ArrayLike, QJ: ArrayLik
     ValueError
         θ0 outside (0, π), asymmetric body, rtol outside (0, 1e-3].
     """
-    if not 0.0 < rtol <= 1e-3:
-        raise ValueError(f"rtol must lie in (0, 1e-3], got rtol={rtol!r}")
     body.require_symmetric("the precession quadratures")
-    theta0 = np.asarray(theta0, float)
-    if not np.all(np.isfinite(theta0)) or np.any((theta0 <= 0.0) | (theta0 >= np.pi)):
-        raise ValueError(f"theta0 must lie in the open interval (0, pi), got theta0={theta0!r}")
+    theta0 = require_open_tilt(theta0)
     theta0, QR, QJ = np.broadcast_arrays(theta0, np.asarray(QR, float), np.asarray(QJ, float))
     x0, y0 = tilt_xy(theta0)
     E = _U_xy(x0, y0, QR, QJ, body)
@@ -395,12 +396,17 @@ def _mp_body(body: Body) -> SimpleNamespace:
                            g=mpmath.mpf(body.g))
 
 
+def _mp_theta(x, y):
+    """θ = 2 atan2(√x, √y) from x = 1 − cos θ, y = 1 + cos θ (mpmath; reduction.theta_from_xy in double)."""
+    return 2 * mpmath.atan2(mpmath.sqrt(x), mpmath.sqrt(y))
+
+
 def _mp_terms(x, y, E, QR, QJ, mb):
     """P, u and 1/ρ at (x, y) in mpmath, straight from the definitions (no cancellation tricks)."""
     s2 = x * y
     f = (1 - x) - mb.a
-    R = mpmath.sqrt(mb.I3 + s2 + (mb.I3 / mb.I1) * f * f)
-    u = QJ - mb.I3 * QR * f / R
+    R = mpmath.sqrt(rho_inv_sq(mb, s2, f))
+    u = _u_direct(f, R, QR, QJ, mb)
     P = reduced_P(s2, E - potential(x, mb), reduced_N(s2, f, R, u, QR, mb))
     return P, u, R
 
@@ -452,9 +458,7 @@ def _mp_turning_points(E: Any, QR: Any, QJ: Any, body: Body, mb: SimpleNamespace
     body.require_symmetric("the precession quadratures")
     QRm, QJm = mpmath.mpf(QR), mpmath.mpf(QJ)
     if theta0 is not None:
-        theta0 = float(theta0)
-        if not 0.0 < theta0 < np.pi:
-            raise ValueError(f"theta0 must lie in the open interval (0, pi), got theta0={theta0!r}")
+        theta0 = float(require_open_tilt(theta0))
         x0 = 2 * mpmath.sin(mpmath.mpf(theta0) / 2) ** 2
         y0 = 2 * mpmath.cos(mpmath.mpf(theta0) / 2) ** 2
         Em = -_mp_terms(x0, y0, 0, QRm, QJm, mb)[0] / (2 * x0 * y0)  # U(θ0): the E with P(θ0) = 0
@@ -489,7 +493,7 @@ def turning_points_mp(E: Any, QR: Any, QJ: Any, body: Body, dps: int = 40) -> tu
     dps = _check_dps(dps)
     with mpmath.workdps(2 * dps + 20):
         _, (xN, yN), (xX, yX) = _mp_turning_points(E, QR, QJ, body, _mp_body(body), None)
-        thetas = [2 * mpmath.atan2(mpmath.sqrt(x), mpmath.sqrt(y)) for x, y in ((xN, yN), (xX, yX))]
+        thetas = [_mp_theta(x, y) for x, y in ((xN, yN), (xX, yX))]
     with mpmath.workdps(dps):
         return +thetas[0], +thetas[1]
 
@@ -566,8 +570,8 @@ def precession_mp(E: Any, QR: Any, QJ: Any, body: Body, dps: int = 40, *, theta0
             rnd = lambda a: +a  # noqa: E731
             return Precession(
                 E=rnd(Em), QR=QRm, QJ=QJm,
-                theta_N=rnd(2 * mpmath.atan2(mpmath.sqrt(xN), mpmath.sqrt(yN))),
-                theta_X=rnd(2 * mpmath.atan2(mpmath.sqrt(xX), mpmath.sqrt(yX))),
+                theta_N=rnd(_mp_theta(xN, yN)),
+                theta_X=rnd(_mp_theta(xX, yX)),
                 T_theta=rnd(T_theta), tau=rnd(2 * T_theta),
                 delta_phi=rnd(dphi), delta_psi=rnd(dpsi), delta_phi_tau=rnd(2 * dphi), delta_psi_tau=rnd(2 * dpsi),
                 visible_phi=rnd(wrap_angle(dphi)), visible_half_phi=rnd(wrap_angle(dphi, mpmath.pi)),

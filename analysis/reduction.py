@@ -28,6 +28,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from fractions import Fraction
 from functools import lru_cache
+from types import SimpleNamespace
 from typing import Any
 
 import mpmath
@@ -35,7 +36,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from analysis.body import Body
-from analysis.invariants import rho_inv, invariants, V_phi, V_psi
+from analysis.invariants import rho_inv, rho_inv_sq, invariants, V_phi, V_psi
 from analysis.kinematics import omega_from_rates, vertical_in_body
 
 __all__ = [
@@ -116,11 +117,6 @@ def _f(x, y, body: Body):
     return np.where(x <= 1.0, (1.0 - body.a) - x, y - (1.0 + body.a))
 
 
-def _R(s2, f, body: Body):
-    """1/ρ = √(I3 + s² + (I3/I1) f²) (paper eq. measure; formula owned by analysis.invariants)."""
-    return rho_inv(body, s2, f)
-
-
 def _u_direct(f, R, QR, QJ, body: Body):
     """u = Q_J − I3 f ρ Q_R = I1 s² V_φ (numerator of paper eq. phidotCJQR); generic arithmetic."""
     return QJ - body.I3 * QR * f / R
@@ -139,7 +135,7 @@ def u_numerator(x: ArrayLike, y: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: 
     x, y = np.asarray(x, float), np.asarray(y, float)
     s2 = x * y
     f = _f(x, y, body)
-    return _u_xy(x, y, f, _R(s2, f, body), np.asarray(QR, float), np.asarray(QJ, float), body)
+    return _u_xy(x, y, f, rho_inv(body, s2, f), np.asarray(QR, float), np.asarray(QJ, float), body)
 
 
 def _u_xy(x, y, f, R, QR, QJ, body: Body):
@@ -147,7 +143,7 @@ def _u_xy(x, y, f, R, QR, QJ, body: Body):
     end_f = np.where(left, 1.0 - body.a, -(1.0 + body.a))
     small = np.where(left, x, y)
     sign = np.where(left, 1.0, -1.0)
-    R_end = _R(0.0, end_f, body)
+    R_end = rho_inv(body, 0.0, end_f)
     u0, upi = u_ends(QR, QJ, body)
     u_end = np.where(left, u0, upi)
     near = np.where(left, f > 0.0, f < 0.0)
@@ -181,9 +177,9 @@ def _critical_slopes(body: Body) -> tuple[tuple[float, float], tuple[float, floa
     """
     out = []
     with mpmath.workdps(40):
-        a, I1, I3 = (mpmath.mpf(v) for v in (body.a, body.I1, body.I3))
-        for fe in (1 - a, -(1 + a)):
-            c = I3 * fe / mpmath.sqrt(I3 + (I3 / I1) * fe * fe)
+        mb = SimpleNamespace(a=mpmath.mpf(body.a), I1=mpmath.mpf(body.I1), I3=mpmath.mpf(body.I3))
+        for fe in (1 - mb.a, -(1 + mb.a)):
+            c = mb.I3 * fe / mpmath.sqrt(rho_inv_sq(mb, 0, fe))
             hi = float(c)
             out.append((hi, float(c - hi)))
     return out[0], out[1]
@@ -231,7 +227,7 @@ def D_coefficient(x: Any, body: Body) -> Any:
 def _N_xy(x, y, QR, QJ, body: Body):
     s2 = x * y
     f = _f(x, y, body)
-    R = _R(s2, f, body)
+    R = rho_inv(body, s2, f)
     return reduced_N(s2, f, R, _u_xy(x, y, f, R, QR, QJ, body), QR, body)
 
 
@@ -311,6 +307,14 @@ def F(theta: ArrayLike, E: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: Body) 
     x, y = tilt_xy(theta)
     _require_open(x, y, "theta")
     return _P_xy(x, y, E, QR, QJ, body) / (x * y * D_coefficient(x, body))
+
+
+def require_open_tilt(theta: ArrayLike, name: str = "theta0", why: str = "") -> NDArray[np.float64]:
+    """``theta`` as a float array, or a ValueError naming ``name`` unless every value is finite and in (0, π)."""
+    t = np.asarray(theta, float)
+    if not np.all(np.isfinite(t)) or np.any((t <= 0.0) | (t >= np.pi)):
+        raise ValueError(f"{name} must lie in the open interval (0, pi){why}, got {name}={theta!r}")
+    return t
 
 
 def _require_open(x, y, name: str) -> None:
@@ -514,9 +518,7 @@ def state_from_turning_point(body: Body, theta0: ArrayLike, QR: ArrayLike, QJ: A
         If θ0 is outside the open interval (0, π), or the body is asymmetric.
     """
     body.require_symmetric("a turning-point state of Routh's sphere")
-    theta0 = np.asarray(theta0, float)
-    if not np.all(np.isfinite(theta0)) or np.any((theta0 <= 0.0) | (theta0 >= np.pi)):
-        raise ValueError(f"theta0 must lie in the open interval (0, pi), got theta0={theta0!r}")
+    theta0 = require_open_tilt(theta0)
     x, y = tilt_xy(theta0)
     E = _U_xy(x, y, QR, QJ, body)
     zero = np.zeros(np.broadcast(theta0, QR, QJ).shape)

@@ -5,17 +5,19 @@ Definitions (issue "ε-averaging", used identically for the trajectory and for t
 * the slow period is the period of Θ = 2ψ sampled at the θ-maxima, measured from the times at
   which the samples cross their mean (linear interpolation between samples), not from extrema;
 * the extents of Q_R and Q_J are max − min over the turning-point samples within t_end;
-* the azimuth span Φ is the span of φ mod π at the maxima (``numerics.trajectory.azimuth_span``).
+* the azimuth span Φ is the span of φ mod π at the maxima (:func:`azimuth_span`).
 
 Pure functions over numpy arrays; no imports from ``numerics`` so that the trajectory can use them.
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["unwrap_phase", "mean_crossings", "slow_period", "span"]
+__all__ = ["unwrap_phase", "mean_crossings", "slow_period", "span", "azimuth_span"]
 
 _TWO_PI = 2.0 * np.pi
 
@@ -98,3 +100,16 @@ def span(x: ArrayLike) -> float:
     x = np.asarray(x, float)
     return float(x.max() - x.min()) if x.size else 0.0
 
+
+def azimuth_span(phi: ArrayLike) -> float:
+    """Azimuth span Φ = φ_max − φ_min of the visible half-angle φ mod π (paper §7.2).
+
+    Measured on the circle of circumference π — π minus the largest gap between the sorted
+    samples of φ mod π — so that it does not depend on where the cut of ``mod π`` falls.
+    Returns 0.0 for fewer than two samples.
+    """
+    v = np.sort(np.mod(np.asarray(phi, float), math.pi))
+    if v.size < 2:
+        return 0.0
+    gaps = np.diff(np.concatenate([v, [v[0] + math.pi]]))
+    return float(math.pi - gaps.max())

@@ -33,11 +33,12 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.special import ellipj, ellipk
 
-from analysis.averaging import directional_derivative, eps_derivative_rhs, rest_energy, _QJ_of, _QR_of
+from analysis.averaging import (_QJ_of, _QR_of, directional_derivative, eps_derivative_rhs, eps_period_doubling,
+                                rest_energy)
 from analysis.body import Body
 from analysis.invariants import V_phi, V_psi
 from analysis.reduction import F
-from analysis.slow_diagnostics import span
+from analysis.slow_diagnostics import azimuth_span, span
 from numerics.equations import state_from_euler
 
 __all__ = ["PendulumConstants", "pendulum_constants", "PendulumPrediction", "pendulum_prediction"]
@@ -84,7 +85,7 @@ class PendulumConstants:
     @property
     def eps_period_doubling(self) -> float:
         """ε at which K = ε κ = 4 (period doubling of rocking about the stable axis)."""
-        return 4.0 / abs(self.kappa)
+        return eps_period_doubling(self.kappa)
 
     @property
     def stable_psi(self) -> float:
@@ -164,7 +165,7 @@ def pendulum_constants(body: Body, theta0: float, *, rtol: float = 1e-10) -> Pen
             n *= 2
             break
         if change > last_change:  # round-off regime: the previous rule was the best
-            cur, change, n = prev, last_change, n
+            cur, change = prev, last_change
             if change > _RTOL_ACCEPT:
                 raise RuntimeError(f"pendulum constants reached only {change:.1e} relative accuracy")
             break
@@ -206,7 +207,8 @@ def pendulum_prediction(body: Body, theta0: float, psi0: float, t_end: float = 1
     Raises
     ------
     ValueError
-        If ε < 0, t_end ≤ 0, or ψ0 is the unstable equilibrium (no libration: Θ0 = Θ* + π).
+        If t_end is not a finite number > 0, ψ0 is not finite, or ψ0 is the unstable equilibrium
+        (no libration: Θ0 = Θ* + π).  (ε ≥ 0 is guaranteed by Body.)
     """
     eps = body.epsilon
     t_end, psi0 = float(t_end), float(psi0)
@@ -216,7 +218,7 @@ def pendulum_prediction(body: Body, theta0: float, psi0: float, t_end: float = 1
         raise ValueError(f"psi0 must be finite, got psi0={psi0!r}")
     c = constants if constants is not None else pendulum_constants(body, theta0)
     K = eps * c.kappa
-    Theta_star = math.pi if c.kappa > 0 else 0.0
+    Theta_star = 2.0 * c.stable_psi
     A = float(math.remainder(2.0 * psi0 - Theta_star, 2.0 * math.pi))
     k = math.sin(abs(A) / 2.0)
     m = k * k
@@ -235,7 +237,6 @@ def pendulum_prediction(body: Body, theta0: float, psi0: float, t_end: float = 1
     phase = 2.0 * half                                          # φp = Θ − Θ*
     p = -sgn * 2.0 * k * (1.0 - m) * rootK * (sn / dn) / (dn * np.cos(half))
     QR, QJ = p / c.kappa * c.C0[0], p / c.kappa * c.C0[1]
-    from numerics.trajectory import azimuth_span
 
     Phi = azimuth_span(c.lam * (phase - A)) if n.size else 0.0
     return PendulumPrediction(eps=eps, psi0=psi0, t_end=t_end, K=K, kappa=c.kappa,

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 from analysis.body import Body
+from analysis.reduction import require_open_tilt
 
 __all__ = ["steady_rolling_omega3"]
 
@@ -21,8 +22,7 @@ def steady_rolling_omega3(body: Body, theta0: float, omega2: float) -> float:
         For θ0 outside (0, π) or ω2' = 0 (no steady rolling without precession).
     """
     body.require_symmetric("steady rolling (paper eq. om2om3)")
-    if not 0.0 < theta0 < math.pi:
-        raise ValueError(f"theta0 must satisfy 0 < theta0 < pi, got theta0={theta0!r}")
+    require_open_tilt(theta0)
     if omega2 == 0.0 or not math.isfinite(omega2):
         raise ValueError(f"omega2 = sin(theta0)*phi_dot must be finite and non-zero, got omega2={omega2!r}")
     s, c = math.sin(theta0), math.cos(theta0)

@@ -8,16 +8,15 @@ error, and the ratios; then heyoka with a looser tolerance chosen to match DOP85
 
 from __future__ import annotations
 
-import math
 import pickle
 import time
 
 import numpy as np
 
 from analysis.body import Body
-from numerics.equations import EulerState
 from analysis.invariants import energy
 from numerics.integrate import _build_heyoka, heyoka_integrator, simulate
+from papers.lynch_bustamante.fig5_symmetry_breaking import initial_state as fig5_initial_state
 
 T_END = 1500.0
 
@@ -42,7 +41,7 @@ def heyoka_core(ta, body, y0, t_end):
 
 def main() -> None:
     body = Body.paper(1e-3)
-    initial = EulerState.from_omega(0.95 * math.pi, 0.0, 0.0, (0.0, 0.001, -0.001))
+    initial = fig5_initial_state()
     y0 = initial.to_body_state()
 
     t0 = time.perf_counter()

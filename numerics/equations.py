@@ -53,6 +53,8 @@ __all__ = [
     "intermediate_state_from_euler_angle",
     "omega_dot_from_lagrange",
     "omega_dot_from_intermediate",
+    "omega_dot_by_form",
+    "formulation_differences",
 ]
 
 #: Slices of the 11-component body-frame state of form (i).
@@ -223,6 +225,9 @@ def euler_from_state(y: ArrayLike) -> NDArray[np.float64]:
 
 # ---------------------------------------------------------------- form (ii): paper eq. (thetaomega)
 def _sigma_matrix(theta: float, psi: float) -> NDArray[np.float64]:
+    """The paper's Σ(θ, ψ) of eq. (thetaomega), ω = Σ θ̇, transcribed here rather than taken from
+    analysis.kinematics so that forms (ii) and (iii) stay independent transcriptions of the paper,
+    checked against form (i) and the kinematics by tests/test_equations.py."""
     s, c, sg, ch = math.sin(theta), math.cos(theta), math.sin(psi), math.cos(psi)
     return np.array([[ch, s * sg, 0.0], [-sg, s * ch, 0.0], [0.0, c, 1.0]])
 
@@ -334,3 +339,28 @@ def omega_dot_from_intermediate(x: ArrayLike, xdot: ArrayLike) -> NDArray[np.flo
     sg, ch, sd = math.sin(psi), math.cos(psi), d[2]
     return np.array([ch * d[3] + sg * d[4] + sd * (-sg * u1 + ch * u2),
                      -sg * d[3] + ch * d[4] + sd * (-ch * u1 - sg * u2), d[5]])
+
+
+def omega_dot_by_form(y: ArrayLike, body: Body) -> dict[str, NDArray[np.float64]]:
+    """Body-frame ω̇ of the form-(i) state ``y`` computed by the paper's forms: "ii" (Σθ̇ = ω, Kω̇ = P_ω),
+    "iii" (Euler–Lagrange, App. A.3) and, for I1 = I2, "iv" (intermediate frame, App. A.2)."""
+    x2 = euler_angle_state_from_body(y)
+    x3 = lagrange_state_from_euler_angle(x2)
+    out = {"ii": euler_angle_rhs(x2, body)[3:], "iii": omega_dot_from_lagrange(x3, euler_lagrange_rhs(x3, body))}
+    if body.is_symmetric:
+        x4 = intermediate_state_from_euler_angle(x2)
+        out["iv"] = omega_dot_from_intermediate(x4, intermediate_frame_rhs(x4, body))
+    return out
+
+
+def formulation_differences(Y: ArrayLike, body: Body) -> dict[str, float]:
+    """Largest |ω̇_form − ω̇_(i)|∞ / (1 + |ω̇_(i)|∞) over the states ``Y`` (shape (11, n)) for each form of
+    :func:`omega_dot_by_form`: how far the paper's formulations are from form (i)."""
+    Y = np.asarray(Y, float)
+    D = np.array(body_frame_rhs(Y, body.params))
+    worst: dict[str, float] = {}
+    for y, d in zip(Y.T, D.T):
+        scale = 1.0 + np.max(np.abs(d[3:6]))
+        for form, wdot in omega_dot_by_form(y, body).items():
+            worst[form] = max(worst.get(form, 0.0), float(np.max(np.abs(wdot - d[3:6]))) / scale)
+    return worst

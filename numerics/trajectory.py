@@ -18,34 +18,16 @@ from numpy.typing import ArrayLike, NDArray
 from analysis.body import Body
 from analysis.invariants import energy, jellett, routh
 from analysis.kinematics import angles_from_frame
-from analysis.slow_diagnostics import slow_period, span
+from analysis.quadrature import wrap_angle
+from analysis.slow_diagnostics import azimuth_span, slow_period, span
 
-__all__ = ["TurningPoints", "Trajectory", "azimuth_span", "wrap_to_pi"]
+__all__ = ["TurningPoints", "Trajectory"]
 
 DenseOutput = Callable[[NDArray[np.float64]], NDArray[np.float64]]
 
 #: An interval whose wrapped angle increment exceeds this is bisected before unwrapping.
 _UNWRAP_LIMIT = 2.0 * math.pi / 3.0
 _MAX_BISECTIONS = 80
-
-
-def wrap_to_pi(x: ArrayLike) -> NDArray[np.float64]:
-    """Wrap angles to [−π, π)."""
-    return (np.asarray(x, float) + math.pi) % (2.0 * math.pi) - math.pi
-
-
-def azimuth_span(phi: ArrayLike) -> float:
-    """Azimuth span Φ = φ_max − φ_min of the visible half-angle φ mod π (paper §7.2).
-
-    Measured on the circle of circumference π — π minus the largest gap between the sorted
-    samples of φ mod π — so that it does not depend on where the cut of ``mod π`` falls.
-    Returns 0.0 for fewer than two samples.
-    """
-    v = np.sort(np.mod(np.asarray(phi, float), math.pi))
-    if v.size < 2:
-        return 0.0
-    gaps = np.diff(np.concatenate([v, [v[0] + math.pi]]))
-    return float(math.pi - gaps.max())
 
 
 @dataclass(frozen=True)
@@ -79,14 +61,14 @@ def _unwrapped_angles(t: NDArray[np.float64], dense: DenseOutput) -> tuple[NDArr
     for _ in range(_MAX_BISECTIONS):
         y = dense(grid)
         ang = angles_from_frame(y[:, 0:3].T, y[:, 6:9].T)
-        steps = wrap_to_pi(np.diff(ang[1:], axis=1))
+        steps = wrap_angle(np.diff(ang[1:], axis=1))
         jumps = np.any(np.abs(steps) > _UNWRAP_LIMIT, axis=0)
         width = np.diff(grid)
         resolvable = width > 64.0 * np.finfo(float).eps * np.maximum(1.0, np.abs(grid[1:]))
         bad = np.flatnonzero(jumps & resolvable)
         if bad.size == 0:
             through_pole = np.flatnonzero(jumps)
-            steps[1, through_pole] = wrap_to_pi(steps[0, through_pole] + steps[1, through_pole]) - steps[0, through_pole]
+            steps[1, through_pole] = wrap_angle(steps[0, through_pole] + steps[1, through_pole]) - steps[0, through_pole]
             unwrapped = ang.copy()
             unwrapped[1:, 1:] = ang[1:, :1] + np.cumsum(steps, axis=1)
             return y[keep], unwrapped[:, keep]
@@ -198,6 +180,13 @@ class Trajectory:
         """Period of Θ = 2ψ sampled at the θ-maxima, from interpolated crossings of the mean
         (:func:`analysis.slow_diagnostics.slow_period`); None if not measurable within the run."""
         return slow_period(self.maxima.t, 2.0 * self.maxima.psi)
+
+    @property
+    def maxima_spacing(self) -> float | None:
+        """Mean time between successive θ-maxima, (t_last − t_first)/(count − 1): the measured T_θ
+        (for rocking through θ = 0, half the rocking period).  None with fewer than two maxima."""
+        t = self.maxima.t
+        return float((t[-1] - t[0]) / (t.size - 1)) if t.size >= 2 else None
 
     @property
     def QR_extent(self) -> float:

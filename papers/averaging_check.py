@@ -75,9 +75,9 @@ def sample_errors(series: av.SlowSeries, ref: OdeSlowSummary) -> dict[str, float
             "phi": float(np.abs(wrap_angle(series.phi[:n] - ref.phi[:n], math.pi)).max())}
 
 
-def loglog_slope(eps: ArrayLike, err: ArrayLike) -> float:
-    """Least-squares slope of log|err| against log ε."""
-    return float(np.polyfit(np.log10(np.asarray(eps, float)), np.log10(np.abs(np.asarray(err, float))), 1)[0])
+def loglog_slope(x: ArrayLike, err: ArrayLike) -> float:
+    """Least-squares slope of log|err| against log x (the power of a convergence law err ∝ x^p)."""
+    return float(np.polyfit(np.log10(np.asarray(x, float)), np.log10(np.abs(np.asarray(err, float))), 1)[0])
 
 
 @dataclass(frozen=True)

@@ -15,6 +15,8 @@ import numpy as np
 
 from analysis.body import Body
 from numerics.equations import EulerState
+from papers.averaging_check import loglog_slope
+from papers.lynch_bustamante.fig5_symmetry_breaking import initial_state as fig5_initial_state
 
 __all__ = ["Check", "CHECKS", "run_checks"]
 
@@ -37,36 +39,20 @@ class Check:
         return {**asdict(self), "passed": self.passed}
 
 
-def _fig5_initial() -> EulerState:
-    return EulerState.from_omega(0.95 * math.pi, 0.0, 0.0, (0.0, 0.001, -0.001))
-
-
 # ------------------------------------------------------------------------------------------- ODE
 def check_formulations() -> list[Check]:
-    from numerics.equations import (body_frame_rhs, euler_angle_rhs, euler_angle_state_from_body,
-                                    intermediate_frame_rhs, intermediate_state_from_euler_angle,
-                                    omega_dot_from_intermediate, state_from_euler)
+    from numerics.equations import formulation_differences, state_from_euler
 
     rng = np.random.default_rng(5)
     n = 200
     Y = state_from_euler(rng.uniform(0.05, math.pi - 0.05, n), rng.uniform(-3, 3, n), rng.uniform(-3, 3, n),
                          *rng.normal(scale=2.0, size=(3, n)))
+    names = {"ii": "paper Euler-angle system (ii)", "iii": "paper Euler-Lagrange system (iii)",
+             "iv": "paper intermediate-frame system (iv)"}
     out = []
     for label, body in (("asymmetric eps=0.1", Body.paper(0.1)), ("symmetric", Body.paper())):
-        D = np.array(body_frame_rhs(Y, body.params))
-        err = 0.0
-        for y, d in zip(Y.T, D.T):
-            x2 = euler_angle_state_from_body(y)
-            err = max(err, np.max(np.abs(euler_angle_rhs(x2, body)[3:] - d[3:6])) / (1 + np.max(np.abs(d[3:6]))))
-        out.append(Check("equations", f"paper Euler-angle system (ii), {label}", "body-frame form (i)", err, 2e-13))
-    body = Body.paper()
-    D = np.array(body_frame_rhs(Y, body.params))
-    err = 0.0
-    for y, d in zip(Y.T, D.T):
-        x4 = intermediate_state_from_euler_angle(euler_angle_state_from_body(y))
-        wdot = omega_dot_from_intermediate(x4, intermediate_frame_rhs(x4, body))
-        err = max(err, np.max(np.abs(wdot - d[3:6])) / (1 + np.max(np.abs(d[3:6]))))
-    out.append(Check("equations", "paper intermediate-frame system (iv)", "body-frame form (i)", err, 2e-13))
+        for form, err in formulation_differences(Y, body).items():
+            out.append(Check("equations", f"{names[form]}, {label}", "body-frame form (i)", err, 2e-13))
     return out
 
 
@@ -74,7 +60,7 @@ def check_integrators() -> list[Check]:
     from numerics.integrate import simulate
 
     body = Body.paper(1e-3)
-    ini = _fig5_initial()
+    ini = fig5_initial_state()
     hy = simulate(body, ini, 100.0)
     sc = simulate(body, ini, 100.0, method="scipy")
     ext = simulate(body, ini, 100.0, precision="extended")
@@ -143,10 +129,6 @@ def check_reduction_and_quadrature() -> list[Check]:
 
 
 # ----------------------------------------------------------------------------------- criticality
-def _loglog_slope(x: np.ndarray, y: np.ndarray) -> float:
-    return float(np.polyfit(np.log(x), np.log(y), 1)[0])
-
-
 def check_criticality() -> list[Check]:
     """Critical lines, regions, cos θ_z, the δ expansion, the Laurent series and critical-line starts."""
     from scipy.optimize import brentq
@@ -184,13 +166,13 @@ def check_criticality() -> list[Check]:
     for terms, power in ((1, 1.5), (2, 2.5)):
         err = np.abs(C.theta_z_expansion(deltas, body, terms=terms) - exact)
         out.append(Check("criticality", f"delta expansion of theta_z, {terms} term(s): error power {power}",
-                         "closed-form theta_z, fitted log-log slope", abs(_loglog_slope(deltas, err) - power), 0.1))
+                         "closed-form theta_z, fitted log-log slope", abs(loglog_slope(deltas, err) - power), 0.1))
     # Laurent series about θ = π truncated at order 2: error falls as x⁴
     xs = np.array([0.2, 0.1, 0.05, 0.025])
     fn = laurent_function("phi", "pi", 2, body)
     err = np.abs(fn(xs, 0.0123, -0.0456) - V_phi(math.pi - xs, 0.0123, -0.0456, body))
     out.append(Check("criticality", "Laurent series of V_phi about pi to order 2: error power 4",
-                     "V_phi, fitted log-log slope", abs(_loglog_slope(xs, err) - 4.0), 0.1))
+                     "V_phi, fitted log-log slope", abs(loglog_slope(xs, err) - 4.0), 0.1))
     # starts placed on the critical lines
     worst = 0.0
     for line, crit in (("pi", C.QJ_crit_pi), ("0", C.QJ_crit_0)):

@@ -9,10 +9,11 @@ from analysis.averaging import predict_slow_motion
 from analysis.body import Body
 from analysis.quadrature import precession, precession_mp
 from analysis.reduction import F, turning_points
+from analysis.slow_diagnostics import azimuth_span
 from analysis.slow_pendulum import pendulum_constants, pendulum_prediction
 from numerics.equations import EulerState
 from numerics.integrate import simulate
-from numerics.trajectory import Trajectory, TurningPoints, azimuth_span
+from numerics.trajectory import Trajectory, TurningPoints
 
 __all__ = [
     "Body", "EulerState", "simulate", "Trajectory", "TurningPoints", "azimuth_span",

@@ -6,7 +6,7 @@ import argparse
 import math
 import re
 
-from analysis.body import PAPER_A, PAPER_G, PAPER_I3, Body
+from analysis.body import PAPER_A, PAPER_G, PAPER_I3, Body, paper_I1
 from numerics.equations import EulerState
 
 __all__ = [
@@ -69,7 +69,7 @@ def body_from_args(args: argparse.Namespace) -> Body:
         return Body.from_polar_cap(args.polar_cap, g=g, epsilon=eps)
     a = PAPER_A if args.a is None else args.a
     I3 = PAPER_I3 if args.I3 is None else args.I3
-    I1 = (1.0 - 2.5 * a) * I3 if args.I1 is None else args.I1
+    I1 = paper_I1(a, I3) if args.I1 is None else args.I1
     if args.I2 is not None:
         return Body(a=a, I1=I1, I2=args.I2, I3=I3, g=g)
     return Body(a=a, I1=I1, I2=I1, I3=I3, g=g).with_epsilon(eps)

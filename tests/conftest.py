@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import math
-
 import pytest
 
 from analysis.body import Body
@@ -18,4 +16,6 @@ def paper_body() -> Body:
 @pytest.fixture(scope="session")
 def fig5_initial() -> EulerState:
     """Paper §7.1: θ0 = 0.95π, φ0 = ψ0 = 0, ω = (0, 0.001, −0.001)."""
-    return EulerState.from_omega(0.95 * math.pi, 0.0, 0.0, (0.0, 0.001, -0.001))
+    from papers.lynch_bustamante.fig5_symmetry_breaking import initial_state
+
+    return initial_state()

@@ -18,13 +18,13 @@ from analysis import averaging as av
 from analysis.body import Body
 from analysis.invariants import energy
 from analysis.quadrature import precession, wrap_angle
-from analysis.slow_diagnostics import mean_crossings, slow_period, unwrap_phase
+from analysis.slow_diagnostics import azimuth_span, mean_crossings, slow_period, unwrap_phase
 from papers.averaging_check import (OdeSlowSummary, loglog_slope, ode_slow_summary, relative_errors,
                                       sample_errors)
+from analysis import slow_pendulum
 from analysis.slow_pendulum import pendulum_constants, pendulum_prediction
 from numerics.equations import EulerState, euler_from_state, state_from_euler
 from numerics.integrate import simulate
-from numerics.trajectory import azimuth_span
 
 THETA0 = 0.95 * math.pi
 PSI0 = {"pi/8": math.pi / 8, "pi/4": math.pi / 4, "3pi/8": 3 * math.pi / 8, "3.9pi/8": 3.9 * math.pi / 8}
@@ -430,9 +430,14 @@ def test_bad_input(table):
         pendulum_prediction(Body.paper(1e-3), THETA0, 0.0, constants=pendulum_constants(SYM, THETA0))
 
 
-def test_azimuth_span_definition_shared():
+def test_azimuth_span_definition_shared(table):
     """Φ of the prediction uses the trajectory's azimuth_span (circle of circumference π)."""
     assert azimuth_span(np.array([0.1, math.pi - 0.1])) == pytest.approx(0.2)
+    pred = av.predict_slow_motion(Body.paper(1e-3), THETA0, PSI0["pi/4"], 300.0, table=table)
+    assert pred.Phi == azimuth_span(pred.series.phi)
+    traj = simulate(Body.paper(1e-3), EulerState(THETA0, 0.0, PSI0["pi/4"]), 100.0)
+    assert traj.Phi == azimuth_span(traj.maxima.phi)
+    assert slow_pendulum.azimuth_span is azimuth_span  # the closed form's Φ
 
 
 # ----------------------------------------------------------------------------- slow validations

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 
 import pytest
 import sympy as sp
@@ -14,7 +15,7 @@ from analysis.body import Body, polar_cap_offset_as_printed, polar_cap_volume
 def test_paper_defaults():
     b = Body.paper()
     assert (b.a, b.I3, b.g) == (0.05, 0.4, 9.87)
-    assert b.I1 == pytest.approx((1 - 2.5 * 0.05) * 0.4, rel=1e-15)
+    assert b.I1 == pytest.approx(0.35, rel=1e-15)  # the paper's stated I1
     assert b.I2 == b.I1 and b.epsilon == 0.0 and b.is_symmetric
 
 
@@ -68,7 +69,13 @@ def test_polar_cap_bodies_are_valid(d):
         assert d > 1.0 - 1e-5 and ("too close to 1" in str(exc) or "-1 < d < 1" in str(exc))
         return
     assert 0.0 <= b.a < 1.0 and b.I1 < b.I3
-    assert (b.I3 - b.I1) == pytest.approx(b.a * (d + b.a), rel=1e-6)
+    # I1 against the textbook form π(4/15 + d/4 + d³/6 − 3d⁵/20)/V − a².  Both forms divide by V, whose
+    # bracket 2/3 + d − d³/3 (like the numerators) cancels to O((1 + d)²) as d → −1 (0.0025 at d = −0.95):
+    # each carries an absolute error of a few 1e-16 over V/π (measured ≤ 4e-16 π/V), i.e. a few ulps of
+    # I1 = O(0.4) away from d = −1.  Nothing cancels in the direct form as d → 1 (only I3 − I1 does).
+    V = polar_cap_volume(d)
+    I1_direct = math.pi * (4 / 15 + d / 4 + d**3 / 6 - 3 * d**5 / 20) / V - b.a**2
+    assert b.I1 == pytest.approx(I1_direct, rel=0, abs=1e-15 * math.pi / V)
 
 
 def test_polar_cap_moment_gap_identity():

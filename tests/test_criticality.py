@@ -16,13 +16,14 @@ from analysis.invariants import V_phi, invariants
 from analysis.kinematics import vertical_in_body
 from analysis.laurent import SYMBOLS, V_phi_sym, laurent_coefficients
 from analysis.reduction import state_from_turning_point, turning_points
+from papers.averaging_check import loglog_slope
 
 BODY = Body.paper()
 BODY_EPS = Body.paper(1e-3)
 OTHER = Body(a=0.2, I1=0.3, I2=0.3, I3=0.5, g=9.81)
 
 
-def _random_points(rng, n, body):
+def _random_points(rng, n):
     """Random (Q_R, Q_J) in a box wide enough to reach all four regions."""
     QR = rng.uniform(-1.0, 1.0, n)
     QJ = rng.uniform(-0.6, 0.6, n)
@@ -52,7 +53,7 @@ def test_region_matches_signs_of_V_phi_near_both_ends():
     directly (analysis.invariants.V_phi) at θ = 1e-6 and θ = π − 1e-6."""
     rng = np.random.default_rng(4)
     for body in (BODY, OTHER):
-        QR, QJ = _random_points(rng, 1500, body)
+        QR, QJ = _random_points(rng, 1500)
         reg = C.region(QR, QJ, body)
         s0 = np.sign(V_phi(1e-6, QJ, QR, body))
         spi = np.sign(V_phi(np.pi - 1e-6, QJ, QR, body))
@@ -152,7 +153,7 @@ def test_cos_theta_z_errors():
 # ----------------------------------------------------------------------------- θ_e and the necessary condition
 def test_theta_e_is_the_extremum():
     rng = np.random.default_rng(3)
-    QR, QJ = _random_points(rng, 400, BODY)
+    QR, QJ = _random_points(rng, 400)
     m = np.isin(C.region(QR, QJ, BODY), ("II", "IV"))
     QR, QJ = QR[m][:40], QJ[m][:40]
     te = C.theta_e(QR, QJ, BODY)
@@ -205,8 +206,7 @@ def test_delta_expansion_error_powers(body):
     exact = np.array([float(_theta_z_mp(d, body)) for d in deltas])
     e1 = np.abs(C.theta_z_expansion(deltas, body, terms=1) - exact)
     e2 = np.abs(C.theta_z_expansion(deltas, body, terms=2) - exact)
-    s1 = np.polyfit(np.log(deltas), np.log(e1), 1)[0]
-    s2 = np.polyfit(np.log(deltas), np.log(e2), 1)[0]
+    s1, s2 = loglog_slope(deltas, e1), loglog_slope(deltas, e2)
     assert abs(s1 - 1.5) < 0.05 and abs(s2 - 2.5) < 0.1
     assert np.all(e2 < e1)
 
@@ -224,8 +224,8 @@ def test_delta_bound_against_turning_points():
     np.testing.assert_allclose(C.delta_of(QR, QJ, BODY), deltas, rtol=0, atol=4e-16)  # 1 − ratio: absolute rounding
     e1 = np.abs(C.theta_z_expansion(deltas, BODY, 1) - theta_X)
     e2 = np.abs(C.theta_z_expansion(deltas, BODY, 2) - theta_X)
-    assert abs(np.polyfit(np.log(deltas), np.log(e1), 1)[0] - 1.5) < 0.05
-    assert abs(np.polyfit(np.log(deltas), np.log(e2), 1)[0] - 2.5) < 0.1
+    assert abs(loglog_slope(deltas, e1) - 1.5) < 0.05
+    assert abs(loglog_slope(deltas, e2) - 2.5) < 0.1
 
 
 def test_delta_errors():
@@ -308,8 +308,10 @@ def test_ode_started_on_line_crosses_it(line):
     crossing of that line within 200 time units; φ̇ at the turning points has the sign of V_φ there."""
     from numerics.equations import EulerState
     from numerics.integrate import simulate
+    from papers.lynch_bustamante import fig8_visible_reversal as fig8, fig9_full_reversal as fig9
 
-    st = C.critical_start(BODY_EPS, 0.95 * np.pi, np.pi / 4, line, psi_dot0=0.378 if line == "0" else 0.002)
+    psi_dot0 = fig9.PSI_DOT0 if line == "0" else fig8.PSI_DOT0
+    st = C.critical_start(BODY_EPS, 0.95 * np.pi, np.pi / 4, line, psi_dot0=psi_dot0)
     init = EulerState.from_omega(0.95 * np.pi, 0.0, np.pi / 4, st.omega)
     traj = simulate(BODY_EPS, init, 200.0)
     ra = C.reversal_analysis(traj)

@@ -12,6 +12,7 @@ from analysis.body import Body
 from analysis.invariants import V_phi, V_psi
 from analysis.laurent import (SYMBOLS, V_phi_sym, V_psi_sym, laurent_coefficients, laurent_function,
                               laurent_series, phidot_turning_point_errors)
+from papers.averaging_check import loglog_slope
 
 BODY = Body.paper()
 OTHER = Body(a=0.2, I1=0.3, I2=0.3, I3=0.5, g=9.81)
@@ -83,7 +84,7 @@ def test_truncation_error_falls_with_first_omitted_power(body, quantity, about):
         for n in (-2, 0, 2, 4):
             ser = sp.lambdify(ARGS, laurent_series(quantity, about, n), "mpmath")
             err = [abs(ser(x, vals["QJ"], vals["QR"], vals["a"], vals["I1"], vals["I3"]) - e) for x, e in zip(xs, ex)]
-            slope = np.polyfit(np.log([float(x) for x in xs]), np.log([float(e) for e in err]), 1)[0]
+            slope = loglog_slope([float(x) for x in xs], [float(e) for e in err])
             assert abs(slope - (n + 2)) < 0.05, (n, slope)
 
 

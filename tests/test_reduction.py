@@ -10,6 +10,7 @@ import pytest
 import sympy as sp
 
 from analysis.body import Body
+from analysis.criticality import QJ_crit_0, QJ_crit_pi
 from analysis.invariants import V_phi
 from analysis.quadrature import _mp_body, _mp_terms, turning_points_mp
 from analysis.reduction import (
@@ -122,8 +123,8 @@ def test_u_numerator_matches_V_phi_and_mpmath():
     assert np.max(np.abs(u - ref)) <= 100 * EPS * np.max(np.abs(QJ) + np.abs(QR))
     # Near the ends u = u_e + (variation): the variation keeps its relative precision down to z = 1e-20,
     # so u is a smooth function of θ (the fixed rounding of u_e = Q_J − Q_J,e^crit is shared by all θ).
-    u0, upi = u_ends(0.01, 0.0, body)
-    for QJc, small_x in ((float(-u0 + 1e-14), True), (float(-upi + 1e-14), False)):
+    for QJc, small_x in ((float(QJ_crit_0(0.01, body) + 1e-14), True),
+                         (float(QJ_crit_pi(0.01, body) + 1e-14), False)):
         u_e = float(u_ends(0.01, QJc, body)[0 if small_x else 1])
         for z in (1e-20, 1e-12, 1e-6, 0.3):
             xx, yy = (z, 2 - z) if small_x else (2 - z, z)
@@ -162,13 +163,13 @@ def _cases():
     for theta0, QR, QJ in ((0.95 * np.pi, 0.01, 0.002), (2.0, -0.005, 0.03), (0.95 * np.pi, 0.0, 0.0),
                            (0.3, 0.02, 0.01)):
         out.append((f"theta0={theta0:.3f}", float(state_from_turning_point(body, theta0, QR, QJ).E), QR, QJ))
-    u0, upi = (float(v) for v in u_ends(0.01, 0.0, body))
+    QJ0, QJpi = float(QJ_crit_0(0.01, body)), float(QJ_crit_pi(0.01, body))
     for d in (4e-5, 4e-8, 4.4e-11):  # Q_J just off Q_J,0^crit: θ_N ≈ 2.3 d, from 1e-4 down to 1e-10
-        QJ = -u0 + d
+        QJ = QJ0 + d
         out.append((f"QJ=crit0+{d:g}", float(state_from_turning_point(body, 0.95 * np.pi, 0.01, QJ).E), 0.01, QJ))
     for d in (1e-3, 1e-6, 1e-8):  # θ_X = π − d, near and off Q_J,π^crit
         for dq in (1e-9, 1e-4):
-            QJ = -upi + dq
+            QJ = QJpi + dq
             out.append((f"thetaX=pi-{d:g},QJ=critpi+{dq:g}",
                         float(state_from_turning_point(body, np.pi - d, 0.01, QJ).E), 0.01, QJ))
     return out
@@ -212,16 +213,16 @@ def test_turning_points_against_mpmath(label, E, QR, QJ):
     else:
         assert abs(tN - float(ref.theta_N)) <= rel_N * float(ref.theta_N)
     dX = float(mpmath.pi - ref.theta_X)
-    assert abs(float(tilt_xy(tX)[1]) - 2 * float(mpmath.cos(ref.theta_X / 2)) ** 2) <= 2 * rel_X * 0.5 * dX**2 \
-        + 4 * EPS * abs(dX) * 1e-16  # y = 2 cos²(θ/2) ≈ (π − θ)²/2
+    # y = 2 cos²(θ/2) ≈ (π − θ)²/2
+    assert abs(float(tilt_xy(tX)[1]) - 2 * float(mpmath.cos(ref.theta_X / 2)) ** 2) <= 2 * rel_X * 0.5 * dX**2
     assert abs((np.pi - tX) - dX) <= rel_X * dX + 2 * EPS * np.pi  # θ_X as a double: π − θ_X to ulp(π)
 
 
 def test_turning_points_reach_the_ends():
     """θ_N ≈ 1e-10 and θ_X ≈ π − 1e-8 are found, and F changes sign across each root."""
     body = Body.paper()
-    u0, upi = (float(v) for v in u_ends(0.01, 0.0, body))
-    cases = ((0.95 * np.pi, -u0 + 4.4e-11, "N"), (np.pi - 1e-8, -upi + 1e-9, "X"))
+    QJ0, QJpi = float(QJ_crit_0(0.01, body)), float(QJ_crit_pi(0.01, body))
+    cases = ((0.95 * np.pi, QJ0 + 4.4e-11, "N"), (np.pi - 1e-8, QJpi + 1e-9, "X"))
     for theta0, QJ, which in cases:
         E = float(state_from_turning_point(body, theta0, 0.01, QJ).E)
         tp = solve_turning_points(E, 0.01, QJ, body)

@@ -20,7 +20,7 @@ import numpy as np  # noqa: E402
 
 from analysis.criticality import QJ_crit_pi, critical_start, region  # noqa: E402
 from numerics.equations import EulerState  # noqa: E402
-from numerics.trajectory import wrap_to_pi  # noqa: E402
+from analysis.quadrature import wrap_angle  # noqa: E402
 from papers.lynch_bustamante import reversals  # noqa: E402
 from papers.output import Reproduction, save_figure, write_csv  # noqa: E402
 from papers.plotting import draw_critical_lines  # noqa: E402
@@ -53,7 +53,7 @@ def compute() -> tuple[float, reversals.ReversalRun]:
 
 def visible_precession(traj) -> tuple[np.ndarray, np.ndarray]:
     """(t_j, Δφ(t_j) mod 2π in [−π, π)) with Δφ(t_j) = φ(t_j) − φ(t_{j−2}) (paper §Recession)."""
-    return traj.maxima.t[2:], wrap_to_pi(traj.maxima.phi[2:] - traj.maxima.phi[:-2])
+    return traj.maxima.t[2:], wrap_angle(traj.maxima.phi[2:] - traj.maxima.phi[:-2])
 
 
 def run(out: Path) -> Reproduction:
@@ -71,7 +71,7 @@ def run(out: Path) -> Reproduction:
     axes[0].legend(fontsize=7)
     axes[0].set_title(rf"orbit, $Q_R(0)={QR0:g}$, start {100 * fraction:.2f}% above $Q_{{J,\pi}}^{{crit}}$",
                       fontsize=10)
-    axes[1].plot(traj.maxima.t, wrap_to_pi(traj.maxima.phi) / math.pi, ".", color="tab:red", ms=4)
+    axes[1].plot(traj.maxima.t, wrap_angle(traj.maxima.phi) / math.pi, ".", color="tab:red", ms=4)
     axes[1].set_xlabel("t (time units)")
     axes[1].set_ylabel(r"$\phi$ mod $2\pi$ in $[-\pi, \pi)$ at $\theta$-maxima ($\pi$ rad)")
     axes[1].set_ylim(-1, 1)

@@ -8,24 +8,22 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from analysis.body import Body  # noqa: E402
-from numerics.equations import EulerState  # noqa: E402
-from numerics.integrate import simulate  # noqa: E402
-from papers.output import Reproduction, save_figure, write_csv  # noqa: E402
-from papers.trajectory_plots import plot_contact_track, plot_phi_at_maxima  # noqa: E402
+from analysis.body import Body
+from numerics.equations import EulerState
+from numerics.integrate import simulate
+from papers.output import Reproduction, save_figure, write_csv
 
 NAME = "fig5"
 T_END = 1500.0
 EPSILONS = (0.0, 1e-3)
+#: Paper §7.1: θ0 = 0.95π, φ0 = ψ0 = 0, body-frame ω = (0, 0.001, −0.001).
+THETA0 = 0.95 * math.pi
+OMEGA0 = (0.0, 0.001, -0.001)
 
 
 def initial_state() -> EulerState:
-    return EulerState.from_omega(0.95 * math.pi, 0.0, 0.0, (0.0, 0.001, -0.001))
+    """The figure-5 start (paper §7.1), also the default of ``rocknroller simulate``."""
+    return EulerState.from_omega(THETA0, 0.0, 0.0, OMEGA0)
 
 
 def compute():
@@ -34,6 +32,13 @@ def compute():
 
 
 def run(out: Path) -> Reproduction:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from papers.trajectory_plots import plot_contact_track, plot_phi_at_maxima
+
     runs = compute()
     fig, axes = plt.subplots(2, 2, figsize=(9, 8.5))
     numbers: dict[str, float | int | str] = {}
@@ -53,7 +58,7 @@ def run(out: Path) -> Reproduction:
             "t": traj.maxima.t, "theta": traj.maxima.theta, "phi": traj.maxima.phi, "psi": traj.maxima.psi,
             "Q_R": traj.maxima.QR, "Q_J": traj.maxima.QJ},
             [f"paper fig. 5, {label}", f"body: {traj.body.describe()}", f"initial: {initial_state()}"]))
-    fig.suptitle(r"Paper fig. 5: $\theta_0=0.95\pi$, $\omega_0=(0, 0.001, -0.001)$, 1500 time units")
+    fig.suptitle(rf"Paper fig. 5: $\theta_0={THETA0 / math.pi:g}\pi$, $\omega_0={OMEGA0}$, {T_END:g} time units")
     fig.tight_layout()
     outputs = save_figure(fig, out, "fig5_symmetry_breaking") + outputs
     caption = ("Contact track (left) and full azimuth φ at the θ-maxima (right): the symmetric body precesses "

@@ -1,6 +1,6 @@
 """Paper fig. 9: a start on the critical line Q_J = Q_J,0^crit (full-angle reversals), ψ̇0 = 0.378.
 
-The paper's rounded φ̇0 = 0.379 puts the start 15 % above the line (Region II); here φ̇0 is solved so that the
+The paper's rounded φ̇0 = 0.379 puts the start above the line, in Region II (the caption gives by how much); here φ̇0 is solved so that the
 start lies exactly on it, and the paper's rounded start is recorded beside it.
 """
 

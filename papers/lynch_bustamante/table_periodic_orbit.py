@@ -11,10 +11,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-import numpy as np
-
 from analysis.body import Body
-from analysis.slow_diagnostics import slow_period
 from numerics.equations import EulerState
 from numerics.integrate import simulate
 from papers.output import Reproduction, write_csv
@@ -28,8 +25,7 @@ PAPER_PSI0 = 2.965 * math.pi / 8
 def rocks_per_slow_period(psi0: float, body: Body) -> tuple[float, float, float]:
     """(P/T_θ, P, T_θ) from a direct run of T_END time units."""
     traj = simulate(body, EulerState(0.95 * math.pi, 0.0, psi0), T_END)
-    P = slow_period(traj.maxima.t, 2.0 * traj.maxima.psi)
-    T_theta = float(np.mean(np.diff(traj.maxima.t)))
+    P, T_theta = traj.slow_period, traj.maxima_spacing
     return P / T_theta, P, T_theta
 
 

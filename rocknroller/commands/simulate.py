@@ -7,6 +7,7 @@ import json
 import sys
 from pathlib import Path
 
+from papers.lynch_bustamante import fig5_symmetry_breaking as fig5
 from rocknroller.options import add_body_options, add_initial_state_options, body_from_args, initial_state_from_args
 
 
@@ -27,7 +28,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="write samples.csv, turning_points.csv and PNG+PDF plots to DIR")
     p.add_argument("--json", action="store_true", help="print a one-object JSON summary on stdout")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.set_defaults(run=run, eps_default=1e-3, omega_default=(0.0, 0.001, -0.001))
+    p.set_defaults(run=run, eps_default=fig5.EPSILONS[1], omega_default=fig5.OMEGA0)
 
 
 def _write_outputs(traj, body, initial, out: Path) -> list[Path]:

@@ -63,9 +63,9 @@ def run(args: argparse.Namespace) -> int:
     consts = pendulum_constants(body, theta0)
     messages: list[str] = []
     K = body.epsilon * consts.kappa
-    if abs(K) > 4.0:
+    if abs(K) > av.K_PERIOD_DOUBLING:
         messages.append(
-            f"K = eps*kappa = {K:.4g} > 4: outside the valid range eps < {consts.eps_period_doubling:.4g} "
+            f"K = eps*kappa = {K:.4g} > {av.K_PERIOD_DOUBLING:g}: outside the valid range eps < {consts.eps_period_doubling:.4g} "
             "(pure rocking about the stable axis has period-doubled; the closed form does not apply)")
     table = av.load_or_build_table(body, theta0, build=not args.cached_only)
     with warnings.catch_warnings():
@@ -92,9 +92,7 @@ def run(args: argparse.Namespace) -> int:
         ode = ode_slow_summary(body, theta0, psi0, args.t_end)
         summary["ode"] = {q: getattr(ode, q) for q in _QUANTITIES}
         summary["ode"]["region_runs"] = [list(r) for r in ode.region_runs]
-        summary["ode"]["rocks_per_region"] = {}
-        for lab, n, _ in ode.region_runs:
-            summary["ode"]["rocks_per_region"][lab] = summary["ode"]["rocks_per_region"].get(lab, 0) + n
+        summary["ode"]["rocks_per_region"] = av.rocks_per_region(ode.region_runs)
         summary["rel_error"] = {q: relative_errors(pred, ode)[q] for q in _QUANTITIES}
         if pend is not None:
             summary["pendulum"]["rel_error"] = {q: relative_errors(pend, ode)[q] for q in _QUANTITIES}

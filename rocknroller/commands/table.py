@@ -3,14 +3,13 @@
 from __future__ import annotations
 
 import argparse
-import importlib
 import json
 import re
 import sys
 import time
 from collections import Counter
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
@@ -90,24 +89,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(run=run)
 
 
-def _region_function(body) -> Callable[[np.ndarray, np.ndarray], list[str]] | None:
-    """analysis.criticality.region(QR, QJ, body) if that module exists (issue 4), else None."""
-    try:
-        criticality = importlib.import_module("analysis.criticality")
-    except ModuleNotFoundError as exc:
-        if exc.name != "analysis.criticality":
-            raise
-        return None
-    region = getattr(criticality, "region", None)
-    if region is None:
-        return None
-
-    def labels(QR: np.ndarray, QJ: np.ndarray) -> list[str]:
-        return [str(v) for v in np.asarray(region(QR, QJ, body)).ravel()]
-
-    return labels
-
-
 def _cell(v: Any, dps: int | None) -> Any:
     if v is None:
         return None
@@ -168,9 +149,9 @@ def run(args: argparse.Namespace) -> int:
             else:
                 _fill_double(rows, sl, pr, status == OK, factor)
             bar.update(sl.stop - sl.start)
-    region = _region_function(body)
-    if region is not None:
-        rows["region"] = region(QR, QJ)
+    from analysis.criticality import region
+
+    rows["region"] = [str(v) for v in np.asarray(region(QR, QJ, body)).ravel()]
     if args.dps is not None:
         for c in COLUMNS[2:10]:
             rows[c] = [_cell(v, args.dps) for v in rows[c]]
@@ -189,8 +170,7 @@ def run(args: argparse.Namespace) -> int:
         f"backend: {'mpmath dps=' + str(args.dps) if args.dps else 'double precision, rtol=' + repr(args.rtol)}",
         "T_theta: time between successive maxima of theta; tau = 2 T_theta (the paper's tau = 4 integral)",
         f"delta_phi, delta_psi: full unwrapped increments per {args.per}; visible_phi = delta_phi mod 2pi in (-pi, pi]",
-        "region: " + ("I-IV from analysis.criticality.region" if region is not None
-                      else "empty (analysis.criticality not available)"),
+        "region: I-IV from analysis.criticality.region (or on a critical line)",
         *(f"status {k}: {v}" for k, v in STATUS_LEGEND.items()),
     ]
     write_csv(args.out, rows, header)
@@ -222,10 +202,10 @@ def _fill_double(rows: dict, sl: slice, pr: Any, ok: np.ndarray, factor: float) 
         rows[name][sl] = [float(x) if good else None for x, good in zip(np.asarray(v, float), ok)]
 
 
-def _fill_mp(rows: dict, i: int, pr: Any, j: int, body: Any, dps: int, theta0: float | None, factor: float) -> int:
+def _fill_mp(rows: dict, i: int, pr: Any, j: int, body: Any, dps: int, theta0: float | None, factor: float) -> None:
     import mpmath
 
-    from analysis.quadrature import OK, precession_mp, wrap_angle
+    from analysis.quadrature import precession_mp, wrap_angle
 
     ref = precession_mp(None if theta0 is not None else float(pr.E[j]), float(pr.QR[j]), float(pr.QJ[j]), body,
                         dps=dps, theta0=theta0)
@@ -236,4 +216,3 @@ def _fill_mp(rows: dict, i: int, pr: Any, j: int, body: Any, dps: int, theta0: f
         rows["delta_phi"][i] = factor * ref.delta_phi
         rows["delta_psi"][i] = factor * ref.delta_psi
         rows["visible_phi"][i] = ref.visible_phi if factor == 1 else wrap_angle(factor * ref.delta_phi)
-    return OK
