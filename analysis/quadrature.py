@@ -100,6 +100,10 @@ _EPS = float(np.finfo(float).eps)
 #: adds |rounding| node by node, so it lies 10–100× above the actual error (≲ 1e-14 for ordinary points).
 _MAX_ROUNDING = 1e-12
 _N_MAX = 1024
+#: Largest ``max_nodes`` accepted: the rule needs O(max_nodes) work and memory per point.
+MAX_NODES_LIMIT = 1 << 16
+#: Points × nodes evaluated at once (≈ 16 MB per work array): larger inputs are done in blocks.
+_BLOCK_ELEMENTS = 1 << 21
 #: Default tolerance on the change between n/2 and n nodes (see :func:`precession`).
 DEFAULT_RTOL = 1e-9
 
@@ -249,9 +253,26 @@ def _half_integrals(xN, yN, xX, yX, E, QR, QJ, u0, upi, body: Body, n: int):
     return out[0], out[1], out[2], out[3], positive, out[4], out[5]
 
 
+def _blocked_half_integrals(args: tuple[NDArray, ...], body: Body, n: int) -> tuple[NDArray, ...]:
+    """:func:`_half_integrals` over blocks of at most ``_BLOCK_ELEMENTS // n`` points (bounded memory)."""
+    size = max(1, _BLOCK_ELEMENTS // n)
+    m = args[0].size
+    if m <= size:
+        return _half_integrals(*args, body, n)
+    parts = [_half_integrals(*(a[i:i + size] for a in args), body, n) for i in range(0, m, size)]
+    return tuple(np.concatenate([p[k] for p in parts]) for k in range(len(parts[0])))
+
+
 def _precession_from_tp(tp: TurningPoints, body: Body, rtol: float, max_nodes: int) -> Precession:
+    try:
+        rtol = float(rtol)
+    except (TypeError, ValueError):
+        raise ValueError(f"rtol must lie in (0, 1e-3], got rtol={rtol!r}") from None
     if not 0.0 < rtol <= 1e-3:
         raise ValueError(f"rtol must lie in (0, 1e-3], got rtol={rtol!r}")
+    if isinstance(max_nodes, bool) or int(max_nodes) != max_nodes or not 2 * _N_START <= max_nodes <= MAX_NODES_LIMIT:
+        raise ValueError(f"max_nodes must be an integer in [{2 * _N_START}, {MAX_NODES_LIMIT}] (the rule's work and "
+                         f"memory grow with it), got max_nodes={max_nodes!r}")
     shape = tp.E.shape
     status = tp.status.copy().ravel()
     flat = lambda a: np.asarray(a, float).ravel()  # noqa: E731
@@ -269,7 +290,7 @@ def _precession_from_tp(tp: TurningPoints, body: Body, rtol: float, max_nodes: i
     while active.size and n <= max_nodes:
         args = (xN[active], yN[active], xX[active], yX[active], E[active], QR[active], QJ[active],
                 u0[active], upi[active])
-        cur = _half_integrals(*args, body, n)
+        cur = _blocked_half_integrals(args, body, n)
         if prev is None:
             prev = cur
             n *= 2
@@ -337,7 +358,7 @@ def precession(E: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: Body, *, rtol: 
     rtol : float
         Convergence tolerance on the change between n/2 and n nodes, in (0, 1e-3] (default 1e-9).
     max_nodes : int
-        Largest rule tried; points not converged get status UNRESOLVED.
+        Largest rule tried, in [32, MAX_NODES_LIMIT = 65536]; points not converged get status UNRESOLVED.
 
     Returns
     -------

@@ -4,40 +4,94 @@ Backends
 --------
 ``heyoka`` (default)
     heyoka's adaptive Taylor integrator at tolerance = machine epsilon.  The body parameters are
-    runtime parameters, so one compiled integrator serves every body.  It is compiled once per
-    process, and pickled (object code included) to a per-user cache directory so that later
-    processes load it in milliseconds instead of compiling (about 3 s).  Turning points are
-    non-terminal events on dγ3/dt = 0, located by heyoka on the Taylor polynomials to round-off.
-    ``precision="extended"`` uses 80-bit long double (x86-64), for reference runs.
+    runtime parameters, so one compiled integrator serves every body.  It is built once per process;
+    heyoka's own on-disk JIT cache (heyoka ≥ 7.10, ``HEYOKA_CACHE_DIR``, process-safe) makes a build
+    after the first one on a machine take a fraction of a second instead of ~6 s.  Nothing is
+    unpickled from disk.  Turning points are non-terminal events on dγ3/dt = 0, located by heyoka on
+    the Taylor polynomials to round-off.  ``precision="extended"`` uses 80-bit long double (x86-64),
+    for reference runs.
 ``scipy``
     scipy's DOP853 on the same right-hand side with a numpy implementation, as an independent check.
+
+Limits (checked before any work; a ``ValueError`` names the parameter and the limit)
+--------------------------------------------------------------------------------------
+The work and memory of a run scale with Λ·t_end, where Λ = √(2(E + g a)/I_min) bounds the angular
+speed for all time (T ≥ ½ I_min |ω|² and T = E − V ≤ E) and the rocking rate; the integrator takes
+about one step per radian of Λ t (0.8 measured on the paper's runs).
+
+* ``MAX_SAMPLES`` output samples t_end/dt (each costs ≈ 0.5 kB with its derived series);
+* ``MAX_DENSE_RADIANS`` of Λ·t_end when samples are kept: the trajectory keeps the integrator's dense
+  output (≈ 1.8 kB of Taylor coefficients per step) — a hard cap of ``MAX_DENSE_STEPS`` steps is also
+  enforced while integrating;
+* ``MAX_RADIANS`` of Λ·t_end for any run (``samples=False`` streams the turning points, so only time
+  grows: about 3 s per 10⁶ radians here), and with ``samples=False`` at most ``MAX_GRID_POINTS`` points
+  t_end/dt of the grid on which the angles are unwrapped (≈ 1 µs each; the grid is not kept).
+
+Accuracy ranges (dimensionless, unit mass and radius; outside them the run is refused)
+--------------------------------------------------------------------------------------
+* moments I1, I2, I3 in ``MOMENT_RANGE`` = [1e-3, 1e3]: the mass matrix K = diag(I) + |r|² − r rᵀ has
+  condition number ≈ (1 + a)²/I_min, and the energy error grows as 1/I_min (measured over 100 time
+  units: 6e-16 at I ~ 0.4, 4e-14 at 4e-4, 3e-11 at 4e-7, 3e-9 at 4e-9);
+* g in ``G_RANGE`` = [1e-12, 1e12]: g only sets the unit of time, but products of g with the rates
+  squared must stay far from overflow and underflow;
+* E/g ≤ ``MAX_ENERGY_OVER_G`` = 1e12 (the energy in units of m g R), for the same reason.
+
+Every run's energy error is checked against the tolerance asked for
+(:func:`numerics.trajectory.energy_error_bound`): a run that misses it warns
+(:class:`AccuracyWarning`), or raises :class:`AccuracyError` with ``strict=True``.
 """
 
 from __future__ import annotations
 
-import hashlib
-import inspect
 import math
 import os
-import pickle
 import sys
 import tempfile
+import warnings
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 from numpy.typing import NDArray
 
 from analysis.body import Body
-from numerics import equations
+from analysis.invariants import energy
 from numerics.equations import STATE_SIZE, EulerState, body_frame_rhs, turning_point_function
-from numerics.trajectory import Trajectory
+from numerics.trajectory import (DenseOutput, Trajectory, TurningPointRun, TurningPoints, _Samples,
+                                 energy_scale)
 
-__all__ = ["simulate", "heyoka_integrator", "default_dt", "cache_dir"]
+__all__ = ["simulate", "heyoka_integrator", "default_dt", "cache_dir", "rate_bound", "AccuracyWarning",
+           "AccuracyError", "CacheWarning", "MAX_SAMPLES", "MAX_DENSE_RADIANS", "MAX_DENSE_STEPS", "MAX_RADIANS", "MAX_GRID_POINTS",
+           "MOMENT_RANGE", "G_RANGE", "MAX_ENERGY_OVER_G"]
 
 _METHODS = ("heyoka", "scipy")
 _PRECISIONS = ("double", "extended")
 _INTEGRATORS: dict[str, Any] = {}
+
+MAX_SAMPLES = 2_000_000
+MAX_DENSE_RADIANS = 3.0e5
+MAX_DENSE_STEPS = 600_000
+MAX_RADIANS = 1.0e8
+MAX_GRID_POINTS = 2.0e8
+MOMENT_RANGE = (1e-3, 1e3)
+G_RANGE = (1e-12, 1e12)
+MAX_ENERGY_OVER_G = 1e12
+#: Default output spacing in radians of Λ (≈ 0.05 time units for the paper's runs).
+DT_RADIANS = 0.15
+#: Radians of Λ integrated per stretch when only the turning points are kept (≈ 2·10⁴ steps, ≈ 40 MB).
+CHUNK_RADIANS = 2.0e4
+
+
+class AccuracyWarning(UserWarning):
+    """A run's energy error exceeds what its integrator's tolerance allows."""
+
+
+class AccuracyError(RuntimeError):
+    """A run's energy error exceeds what its integrator's tolerance allows (``strict=True``)."""
+
+
+class CacheWarning(UserWarning):
+    """A cache could not be used (not writable, or a file failed its check and is rebuilt)."""
 
 
 class _EventLog:
@@ -51,10 +105,29 @@ class _EventLog:
 
 
 def cache_dir() -> Path:
-    """Directory of the compiled-integrator cache (``$ROCKNROLLER_CACHE`` or the user cache dir)."""
+    """Directory of the package's caches (``$ROCKNROLLER_CACHE`` or the user cache dir)."""
     if os.environ.get("ROCKNROLLER_CACHE"):
         return Path(os.environ["ROCKNROLLER_CACHE"])
     return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "rocknroller"
+
+
+_WARNED: set[str] = set()
+
+
+def _warn_if_unwritable(path: str | os.PathLike, what: str, fix: str) -> bool:
+    """True if a file can be created in ``path`` (created if missing); else one CacheWarning per path and process."""
+    try:
+        os.makedirs(path, exist_ok=True)
+        with tempfile.NamedTemporaryFile(dir=path):
+            pass
+        return True
+    except OSError as exc:
+        key = str(path)
+        if key not in _WARNED:
+            _WARNED.add(key)
+            warnings.warn(f"the {what} at {key} is not writable ({exc.strerror or exc}): {fix}", CacheWarning,
+                          stacklevel=3)
+        return False
 
 
 def _build_heyoka(fp_type: Any) -> Any:
@@ -71,57 +144,66 @@ def _build_heyoka(fp_type: Any) -> Any:
 
 
 def heyoka_integrator(precision: str = "double") -> Any:
-    """The compiled heyoka integrator of form (i) (memoised in-process and cached on disk)."""
+    """The compiled heyoka integrator of form (i), built once per process.
+
+    heyoka's on-disk JIT cache (``HEYOKA_CACHE_DIR``; default under the user cache directory) keeps
+    the compiled code between processes; it holds machine code, so it must be as trusted as the
+    installed packages.  An unwritable cache directory gives one :class:`CacheWarning` (each
+    process then compiles for ~6 s).
+    """
     if precision not in _PRECISIONS:
         raise ValueError(f"precision must be one of {_PRECISIONS}, got {precision!r}")
     if precision in _INTEGRATORS:
         return _INTEGRATORS[precision]
     import heyoka as hy
 
-    fp_type = float if precision == "double" else np.longdouble
-    source = inspect.getsource(equations) + inspect.getsource(_EventLog)
-    key = hashlib.sha256(f"{hy.__version__}|{sys.version}|{precision}|{source}".encode()).hexdigest()[:16]
-    path = cache_dir() / f"taylor-{precision}-{key}.pickle"
-    ta = None
-    if path.exists():
-        try:
-            with path.open("rb") as fh:
-                ta = pickle.load(fh)
-        except Exception:  # a stale or truncated cache entry is rebuilt
-            ta = None
-    if ta is None:
-        ta = _build_heyoka(fp_type)
-        try:
-            path.parent.mkdir(parents=True, exist_ok=True)
-            with tempfile.NamedTemporaryFile(dir=path.parent, delete=False) as fh:
-                pickle.dump(ta, fh)
-            os.replace(fh.name, path)
-        except OSError:  # a read-only cache is not an error
-            pass
+    if hy.llvm_state.get_diskcache_enabled():
+        _warn_if_unwritable(hy.llvm_state.get_diskcache_path(), "heyoka compilation cache",
+                            "every process compiles the integrator (~6 s); point HEYOKA_CACHE_DIR at a writable folder")
+    ta = _build_heyoka(float if precision == "double" else np.longdouble)
     _INTEGRATORS[precision] = ta
     return ta
 
 
-def default_dt(t_end: float) -> float:
-    """Default sample spacing: 0.05 time units (≈ 400 samples per rocking period), at least 200 samples."""
-    return min(0.05, t_end / 200.0)
+def rate_bound(body: Body, y0: NDArray[np.float64]) -> float:
+    """Λ = √(2(E + g a)/I_min): a bound on |ω(t)| for all t (½ I_min |ω|² ≤ T ≤ E) that also covers the
+    rocking rate √(g a/I) of motions near rest.  Work and memory of a run scale with Λ·t_end."""
+    E = float(energy(body, y0[0:3], y0[3:6]))
+    return math.sqrt(2.0 * (E + body.g * body.a) / min(body.I1, body.I2, body.I3))
 
 
-def _validate(body: Body, initial: EulerState, t_end: float) -> NDArray[np.float64]:
+def default_dt(t_end: float, rate: float) -> float:
+    """Default sample spacing: ``DT_RADIANS``/Λ (≈ 0.05 time units, ≈ 200 samples per rocking period, for
+    the paper's runs), and at least 200 samples over the run."""
+    return min(DT_RADIANS / rate, t_end / 200.0)
+
+
+def _validate(body: Body, initial: EulerState, t_end: float) -> tuple[NDArray[np.float64], float]:
     if not isinstance(body, Body):
         raise ValueError(f"body must be an analysis.body.Body, got {type(body).__name__}")
     if not isinstance(initial, EulerState):
         raise ValueError(f"initial must be a numerics.equations.EulerState, got {type(initial).__name__}")
-    t_end = float(t_end)
     if not math.isfinite(t_end) or t_end <= 0.0:
         raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}")
-    at_pole = initial.theta in (0.0, math.pi)
-    if at_pole and initial.theta_dot == 0.0 and initial.phi_dot + initial.psi_dot == 0.0:
+    lo, hi = MOMENT_RANGE
+    for name in ("I3", "I1", "I2"):  # I3 first: the CLI derives I1 (and I2) from it by default
+        if not lo <= getattr(body, name) <= hi:
+            raise ValueError(f"{name} must lie in [{lo:g}, {hi:g}] (units of m R^2) for the integrator to be "
+                             f"accurate (the energy error grows as 1/I_min), got {name}={getattr(body, name)!r}")
+    if not G_RANGE[0] <= body.g <= G_RANGE[1]:
+        raise ValueError(f"g must lie in [{G_RANGE[0]:g}, {G_RANGE[1]:g}] (g only sets the unit of time; "
+                         f"rescale time to bring it there), got g={body.g!r}")
+    y0 = initial.to_body_state()
+    with np.errstate(over="ignore", invalid="ignore"):  # rates of 1e200 overflow E to inf: refused below
+        E = float(energy(body, y0[0:3], y0[3:6]))
+    if not E <= MAX_ENERGY_OVER_G * body.g:
+        raise ValueError(f"the initial rates are too large: the energy E = {E:.3g} exceeds {MAX_ENERGY_OVER_G:g} g "
+                         f"(units m g R); reduce the rates (theta_dot, phi_dot, psi_dot or omega)")
+    if not np.any(y0[3:6]) and (body.a == 0.0 or initial.theta in (0.0, math.pi) or not np.any(y0[0:2])):
         raise ValueError(
-            "the initial state has no motion: theta0 is an equilibrium (0 or pi) and the body is at rest; "
-            "give theta0 in (0, pi) or a non-zero rate"
-        )
-    return initial.to_body_state()
+            "the initial state has no motion: the body is at rest in an equilibrium (theta0 = 0 or pi, or any "
+            "theta0 when a = 0); give theta0 in (0, pi) with a > 0, or a non-zero rate")
+    return y0, rate_bound(body, y0)
 
 
 def _progress(total: float, enabled: bool | None):
@@ -130,42 +212,106 @@ def _progress(total: float, enabled: bool | None):
     if enabled is None:
         enabled = sys.stderr.isatty()
     return tqdm(total=total, disable=not enabled, unit="t.u.", leave=False, file=sys.stderr,
-                bar_format="{l_bar}{bar}| {n:.0f}/{total:.0f} time units [{elapsed}<{remaining}]")
+                bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} time units [{elapsed}<{remaining}]")
 
 
-def _run_heyoka(body: Body, y0: NDArray[np.float64], t_end: float, precision: str, progress: bool | None):
-    ta = heyoka_integrator(precision)
-    fp_type = float if precision == "double" else np.longdouble
-    ta.time = fp_type(0.0)
-    ta.state[:] = np.asarray(y0, dtype=fp_type)
-    ta.pars[:] = np.asarray(body.params, dtype=fp_type)
-    ta.reset_cooldowns()
-    log = ta.nt_events[0].callback
-    log.events.clear()
-    with _progress(t_end, progress) as bar:
+def _locate_missed_start_roots(t_a: float, t_hi: float, n_missing: int,
+                               dense: DenseOutput) -> list[tuple[float, int]]:
+    """Roots of dγ3/dt in (t_a, t_hi) that the event finder reported at t_a, located on the dense output.
+
+    heyoka's root finder returns the lower end of an isolating interval whose polynomial vanishes
+    exactly there: when a stretch starts exactly at a turning point (θ̇0 = 0), another root inside
+    the same step is reported at the start, with the start's direction.  The step's dense output is
+    scanned for the sign changes (finer until ``n_missing`` are found) and each is refined by Brent's
+    method; there are no other roots before ``t_hi``, the next reported event.
+    """
+    from scipy.optimize import brentq
+
+    def h(t: Any) -> Any:
+        return turning_point_function(dense(np.atleast_1d(t)).T)
+
+    for n in (64, 1024, 16384, 262144):
+        ts = np.linspace(t_a, t_hi, n + 2)[1:-1]
+        hs = h(ts)
+        idx = np.flatnonzero(np.sign(hs[1:]) * np.sign(hs[:-1]) < 0)
+        if idx.size >= n_missing:
+            break
+    if not np.any(hs):  # θ constant (steady spin at a pole): no turning points at all
+        return []
+    if idx.size != n_missing:
+        raise RuntimeError(f"could not locate {n_missing} turning point(s) in ({t_a!r}, {t_hi!r})")
+    return [(brentq(lambda t: float(h(t)[0]), ts[i], ts[i + 1], xtol=1e-300, rtol=4 * np.finfo(float).eps,
+                    maxiter=200), 1 if hs[i + 1] > 0 else -1) for i in idx]
+
+
+def _clean_events(events: list[tuple[float, int]], t_a: float, t_b: float, start_is_root: bool,
+                  dense: DenseOutput) -> list[tuple[float, int]]:
+    """Events of the stretch (t_a, t_b] in time order; a root at t_a itself belongs to the previous stretch
+    (or, at t = 0, to no one: a start at rest is not reported as a turning point)."""
+    at_start = sum(1 for t, _ in events if t == t_a)
+    later = sorted((t, d) for t, d in events if t > t_a)
+    missing = at_start - (1 if start_is_root else 0)
+    if missing > 0:
+        later = sorted(later + _locate_missed_start_roots(t_a, later[0][0] if later else t_b, missing, dense))
+    return later
+
+
+class _HeyokaRun:
+    """heyoka integrator advanced stretch by stretch, with the dense output of each stretch."""
+
+    def __init__(self, body: Body, y0: NDArray[np.float64], precision: str, bar: Any, max_steps: int | None):
+        self.fp = float if precision == "double" else np.longdouble
+        self.ta = ta = heyoka_integrator(precision)
+        ta.time = self.fp(0.0)
+        ta.state[:] = np.asarray(y0, dtype=self.fp)
+        ta.pars[:] = np.asarray(body.params, dtype=self.fp)
+        self.log = ta.nt_events[0].callback
+        self.log.events.clear()
+        self.bar, self.max_steps, self.n_steps = bar, max_steps, 0
+        self.tolerance = float(np.finfo(self.fp).eps)
+
+    def advance(self, t_b: float) -> tuple[DenseOutput, list[tuple[float, int]]]:
+        ta, fp = self.ta, self.fp
+        t_a = float(ta.time)
+        start_is_root = turning_point_function(np.asarray(ta.state, float)) == 0.0
+        steps_before = self.n_steps
+
         def step_callback(ta_: Any) -> bool:
-            bar.update(float(ta_.time) - bar.n)
-            return True
+            self.bar.update(float(ta_.time) - self.bar.n)
+            self.n_steps += 1
+            return self.max_steps is None or self.n_steps <= self.max_steps
 
-        result = ta.propagate_until(fp_type(t_end), c_output=True, callback=step_callback)
-    outcome, c_out = result[0], result[4]
-    if outcome.name not in ("time_limit",):
-        raise RuntimeError(f"heyoka stopped early at t={float(ta.time)!r}: {outcome}")
-    events = sorted(e for e in log.events if e[0] > 0.0)
-    log.events.clear()
+        self.log.events.clear()
+        result = ta.propagate_until(fp(t_b), c_output=True, callback=step_callback)
+        outcome, c_out = result[0], result[4]
+        if outcome.name == "cb_stop":
+            raise ValueError(f"t_end: the run needs more than MAX_DENSE_STEPS = {MAX_DENSE_STEPS} integration steps "
+                             f"to keep its samples (stopped at t = {float(ta.time):.6g} after "
+                             f"{self.n_steps - steps_before} steps); use samples=False (turning points only) or a "
+                             "shorter t_end")
+        if outcome.name != "time_limit":
+            raise RuntimeError(f"heyoka stopped early at t={float(ta.time)!r}: {outcome}")
 
-    def dense(t: NDArray[np.float64]) -> NDArray[np.float64]:
-        return np.asarray(c_out(np.asarray(t, dtype=fp_type)), dtype=float).reshape(-1, STATE_SIZE)
+        def dense(t: NDArray[np.float64]) -> NDArray[np.float64]:
+            return np.asarray(c_out(np.asarray(t, dtype=fp)), dtype=float).reshape(-1, STATE_SIZE)
 
-    return dense, events
+        events = _clean_events(list(self.log.events), t_a, t_b, start_is_root, dense)
+        self.log.events.clear()
+        return dense, events
 
 
-def _run_scipy(body: Body, y0: NDArray[np.float64], t_end: float, rtol: float, atol: float,
-               progress: bool | None):
-    from scipy.integrate import solve_ivp
+class _ScipyRun:
+    """scipy DOP853 advanced stretch by stretch (numpy right-hand side), with the dense output of each stretch."""
 
-    params = body.params
-    with _progress(t_end, progress) as bar:
+    def __init__(self, body: Body, y0: NDArray[np.float64], rtol: float, atol: float, bar: Any):
+        self.body, self.y, self.t = body, np.asarray(y0, float), 0.0
+        self.rtol, self.atol, self.bar, self.n_steps, self.tolerance = rtol, atol, bar, 0, rtol
+
+    def advance(self, t_b: float) -> tuple[DenseOutput, list[tuple[float, int]]]:
+        from scipy.integrate import solve_ivp
+
+        params, bar = self.body.params, self.bar
+
         def fun(t: float, y: NDArray[np.float64]) -> NDArray[np.float64]:
             if t - bar.n >= 1.0:
                 bar.update(t - bar.n)
@@ -178,64 +324,143 @@ def _run_scipy(body: Body, y0: NDArray[np.float64], t_end: float, rtol: float, a
             return turning_point_function(y)
 
         rising.direction, falling.direction = 1.0, -1.0
-        sol = solve_ivp(fun, (0.0, t_end), y0, method="DOP853", rtol=rtol, atol=atol, dense_output=True,
+        t_a = self.t
+        sol = solve_ivp(fun, (t_a, t_b), self.y, method="DOP853", rtol=self.rtol, atol=self.atol, dense_output=True,
                         events=[rising, falling])
-    if sol.status != 0:
-        raise RuntimeError(f"scipy DOP853 failed: {sol.message}")
-    events = sorted([(float(t), 1) for t in sol.t_events[0] if t > 0.0]
-                    + [(float(t), -1) for t in sol.t_events[1] if t > 0.0])
+        if sol.status != 0:
+            raise RuntimeError(f"scipy DOP853 failed: {sol.message}")
+        self.n_steps += sol.t.size - 1
+        self.t, self.y = t_b, sol.y[:, -1]
+        bar.update(t_b - bar.n)
+        events = sorted([(float(t), 1) for t in sol.t_events[0] if t > t_a]
+                        + [(float(t), -1) for t in sol.t_events[1] if t > t_a])
 
-    def dense(t: NDArray[np.float64]) -> NDArray[np.float64]:
-        return np.asarray(sol.sol(np.asarray(t, float))).T.reshape(-1, STATE_SIZE)
+        def dense(t: NDArray[np.float64]) -> NDArray[np.float64]:
+            return np.asarray(sol.sol(np.asarray(t, float))).T.reshape(-1, STATE_SIZE)
 
-    return dense, events
+        return dense, events
+
+
+def _check_energy(run: Trajectory | TurningPointRun, strict: bool) -> None:
+    err, tol = run.energy_rel_error, run.energy_tolerance
+    if err > tol:
+        msg = (f"the relative energy error {err:.3g} exceeds {tol:.3g}, the most that {run.n_steps} steps at tolerance "
+               f"{run.tolerance:.3g} allow: the run is not accurate")
+        if strict:
+            raise AccuracyError(msg)
+        warnings.warn(msg, AccuracyWarning, stacklevel=3)
 
 
 def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "heyoka", dt: float | None = None,
              precision: str = "double", rtol: float = 3e-14, atol: float = 1e-15,
-             progress: bool | None = False) -> Trajectory:
+             progress: bool | None = False, samples: bool = True,
+             on_turning_points: Callable[[TurningPoints, TurningPoints], None] | None = None,
+             strict: bool = False) -> Trajectory | TurningPointRun:
     """Integrate the rock'n'roller from ``initial`` over [0, t_end] and find every turning point of θ.
 
     Parameters
     ----------
     body : Body
+        Moments in ``MOMENT_RANGE``, g in ``G_RANGE`` (see the module docstring).
     initial : EulerState
-        Initial Euler angles and rates (``EulerState.from_omega`` for a body-frame ω).
+        Initial Euler angles and rates (``EulerState.from_omega`` for a body-frame ω); energy at most
+        ``MAX_ENERGY_OVER_G`` · g.  A body at rest in an equilibrium is refused (no motion).
     t_end : float
-        Final time, > 0.
+        Final time, > 0, with Λ·t_end ≤ ``MAX_RADIANS`` (≤ ``MAX_DENSE_RADIANS`` when samples are kept).
     method : {"heyoka", "scipy"}
         Taylor integrator (default) or DOP853 (independent check).
     dt : float, optional
-        Spacing of the output grid (default :func:`default_dt`); turning points are always added.
+        Spacing of the output grid (default :func:`default_dt`), at most ``MAX_SAMPLES`` samples; turning
+        points are always added.  With ``samples=False``, the spacing of the grid on which φ and ψ are
+        unwrapped and the energy is checked.
     precision : {"double", "extended"}
         heyoka only: 64-bit or 80-bit floating point.
     rtol, atol : float
         scipy only: DOP853 tolerances.
     progress : bool or None
         Show a tqdm bar on stderr (None: only if stderr is a terminal).
+    samples : bool
+        True: return a :class:`Trajectory` with every sample.  False: integrate stretch by stretch and
+        keep only the turning points (a :class:`TurningPointRun`); memory then does not grow with t_end
+        beyond the turning points themselves (≈ 0.2 kB each).
+    on_turning_points : callable, optional
+        With ``samples=False``: called with (maxima, minima) of each stretch as it is finished (to stream them).
+    strict : bool
+        Raise :class:`AccuracyError` instead of warning when the energy error exceeds
+        :func:`numerics.trajectory.energy_error_bound`.
 
     Returns
     -------
-    Trajectory
-        Samples, unwrapped angles, invariants, contact track, and the turning points
-        (maxima: dγ3/dt rising through 0; minima: falling), none reported at t = 0.
+    Trajectory or TurningPointRun
+        Turning points: maxima (dγ3/dt rising through 0) and minima (falling), none reported at t = 0.
     """
-    y0 = _validate(body, initial, t_end)
-    t_end = float(t_end)
+    try:
+        t_end = float(t_end)
+    except (TypeError, ValueError):
+        raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}") from None
     if method not in _METHODS:
         raise ValueError(f"method must be one of {_METHODS}, got {method!r}")
+    if precision not in _PRECISIONS:
+        raise ValueError(f"precision must be one of {_PRECISIONS}, got {precision!r}")
+    if method == "scipy" and precision != "double":
+        raise ValueError("precision='extended' is available with method='heyoka' only")
+    if method == "scipy" and not (0.0 < rtol < 1.0 and math.isfinite(atol) and atol > 0.0):
+        raise ValueError(f"rtol must lie in (0, 1) and atol be > 0, got rtol={rtol!r}, atol={atol!r}")
+    y0, rate = _validate(body, initial, t_end)
+    radians = rate * t_end
+    limit, limit_name = (MAX_DENSE_RADIANS, "MAX_DENSE_RADIANS") if samples else (MAX_RADIANS, "MAX_RADIANS")
+    if radians > limit:
+        hint = "; use samples=False (turning points only) or a shorter t_end" if samples else ""
+        raise ValueError(f"t_end={t_end!r} is too long: the run spans Λ t_end = {radians:.3g} radians of its rate bound "
+                         f"Λ = {rate:.3g} (about as many integration steps), over the limit {limit_name} = {limit:g}{hint}")
     if dt is None:
-        dt = default_dt(t_end)
+        dt = default_dt(t_end, rate)
+    dt = float(dt)
     if not math.isfinite(dt) or dt <= 0.0:
         raise ValueError(f"dt must be a finite number > 0, got dt={dt!r}")
-    if method == "heyoka":
-        dense, events = _run_heyoka(body, y0, t_end, precision, progress)
-    else:
-        if precision != "double":
-            raise ValueError("precision='extended' is available with method='heyoka' only")
-        dense, events = _run_scipy(body, y0, t_end, rtol, atol, progress)
-    n = int(math.ceil(t_end / dt - 1e-9))
-    grid = np.linspace(0.0, t_end, n + 1)
-    t_max = [t for t, d in events if d > 0]
-    t_min = [t for t, d in events if d < 0]
-    return Trajectory.from_dense(body, method, dense, grid, t_max, t_min)
+    n_grid = int(math.ceil(t_end / dt - 1e-9)) + 1
+    if n_grid > (MAX_SAMPLES if samples else MAX_GRID_POINTS):
+        what = (f"MAX_SAMPLES = {MAX_SAMPLES} (≈ 0.5 kB each); give a larger dt or samples=False" if samples else
+                f"MAX_GRID_POINTS = {MAX_GRID_POINTS:g} (≈ 1 µs each); give a larger dt")
+        raise ValueError(f"dt={dt!r} gives {n_grid:.3g} samples over t_end={t_end!r}, over the limit {what}")
+    if on_turning_points is not None and samples:
+        raise ValueError("on_turning_points streams the turning points of a run with samples=False")
+    with _progress(t_end, progress) as bar:
+        if method == "heyoka":
+            run = _HeyokaRun(body, y0, precision, bar, MAX_DENSE_STEPS if samples else None)
+        else:
+            run = _ScipyRun(body, y0, rtol, atol, bar)
+        if samples:
+            dense, events = run.advance(t_end)
+            result: Trajectory | TurningPointRun = Trajectory.from_dense(
+                body, method, dense, np.linspace(0.0, t_end, n_grid), [t for t, d in events if d > 0],
+                [t for t, d in events if d < 0], n_steps=run.n_steps, tolerance=run.tolerance)
+        else:
+            result = _turning_points_only(body, method, run, y0, t_end, dt, rate, on_turning_points)
+    _check_energy(result, strict)
+    return result
+
+
+def _turning_points_only(body: Body, method: str, run: _HeyokaRun | _ScipyRun, y0: NDArray[np.float64],
+                         t_end: float, dt: float, rate: float,
+                         on_turning_points: Callable[[TurningPoints, TurningPoints], None] | None) -> TurningPointRun:
+    """Integrate stretch by stretch (``CHUNK_RADIANS`` of Λ each), keep the turning points, drop the rest."""
+    E0 = float(energy(body, y0[0:3], y0[3:6]))
+    stretch = max(CHUNK_RADIANS / rate, dt)
+    maxima, minima, worst, start, t_a = [], [], 0.0, None, 0.0
+    while t_a < t_end:
+        t_b = t_end if t_end - t_a <= 1.5 * stretch else t_a + stretch
+        dense, events = run.advance(t_b)
+        grid = np.linspace(t_a, t_b, int(math.ceil((t_b - t_a) / dt - 1e-9)) + 1)
+        smp = _Samples.take(dense, grid, [t for t, d in events if d > 0], [t for t, d in events if d < 0], start)
+        start = smp.angles[1:, -1]
+        worst = max(worst, float(np.max(np.abs(energy(body, smp.y[:, 0:3].T, smp.y[:, 3:6].T) - E0))))
+        mx, mn = smp.turning(body, smp.i_max), smp.turning(body, smp.i_min)
+        maxima.append(mx)
+        minima.append(mn)
+        if on_turning_points is not None:
+            on_turning_points(mx, mn)
+        t_a = t_b
+    return TurningPointRun(body=body, method=method, t_end=t_end, maxima=TurningPoints.concatenate(maxima),
+                           minima=TurningPoints.concatenate(minima), energy_rel_error=worst / energy_scale(body, E0),
+                           n_steps=run.n_steps, tolerance=run.tolerance)

@@ -8,6 +8,7 @@ of every increment is resolved (the swing on each side of a near-vertical passag
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import Callable
@@ -21,12 +22,13 @@ from analysis.kinematics import angles_from_frame
 from analysis.quadrature import wrap_angle
 from analysis.slow_diagnostics import azimuth_span, slow_period, span
 
-__all__ = ["TurningPoints", "Trajectory"]
+__all__ = ["TurningPoints", "Trajectory", "TurningPointRun", "energy_scale", "energy_error_bound", "ENERGY_SLACK"]
 
 DenseOutput = Callable[[NDArray[np.float64]], NDArray[np.float64]]
 
 #: An interval whose wrapped angle increment exceeds this is bisected before unwrapping.
 _UNWRAP_LIMIT = 2.0 * math.pi / 3.0
+_TWO_PI = 2.0 * math.pi
 _MAX_BISECTIONS = 80
 
 
@@ -48,13 +50,35 @@ class TurningPoints:
     def __len__(self) -> int:
         return int(self.t.size)
 
+    @classmethod
+    def concatenate(cls, parts: list["TurningPoints"]) -> "TurningPoints":
+        """The samples of consecutive stretches, in time order (an empty list gives no samples)."""
+        names = [f.name for f in dataclasses.fields(cls)]
+        if not parts:
+            return cls(**{n: np.empty((0, 11) if n == "states" else 0) for n in names})
+        return cls(**{n: np.concatenate([getattr(p, n) for p in parts]) for n in names})
 
-def _unwrapped_angles(t: NDArray[np.float64], dense: DenseOutput) -> tuple[NDArray, NDArray]:
+
+def energy_scale(body: Body, E0: float) -> float:
+    """Scale of the energy error: E(0) + g a.
+
+    Every term of E = T + V is bounded by it within a factor 3 (T ≤ E, 0 ≤ V = g a (1 − cos θ) ≤ 2 g a),
+    so the round-off of one evaluation of E is a few units of u·(E + g a), and the scale never vanishes:
+    g a > 0 for a > 0, and for a = 0 a state with motion has E = T > 0 (rest is refused by ``simulate``).
+    Relative to E alone the error of a body released from rest at θ0 → 0 would be measured against
+    E ≈ g a θ0²/2 → 0, which the round-off of g a (1 − cos θ) does not follow.
+    """
+    return abs(float(E0)) + body.g * body.a
+
+
+def _unwrapped_angles(t: NDArray[np.float64], dense: DenseOutput,
+                      start: NDArray[np.float64] | None = None) -> tuple[NDArray, NDArray]:
     """States at ``t`` and the unwrapped (θ, φ, ψ) there, refining the grid where needed.
 
     An interval that still jumps after bisection down to round-off is a passage through θ = 0
     itself (θ_N at round-off level), where φ and ψ are undefined and only φ + ψ is: φ then takes
     the wrapped jump (−π) and ψ the opposite one, so that φ + ψ stays continuous.
+    ``start`` = (φ, ψ) on the branch to continue at t[0] (a previous chunk's last unwrapped values).
     """
     grid = t.copy()
     keep = np.ones(grid.size, bool)
@@ -69,8 +93,16 @@ def _unwrapped_angles(t: NDArray[np.float64], dense: DenseOutput) -> tuple[NDArr
         if bad.size == 0:
             through_pole = np.flatnonzero(jumps)
             steps[1, through_pole] = wrap_angle(steps[0, through_pole] + steps[1, through_pole]) - steps[0, through_pole]
+            # every chosen step is the raw difference plus a whole number of turns: keep the angles as
+            # ang + 2π·(turns), exact integers, so no round-off accumulates along the series
+            turns = np.rint((steps - np.diff(ang[1:], axis=1)) / _TWO_PI)
+            first = np.zeros((2, 1))
+            if start is not None:  # the branch of ``start``: start + wrap(ang0 − start) = ang0 + 2π·first
+                s0, a0 = np.reshape(start, (2, 1)), ang[1:, :1]
+                first = np.rint((s0 + wrap_angle(a0 - s0) - a0) / _TWO_PI)
+            counts = np.concatenate([first, first + np.cumsum(turns, axis=1)], axis=1)
             unwrapped = ang.copy()
-            unwrapped[1:, 1:] = ang[1:, :1] + np.cumsum(steps, axis=1)
+            unwrapped[1:] = ang[1:] + _TWO_PI * counts
             return y[keep], unwrapped[:, keep]
         mids = 0.5 * (grid[bad] + grid[bad + 1])
         grid = np.insert(grid, bad + 1, mids)
@@ -78,8 +110,95 @@ def _unwrapped_angles(t: NDArray[np.float64], dense: DenseOutput) -> tuple[NDArr
     raise RuntimeError("could not resolve the branch of phi/psi after repeated bisection")
 
 
+def energy_error_bound(tolerance: float, n_steps: int) -> float:
+    """The relative energy error a run may reach: ``ENERGY_SLACK`` × (tolerance × steps + u).
+
+    Each step of an integrator run at relative tolerance ``tolerance`` commits a local error of at most
+    about ``tolerance`` of the state, and in the worst case these add up linearly in the number of steps;
+    the energy is evaluated in double precision from states rounded to double, which adds a few units of
+    u = 2⁻⁵³·2 (``np.finfo(float).eps``) relative to :func:`energy_scale` whatever the integrator's precision.
+    A run whose energy error exceeds this bound has missed the asked tolerance by far (the paper's runs
+    stay 10²–10⁴ below it).
+    """
+    return ENERGY_SLACK * (float(tolerance) * max(int(n_steps), 1) + float(np.finfo(float).eps))
+
+
+#: Factor of :func:`energy_error_bound` over the linear accumulation of the per-step tolerance.
+ENERGY_SLACK = 10.0
+
+
 @dataclass(frozen=True)
-class Trajectory:
+class _Samples:
+    """One stretch of the dense output sampled on a grid that contains its turning points."""
+
+    t: NDArray[np.float64]
+    y: NDArray[np.float64]
+    angles: NDArray[np.float64]
+    i_max: NDArray[np.intp]
+    i_min: NDArray[np.intp]
+
+    @classmethod
+    def take(cls, dense: DenseOutput, t_grid: ArrayLike, t_maxima: ArrayLike, t_minima: ArrayLike,
+             start: NDArray[np.float64] | None = None) -> "_Samples":
+        t_grid = np.asarray(t_grid, float)
+        t_max, t_min = np.asarray(t_maxima, float), np.asarray(t_minima, float)
+        t_all, inverse = np.unique(np.concatenate([t_grid, t_max, t_min]), return_inverse=True)
+        y, angles = _unwrapped_angles(t_all, dense, start)
+        n_grid, n_max = t_grid.size, t_max.size
+        return cls(t_all, y, angles, inverse[n_grid:n_grid + n_max], inverse[n_grid + n_max:])
+
+    def turning(self, body: Body, idx: NDArray[np.intp]) -> TurningPoints:
+        ys = self.y[idx]
+        theta, phi, psi = self.angles[:, idx]
+        return TurningPoints(t=self.t[idx], theta=theta, phi=phi, psi=psi,
+                             QR=routh(body, ys[:, 0:3].T, ys[:, 3:6].T),
+                             QJ=jellett(body, ys[:, 0:3].T, ys[:, 3:6].T), states=ys)
+
+
+class _TurningPointDiagnostics:
+    """Slow diagnostics from the turning-point samples (shared by Trajectory and TurningPointRun)."""
+
+    maxima: TurningPoints
+    minima: TurningPoints
+    tolerance: float
+    n_steps: int
+
+    @property
+    def Phi(self) -> float:
+        """Azimuth span Φ of the visible half-angle φ mod π at the θ-maxima (paper §7.2)."""
+        return azimuth_span(self.maxima.phi)
+
+    @property
+    def slow_period(self) -> float | None:
+        """Period of Θ = 2ψ sampled at the θ-maxima, from interpolated crossings of the mean
+        (:func:`analysis.slow_diagnostics.slow_period`); None if not measurable within the run."""
+        return slow_period(self.maxima.t, 2.0 * self.maxima.psi)
+
+    @property
+    def maxima_spacing(self) -> float | None:
+        """Mean time between successive θ-maxima, (t_last − t_first)/(count − 1): the measured T_θ
+        (for rocking through θ = 0, half the rocking period).  None with fewer than two maxima."""
+        t = self.maxima.t
+        return float((t[-1] - t[0]) / (t.size - 1)) if t.size >= 2 else None
+
+    @property
+    def QR_extent(self) -> float:
+        """max − min of Q_R over the θ-maxima (the samples of the averaged map)."""
+        return span(self.maxima.QR)
+
+    @property
+    def QJ_extent(self) -> float:
+        """max − min of Q_J over the θ-maxima (the samples of the averaged map)."""
+        return span(self.maxima.QJ)
+
+    @property
+    def energy_tolerance(self) -> float:
+        """The largest energy error consistent with the integrator's tolerance (:func:`energy_error_bound`)."""
+        return energy_error_bound(self.tolerance, self.n_steps)
+
+
+@dataclass(frozen=True)
+class Trajectory(_TurningPointDiagnostics):
     """Direct-ODE solution sampled on a grid that includes every turning point of θ.
 
     Attributes
@@ -94,6 +213,10 @@ class Trajectory:
         Euler angles; φ (full azimuth) and ψ unwrapped and continuous.
     maxima, minima : TurningPoints
         θ-maxima and θ-minima (events dγ3/dt = 0, located to round-off; none at t = t0).
+    n_steps : int
+        Integration steps taken.
+    tolerance : float
+        The integrator's relative tolerance (heyoka: the unit round-off of its precision; scipy: rtol).
     """
 
     body: Body
@@ -106,26 +229,19 @@ class Trajectory:
     maxima: TurningPoints
     minima: TurningPoints
     dense: DenseOutput = field(repr=False)
+    n_steps: int = 0
+    tolerance: float = float(np.finfo(float).eps)
 
     @classmethod
     def from_dense(cls, body: Body, method: str, dense: DenseOutput, t_grid: ArrayLike,
-                   t_maxima: ArrayLike, t_minima: ArrayLike) -> "Trajectory":
+                   t_maxima: ArrayLike, t_minima: ArrayLike, *, n_steps: int = 0,
+                   tolerance: float = float(np.finfo(float).eps)) -> "Trajectory":
         """Assemble a trajectory from a dense output and the event times."""
-        t_grid = np.asarray(t_grid, float)
-        t_max, t_min = np.asarray(t_maxima, float), np.asarray(t_minima, float)
-        t_all, inverse = np.unique(np.concatenate([t_grid, t_max, t_min]), return_inverse=True)
-        y, (theta, phi, psi) = _unwrapped_angles(t_all, dense)
-
-        def turning(idx: NDArray[np.intp]) -> TurningPoints:
-            ys = y[idx]
-            return TurningPoints(t=t_all[idx], theta=theta[idx], phi=phi[idx], psi=psi[idx],
-                                 QR=routh(body, ys[:, 0:3].T, ys[:, 3:6].T),
-                                 QJ=jellett(body, ys[:, 0:3].T, ys[:, 3:6].T), states=ys)
-
-        n_grid, n_max = t_grid.size, t_max.size
-        return cls(body=body, method=method, t=t_all, states=y, theta=theta, phi=phi, psi=psi,
-                   maxima=turning(inverse[n_grid:n_grid + n_max]), minima=turning(inverse[n_grid + n_max:]),
-                   dense=dense)
+        smp = _Samples.take(dense, t_grid, t_maxima, t_minima)
+        theta, phi, psi = smp.angles
+        return cls(body=body, method=method, t=smp.t, states=smp.y, theta=theta, phi=phi, psi=psi,
+                   maxima=smp.turning(body, smp.i_max), minima=smp.turning(body, smp.i_min), dense=dense,
+                   n_steps=int(n_steps), tolerance=float(tolerance))
 
     # ------------------------------------------------------------------ series
     @property
@@ -166,39 +282,40 @@ class Trajectory:
     # ------------------------------------------------------------------ diagnostics
     @property
     def energy_rel_error(self) -> float:
-        """max |E(t) − E(0)| / |E(0)| over the samples (every turning point included)."""
+        """max |E(t) − E(0)| / (E(0) + g a) over the samples (every turning point included); see
+        :func:`energy_scale` for why the scale is E + g a and not E."""
         E = self.E
-        return float(np.max(np.abs(E - E[0])) / abs(E[0]))
-
-    @property
-    def Phi(self) -> float:
-        """Azimuth span Φ of the visible half-angle φ mod π at the θ-maxima (paper §7.2)."""
-        return azimuth_span(self.maxima.phi)
-
-    @property
-    def slow_period(self) -> float | None:
-        """Period of Θ = 2ψ sampled at the θ-maxima, from interpolated crossings of the mean
-        (:func:`analysis.slow_diagnostics.slow_period`); None if not measurable within the run."""
-        return slow_period(self.maxima.t, 2.0 * self.maxima.psi)
-
-    @property
-    def maxima_spacing(self) -> float | None:
-        """Mean time between successive θ-maxima, (t_last − t_first)/(count − 1): the measured T_θ
-        (for rocking through θ = 0, half the rocking period).  None with fewer than two maxima."""
-        t = self.maxima.t
-        return float((t[-1] - t[0]) / (t.size - 1)) if t.size >= 2 else None
-
-    @property
-    def QR_extent(self) -> float:
-        """max − min of Q_R over the θ-maxima (the samples of the averaged map)."""
-        return span(self.maxima.QR)
-
-    @property
-    def QJ_extent(self) -> float:
-        """max − min of Q_J over the θ-maxima (the samples of the averaged map)."""
-        return span(self.maxima.QJ)
+        return float(np.max(np.abs(E - E[0])) / energy_scale(self.body, E[0]))
 
     def state_at(self, t: ArrayLike) -> NDArray[np.float64]:
         """Body-frame state(s) at time(s) ``t`` from the integrator's dense output, shape (..., 11)."""
         t = np.asarray(t, float)
         return self.dense(t.reshape(-1)).reshape(t.shape + (11,))
+
+
+@dataclass(frozen=True)
+class TurningPointRun(_TurningPointDiagnostics):
+    """A direct-ODE run that kept only its turning points (``simulate(..., samples=False)``).
+
+    Memory does not grow with the number of samples: the dense output is processed in stretches and
+    dropped.  The energy error is measured on every sample of the unwrapping grid and every turning point.
+
+    Attributes
+    ----------
+    body, method : as for :class:`Trajectory`.
+    t_end : float
+    maxima, minima : TurningPoints
+    energy_rel_error : float
+        max |E − E(0)| / (E(0) + g a) over all samples examined.
+    n_steps : int
+    tolerance : float
+    """
+
+    body: Body
+    method: str
+    t_end: float
+    maxima: TurningPoints
+    minima: TurningPoints
+    energy_rel_error: float
+    n_steps: int
+    tolerance: float

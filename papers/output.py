@@ -9,37 +9,54 @@ from typing import Iterable, Mapping, Sequence
 
 import numpy as np
 
-__all__ = ["write_csv", "save_figure", "Reproduction"]
+__all__ = ["write_csv", "CsvStream", "save_figure", "Reproduction"]
+
+
+def _cell(v: object) -> str:
+    if v is None:
+        return ""
+    if isinstance(v, (float, np.floating)):
+        return repr(float(v))
+    return str(v)
+
+
+class CsvStream:
+    """A CSV file written in pieces: ``# ``-prefixed header lines, the column names, then rows as they come.
+
+    Use as a context manager; :meth:`write` takes equal-length columns.  Floats are written with ``repr``
+    precision (17 significant digits); ``None`` becomes an empty cell.
+    """
+
+    def __init__(self, path: str | Path, names: Sequence[str], header: Iterable[str] = ()) -> None:
+        self.path, self.names = Path(path), list(names)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self._fh = self.path.open("w", newline="")
+        for line in header:
+            self._fh.write(f"# {line}\n")
+        self._writer = csv.writer(self._fh)
+        self._writer.writerow(self.names)
+
+    def write(self, columns: Mapping[str, Sequence]) -> None:
+        """Append the rows of ``columns`` (keys: the column names, in any order)."""
+        cols = [list(columns[n]) for n in self.names]
+        lengths = {len(c) for c in cols}
+        if len(lengths) > 1:
+            raise ValueError(f"columns must have equal lengths, got {dict(zip(self.names, map(len, cols)))}")
+        self._writer.writerows([_cell(v) for v in row] for row in zip(*cols))
+        self._fh.flush()
+
+    def __enter__(self) -> "CsvStream":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._fh.close()
 
 
 def write_csv(path: str | Path, columns: Mapping[str, Sequence], header: Iterable[str] = ()) -> Path:
-    """Write equal-length ``columns`` to ``path`` with ``# ``-prefixed header lines first.
-
-    Floats are written with ``repr`` precision (17 significant digits); ``None`` becomes an empty cell.
-    """
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    names = list(columns)
-    cols = [list(columns[n]) for n in names]
-    lengths = {len(c) for c in cols}
-    if len(lengths) > 1:
-        raise ValueError(f"columns must have equal lengths, got {dict(zip(names, map(len, cols)))}")
-
-    def cell(v: object) -> str:
-        if v is None:
-            return ""
-        if isinstance(v, (float, np.floating)):
-            return repr(float(v))
-        return str(v)
-
-    with path.open("w", newline="") as fh:
-        for line in header:
-            fh.write(f"# {line}\n")
-        w = csv.writer(fh)
-        w.writerow(names)
-        for row in zip(*cols):
-            w.writerow([cell(v) for v in row])
-    return path
+    """Write equal-length ``columns`` to ``path`` with ``# ``-prefixed header lines first (:class:`CsvStream`)."""
+    with CsvStream(path, list(columns), header) as stream:
+        stream.write(columns)
+    return stream.path
 
 
 def save_figure(fig, out_dir: str | Path, name: str, dpi: int = 150) -> list[Path]:

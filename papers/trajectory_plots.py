@@ -9,7 +9,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from numerics.trajectory import Trajectory  # noqa: E402
+from numerics.trajectory import Trajectory, TurningPointRun  # noqa: E402
 
 __all__ = ["plot_contact_track", "plot_phi_at_maxima", "plot_invariant_orbit"]
 
@@ -26,7 +26,7 @@ def plot_contact_track(traj: Trajectory, ax=None, label: str | None = None):
     return ax
 
 
-def plot_phi_at_maxima(traj: Trajectory, ax=None, label: str | None = None):
+def plot_phi_at_maxima(traj: Trajectory | TurningPointRun, ax=None, label: str | None = None):
     """Full azimuth φ at the θ-maxima against time (paper fig. 5, right panels)."""
     if ax is None:
         _, ax = plt.subplots(figsize=(5, 3.5))
@@ -36,11 +36,12 @@ def plot_phi_at_maxima(traj: Trajectory, ax=None, label: str | None = None):
     return ax
 
 
-def plot_invariant_orbit(traj: Trajectory, ax=None, turning_points: bool = True):
+def plot_invariant_orbit(traj: Trajectory | TurningPointRun, ax=None, turning_points: bool = True):
     """(Q_R(t), Q_J(t)) with dots at the θ-maxima (red) and θ-minima (blue) (paper figs. 7-10)."""
     if ax is None:
         _, ax = plt.subplots(figsize=(5, 4))
-    ax.plot(traj.QR, traj.QJ, color="k", lw=0.5, label=r"$(Q_R(t), Q_J(t))$")
+    if isinstance(traj, Trajectory):  # a TurningPointRun has only the turning points
+        ax.plot(traj.QR, traj.QJ, color="k", lw=0.5, label=r"$(Q_R(t), Q_J(t))$")
     if turning_points:
         ax.plot(traj.maxima.QR, traj.maxima.QJ, ".", color="tab:red", ms=4, label=r"$\theta$-maxima")
         ax.plot(traj.minima.QR, traj.minima.QJ, ".", color="tab:blue", ms=4, label=r"$\theta$-minima")

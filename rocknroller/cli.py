@@ -2,15 +2,20 @@
 
 Each subcommand lives in ``rocknroller/commands/<name>.py`` and defines
 ``register(subparsers)`` (adds its parser, with ``--help`` text) and
-``run(args) -> int``.  Bad input (``ValueError``) is printed without a
-traceback and exits with status 2.
+``run(args) -> int``.  Exit status: 0 success; 1 a computation failed its own
+check (``--strict`` accuracy, ``verify``); 2 bad input (a ``ValueError``) or an
+output that cannot be written (an ``OSError``), printed as one line without a
+traceback.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import re
 import sys
+
+from rocknroller.options import accept_negative_values
 
 COMMANDS = ("reproduce", "simulate", "table", "diagram", "slow", "verify")
 
@@ -25,7 +30,22 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name in COMMANDS:
         importlib.import_module(f"rocknroller.commands.{name}").register(sub)
+    for p in (parser, *sub.choices.values()):
+        accept_negative_values(p)
     return parser
+
+
+#: API parameter names and the options that set them, for error messages (the user gave the option).
+_OPTION_OF = {"t_end": "--t-end", "dt": "--dt", "theta0": "--theta0", "phi0": "--phi0", "psi0": "--psi0",
+              "theta_dot": "--theta-dot0", "phi_dot": "--phi-dot0", "psi_dot": "--psi-dot0", "omega": "--omega",
+              "epsilon": "--eps", "a": "--a", "I1": "--I1", "I2": "--I2", "I3": "--I3", "g": "--g",
+              "QR_max": "--QR-max"}
+_PARAMETER = re.compile(r"\b(" + "|".join(_OPTION_OF) + r")\b(?=( must|=| is | =|:))")
+
+
+def option_names(message: str) -> str:
+    """``message`` with API parameter names (``t_end must ...``, ``theta0=...``) replaced by the options that set them."""
+    return _PARAMETER.sub(lambda m: _OPTION_OF[m.group(1)], message)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -34,10 +54,19 @@ def main(argv: list[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return 2
+    from numerics.integrate import AccuracyError
+
     try:
         return int(args.run(args) or 0)
     except ValueError as exc:
-        print(f"rocknroller {args.command}: error: {exc}", file=sys.stderr)
+        print(f"rocknroller {args.command}: error: {option_names(str(exc))}", file=sys.stderr)
+        return 2
+    except AccuracyError as exc:
+        print(f"rocknroller {args.command}: check failed: {exc}", file=sys.stderr)
+        return 1
+    except OSError as exc:
+        where = f" {exc.filename!r}" if getattr(exc, "filename", None) else ""
+        print(f"rocknroller {args.command}: error: cannot write{where}: {exc.strerror or exc}", file=sys.stderr)
         return 2
 
 

@@ -91,7 +91,7 @@ def test_cli_simulate_plain_initial_state(tmp_path, capsys):
 
 @pytest.mark.parametrize("argv, message", [
     (["diagram", "--QR", "0.1"], "--critical-line and --QR need --simulate"),
-    (["diagram", "--QR-max", "0"], "QR_max must be a finite number > 0"),
+    (["diagram", "--QR-max", "0"], "--QR-max must be a finite number > 0"),
     (["diagram", "--simulate", "--critical-line", "pi", "--QR", "0.1", "--phi-dot0", "0.2"], "do not give"),
     (["diagram", "--simulate", "--critical-line", "pi", "--QR", "0.1", "--theta0", "pi"], "theta0 must lie"),
 ])

@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
 
-from rocknroller.options import (add_body_options, add_initial_state_options, body_from_args,
-                                 initial_state_from_args, parse_angle)
+from rocknroller.options import (add_body_options, add_force_option, add_initial_state_options, body_from_args,
+                                 initial_state_from_args, parse_angle, prepare_output_dir, print_json)
 
 #: Defaults of the paper's critical-line runs (§numerics "Recession and Criticality"): ε = 1e-3, θ0 = 0.95π, ψ0 = π/4, 200 time units.
 SIM_EPS, SIM_PSI0, SIM_T_END = 1e-3, "pi/4", 200.0
@@ -24,13 +23,16 @@ def register(sub: argparse._SubParsersAction) -> None:
         f"critical-line runs, eps={SIM_EPS:g}, theta0=0.95pi, psi0={SIM_PSI0}, t_end={SIM_T_END:g}) and overlay the "
         "orbit (Q_R(t), Q_J(t)) with dots at the theta-maxima (red) and minima (blue) (paper figs. 7-10).",
     )
-    add_body_options(p)
+    add_body_options(p, eps_default=0.0)
     p.add_argument("--QR-max", type=float, default=1.0, help="half-width of the Q_R axis without --simulate (default 1)")
     p.add_argument("--out", type=Path, default=Path("."), metavar="DIR",
-                   help="write regions[_orbit].png and .pdf to DIR (default: current directory)")
+                   help="write regions[_orbit].png and .pdf to DIR (default: current directory; existing files "
+                        "are not overwritten without --force)")
+    add_force_option(p)
     p.add_argument("--json", action="store_true", help="print a JSON summary (files, representative points, crossings)")
     sim = p.add_argument_group("orbit overlay")
-    sim.add_argument("--simulate", action="store_true", help="integrate the direct ODE and overlay its orbit")
+    sim.add_argument("--simulate", action="store_true",
+                     help=f"integrate the direct ODE and overlay its orbit (eps defaults to {SIM_EPS:g} then)")
     sim.add_argument("--t-end", type=float, default=SIM_T_END, help=f"final time (default {SIM_T_END:g})")
     sim.add_argument("--method", choices=("heyoka", "scipy"), default="heyoka", help="integrator (default heyoka)")
     sim.add_argument("--critical-line", choices=("pi", "0"), default=None,
@@ -53,11 +55,11 @@ def _initial_state(args, body):
         if args.QR is not None:
             raise ValueError("--QR needs --critical-line")
         return initial_state_from_args(args), None
-    if args.omega is not None or args.phi_dot0 or args.theta_dot0:
+    if args.omega is not None or args.phi_dot0 is not None or args.theta_dot0 is not None:
         raise ValueError("--critical-line computes phi_dot0 (theta_dot0 = 0): do not give --omega, --phi-dot0 "
                          "or --theta-dot0")
     theta0, phi0, psi0 = parse_angle(args.theta0), parse_angle(args.phi0), parse_angle(args.psi0)
-    kw = {"QR": args.QR} if args.QR is not None else {"psi_dot0": args.psi_dot0}
+    kw = {"QR": args.QR} if args.QR is not None else {"psi_dot0": 0.0 if args.psi_dot0 is None else args.psi_dot0}
     start = critical_start(body, theta0, psi0, args.critical_line, offset=args.offset, **kw)
     return EulerState.from_omega(theta0, phi0, psi0, start.omega), start
 
@@ -69,6 +71,8 @@ def run(args: argparse.Namespace) -> int:
 
     summary: dict = {}
     traj = None
+    name = "regions_orbit" if args.simulate else "regions"
+    prepare_output_dir(args.out, "--out", args.force, [f"{name}.png", f"{name}.pdf"])
     if args.simulate:
         from numerics.integrate import simulate
 
@@ -86,19 +90,16 @@ def run(args: argparse.Namespace) -> int:
             "crossings_QJ0crit": ra.count("0"), "crossings_QJpicrit": ra.count("pi"),
             "energy_rel_error": traj.energy_rel_error,
         })
-        name = "regions_orbit"
     else:
         if args.critical_line is not None or args.QR is not None:
             raise ValueError("--critical-line and --QR need --simulate")
         body = body_from_args(args)
-        name = "regions"
     fig, data = region_diagram(body, QR_max=args.QR_max, traj=traj)
     paths = save_figure(fig, args.out, name)
     summary["files"] = [str(p) for p in paths]
     summary["representatives"] = {k: list(v) for k, v in data.representatives.items()}
     if args.json:
-        json.dump(summary, sys.stdout)
-        sys.stdout.write("\n")
+        print_json(summary)
     else:
         print(f"body: {body.describe()}")
         print(f"Q_J,0^crit = {float(crit.QJ_crit_0(1.0, body)):.12g} Q_R,  "

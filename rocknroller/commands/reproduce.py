@@ -7,6 +7,8 @@ import sys
 import time
 from pathlib import Path
 
+from rocknroller.options import prepare_output_dir
+
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
@@ -17,7 +19,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         "with its caption and the numbers measured.",
     )
     p.add_argument("--out", type=Path, default=Path("rocknroller-output"), metavar="DIR",
-                   help="output directory (default ./rocknroller-output)")
+                   help="output directory (default ./rocknroller-output); it must be new or empty unless --force")
+    p.add_argument("--force", action="store_true",
+                   help="write into an existing, non-empty --out, overwriting the files of the same names")
     p.add_argument("--only", nargs="+", default=None, metavar="NAME", help="run only these (see --list)")
     p.add_argument("--list", action="store_true", help="list the available figures and tables and exit")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -61,7 +65,7 @@ def run(args: argparse.Namespace) -> int:
     unknown = [n for n in names if n not in modules]
     if unknown:
         raise ValueError(f"unknown name(s) for --only: {', '.join(unknown)}; choose from {', '.join(modules)}")
-    args.out.mkdir(parents=True, exist_ok=True)
+    prepare_output_dir(args.out, "--out", args.force)
     results, timings = [], {}
     bar = tqdm(names, disable=args.quiet or not sys.stderr.isatty(), file=sys.stderr, unit="output")
     for name in bar:

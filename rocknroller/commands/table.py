@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
-import re
 import sys
 import time
 from collections import Counter
@@ -14,7 +12,8 @@ from typing import Any
 import numpy as np
 
 from analysis.quadrature import DEFAULT_RTOL
-from rocknroller.options import add_body_options, body_from_args, parse_angle
+from rocknroller.options import (add_body_options, add_force_option, body_from_args, parse_angle,
+                                 prepare_output_file, print_json)
 
 COLUMNS = ("Q_R", "Q_J", "E", "theta_N", "theta_X", "T_theta", "tau", "delta_phi", "delta_psi", "visible_phi",
            "region", "status")
@@ -28,6 +27,9 @@ STATUS_LEGEND = {
     "unresolved": "not resolved to full accuracy in double precision (near-steady rolling); rerun with --dps",
 }
 _CHUNK = 2048
+#: Largest grid (number of points) in double precision (≈ 40 µs and ≈ 0.5 kB per point) and with --dps (≈ 0.4 s each).
+MAX_POINTS = 500_000
+MAX_POINTS_MP = 2_000
 
 
 def parse_grid(text: str, name: str) -> np.ndarray:
@@ -40,12 +42,16 @@ def parse_grid(text: str, name: str) -> np.ndarray:
             count = int(parts[2])
             if count < 1 or str(count) != parts[2].strip():
                 raise ValueError
+            if count > MAX_POINTS:
+                raise OverflowError
             start, stop = float(parts[0]), float(parts[1])
             if not (np.isfinite(start) and np.isfinite(stop)):
                 raise ValueError
             values = np.linspace(start, stop, count)
         else:
             raise ValueError
+    except OverflowError:
+        raise ValueError(f"{name}: COUNT must be at most {MAX_POINTS} (the largest table), got {text!r}") from None
     except ValueError:
         raise ValueError(f"{name} must be a number or a grid START:STOP:COUNT with integer COUNT >= 1 "
                          f"(e.g. -0.01:0.01:201), got {text!r}") from None
@@ -64,11 +70,10 @@ def register(sub: argparse._SubParsersAction) -> None:
         "successive maxima of theta; the paper's tau = 2 T_theta. Grid points without motion are kept "
         "with an explanatory status and empty cells.",
     )
-    # let grid values that start with a minus sign (--QR -0.01:0.01:201) be read as values, not options
-    p._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?(:.*)?$")
     add_body_options(p)
     p.add_argument("--QR", default="-0.01:0.01:21", metavar="GRID",
-                   help="Routh's quantity: START:STOP:COUNT or a number (default -0.01:0.01:21)")
+                   help=f"Routh's quantity: START:STOP:COUNT or a number (default -0.01:0.01:21); the whole grid has "
+                        f"at most {MAX_POINTS} points")
     p.add_argument("--QJ", default="-0.01:0.01:21", metavar="GRID",
                    help="Jellett's quantity: START:STOP:COUNT or a number (default -0.01:0.01:21)")
     p.add_argument("--theta0", default=None,
@@ -79,11 +84,13 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="delta_phi, delta_psi, visible_phi per T_theta (between successive maxima, default) "
                         "or per tau = 2 T_theta (the paper's)")
     p.add_argument("--dps", type=int, default=None, metavar="N",
-                   help="use the mpmath reference at N digits (slow) instead of double precision")
+                   help=f"use the mpmath reference at N digits, 15 <= N <= 1000 (slow: at most {MAX_POINTS_MP} points) "
+                        "instead of double precision")
     p.add_argument("--rtol", type=float, default=DEFAULT_RTOL,
                    help=f"double backend: tolerance on the change between n/2 and n nodes (default {DEFAULT_RTOL:g})")
     p.add_argument("--out", type=Path, default=Path("precession_table.csv"), metavar="FILE",
-                   help="CSV output (default precession_table.csv)")
+                   help="CSV output (default precession_table.csv; an existing file is not overwritten without --force)")
+    add_force_option(p)
     p.add_argument("--json", action="store_true", help="print a one-object JSON summary on stdout")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(run=run)
@@ -109,9 +116,17 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError("give either --theta0 (theta_X fixed) or --E (an energy grid), not both")
     if args.dps is not None and not 15 <= args.dps <= 1000:
         raise ValueError(f"--dps must be an integer in [15, 1000], got {args.dps}")
+    if not 0.0 < args.rtol < 1e-3:
+        raise ValueError(f"--rtol must lie in (0, 1e-3), got {args.rtol!r}")
     QR_axis, QJ_axis = parse_grid(args.QR, "--QR"), parse_grid(args.QJ, "--QJ")
+    E_axis = parse_grid(args.E, "--E") if args.E is not None else np.ones(1)
+    n = QR_axis.size * QJ_axis.size * E_axis.size
+    limit = MAX_POINTS if args.dps is None else MAX_POINTS_MP
+    if n > limit:
+        raise ValueError(f"--QR, --QJ{', --E' if args.E is not None else ''}: the grid has {n} points, over the limit "
+                         f"{limit}{' with --dps' if args.dps is not None else ''}; use fewer points")
+    prepare_output_file(args.out, "--out", args.force)
     if args.E is not None:
-        E_axis = parse_grid(args.E, "--E")
         E, QR, QJ = (a.ravel() for a in np.meshgrid(E_axis, QR_axis, QJ_axis, indexing="ij"))
         theta0 = None
     else:
@@ -180,8 +195,7 @@ def run(args: argparse.Namespace) -> int:
                "dps": args.dps, "body": {k: getattr(body, k) for k in ("a", "I1", "I2", "I3", "g")},
                "elapsed_s": elapsed}
     if args.json:
-        json.dump(summary, sys.stdout)
-        sys.stdout.write("\n")
+        print_json(summary)
     else:
         print(f"body: {body.describe()}")
         print(f"{n} points ({mode}) in {elapsed:.3g} s: " + ", ".join(f"{k}={v}" for k, v in sorted(counts.items())))

@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
+
+from rocknroller.options import print_json
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -30,8 +31,7 @@ def run(args: argparse.Namespace) -> int:
 
     rows = run_checks(progress)
     if args.json:
-        json.dump([r.as_dict() for r in rows], sys.stdout, indent=1)
-        sys.stdout.write("\n")
+        print_json([r.as_dict() for r in rows], indent=1)
     else:
         print(f"{'result':6s} {'error':>9s} {'tol':>8s}  check (reference)")
         for r in rows:
