@@ -306,3 +306,19 @@ def test_visible_reversal_across_QJpi_line_is_continuous():
         assert np.max(np.abs(wrap_angle(np.diff(phi) - want))) <= 1e-9
     vis = np.abs(wrap_angle(d_line))
     assert np.pi - vis[1] < min(np.pi - vis[0], np.pi - vis[2])
+
+
+def test_node_cap_is_bounded_and_large_inputs_run_in_blocks(monkeypatch):
+    """max_nodes is refused above MAX_NODES_LIMIT (it used to allocate points × nodes at once); a block size
+    smaller than the input gives the same numbers bit for bit."""
+    import analysis.quadrature as q
+
+    body = Body.paper()
+    with pytest.raises(ValueError, match="max_nodes must be an integer in"):
+        precession(1.0, 0.01, 0.0, body, max_nodes=10**9)
+    QR = np.linspace(-0.02, 0.02, 41)
+    whole = precession(1.0, QR, 0.003, body)
+    monkeypatch.setattr(q, "_BLOCK_ELEMENTS", 64 * 3)  # 3 points per block at 64 nodes
+    blocks = precession(1.0, QR, 0.003, body)
+    for name in ("T_theta", "delta_phi", "delta_psi"):
+        assert np.array_equal(getattr(whole, name), getattr(blocks, name)), name

@@ -106,3 +106,26 @@ def test_bad_input_message_and_status_2(argv, message, tmp_path, capsys):
     assert main(["table", "--quiet", "--out", str(tmp_path / "x.csv")] + argv) == 2
     err = capsys.readouterr().err
     assert message in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("argv, fragment", [
+    (["--QR", "0:0.01:100000", "--QJ", "0:0.01:100000"], "over the limit 500000"),
+    (["--QR", "0:0.01:1000000000"], "COUNT must be at most 500000"),
+    (["--QR", "0:0.01:3000", "--QJ", "0:1:3", "--dps", "20"], "over the limit 2000 with --dps"),
+    (["--rtol", "0"], "--rtol must lie in"),
+])
+def test_sizes_are_refused_before_computing(argv, fragment, tmp_path, capsys):
+    out = tmp_path / "t.csv"
+    assert main(["table", *argv, "--out", str(out), "--quiet"]) == 2
+    assert fragment in capsys.readouterr().err and not out.exists()
+
+
+def test_existing_output_is_not_overwritten(tmp_path, capsys):
+    out = tmp_path / "t.csv"
+    out.write_text("keep")
+    assert main(["table", "--QR", "0.01", "--QJ", "0", "--out", str(out), "--quiet"]) == 2
+    assert "--force" in capsys.readouterr().err and out.read_text() == "keep"
+    assert main(["table", "--QR", "0.01", "--QJ", "0", "--out", str(out), "--quiet", "--force"]) == 0
+    assert out.read_text().startswith("# rocknroller table")
+    assert main(["table", "--out", str(tmp_path), "--quiet"]) == 2
+    assert "is a directory" in capsys.readouterr().err
