@@ -60,6 +60,8 @@ from analysis.reduction import (
     STATUS_TEXT,
     STEADY,
     D_coefficient,
+    NoMotionError,
+    SteadyRollingError,
     TurningPoints,
     _P_and_terms,
     _P_xy,
@@ -73,6 +75,7 @@ from analysis.reduction import (
     solve_turning_points,
     theta_from_xy,
     tilt_xy,
+    where_defined,
     u_numerator,
 )
 
@@ -136,7 +139,9 @@ class Precession:
     delta_phi_tau, delta_psi_tau : the same per τ (paper eq. Delta_phi).
     visible_phi : Δφ per T_θ mod 2π in (−π, π].
     visible_half_phi : Δφ per T_θ mod π in (−π/2, π/2].
-    status : OK, NO_MOTION, STEADY or UNRESOLVED (QUADRATURE_STATUS_TEXT); other fields NaN if not OK.
+    status : OK, NO_MOTION, STEADY or UNRESOLVED (QUADRATURE_STATUS_TEXT).  In the double backend the
+        numeric fields of array input are masked arrays, masked where the status is not OK (never NaN);
+        a single point (0-d input) gives 0-d arrays, or, if it is not OK, raises the ValueError that says why.
     n_nodes : Gauss–Legendre nodes per point (double backend), 0 for mpmath.
     rounding_error : estimated rounding error of the double backend (relative for T_θ, radians for the
         angles per T_θ), from the cancellation in P at the nodes, summed in absolute value (an upper
@@ -319,23 +324,42 @@ def _precession_from_tp(tp: TurningPoints, body: Body, rtol: float, max_nodes: i
     sg0, sgpi = np.sign(u0), np.sign(upi)
     kphi = np.where(ok, sg0 + sgpi, 0.0)  # Δφ per T_θ = kphi π + 2 Iphi
     kpsi = np.where(ok, sgpi - sg0, 0.0)
-    T_theta = np.where(ok, 2.0 * T, np.nan)
-    dphi = np.where(ok, kphi * np.pi + 2.0 * Iphi, np.nan)
-    dpsi = np.where(ok, kpsi * np.pi + 2.0 * Ipsi, np.nan)
+    if ok.size == 1 and not ok[0] and len(shape) == 0:
+        _raise_for_status(int(status[0]), tp)
+    T_theta = 2.0 * np.where(ok, T, 0.0)
+    dphi = kphi * np.pi + 2.0 * np.where(ok, Iphi, 0.0)
+    dpsi = kpsi * np.pi + 2.0 * np.where(ok, Ipsi, 0.0)
     # visible angles from the remainder, the integer multiple of π being reduced exactly
     odd = np.remainder(kphi, 2.0)
-    vis = np.where(ok, wrap_angle(2.0 * Iphi + odd * np.pi), np.nan)
-    vis_half = np.where(ok, wrap_angle(2.0 * Iphi, np.pi), np.nan)
-    nanok = lambda a: np.where(ok, a, np.nan).reshape(shape)  # noqa: E731
-    r = lambda a: a.reshape(shape)  # noqa: E731
+    vis = wrap_angle(2.0 * np.where(ok, Iphi, 0.0) + odd * np.pi)
+    vis_half = wrap_angle(2.0 * np.where(ok, Iphi, 0.0), np.pi)
+    def defined(a: NDArray) -> Any:  # a single point was OK (else it raised): a plain 0-d array
+        a = np.asarray(a).reshape(shape)
+        return a if len(shape) == 0 else where_defined(a, ok.reshape(shape))
+
+    with np.errstate(invalid="ignore"):  # θ of the masked (zero) roots is never used
+        theta_N, theta_X = theta_from_xy(xN, yN), theta_from_xy(xX, yX)
     return Precession(
         E=tp.E, QR=tp.QR, QJ=tp.QJ,
-        theta_N=nanok(theta_from_xy(xN, yN)), theta_X=nanok(theta_from_xy(xX, yX)),
-        T_theta=r(T_theta), tau=r(2.0 * T_theta),
-        delta_phi=r(dphi), delta_psi=r(dpsi), delta_phi_tau=r(2.0 * dphi), delta_psi_tau=r(2.0 * dpsi),
-        visible_phi=r(vis), visible_half_phi=r(vis_half), status=r(status), n_nodes=r(nodes),
-        rounding_error=r(err),
+        theta_N=defined(theta_N), theta_X=defined(theta_X),
+        T_theta=defined(T_theta), tau=defined(2.0 * T_theta),
+        delta_phi=defined(dphi), delta_psi=defined(dpsi), delta_phi_tau=defined(2.0 * dphi),
+        delta_psi_tau=defined(2.0 * dpsi), visible_phi=defined(vis), visible_half_phi=defined(vis_half),
+        status=status.reshape(shape), n_nodes=nodes.reshape(shape), rounding_error=defined(np.where(ok, err, 0.0)),
     )
+
+
+def _raise_for_status(status: int, tp: TurningPoints) -> None:
+    """A single point without a result: the ValueError that says why (the vectorised form reports a status)."""
+    where = f"E={float(tp.E)!r}, QR={float(tp.QR)!r}, QJ={float(tp.QJ)!r}"
+    if status == NO_MOTION:
+        raise NoMotionError(f"no motion: F(theta) < 0 on all of (0, pi) for {where}; E must be >= min U = "
+                            f"{float(tp.U_min)!r}")
+    if status == STEADY:
+        raise SteadyRollingError(f"double root at {where}: steady circular rolling at theta={float(tp.theta_min)!r}, "
+                                 "not a rocking motion", where_defined(tp.theta_min, True))
+    raise ValueError(f"{where} is too close to steady rolling for the double-precision quadrature (estimated "
+                     f"rounding error above {_MAX_ROUNDING:g}); use precession_mp")
 
 
 def precession(E: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: Body, *, rtol: float = DEFAULT_RTOL,
@@ -364,12 +388,13 @@ def precession(E: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: Body, *, rtol: 
     -------
     Precession
         Points without motion (NO_MOTION), steady rolling (STEADY, double root) or not converged
-        (UNRESOLVED) carry that status and NaN in the numeric fields.
+        (UNRESOLVED) carry that status and are masked in the numeric fields (masked arrays, never NaN).
 
     Raises
     ------
     ValueError
-        Asymmetric body, non-finite input, or rtol outside (0, 1e-3].
+        Asymmetric body, non-finite input, rtol outside (0, 1e-3], or a single point (0-d input) that is
+        not OK (NoMotionError, SteadyRollingError, or too close to steady rolling: use precession_mp).
     """
     tp = solve_turning_points(E, QR, QJ, body)
     return _precession_from_tp(tp, body, rtol, max_nodes)

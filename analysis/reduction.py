@@ -46,6 +46,7 @@ __all__ = [
     "STATUS_TEXT",
     "NoMotionError",
     "SteadyRollingError",
+    "where_defined",
     "TurningPoints",
     "TurningPointState",
     "tilt_xy",
@@ -85,11 +86,23 @@ class NoMotionError(ValueError):
 
 
 class SteadyRollingError(ValueError):
-    """(E, Q_R, Q_J) is steady circular rolling (double root θ_N = θ_X); ``theta`` holds that tilt."""
+    """(E, Q_R, Q_J) is steady circular rolling (double root θ_N = θ_X); ``theta`` holds that tilt
+    (a masked array, masked where the point is not steady)."""
 
-    def __init__(self, message: str, theta: NDArray[np.float64]):
+    def __init__(self, message: str, theta: np.ma.MaskedArray):
         super().__init__(message)
         self.theta = theta
+
+
+def where_defined(values: ArrayLike, defined: ArrayLike) -> np.ma.MaskedArray:
+    """``values`` where ``defined``, masked elsewhere (data 0 there).
+
+    The package's form of a vectorised result that does not exist at some points (no motion, steady
+    rolling, unresolved): a numpy masked array with the point's status alongside, never NaN.
+    ``result.mask`` marks the missing points; ``result.filled(np.nan)`` gives the NaN convention if wanted.
+    """
+    defined = np.asarray(defined, bool)
+    return np.ma.MaskedArray(np.where(defined, values, 0.0), mask=~defined)
 
 
 # ----------------------------------------------------------------------------- precise variables
@@ -327,8 +340,8 @@ class TurningPoints:
     """Turning points of θ̇² = F(θ), vectorised, never raising.
 
     ``x_* = 1 − cos θ_*`` and ``y_* = 1 + cos θ_*`` carry the full relative precision at the ends;
-    ``status`` is OK, NO_MOTION or STEADY (see STATUS_TEXT); non-OK entries hold NaN in the
-    root fields (callers turn them into empty cells, never print them).  ``u0``, ``upi``
+    ``status`` is OK, NO_MOTION or STEADY (see STATUS_TEXT); the root fields are masked arrays,
+    masked at the non-OK entries (:func:`where_defined`).  ``u0``, ``upi``
     are the numerators of V_φ at θ = 0 and π.
     """
 
@@ -433,11 +446,10 @@ def solve_turning_points(E: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: Body)
     hi = np.full(E.shape, _W_MAX)
     xN, yN = _bisect_root(lo, np.where(ok, w_min, 0.0), E, QR, QJ, body, rising=True)
     xX, yX = _bisect_root(np.where(ok, w_min, 0.0), hi, E, QR, QJ, body, rising=False)
-    nan = np.full(E.shape, np.nan)
     return TurningPoints(
         E=E, QR=QR, QJ=QJ,
-        x_N=np.where(ok, xN, nan), y_N=np.where(ok, yN, nan),
-        x_X=np.where(ok, xX, nan), y_X=np.where(ok, yX, nan),
+        x_N=where_defined(xN, ok), y_N=where_defined(yN, ok),
+        x_X=where_defined(xX, ok), y_X=where_defined(yX, ok),
         U_min=U_min, theta_min=theta_from_xy(*_xy_from_w(w_min)), u0=u0, upi=upi, status=status,
     )
 
@@ -455,7 +467,7 @@ def turning_points(E: ArrayLike, QR: ArrayLike, QJ: ArrayLike,
         If for some point F < 0 on all of (0, π) (E below the minimum of U).
     SteadyRollingError (a ValueError)
         If some point is a double root θ_N = θ_X (steady circular rolling): it is reported, never
-        integrated; the exception's ``theta`` attribute holds the steady tilt (NaN elsewhere).
+        integrated; the exception's ``theta`` attribute holds the steady tilt (masked elsewhere).
     ValueError
         Asymmetric body or non-finite input.
     """
@@ -470,7 +482,7 @@ def turning_points(E: ArrayLike, QR: ArrayLike, QJ: ArrayLike,
         raise SteadyRollingError(
             f"double root: E={tp.E.flat[i]!r} equals min U to round-off for QR={tp.QR.flat[i]!r}, "
             f"QJ={tp.QJ.flat[i]!r}; this is steady circular rolling at theta={tp.theta_min.flat[i]!r}, "
-            "not a rocking motion", np.where(tp.status == STEADY, tp.theta_min, np.nan))
+            "not a rocking motion", where_defined(tp.theta_min, tp.status == STEADY))
     return tp.theta_N, tp.theta_X
 
 

@@ -213,7 +213,8 @@ def test_node_count_follows_the_tolerance():
     assert np.median(tight.n_nodes[near_pi]) >= np.median(tight.n_nodes[~near_pi])
 
 
-def test_vectorised_statuses_never_nan_silently():
+def test_vectorised_statuses_never_nan():
+    """Points without a result are masked (their status says why), never NaN; a single such point raises."""
     E = np.array([1.0, 0.0, 1.0])
     QR = np.array([0.01, 0.01, 0.01])
     QJ = np.array([0.002, 0.002, 0.002])
@@ -221,9 +222,16 @@ def test_vectorised_statuses_never_nan_silently():
     E[2] = float(tp.U_min)
     pr = precession(E, QR, QJ, BODY)
     assert list(pr.status) == [OK, NO_MOTION, STEADY]
-    assert np.isfinite(pr.T_theta[0]) and np.all(np.isnan(pr.T_theta[1:]))
+    for name in ("theta_N", "theta_X", "T_theta", "tau", "delta_phi", "delta_psi", "visible_phi"):
+        field = getattr(pr, name)
+        assert list(np.ma.getmaskarray(field)) == [False, True, True], name
+        assert np.all(np.isfinite(field.data)), name
     assert "no_motion" in pr.status_text()[1] and "steady" in pr.status_text()[2]
     assert UNRESOLVED not in pr.status
+    with pytest.raises(ValueError, match="no motion"):
+        precession(0.0, 0.01, 0.002, BODY)
+    with pytest.raises(ValueError, match="steady circular rolling"):
+        precession(E[2], 0.01, 0.002, BODY)
 
 
 def test_bad_input_raises():
@@ -251,7 +259,7 @@ def test_near_steady_rolling_is_flagged_not_silently_inaccurate():
     QR, QJ = 0.02, 0.05
     U_min = float(solve_turning_points(1.0, QR, QJ, BODY).U_min)
     near = precession(U_min * (1 + np.array([1e-10, 1e-6, 1e-4])), QR, QJ, BODY)
-    assert np.all(near.status == UNRESOLVED) and np.all(np.isnan(near.T_theta))
+    assert np.all(near.status == UNRESOLVED) and np.all(np.ma.getmaskarray(near.T_theta))
     for d in (0.05, 0.5):
         E = U_min * (1 + d)
         pr, ref = precession(E, QR, QJ, BODY), precession_mp(E, QR, QJ, BODY, dps=30)
