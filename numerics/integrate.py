@@ -30,6 +30,7 @@ from numpy.typing import NDArray
 
 from analysis.body import Body
 from numerics import equations
+from numerics.cache import cache_dir  # re-exported: numerics.integrate.cache_dir
 from numerics.equations import STATE_SIZE, EulerState, body_frame_rhs, turning_point_function
 from numerics.trajectory import Trajectory
 
@@ -48,13 +49,6 @@ class _EventLog:
 
     def __call__(self, ta: Any, time: Any, d_sgn: Any) -> None:
         self.events.append((float(time), int(d_sgn)))
-
-
-def cache_dir() -> Path:
-    """Directory of the compiled-integrator cache (``$ROCKNROLLER_CACHE`` or the user cache dir)."""
-    if os.environ.get("ROCKNROLLER_CACHE"):
-        return Path(os.environ["ROCKNROLLER_CACHE"])
-    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "rocknroller"
 
 
 def _build_heyoka(fp_type: Any) -> Any:
