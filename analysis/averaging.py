@@ -34,7 +34,11 @@ change of the part of the kick received before the passage near θ = 0, multipli
 
 Tables.  The coefficient functions are tabulated once per (body, θ0) on a Chebyshev grid in the
 frame (u, v) of the kick direction at Q = 0 (the slow orbit lies close to the line v = 0) and cached
-on disk (``numerics.integrate.cache_dir()/averaging``); they depend on neither ε nor ψ0.
+on disk (``numerics.cache.cache_dir()/averaging``, plain arrays with their key and checksum, checked on
+load); they depend on neither ε nor ψ0.
+
+Range.  The map is built and validated for releases 0.75π ≤ θ0 ≤ 0.999π (``THETA0_RANGE``;
+docs/averaging.md, "Range of θ0"), and one run produces at most ``MAX_MAXIMA`` maxima.
 """
 
 from __future__ import annotations
@@ -44,7 +48,6 @@ import hashlib
 import inspect
 import math
 import os
-import tempfile
 import warnings
 from dataclasses import dataclass, field
 from typing import Any, Callable
@@ -52,6 +55,7 @@ from typing import Any, Callable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from analysis.averaging_limits import MAX_MAXIMA, THETA0_RANGE, check_map_theta0, check_t_end, t_end_limit
 from analysis.body import Body
 from analysis.kinematics import angles_from_frame
 from analysis.invariants import energy, jellett, routh
@@ -59,6 +63,7 @@ from analysis.quadrature import precession, wrap_angle
 from analysis.reduction import (effective_potential, require_open_tilt, state_from_turning_point, turning_points,
                                 u_ends)
 from analysis.slow_diagnostics import azimuth_span, slow_period, span, unwrap_phase
+from numerics.cache import CacheWarning, cache_dir, load_arrays, save_arrays, warn_unwritable
 from numerics.equations import body_frame_rhs, state_from_euler, turning_point_function
 
 from analysis import _slow_map_kernel as _kernel
@@ -68,6 +73,11 @@ __all__ = [
     "FIRST_ORDER_NAMES",
     "AveragingRangeError",
     "AveragingValidityWarning",
+    "THETA0_RANGE",
+    "MAX_MAXIMA",
+    "check_map_theta0",
+    "check_t_end",
+    "max_t_end",
     "rest_energy",
     "directional_derivative",
     "eps_derivative_rhs",
@@ -94,8 +104,8 @@ __all__ = [
 HARMONIC_PSI = (0.0, math.pi / 3.0, 2.0 * math.pi / 3.0)
 #: First-order responses per step: ε-derivatives of Q_R, Q_J, Θ = 2ψ, the event time and φ.
 FIRST_ORDER_NAMES = ("QR", "QJ", "Theta", "t", "phi")
-#: Bump when the table construction changes (part of the cache key).
-_TABLE_VERSION = "3"
+#: Bump when the table construction or its file format changes (part of the cache key).
+_TABLE_VERSION = "4"
 #: Chirikov's standard map I' = I + K sin Θ, Θ' = Θ + I' (the slow map near pure rocking, K = ε κ): the
 #: Jacobian at its stable fixed point has trace 2 − K, which reaches −2 (period doubling) at K = 4.
 K_PERIOD_DOUBLING = 4.0
@@ -133,6 +143,13 @@ def rest_energy(body: Body, theta0: float) -> float:
 
 def _check_theta0(theta0: float) -> float:
     return float(require_open_tilt(float(theta0)))
+
+
+def max_t_end(body: Body, theta0: float) -> float:
+    """Largest t_end accepted by :func:`predict_slow_motion` for (body, θ0): ``MAX_MAXIMA`` · T_θ(0)/2, with T_θ(0)
+    the time between maxima of pure rocking (quadrature)."""
+    theta0 = check_map_theta0(theta0)
+    return t_end_limit(float(_symmetric_data(body.symmetric(), theta0, 0.0, 0.0)[0]))
 
 
 def directional_derivative(fun: Callable[[NDArray[np.float64]], float], y: ArrayLike, v: ArrayLike,
@@ -461,8 +478,14 @@ class SlowMapTable:
 
 
 def _table_key(sym: Body, theta0: float, nu: int, nv: int, u_factor: float, v_ratio: float) -> str:
-    text = f"{_TABLE_VERSION}|{sym.params!r}|{theta0!r}|{nu}|{nv}|{u_factor!r}|{v_ratio!r}"
-    return hashlib.sha256(text.encode()).hexdigest()[:20]
+    """The cache key of a table: version, body, θ0 and grid options (stored in the file; its SHA-256 names it)."""
+    return f"slowmap|{_TABLE_VERSION}|{sym.params!r}|{theta0!r}|{nu}|{nv}|{u_factor!r}|{v_ratio!r}"
+
+
+def _table_spec(nu: int, nv: int) -> dict[str, tuple[int, ...]]:
+    """Fields of a SlowMapTable file in checksum order, each float64 with this shape."""
+    shapes = {"e": (2,), "n": (2,), "C0": (2,), "coef": (len(TABLE_FUNCTIONS), nu, nv)}
+    return {name: shapes.get(name, ()) for name in SlowMapTable.__dataclass_fields__}
 
 
 def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_factor: float = 2.5,
@@ -474,15 +497,21 @@ def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_fact
     body : Body
         Its symmetric part is used (the tables do not depend on ε).
     theta0 : float
-        Release angle, 0 < θ0 < π; E = U(θ0; 0, 0).
+        Release angle in ``THETA0_RANGE``; E = U(θ0; 0, 0).
     nu, nv : int
         Chebyshev nodes along and across the kick direction (even, ≥ 4).
     u_factor : float
         U = u_factor · 4/|∂W/∂u|(0): the libration amplitude of the standard map at K = 4, times u_factor.
     v_ratio : float
         V = v_ratio · U.
+
+    Raises
+    ------
+    ValueError
+        θ0 outside ``THETA0_RANGE`` or bad grid options; AveragingRangeError if the energy of the release
+        admits no motion somewhere on the table rectangle (possible for bodies other than the paper's).
     """
-    theta0 = _check_theta0(theta0)
+    theta0 = check_map_theta0(theta0)
     for name, val in (("nu", nu), ("nv", nv)):
         if int(val) != val or val < 4 or val % 2:
             raise ValueError(f"{name} must be an even integer >= 4, got {name}={val!r}")
@@ -503,7 +532,12 @@ def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_fact
     xu, xv = _cheb_nodes(nu), _cheb_nodes(nv)
     uu, vv = np.meshgrid(U * xu, V * xv, indexing="ij")
     QRg, QJg = uu * e[0] + vv * nvec[0], uu * e[1] + vv * nvec[1]
-    T, W, dphi, thX = _symmetric_data(sym, theta0, QRg, QJg)
+    try:
+        T, W, dphi, thX = _symmetric_data(sym, theta0, QRg, QJg)
+    except ValueError as exc:
+        raise AveragingRangeError(
+            f"the averaging tables of theta0={theta0!r} cannot be built for this body ({sym.describe()}): on their "
+            f"rectangle |u| <= {U:.4g} (2.5 times the libration amplitude at K = 4) {exc}") from None
     # continuous branches along u (both are ~0 at the centre)
     W = np.unwrap(W, axis=0)
     W -= 2 * math.pi * np.round(W[nu // 2] / (2 * math.pi))
@@ -586,25 +620,27 @@ def _interpolation_error(table: SlowMapTable) -> float:
     return float(worst)
 
 
-def _table_cache_dir() -> str:
-    from numerics.integrate import cache_dir
-
-    return os.path.join(str(cache_dir()), "averaging")
-
-
 def load_or_build_table(body: Body, theta0: float, *, build: bool = True, use_cache: bool = True,
                         **grid: Any) -> SlowMapTable:
     """The tables of (body, θ0): from memory, from the disk cache, or built (and cached).
 
+    The cache file holds plain float64 arrays, the key and a SHA-256 checksum (``numerics.cache``; read with
+    ``allow_pickle=False``).  A file that fails any check is never used: it is rebuilt and replaced, with a
+    ``CacheWarning``; an unwritable cache directory gives one ``CacheWarning`` per process (docs/averaging.md).
+
     Parameters
     ----------
+    body : Body
+        Its symmetric part is used.
+    theta0 : float
+        Release angle in ``THETA0_RANGE``.
     build : bool
-        If False and no cached table exists, raise ValueError instead of building.
+        If False and no valid cached table exists, raise ValueError instead of building.
     use_cache : bool
-        Read and write the disk cache (``numerics.integrate.cache_dir()/averaging``).
+        Read and write the disk cache (``numerics.cache.cache_dir()/averaging``).
     grid : keyword arguments of :func:`build_table`.
     """
-    theta0 = _check_theta0(theta0)
+    theta0 = check_map_theta0(theta0)
     sym = body.symmetric()
     opts = {name: p.default for name, p in inspect.signature(build_table).parameters.items()
             if p.kind is p.KEYWORD_ONLY}
@@ -615,14 +651,17 @@ def load_or_build_table(body: Body, theta0: float, *, build: bool = True, use_ca
     key = _table_key(sym, theta0, opts["nu"], opts["nv"], opts["u_factor"], opts["v_ratio"])
     if key in _TABLES:
         return _TABLES[key]
-    path = os.path.join(_table_cache_dir(), f"slowmap-{key}.npz")
+    directory = os.path.join(str(cache_dir()), "averaging")
+    path = os.path.join(directory, f"slowmap-{hashlib.sha256(key.encode()).hexdigest()[:20]}.npz")
+    spec = _table_spec(opts["nu"], opts["nv"])
     table = None
-    if use_cache and os.path.exists(path):
-        try:
-            with np.load(path) as z:
-                table = SlowMapTable(**{k: (z[k] if z[k].ndim else float(z[k])) for k in z.files})
-        except Exception:  # a stale or truncated cache entry is rebuilt
-            table = None
+    if use_cache and os.path.lexists(path):
+        arrays, reason = load_arrays(path, key, spec)
+        if arrays is None:
+            warnings.warn(f"the cached averaging table {path} is not used ({reason}); it is rebuilt", CacheWarning,
+                          stacklevel=2)
+        else:
+            table = SlowMapTable(**{k: (a if a.ndim else float(a)) for k, a in arrays.items()})
     if table is None:
         if not build:
             raise ValueError(
@@ -631,12 +670,10 @@ def load_or_build_table(body: Body, theta0: float, *, build: bool = True, use_ca
         table = build_table(sym, theta0, **opts)
         if use_cache:
             try:
-                os.makedirs(os.path.dirname(path), exist_ok=True)
-                with tempfile.NamedTemporaryFile(dir=os.path.dirname(path), suffix=".npz", delete=False) as fh:
-                    np.savez(fh, **{k: np.asarray(getattr(table, k)) for k in table.__dataclass_fields__})
-                os.replace(fh.name, path)
-            except OSError:  # a read-only cache is not an error
-                pass
+                save_arrays(path, key, {k: getattr(table, k) for k in spec})
+            except OSError as exc:
+                warn_unwritable(directory, exc, "the averaging tables are rebuilt in every process (~6 s for each "
+                                "body and theta0)")
     _TABLES[key] = table
     return table
 
@@ -756,6 +793,8 @@ class _FastTable:
                     f"the implicit kick did not converge at eps={eps!r}: eps is too large for the first-order map")
             if status == _DONE or (n_steps is not None and done >= n_steps):
                 break
+            if done > MAX_MAXIMA:  # t_end was checked against T_θ(0)/2 per maximum; T_θ ≥ 0.7 T_θ(0) on the tables
+                raise ValueError(f"t_end={t_end!r} gives more than MAX_MAXIMA = {MAX_MAXIMA} maxima")
             assert status == _FULL
             t, u, v, Th, phi = (float(x) for x in out[n - 1])  # out was full: go on from the last maximum
             cap = _CHUNK if n_steps is None else min(_CHUNK, n_steps - done)
@@ -788,44 +827,54 @@ def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float,
     psi0 : float
         ψ at the starting maximum (Θ0 = 2ψ0).
     t_end : float
-        Last time, > 0.
+        Last time, 0 < t_end ≤ MAX_MAXIMA · T_θ(0)/2 (at most ``MAX_MAXIMA`` maxima; unbounded if n_steps is given).
     Q0 : (Q_R, Q_J) at the start (default: released from rest, Q = 0).
     phi0 : φ at the start.
     n_steps : int, optional
-        Stop after this many steps (even before t_end).
+        Stop after this many steps (even before t_end), 1 ≤ n_steps ≤ ``MAX_MAXIMA``.
 
     Raises
     ------
+    ValueError
+        Bad input, naming the parameter and its range.
     AveragingRangeError
         If the orbit leaves the tabulated region, or the implicit kick does not converge.
     """
     eps, t_end, psi0 = float(eps), float(t_end), float(psi0)
     if not math.isfinite(eps) or eps < 0.0:
         raise ValueError(f"eps must be a finite number >= 0, got eps={eps!r}")
-    if not math.isfinite(t_end) or t_end <= 0.0:
-        raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}")
     if not math.isfinite(psi0):
         raise ValueError(f"psi0 must be finite, got psi0={psi0!r}")
-    if n_steps is not None and (int(n_steps) != n_steps or n_steps < 1):
-        raise ValueError(f"n_steps must be a positive integer, got n_steps={n_steps!r}")
+    if n_steps is not None and (int(n_steps) != n_steps or not 1 <= n_steps <= MAX_MAXIMA):
+        raise ValueError(f"n_steps must be an integer in [1, {MAX_MAXIMA}] (MAX_MAXIMA), got n_steps={n_steps!r}")
+    ft = _fast(table)
+    if n_steps is None:
+        check_t_end(t_end, ft.values(0.0, 0.0)[_N_KICK])
+    elif not (math.isfinite(t_end) and t_end > 0.0):
+        raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}")
     Q0 = np.asarray(Q0, float)
     if Q0.shape != (2,) or not np.all(np.isfinite(Q0)) or not math.isfinite(float(phi0)):
         raise ValueError(f"Q0 must be two finite numbers (Q_R, Q_J) and phi0 finite, got Q0={Q0!r}, phi0={phi0!r}")
-    ft = _fast(table)
     arr, _ = ft.iterate(eps, float(ft.e @ Q0), float(ft.n @ Q0), 2.0 * psi0, float(phi0), t_end, n_steps)
     Q = np.outer(arr[:, 1], ft.e) + np.outer(arr[:, 2], ft.n)
     return SlowSeries(t=arr[:, 0], QR=Q[:, 0], QJ=Q[:, 1], Theta=unwrap_phase(arr[:, 3]), phi=arr[:, 4])
 
 
-def line_slope(QR: ArrayLike, QJ: ArrayLike) -> float:
+def line_slope(QR: ArrayLike, QJ: ArrayLike) -> float | None:
     """Slope dQ_J/dQ_R of the straight line through turning-point samples (total least squares).
 
     The line's direction is the principal axis of the samples' 2×2 scatter matrix S, at the angle
-    α = ½ atan2(2 S_RJ, S_RR − S_JJ); the slope is tan α.
+    α = ½ atan2(2 S_RJ, S_RR − S_JJ); the slope is tan α.  None (undefined) for fewer than two samples or
+    samples that all coincide (S = 0: no line, e.g. pure rocking at Q = 0).
     """
     x, y = np.asarray(QR, float), np.asarray(QJ, float)
+    if x.size < 2:
+        return None
     x, y = x - x.mean(), y - y.mean()
-    return math.tan(0.5 * math.atan2(2.0 * float(x @ y), float(x @ x) - float(y @ y)))
+    sxx, syy, sxy = float(x @ x), float(y @ y), float(x @ y)
+    if sxx == 0.0 and syy == 0.0:
+        return None
+    return math.tan(0.5 * math.atan2(2.0 * sxy, sxx - syy))
 
 
 @dataclass(frozen=True)
@@ -836,13 +885,18 @@ class SlowPrediction:
     ----------
     eps, theta0, psi0, t_end : inputs.
     K : ε κ, the standard-map parameter near pure rocking.
-    slow_period : period of Θ = 2ψ at the maxima (None if not measurable within t_end).
+    slow_period : period of Θ = 2ψ at the maxima; None if undefined (pure rocking) or not measurable
+        within t_end (fewer than two crossings of the mean).
     QR_extent, QJ_extent : max − min of Q_R, Q_J at the maxima within t_end.
     Phi : span of φ mod π at the maxima within t_end.
-    line_slope : dQ_J/dQ_R of the line through the samples.
+    line_slope : dQ_J/dQ_R of the line through the samples; None if undefined (:func:`line_slope`).
     series : SlowSeries.
     regions, region_runs, crossings : critical region of each sample, runs of consecutive rocks in
         one region, and the crossings of the critical lines (:func:`critical_regions`).
+    pure_rocking : True for ε = 0 (Routh's sphere released from rest): Q_R = Q_J = 0 exactly at every
+        maximum, the intersection of both critical lines, and Θ, φ mod π are constant.  Then every
+        sample's region is ``criticality.ON_BOTH``, there are no region runs or crossings, the extents
+        and Φ are 0 and the slow period and line slope are None.
     """
 
     eps: float
@@ -854,11 +908,12 @@ class SlowPrediction:
     QR_extent: float
     QJ_extent: float
     Phi: float
-    line_slope: float
+    line_slope: float | None
     series: SlowSeries = field(repr=False)
     regions: Any = field(default=None, repr=False)
     region_runs: list[tuple[str, int, float]] | None = field(default=None, repr=False)
     crossings: list[tuple[float, str, str, str]] | None = field(default=None, repr=False)
+    pure_rocking: bool = False
 
     @property
     def rocks_per_region(self) -> dict[str, int]:
@@ -875,24 +930,40 @@ def predict_slow_motion(body: Body, theta0: float, psi0: float, t_end: float = 1
     body : Body
         The asymmetric body (ε = body.epsilon ≥ 0).
     theta0 : float
-        Release tilt, 0 < θ0 < π.
+        Release tilt in ``THETA0_RANGE`` = [0.75π, 0.999π], where the tables can be built and the map is
+        validated against the direct ODE (docs/averaging.md); other amplitudes are refused (ValueError).
     psi0 : float
         Release spin angle (Θ0 = 2ψ0).
     t_end : float
-        Time span, > 0.
+        Time span, 0 < t_end ≤ ``MAX_MAXIMA`` · T_θ(0)/2 (:func:`max_t_end`; 6.6e6 at θ0 = 0.95π): checked
+        before anything is built.
     table : SlowMapTable, optional
         Precomputed tables of (body, θ0); by default :func:`load_or_build_table`.
     build : bool
         Build the tables if they are not cached (else ValueError).
+
+    Returns
+    -------
+    SlowPrediction
+        For ε = 0 (Routh's sphere) the exact pure rocking (``pure_rocking``): no slow motion, Q = 0 on
+        both critical lines, no region runs; the slow period and line slope are None.
+
+    Raises
+    ------
+    ValueError
+        θ0, ψ0 or t_end out of range (naming it), or a table for another (body, θ0).
 
     Warns
     -----
     AveragingValidityWarning
         If K = ε κ > 4 (pure rocking about the stable axis has period-doubled).
     """
-    theta0 = _check_theta0(theta0)
-    eps = body.epsilon
+    theta0 = check_map_theta0(theta0)
+    eps, psi0 = body.epsilon, float(psi0)
+    if not math.isfinite(psi0):
+        raise ValueError(f"psi0 must be finite, got psi0={psi0!r}")
     if table is None:
+        check_t_end(t_end, float(_symmetric_data(body.symmetric(), theta0, 0.0, 0.0)[0]))
         table = load_or_build_table(body, theta0, build=build)
     elif abs(table.theta0 - theta0) > 1e-15:
         raise ValueError(f"the table is for theta0={table.theta0!r}, not {theta0!r}")
@@ -904,13 +975,24 @@ def predict_slow_motion(body: Body, theta0: float, psi0: float, t_end: float = 1
             f"K = eps*kappa = {K:.3g} > {K_PERIOD_DOUBLING:g}: pure rocking about the stable principal axis is "
             f"unstable (period doubling at eps = {eps_period_doubling(table.kappa):.4g}); the first-order "
             f"averaging is expected to hold for K < {K_PERIOD_DOUBLING:g}", AveragingValidityWarning, stacklevel=2)
+    if eps == 0.0:  # Routh's sphere from rest: rocking in a fixed vertical plane, Q ≡ 0, ψ and φ mod π fixed
+        from analysis.criticality import ON_BOTH
+
+        T0 = _fast(table).values(0.0, 0.0)[_N_KICK]
+        t = T0 * np.arange(1, int(check_t_end(t_end, T0) // T0) + 1)
+        zero = np.zeros_like(t)
+        return SlowPrediction(
+            eps=eps, theta0=theta0, psi0=psi0, t_end=float(t_end), K=0.0, slow_period=None, QR_extent=0.0,
+            QJ_extent=0.0, Phi=0.0, line_slope=None,
+            series=SlowSeries(t=t, QR=zero, QJ=zero.copy(), Theta=np.full_like(t, 2.0 * psi0), phi=zero.copy()),
+            regions=np.full(t.size, ON_BOTH, dtype=object), region_runs=[], crossings=[], pure_rocking=True)
     series = iterate_slow_map(table, eps, psi0, t_end)
     regions, runs, crossings = critical_regions(series.QR, series.QJ, series.t, table.body)
     return SlowPrediction(
         eps=eps, theta0=theta0, psi0=float(psi0), t_end=float(t_end), K=K,
         slow_period=slow_period(series.t, series.Theta) if series.t.size >= 3 else None,
         QR_extent=span(series.QR), QJ_extent=span(series.QJ), Phi=azimuth_span(series.phi),
-        line_slope=line_slope(series.QR, series.QJ) if series.t.size >= 2 else float("nan"),
+        line_slope=line_slope(series.QR, series.QJ),
         series=series, regions=regions, region_runs=runs, crossings=crossings)
 
 

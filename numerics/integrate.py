@@ -44,11 +44,8 @@ Every run's energy error is checked against the tolerance asked for
 from __future__ import annotations
 
 import math
-import os
 import sys
-import tempfile
 import warnings
-from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
@@ -56,6 +53,7 @@ from numpy.typing import NDArray
 
 from analysis.body import Body
 from analysis.invariants import energy
+from numerics.cache import CacheWarning, cache_dir, probe_writable, warn_unwritable  # cache_dir: re-exported
 from numerics.equations import STATE_SIZE, EulerState, body_frame_rhs, turning_point_function
 from numerics.trajectory import (DenseOutput, Trajectory, TurningPointRun, TurningPoints, _Samples,
                                  energy_scale)
@@ -90,10 +88,6 @@ class AccuracyError(RuntimeError):
     """A run's energy error exceeds what its integrator's tolerance allows (``strict=True``)."""
 
 
-class CacheWarning(UserWarning):
-    """A cache could not be used (not writable, or a file failed its check and is rebuilt)."""
-
-
 class _EventLog:
     """Non-terminal event callback: records (time, direction) of each turning point."""
 
@@ -102,32 +96,6 @@ class _EventLog:
 
     def __call__(self, ta: Any, time: Any, d_sgn: Any) -> None:
         self.events.append((float(time), int(d_sgn)))
-
-
-def cache_dir() -> Path:
-    """Directory of the package's caches (``$ROCKNROLLER_CACHE`` or the user cache dir)."""
-    if os.environ.get("ROCKNROLLER_CACHE"):
-        return Path(os.environ["ROCKNROLLER_CACHE"])
-    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "rocknroller"
-
-
-_WARNED: set[str] = set()
-
-
-def _warn_if_unwritable(path: str | os.PathLike, what: str, fix: str) -> bool:
-    """True if a file can be created in ``path`` (created if missing); else one CacheWarning per path and process."""
-    try:
-        os.makedirs(path, exist_ok=True)
-        with tempfile.NamedTemporaryFile(dir=path):
-            pass
-        return True
-    except OSError as exc:
-        key = str(path)
-        if key not in _WARNED:
-            _WARNED.add(key)
-            warnings.warn(f"the {what} at {key} is not writable ({exc.strerror or exc}): {fix}", CacheWarning,
-                          stacklevel=3)
-        return False
 
 
 def _build_heyoka(fp_type: Any) -> Any:
@@ -158,8 +126,11 @@ def heyoka_integrator(precision: str = "double") -> Any:
     import heyoka as hy
 
     if hy.llvm_state.get_diskcache_enabled():
-        _warn_if_unwritable(hy.llvm_state.get_diskcache_path(), "heyoka compilation cache",
-                            "every process compiles the integrator (~6 s); point HEYOKA_CACHE_DIR at a writable folder")
+        path = hy.llvm_state.get_diskcache_path()
+        error = probe_writable(path)
+        if error is not None:
+            warn_unwritable(path, error, "every process compiles the integrator (~6 s)",
+                            fix="point HEYOKA_CACHE_DIR at a writable folder to keep heyoka's compilation cache")
     ta = _build_heyoka(float if precision == "double" else np.longdouble)
     _INTEGRATORS[precision] = ta
     return ta

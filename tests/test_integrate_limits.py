@@ -192,16 +192,6 @@ def test_unwritable_heyoka_cache_gives_a_warning(tmp_path):
     assert str(blocker / "sub") in proc.stderr and "HEYOKA_CACHE_DIR" in proc.stderr
 
 
-def test_unwritable_directory_is_reported_once_per_process(tmp_path):
-    blocker = tmp_path / "file"
-    blocker.write_text("")
-    with pytest.warns(integ.CacheWarning) as record:
-        assert not integ._warn_if_unwritable(blocker / "a", "test cache", "fix it")
-        assert not integ._warn_if_unwritable(blocker / "a", "test cache", "fix it")
-    assert len(record) == 1
-    assert integ._warn_if_unwritable(tmp_path / "ok", "test cache", "fix it")
-
-
 def test_energy_evaluation_matches_the_scale():
     """energy_scale bounds every term of E within a factor 3 (T ≤ E, V ≤ 2 g a) on a spinning start too."""
     y = EulerState(2.0, 0.0, 0.3, 0.4, 1.5, -2.0).to_body_state()

@@ -1,18 +1,34 @@
-"""``rocknroller slow``: the ε-averaged slow (Q_R, Q_J) motion of a body released from rest."""
+"""``rocknroller slow``: the ε-averaged slow (Q_R, Q_J) motion of a body released from rest.
+
+The body, the angles and ``--t-end`` are checked before any table is built, and errors name the option
+given (``--eps``, ``--I2``, ``--theta0``, ``--t-end``).  ``--json`` prints strict JSON (no NaN or Infinity); a quantity that is
+undefined is null: the slow period when the samples cross their mean fewer than twice or for pure rocking
+(ε = 0, where the closed form's period is infinite), the line slope when all samples coincide, the
+closed form when ψ0 is its unstable equilibrium, and the relative errors of a quantity the ODE gives as 0
+or that is undefined.
+"""
 
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 import warnings
 from pathlib import Path
 from typing import Any
 
-from rocknroller.options import add_body_options, body_from_args, parse_angle
+from analysis import averaging as av
+from rocknroller.options import (add_body_options, add_force_option, body_from_args, parse_angle,
+                                 prepare_output_dir, print_json)
 
 _QUANTITIES = ("slow_period", "QR_extent", "QJ_extent", "Phi")
+#: Body options (attribute, flag), for error messages that name what the user gave.
+_BODY_OPTIONS = (("a", "--a"), ("I1", "--I1"), ("I2", "--I2"), ("eps", "--eps"), ("I3", "--I3"), ("g", "--g"),
+                 ("polar_cap", "--polar-cap"))
+_LO, _HI = (x / math.pi for x in av.THETA0_RANGE)
+_PURE_ROCKING = ("eps = 0 (Routh's sphere) released from rest: pure rocking in a fixed vertical plane; Q_R = Q_J = 0 "
+                 "at every maximum, the intersection of both critical lines (no critical region, no crossings); "
+                 "no slow motion (slow period and line slope undefined)")
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -23,20 +39,31 @@ def register(sub: argparse._SubParsersAction) -> None:
         "at (theta0, psi0): the reversible slow map sampled at the maxima of theta (tables built once per body "
         "and theta0, cached) and its closed form near pure rocking (standard map / pendulum). Prints the slow "
         "period of Theta = 2 psi, the extents of Q_R and Q_J, the azimuth span Phi of phi mod pi, the rocks "
-        "spent in each critical region, and the period-doubling eps. Valid for 0 <= eps with K = eps*kappa < 4.",
+        "spent in each critical region, and the period-doubling eps. Valid for 0 <= eps with K = eps*kappa < 4 "
+        f"and {_LO:g}pi <= theta0 <= {_HI:g}pi. eps defaults to 1e-3 here; eps = 0 (Routh's sphere) is pure "
+        "rocking on both critical lines. In --json, undefined quantities are null (never NaN or Infinity).",
     )
-    add_body_options(p)
-    p.add_argument("--theta0", type=str, default="0.95pi", help="release tilt in (0, pi) (default 0.95pi)")
+    add_body_options(p, eps_default=1e-3)
+    p.add_argument("--theta0", type=str, default="0.95pi",
+                   help=f"release tilt in [{_LO:g}pi, {_HI:g}pi] (default 0.95pi): below {_LO:g}pi the averaging "
+                   "tables reach states the release energy does not allow (other amplitudes are not covered yet), "
+                   "above it they lose accuracy near the upright equilibrium")
     p.add_argument("--psi0", type=str, default="pi/4", help="release spin angle (default pi/4)")
-    p.add_argument("--t-end", type=float, default=1000.0, help="time span (default 1000)")
-    p.add_argument("--json", action="store_true", help="print a one-object JSON summary on stdout")
+    p.add_argument("--t-end", type=float, default=1000.0,
+                   help=f"time span, 0 < T <= {av.MAX_MAXIMA:.0e} * T_theta/2 with T_theta the time between maxima "
+                   f"of pure rocking (6.6e6 at theta0 = 0.95pi): at most {av.MAX_MAXIMA:.0e} maxima, ~0.4 GB "
+                   "(default 1000)")
+    p.add_argument("--json", action="store_true", help="print a one-object JSON summary on stdout (strict JSON: "
+                   "undefined quantities are null)")
     p.add_argument("--check", action="store_true",
                    help="also run the direct ODE and print both, with relative errors")
     p.add_argument("--plot", type=Path, default=None, metavar="DIR",
-                   help="draw the predicted slow orbit over the direct ODE's turning points (PNG+PDF in DIR)")
+                   help="draw the predicted slow orbit over the direct ODE's turning points (slow_orbit.png and .pdf "
+                        "in DIR, created if missing; existing files are not overwritten without --force)")
+    add_force_option(p)
     p.add_argument("--cached-only", action="store_true",
                    help="fail instead of building the averaging tables when none are cached for this body/theta0")
-    p.set_defaults(run=run, eps_default=1e-3)
+    p.set_defaults(run=run)
 
 
 def _fmt(x: Any) -> str:
@@ -45,29 +72,68 @@ def _fmt(x: Any) -> str:
     return f"{x:.6g}" if isinstance(x, float) else str(x)
 
 
+def _given(args: argparse.Namespace) -> str:
+    """The body options the user gave, as typed (for error messages)."""
+    return " ".join(f"{flag} {getattr(args, k)!r}" for k, flag in _BODY_OPTIONS if getattr(args, k) is not None)
+
+
+def _body(args: argparse.Namespace, given: str) -> Any:
+    """The body of the options; errors name the options the user gave (not a derived moment)."""
+    eps_given = args.eps is not None
+    if eps_given and args.I2 is not None:
+        raise ValueError("give either --I2 or --eps, not both")
+    if eps_given and not (math.isfinite(args.eps) and args.eps >= 0.0):
+        raise ValueError(f"--eps must be a finite number >= 0 (the averaging holds for 0 <= eps with "
+                         f"K = eps*kappa < 4), got --eps {args.eps!r}")
+    if args.I2 is None and not eps_given:
+        args.eps = args.eps_default
+    try:
+        sym = body_from_args(argparse.Namespace(**{**vars(args), "eps": None}))
+    except ValueError as exc:
+        raise ValueError(f"the body options {given} give no valid body: {exc}" if given else str(exc)) from None
+    if args.I2 is not None:
+        return sym
+    try:
+        return sym.with_epsilon(args.eps)
+    except ValueError as exc:
+        what = f"--eps {args.eps!r}" if eps_given else f"the default --eps {args.eps!r} (give a smaller --eps)"
+        raise ValueError(f"{what}: out of range for this body: {exc}") from None
+
+
+def _parse(args: argparse.Namespace, option: str) -> float:
+    try:
+        return parse_angle(getattr(args, option))
+    except ValueError as exc:
+        raise ValueError(f"--{option}: {exc}") from None
+
+
 def run(args: argparse.Namespace) -> int:
-    from analysis import averaging as av
     from analysis.slow_pendulum import pendulum_constants, pendulum_prediction
 
-    if args.eps is None and args.I2 is None:
-        args.eps = args.eps_default
-    if args.eps is not None and not args.eps >= 0.0:
-        raise ValueError(f"--eps must be >= 0 (the averaging holds for 0 <= eps with K = eps*kappa < 4), "
-                         f"got eps={args.eps!r}")
-    if not (math.isfinite(args.t_end) and args.t_end > 0.0):
-        raise ValueError(f"--t-end must be a finite number > 0, got {args.t_end!r}")
-    body = body_from_args(args)
-    theta0, psi0 = parse_angle(args.theta0), parse_angle(args.psi0)
-    if not 0.0 < theta0 < math.pi:
-        raise ValueError(f"--theta0 must lie in the open interval (0, pi), got theta0={theta0!r}")
-    consts = pendulum_constants(body, theta0)
+    if args.plot is not None:
+        prepare_output_dir(args.plot, "--plot", args.force, ["slow_orbit.png", "slow_orbit.pdf"])
+    given = _given(args)
+    body = _body(args, given)
+    theta0 = av.check_map_theta0(_parse(args, "theta0"), "--theta0")
+    psi0 = _parse(args, "psi0")
+    unresolved = f"cannot be computed for --theta0 {args.theta0} and the body options {given} ({body.describe()})"
+    try:
+        consts = pendulum_constants(body, theta0)
+    except (RuntimeError, ArithmeticError) as exc:
+        raise ValueError(f"the closed-form constants {unresolved}: {exc}") from None
+    av.check_t_end(args.t_end, consts.T0, "--t-end")
     messages: list[str] = []
     K = body.epsilon * consts.kappa
     if abs(K) > av.K_PERIOD_DOUBLING:
         messages.append(
             f"K = eps*kappa = {K:.4g} > {av.K_PERIOD_DOUBLING:g}: outside the valid range eps < {consts.eps_period_doubling:.4g} "
             "(pure rocking about the stable axis has period-doubled; the closed form does not apply)")
-    table = av.load_or_build_table(body, theta0, build=not args.cached_only)
+    try:
+        table = av.load_or_build_table(body, theta0, build=not args.cached_only)
+    except av.AveragingRangeError as exc:
+        raise ValueError(f"--theta0 {args.theta0}: {exc}") from None
+    except (RuntimeError, ArithmeticError) as exc:
+        raise ValueError(f"the averaging tables {unresolved}: {exc}") from None
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", av.AveragingValidityWarning)
         pred = av.predict_slow_motion(body, theta0, psi0, args.t_end, table=table)
@@ -77,7 +143,8 @@ def run(args: argparse.Namespace) -> int:
     except ValueError as exc:  # psi0 on the separatrix
         messages.append(f"closed form unavailable: {exc}")
     summary: dict[str, Any] = {q: getattr(pred, q) for q in _QUANTITIES}
-    summary.update({"K": K, "line_slope": pred.line_slope, "rocks_per_region": pred.rocks_per_region,
+    summary.update({"K": K, "line_slope": pred.line_slope, "pure_rocking": pred.pure_rocking,
+                    "rocks_per_region": pred.rocks_per_region,
                     "region_runs": [list(r) for r in pred.region_runs or []],
                     "crossings": [list(c) for c in pred.crossings or []], "n_maxima": int(pred.series.t.size),
                     "eps": body.epsilon, "theta0": theta0, "psi0": psi0, "t_end": args.t_end})
@@ -85,40 +152,35 @@ def run(args: argparse.Namespace) -> int:
         **{q: getattr(pend, q) for q in _QUANTITIES}, "kappa": consts.kappa,
         "eps_period_doubling": consts.eps_period_doubling, "T0": consts.T0, "C0": list(consts.C0),
         "stable_psi": consts.stable_psi}
+    if pend is not None and pred.pure_rocking:
+        summary["pendulum"]["slow_period"] = None  # K = 0: no libration (the closed form's period is infinite)
     ode = None
     if args.check or args.plot is not None:
         from papers.averaging_check import ode_slow_summary, relative_errors
 
         ode = ode_slow_summary(body, theta0, psi0, args.t_end)
         summary["ode"] = {q: getattr(ode, q) for q in _QUANTITIES}
-        summary["ode"]["region_runs"] = [list(r) for r in ode.region_runs]
-        summary["ode"]["rocks_per_region"] = av.rocks_per_region(ode.region_runs)
-        summary["rel_error"] = {q: relative_errors(pred, ode)[q] for q in _QUANTITIES}
+        if pred.pure_rocking:  # the ODE's Q, Θ are round-off about constants: no regions, period or relative errors
+            summary["ode"].update(slow_period=None, region_runs=[], rocks_per_region={})
+            summary["rel_error"] = {q: None for q in _QUANTITIES}
+        else:
+            summary["ode"]["region_runs"] = [list(r) for r in ode.region_runs]
+            summary["ode"]["rocks_per_region"] = av.rocks_per_region(ode.region_runs)
+            summary["rel_error"] = {q: relative_errors(pred, ode)[q] for q in _QUANTITIES}
         if pend is not None:
-            summary["pendulum"]["rel_error"] = {q: relative_errors(pend, ode)[q] for q in _QUANTITIES}
+            summary["pendulum"]["rel_error"] = {q: summary["rel_error"][q] if pred.pure_rocking else
+                                                relative_errors(pend, ode)[q] for q in _QUANTITIES}
     written = _plot(pred, ode, body, theta0, psi0, args.plot) if args.plot is not None else []
     summary["warnings"] = messages
     for msg in messages:
         print(f"rocknroller slow: warning: {msg}", file=sys.stderr)
     if args.json:
-        json.dump(_finite_or_none(summary), sys.stdout)
-        sys.stdout.write("\n")
+        print_json(summary)
     else:
         _print_table(summary, body, theta0, psi0, args.t_end)
     for path in written:
         print(f"wrote {path}", file=sys.stderr)
     return 0
-
-
-def _finite_or_none(x: Any) -> Any:
-    """JSON has no inf/nan: non-finite numbers become null."""
-    if isinstance(x, dict):
-        return {k: _finite_or_none(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_finite_or_none(v) for v in x]
-    if isinstance(x, float) and not math.isfinite(x):
-        return None
-    return x
 
 
 def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: float) -> None:
@@ -139,7 +201,10 @@ def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: flo
     if pend:
         print(f"kappa = {pend['kappa']:.6g}; period doubling of rocking about the stable axis "
               f"(psi = {pend['stable_psi']:.4g}) at eps = {pend['eps_period_doubling']:.6g}")
-    print(f"line of the turning points: dQ_J/dQ_R = {s['line_slope']:.6g}")
+    if s["pure_rocking"]:
+        print(_PURE_ROCKING)
+        return
+    print(f"line of the turning points: dQ_J/dQ_R = {_fmt(s['line_slope'])}")
     runs = ", ".join(f"{lab}:{n}" for lab, n, _ in s["region_runs"])
     print(f"rocks per critical region (consecutive runs): {runs}")
     if "ode" in s:

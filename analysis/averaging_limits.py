@@ -1,0 +1,53 @@
+"""Where the averaged slow map applies, and how long one run may be (``analysis.averaging``; docs/averaging.md).
+
+Pure checks on plain floats: a ValueError naming the parameter (``name``, e.g. ``--theta0`` for the CLI) and its
+allowed range.
+"""
+
+from __future__ import annotations
+
+import math
+
+__all__ = ["THETA0_RANGE", "MAX_MAXIMA", "check_map_theta0", "t_end_limit", "check_t_end"]
+
+#: Release angles (θ0_min, θ0_max) for which the tables are built and the map is validated against the direct
+#: ODE (docs/averaging.md, "Range of θ0").  Below ≈ 0.732π (paper body) the table rectangle, 2.5 times the
+#: libration amplitude at K = 4, reaches Q at which the energy of the release admits no motion: the tables
+#: cannot be built; 0.75π keeps a margin.  Towards the upright equilibrium θ = π the tables lose accuracy
+#: (interpolation error 2e-13 at 0.999π, 2e-7 at 0.9999π, O(1) at 0.99999π, where the map is wrong).
+THETA0_RANGE = (0.75 * math.pi, 0.999 * math.pi)
+#: Largest number of θ-maxima one run of the slow map may produce.  A run costs ~0.4 kB and ~4 µs per maximum
+#: (its series, 5 × 8 bytes, and the critical-region diagnostics; measured: 10⁶ maxima, 0.42 GB peak, 4.3 s);
+#: 10⁶ maxima (t_end up to 5·10⁵ T_θ(0), 6.6·10⁶ time units at θ0 = 0.95π) is far beyond the first-order
+#: averaging's horizon, yet bounded for a laptop.
+MAX_MAXIMA = 10**6
+
+
+def check_map_theta0(theta0: float, name: str = "theta0") -> float:
+    """θ0 as a float, or a ValueError naming ``name`` unless it lies in ``THETA0_RANGE`` (the releases for
+    which the averaging tables are built and the map is validated; other amplitudes are not covered yet)."""
+    theta0, (lo, hi) = float(theta0), THETA0_RANGE
+    if not lo <= theta0 <= hi:  # also NaN
+        raise ValueError(
+            f"{name} must lie in [{lo / math.pi:g}pi, {hi / math.pi:g}pi] = [{lo:.6g}, {hi:.6g}] for the averaged "
+            f"slow map, got {name}={theta0!r} = {theta0 / math.pi:.6g}pi: below {lo / math.pi:g}pi the averaging "
+            "tables reach states that the energy of the release does not allow (they cannot be built; smaller "
+            f"amplitudes are not covered yet), above {hi / math.pi:g}pi they lose accuracy near the upright "
+            "equilibrium")
+    return theta0
+
+
+def t_end_limit(T0: float) -> float:
+    """Largest t_end for T0 = T_θ(0), the time between maxima of pure rocking: the maxima within t_end number
+    at most t_end/(T0/2) (T_θ ≥ 0.73 T0 on the tables), which must not exceed ``MAX_MAXIMA``."""
+    return 0.5 * MAX_MAXIMA * T0
+
+
+def check_t_end(t_end: float, T0: float, name: str = "t_end") -> float:
+    """t_end as a float, or a ValueError naming ``name`` unless 0 < t_end ≤ :func:`t_end_limit` (T0)."""
+    t_end, tmax = float(t_end), t_end_limit(T0)
+    if not (math.isfinite(t_end) and 0.0 < t_end <= tmax):
+        raise ValueError(
+            f"{name} must be a finite number in (0, {tmax:.6g}], got {name}={t_end!r}: a run of the slow map "
+            f"produces up to t_end/(T_theta/2) maxima of theta (T_theta = {T0:.6g}), at most {MAX_MAXIMA:.0e}")
+    return t_end
