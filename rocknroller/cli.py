@@ -40,16 +40,20 @@ _OPTION_OF = {"t_end": "--t-end", "dt": "--dt", "theta0": "--theta0", "phi0": "-
               "theta_dot": "--theta-dot0", "phi_dot": "--phi-dot0", "psi_dot": "--psi-dot0", "omega": "--omega",
               "epsilon": "--eps", "a": "--a", "I1": "--I1", "I2": "--I2", "I3": "--I3", "g": "--g",
               "QR_max": "--QR-max"}
-_PARAMETER = re.compile(r"\b(" + "|".join(_OPTION_OF) + r")\b(?=( must|=| is | =|:))")
+_PARAMETER = re.compile(r"\b(" + "|".join(_OPTION_OF) + r")\b(?=( must|=))")
 
 
-def option_names(message: str) -> str:
-    """``message`` with API parameter names (``t_end must ...``, ``theta0=...``) replaced by the options that set them."""
-    return _PARAMETER.sub(lambda m: _OPTION_OF[m.group(1)], message)
+def option_names(message: str, argv: list[str]) -> str:
+    """``message`` with API parameter names (``t_end must ...``, ``theta0=...``) replaced by the options that set
+    them, where the user gave that option (a value derived from other options keeps its own name)."""
+    given = {a.split("=", 1)[0] for a in argv if a.startswith("--")}
+    return _PARAMETER.sub(lambda m: _OPTION_OF[m.group(1)] if _OPTION_OF[m.group(1)] in given else m.group(1),
+                          message)
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
     args = parser.parse_args(argv)
     if args.command is None:
         parser.print_help()
@@ -59,7 +63,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return int(args.run(args) or 0)
     except ValueError as exc:
-        print(f"rocknroller {args.command}: error: {option_names(str(exc))}", file=sys.stderr)
+        print(f"rocknroller {args.command}: error: {option_names(str(exc), argv)}", file=sys.stderr)
         return 2
     except AccuracyError as exc:
         print(f"rocknroller {args.command}: check failed: {exc}", file=sys.stderr)

@@ -95,9 +95,19 @@ def body_from_args(args: argparse.Namespace) -> Body:
     a = PAPER_A if args.a is None else args.a
     I3 = PAPER_I3 if args.I3 is None else args.I3
     I1 = paper_I1(a, I3) if args.I1 is None else args.I1
-    if args.I2 is not None:
-        return Body(a=a, I1=I1, I2=args.I2, I3=I3, g=g)
-    return Body(a=a, I1=I1, I2=I1, I3=I3, g=g).with_epsilon(eps)
+    derived = {}  # how the moments the user did not give were set, for error messages
+    if args.I1 is None:
+        source = " and ".join(f"{f} {v!r}" for f, v in (("--a", args.a), ("--I3", args.I3)) if v is not None)
+        derived["I1"] = f"I1 = (1 - 5a/2) I3 = {I1!r} from {source or 'the defaults'}, since --I1 was not given"
+    if args.I2 is None:
+        derived["I2"] = f"I2 = (1 + eps) I1 with eps = {eps!r}" + ("" if args.eps is not None else " (the default)")
+    try:
+        if args.I2 is not None:
+            return Body(a=a, I1=I1, I2=args.I2, I3=I3, g=g)
+        return Body(a=a, I1=I1, I2=I1, I3=I3, g=g).with_epsilon(eps)
+    except ValueError as exc:
+        notes = [text for name, text in derived.items() if re.search(rf"\b{name}\b", str(exc))]
+        raise ValueError(f"{exc} ({'; '.join(notes)})" if notes else str(exc)) from None
 
 
 def add_initial_state_options(parser: argparse.ArgumentParser, theta0_default: str = "0.95pi",
