@@ -59,16 +59,22 @@ def write_csv(path: str | Path, columns: Mapping[str, Sequence], header: Iterabl
     return stream.path
 
 
+def new_figure(**kwargs) -> "matplotlib.figure.Figure":
+    """A matplotlib figure outside pyplot's state machine (keyword arguments as for
+    :class:`matplotlib.figure.Figure`): it needs no GUI backend, is never shown and is freed with its last
+    reference, so the package never chooses the user's backend (no ``matplotlib.use``)."""
+    from matplotlib.figure import Figure
+
+    return Figure(**kwargs)
+
+
 def save_figure(fig, out_dir: str | Path, name: str, dpi: int = 150) -> list[Path]:
     """Save ``fig`` as ``out_dir/name.png`` and ``out_dir/name.pdf``; returns both paths."""
-    import matplotlib.pyplot as plt
-
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     paths = [out_dir / f"{name}.png", out_dir / f"{name}.pdf"]
     fig.savefig(paths[0], dpi=dpi, bbox_inches="tight")
     fig.savefig(paths[1], bbox_inches="tight")
-    plt.close(fig)
     return paths
 
 

@@ -14,16 +14,15 @@ import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-import matplotlib
+import numpy as np
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from numpy.typing import NDArray
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from numpy.typing import NDArray  # noqa: E402
-
-from analysis import criticality as crit  # noqa: E402
-from analysis.body import Body  # noqa: E402
-from analysis.invariants import V_phi  # noqa: E402
+from analysis import criticality as crit
+from analysis.body import Body
+from analysis.invariants import V_phi
+from papers.output import new_figure
 
 if TYPE_CHECKING:  # pragma: no cover
     from numerics.trajectory import Trajectory
@@ -152,7 +151,7 @@ def _window(body: Body, QR_max: float, traj: "Trajectory | None") -> tuple[float
 
 
 def region_diagram(body: Body, QR_max: float = 1.0, traj: "Trajectory | None" = None,
-                   title: str | None = None) -> tuple[plt.Figure, DiagramData]:
+                   title: str | None = None) -> tuple[Figure, DiagramData]:
     """The four-region diagram (paper fig. 4), optionally with a trajectory's (Q_R(t), Q_J(t)) orbit
     and its turning points (paper figs. 7–10: θ-maxima red, θ-minima blue).
 
@@ -177,14 +176,14 @@ def region_diagram(body: Body, QR_max: float = 1.0, traj: "Trajectory | None" = 
         obstacles = np.array(_to_axes(traj.QR[idx], traj.QJ[idx], window))
     spots = free_spots(body, window, obstacles)
     if traj is None:  # cross layout: each region's panel on the side where the region lies
-        fig = plt.figure(figsize=(8.0, 7.2))
+        fig = new_figure(figsize=(8.0, 7.2))
         gs = fig.add_gridspec(3, 3, width_ratios=[1, 1.45, 1], height_ratios=[1, 1.45, 1], wspace=0.42, hspace=0.6)
         ax = fig.add_subplot(gs[1, 1])
         cells = {lab: gs[_PANEL_CELL[lab]] for lab in spots}
     else:  # orbit layout: large orbit panel, the visible regions' panels stacked on the right
         n = max(len(spots), 2)
         height = 2.1 * n + 1.6
-        fig = plt.figure(figsize=(8.0, height))
+        fig = new_figure(figsize=(8.0, height))
         gs = fig.add_gridspec(n, 3, width_ratios=[1, 1, 0.9], wspace=0.5, hspace=0.75, top=1 - 0.85 / height)
         ax = fig.add_subplot(gs[:, :2])
         order = [lab for lab in ("II", "I", "III", "IV") if lab in spots]
@@ -210,7 +209,7 @@ def region_diagram(body: Body, QR_max: float = 1.0, traj: "Trajectory | None" = 
         plot_V_phi(inset, body, qr, qj, lab)
         data.axes[lab] = inset
     handles, labels = ax.get_legend_handles_labels()
-    handles.append(plt.Line2D([], [], marker="o", ls="", color="tab:green"))
+    handles.append(Line2D([], [], marker="o", ls="", color="tab:green"))
     labels.append(r"representative point (its $V_\phi(\theta)$ in the side panel)")
     if traj is None:
         legend_ax = fig.add_subplot(gs[0, 0])

@@ -1,23 +1,29 @@
-"""Plots of a direct-ODE trajectory: contact track, φ at the θ-maxima, and the (Q_R, Q_J) orbit."""
+"""Plots of a direct-ODE trajectory: contact track, φ at the θ-maxima, and the (Q_R, Q_J) orbit.
+
+Each function draws on the axes it is given; without one it opens a pyplot figure (for interactive use,
+on whatever backend the user has chosen: the package never calls ``matplotlib.use``)."""
 
 from __future__ import annotations
 
 import math
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from numerics.trajectory import Trajectory, TurningPointRun  # noqa: E402
+from numerics.trajectory import Trajectory, TurningPointRun
 
 __all__ = ["plot_contact_track", "plot_phi_at_maxima", "plot_invariant_orbit"]
+
+
+def _pyplot():
+    """pyplot, imported only when a function is called without axes (so importing this module never
+    resolves a backend)."""
+    import matplotlib.pyplot as plt
+
+    return plt
 
 
 def plot_contact_track(traj: Trajectory, ax=None, label: str | None = None):
     """Contact point (X, Y) with a circle at the start (paper figs. 5, 6)."""
     if ax is None:
-        _, ax = plt.subplots(figsize=(4.5, 4.5))
+        _, ax = _pyplot().subplots(figsize=(4.5, 4.5))
     ax.plot(traj.X, traj.Y, lw=0.6, label=label)
     ax.plot(traj.X[:1], traj.Y[:1], "o", mfc="none", color="k", ms=6)
     ax.set_aspect("equal", adjustable="datalim")
@@ -29,7 +35,7 @@ def plot_contact_track(traj: Trajectory, ax=None, label: str | None = None):
 def plot_phi_at_maxima(traj: Trajectory | TurningPointRun, ax=None, label: str | None = None):
     """Full azimuth φ at the θ-maxima against time (paper fig. 5, right panels)."""
     if ax is None:
-        _, ax = plt.subplots(figsize=(5, 3.5))
+        _, ax = _pyplot().subplots(figsize=(5, 3.5))
     ax.plot(traj.maxima.t, traj.maxima.phi / math.pi, ".", ms=3, label=label)
     ax.set_xlabel("t (time units)")
     ax.set_ylabel(r"$\phi$ at $\theta$-maxima ($\pi$ rad)")
@@ -39,7 +45,7 @@ def plot_phi_at_maxima(traj: Trajectory | TurningPointRun, ax=None, label: str |
 def plot_invariant_orbit(traj: Trajectory | TurningPointRun, ax=None, turning_points: bool = True):
     """(Q_R(t), Q_J(t)) with dots at the θ-maxima (red) and θ-minima (blue) (paper figs. 7-10)."""
     if ax is None:
-        _, ax = plt.subplots(figsize=(5, 4))
+        _, ax = _pyplot().subplots(figsize=(5, 4))
     if isinstance(traj, Trajectory):  # a TurningPointRun has only the turning points
         ax.plot(traj.QR, traj.QJ, color="k", lw=0.5, label=r"$(Q_R(t), Q_J(t))$")
     if turning_points:

@@ -143,3 +143,24 @@ def test_every_reproduction_writes_its_outputs(tmp_path):
         assert res.caption and res.outputs, name
         for path in res.outputs:
             assert path.exists() and path.stat().st_size > 0, path
+
+
+def test_figures_leave_the_users_backend_alone(tmp_path):
+    """Building and saving a figure neither imports pyplot nor switches the backend the user chose
+    (a fresh interpreter, so that other tests' pyplot imports cannot hide an import here)."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, matplotlib\n"
+        "matplotlib.use('svg')\n"
+        "from analysis.body import Body\n"
+        "from papers.output import save_figure\n"
+        "from papers.plotting import region_diagram\n"
+        "fig, _ = region_diagram(Body.paper(0.0))\n"
+        f"paths = save_figure(fig, {str(tmp_path)!r}, 'regions')\n"
+        "assert all(p.stat().st_size > 0 for p in paths)\n"
+        "print(matplotlib.get_backend(), 'matplotlib.pyplot' in sys.modules)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
+    assert out == ["svg", "False"]

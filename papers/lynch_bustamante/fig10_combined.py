@@ -4,18 +4,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from numerics.equations import EulerState  # noqa: E402
-from papers.lynch_bustamante import fig8_visible_reversal as fig8  # noqa: E402
-from papers.lynch_bustamante import fig9_full_reversal as fig9  # noqa: E402
-from papers.lynch_bustamante import reversals  # noqa: E402
-from papers.output import Reproduction, save_figure  # noqa: E402
-from papers.plotting import draw_critical_lines  # noqa: E402
+from numerics.equations import EulerState
+from papers.lynch_bustamante import fig8_visible_reversal as fig8
+from papers.lynch_bustamante import fig9_full_reversal as fig9
+from papers.lynch_bustamante import reversals
+from papers.output import Reproduction, new_figure, save_figure
+from papers.plotting import draw_critical_lines
 
 NAME = "fig10"
 
@@ -28,7 +24,8 @@ def runs() -> list[reversals.ReversalRun]:
 
 def run(out: Path) -> Reproduction:
     rr = runs()
-    fig, ax = plt.subplots(figsize=(7, 5.5))
+    fig = new_figure(figsize=(7, 5.5))
+    ax = fig.subplots()
     QR_all = np.concatenate([r.traj.QR for r in rr])
     QJ_all = np.concatenate([r.traj.QJ for r in rr])
     pad = 0.1 * np.ptp(QR_all)

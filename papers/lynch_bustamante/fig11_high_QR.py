@@ -12,19 +12,15 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from analysis.criticality import QJ_crit_pi, critical_start, region  # noqa: E402
-from numerics.equations import EulerState  # noqa: E402
-from analysis.quadrature import wrap_angle  # noqa: E402
-from papers.lynch_bustamante import reversals  # noqa: E402
-from papers.output import Reproduction, save_figure, write_csv  # noqa: E402
-from papers.plotting import draw_critical_lines  # noqa: E402
-from papers.trajectory_plots import plot_invariant_orbit  # noqa: E402
+from analysis.criticality import QJ_crit_pi, critical_start, region
+from numerics.equations import EulerState
+from analysis.quadrature import wrap_angle
+from papers.lynch_bustamante import reversals
+from papers.output import Reproduction, new_figure, save_figure, write_csv
+from papers.plotting import draw_critical_lines
+from papers.trajectory_plots import plot_invariant_orbit
 
 NAME = "fig11"
 QR0 = 0.1
@@ -61,7 +57,8 @@ def run(out: Path) -> Reproduction:
     traj = r.traj
     t_j, dphi = visible_precession(traj)
     regions = sorted(set(str(x) for x in region(traj.maxima.QR, traj.maxima.QJ, traj.body)))
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
+    fig = new_figure(figsize=(11, 4.5))
+    axes = fig.subplots(1, 2)
     pad = 0.2 * np.ptp(traj.QR)
     lines = draw_critical_lines(axes[0], traj.body, traj.QR.min() - pad, traj.QR.max() + pad)
     plot_invariant_orbit(traj, axes[0])

@@ -11,7 +11,7 @@ from pathlib import Path
 from analysis.body import Body
 from numerics.equations import EulerState
 from numerics.integrate import simulate
-from papers.output import Reproduction, save_figure, write_csv
+from papers.output import Reproduction, new_figure, save_figure, write_csv
 
 NAME = "fig5"
 T_END = 1500.0
@@ -32,15 +32,11 @@ def compute():
 
 
 def run(out: Path) -> Reproduction:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     from papers.trajectory_plots import plot_contact_track, plot_phi_at_maxima
 
     runs = compute()
-    fig, axes = plt.subplots(2, 2, figsize=(9, 8.5))
+    fig = new_figure(figsize=(9, 8.5))
+    axes = fig.subplots(2, 2)
     numbers: dict[str, float | int | str] = {}
     outputs = []
     for row, (eps, traj) in enumerate(runs.items()):

@@ -5,16 +5,12 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-import matplotlib
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from analysis.body import Body  # noqa: E402
-from numerics.equations import EulerState  # noqa: E402
-from numerics.integrate import simulate  # noqa: E402
-from papers.output import Reproduction, save_figure, write_csv  # noqa: E402
-from papers.trajectory_plots import plot_contact_track  # noqa: E402
+from analysis.body import Body
+from numerics.equations import EulerState
+from numerics.integrate import simulate
+from papers.output import Reproduction, new_figure, save_figure, write_csv
+from papers.trajectory_plots import plot_contact_track
 
 NAME = "fig6"
 T_END = 1000.0
@@ -30,7 +26,8 @@ def compute():
 
 def run(out: Path) -> Reproduction:
     runs = compute()
-    fig, axes = plt.subplots(2, 3, figsize=(11, 7.5))
+    fig = new_figure(figsize=(11, 7.5))
+    axes = fig.subplots(2, 3)
     for k, (ax, traj, label) in enumerate(zip(axes.flat, runs, LABELS)):
         plot_contact_track(traj, ax)
         ax.set_title(rf"({'ABCDEF'[k]}) $\psi_0=${label}, $\Phi={traj.Phi / math.pi:.3f}\pi$")

@@ -9,18 +9,14 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from analysis.averaging import load_or_build_table, predict_slow_motion  # noqa: E402
-from analysis.body import Body  # noqa: E402
-from analysis.slow_pendulum import pendulum_constants, pendulum_prediction  # noqa: E402
-from numerics.equations import EulerState  # noqa: E402
-from numerics.integrate import simulate  # noqa: E402
-from papers.output import Reproduction, save_figure, write_csv  # noqa: E402
+from analysis.averaging import load_or_build_table, predict_slow_motion
+from analysis.body import Body
+from analysis.slow_pendulum import pendulum_constants, pendulum_prediction
+from numerics.equations import EulerState
+from numerics.integrate import simulate
+from papers.output import Reproduction, new_figure, save_figure, write_csv
 
 NAME = "fig_azimuth_span"
 EPSILON = 1e-3
@@ -46,7 +42,8 @@ def compute() -> dict[str, list[float]]:
 def run(out: Path) -> Reproduction:
     rows = compute()
     x = np.array(rows["psi0"]) / math.pi
-    fig, ax = plt.subplots(figsize=(6, 4.5))
+    fig = new_figure(figsize=(6, 4.5))
+    ax = fig.subplots()
     ax.plot(x, np.array(rows["pi_minus_2psi0"]) / math.pi, "k:", label=r"$\pi-2\psi_0$ (paper's rule)")
     ax.plot(x, np.array(rows["Phi_pendulum"]) / math.pi, "-", color="tab:green", label="pendulum closed form")
     ax.plot(x, np.array(rows["Phi_map"]) / math.pi, "s", mfc="none", color="tab:blue", label="averaged map")

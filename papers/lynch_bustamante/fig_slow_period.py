@@ -9,18 +9,14 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from analysis.averaging import load_or_build_table, predict_slow_motion  # noqa: E402
-from analysis.body import Body  # noqa: E402
-from analysis.slow_pendulum import pendulum_constants, pendulum_prediction  # noqa: E402
-from numerics.equations import EulerState  # noqa: E402
-from numerics.integrate import simulate  # noqa: E402
-from papers.output import Reproduction, save_figure, write_csv  # noqa: E402
+from analysis.averaging import load_or_build_table, predict_slow_motion
+from analysis.body import Body
+from analysis.slow_pendulum import pendulum_constants, pendulum_prediction
+from numerics.equations import EulerState
+from numerics.integrate import simulate
+from papers.output import Reproduction, new_figure, save_figure, write_csv
 
 NAME = "fig_slow_period"
 THETA0 = 0.95 * math.pi
@@ -58,7 +54,8 @@ def run(out: Path) -> Reproduction:
     rows = compute()
     eps, psi0 = np.array(rows["eps"]), np.array(rows["psi0"])
     P_ode, P_map, P_pend = _array(rows["P_ODE"]), _array(rows["P_map"]), _array(rows["P_pendulum"])
-    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    fig = new_figure(figsize=(6.5, 4.5))
+    ax = fig.subplots()
     for k, e in enumerate(EPSILONS):
         sel = eps == e
         color = f"C{k}"

@@ -11,20 +11,16 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from analysis.body import Body  # noqa: E402
-from analysis.criticality import critical_start, reversal_analysis  # noqa: E402
-from numerics.equations import EulerState  # noqa: E402
-from numerics.integrate import simulate  # noqa: E402
-from numerics.trajectory import Trajectory  # noqa: E402
-from papers.output import save_figure, write_csv  # noqa: E402
-from papers.plotting import draw_critical_lines  # noqa: E402
-from papers.trajectory_plots import plot_invariant_orbit  # noqa: E402
+from analysis.body import Body
+from analysis.criticality import critical_start, reversal_analysis
+from numerics.equations import EulerState
+from numerics.integrate import simulate
+from numerics.trajectory import Trajectory
+from papers.output import new_figure, save_figure, write_csv
+from papers.plotting import draw_critical_lines
+from papers.trajectory_plots import plot_invariant_orbit
 
 EPSILON = 1e-3
 THETA0 = 0.95 * math.pi
@@ -66,7 +62,8 @@ def numbers(r: ReversalRun) -> dict[str, float | int | str]:
 def three_panels(r: ReversalRun, out: Path, name: str, title: str) -> list[Path]:
     """Orbit with critical lines; φ(t) solid where θ ≥ θ0/2, dashed otherwise; φ mod π where θ ≥ θ0/2."""
     traj = r.traj
-    fig, axes = plt.subplots(3, 1, figsize=(8.5, 10))
+    fig = new_figure(figsize=(8.5, 10))
+    axes = fig.subplots(3, 1)
     ax = axes[0]
     pad = 0.15 * max(np.ptp(traj.QR), 1e-12)
     draw_critical_lines(ax, traj.body, traj.QR.min() - pad, traj.QR.max() + pad)

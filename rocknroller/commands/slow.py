@@ -213,15 +213,12 @@ def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: flo
 
 
 def _plot(pred, ode, body, theta0: float, psi0: float, out: Path) -> list[Path]:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     import numpy as np
 
-    from papers.output import save_figure
+    from papers.output import new_figure, save_figure
 
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
+    fig = new_figure(figsize=(11, 4.2))
+    ax1, ax2 = fig.subplots(1, 2)
     ax1.plot(ode.QR, ode.QJ, "o", ms=5, mfc="none", color="tab:red", label="direct ODE (maxima)")
     ax1.plot(pred.series.QR, pred.series.QJ, ".", ms=3, color="k", label="averaged map")
     ax1.set_xlabel("$Q_R$ at the maxima of $\\theta$")
