@@ -104,7 +104,7 @@ def test_theta0_outside_supported_range_is_refused(fresh_cache, capsys):
     for theta0 in ("0.7pi", "0.5pi", "0.1", "0.9999pi", "1.2pi", "-0.5pi"):
         assert main(["slow", f"--theta0={theta0}", "--t-end", "100"]) == 2
         err = capsys.readouterr().err
-        assert "--theta0 must lie in [0.75pi, 0.999pi]" in err, (theta0, err)
+        assert "error: --theta0 must lie in [0.75pi, 0.999pi]" in err, (theta0, err)
         assert "Traceback" not in err and "numpy" not in err
     lo, hi = av.THETA0_RANGE
     assert (lo, hi) == (0.75 * math.pi, 0.999 * math.pi)
