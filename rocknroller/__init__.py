@@ -5,6 +5,8 @@ Public API re-exported from ``analysis`` and ``numerics`` (no physics lives here
     from rocknroller import Body, EulerState, simulate
 """
 
+from rocknroller._version import __version__
+from rocknroller.citation import cite
 from analysis.averaging import predict_slow_motion
 from analysis.body import Body
 from analysis.quadrature import precession, precession_mp
@@ -16,8 +18,7 @@ from numerics.integrate import simulate
 from numerics.trajectory import Trajectory, TurningPoints
 
 __all__ = [
-    "Body", "EulerState", "simulate", "Trajectory", "TurningPoints", "azimuth_span",
+    "__version__", "cite", "Body", "EulerState", "simulate", "Trajectory", "TurningPoints", "azimuth_span",
     "F", "turning_points", "precession", "precession_mp",
     "predict_slow_motion", "pendulum_constants", "pendulum_prediction",
 ]
-__version__ = "0.1.0"

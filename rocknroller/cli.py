@@ -15,9 +15,10 @@ import importlib
 import re
 import sys
 
+from rocknroller._version import __version__
 from rocknroller.options import accept_negative_values
 
-COMMANDS = ("reproduce", "simulate", "table", "diagram", "slow", "verify")
+COMMANDS = ("reproduce", "simulate", "table", "diagram", "slow", "verify", "cite")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -27,6 +28,7 @@ def build_parser() -> argparse.ArgumentParser:
         "critical Jellett lines, epsilon-averaged slow dynamics, and the reproduction of "
         "Lynch & Bustamante, 'Precession and recession of the rock'n'roller'.",
     )
+    parser.add_argument("--version", action="version", version=f"rocknroller {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name in COMMANDS:
         importlib.import_module(f"rocknroller.commands.{name}").register(sub)

@@ -217,5 +217,10 @@ def finite_or_none(x: Any) -> Any:
 
 
 def print_json(obj: Any, indent: int | None = None) -> None:
-    """Print ``obj`` as strict JSON (no NaN or Infinity: they become null) on stdout."""
+    """Print ``obj`` as strict JSON (no NaN or Infinity: they become null) on stdout; a dict gets the package
+    version as ``rocknroller_version``."""
+    from rocknroller._version import __version__
+
+    if isinstance(obj, dict):
+        obj = {"rocknroller_version": __version__, **obj}
     sys.stdout.write(json.dumps(finite_or_none(obj), allow_nan=False, indent=indent) + "\n")

@@ -164,3 +164,46 @@ def test_figures_leave_the_users_backend_alone(tmp_path):
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
     assert out == ["svg", "False"]
+
+
+def _rendered_tables(markdown: str) -> list[list[list[str]]]:
+    """The tables of a Markdown page as rendered (rows of cell texts), by a CommonMark parser with tables."""
+    from markdown_it import MarkdownIt
+
+    tokens = MarkdownIt("commonmark").enable("table").parse(markdown)
+    tables, row = [], None
+    for tok in tokens:
+        if tok.type == "table_open":
+            tables.append([])
+        elif tok.type == "tr_open":
+            row = []
+        elif tok.type == "inline" and row is not None:
+            row.append("".join(child.content for child in tok.children if child.type == "text"))
+        elif tok.type == "tr_close":
+            tables[-1].append(row)
+            row = None
+    return tables
+
+
+def test_index_cells_render_as_the_numbers(tmp_path):
+    """Every cell of index.md renders to the quantity's name and formatted value, with the characters Markdown
+    would eat (|, \\, *, _, <, [) intact, and the caption renders as written."""
+    from papers.output import Reproduction
+    from rocknroller.commands.reproduce import _format, write_index
+
+    numbers = {"max |map/ODE-1|, eps=0.01": 2.8e-3, r"slope of Q_J,\pi^crit": -0.123456789, "*bold* <x> [y](z)": "a|b",
+               "n": 7}
+    fake = Reproduction("nasty", r"caption with | and \pi and *stars*", [], numbers)
+    from papers.lynch_bustamante import table_polar_cap
+
+    res = table_polar_cap.run(tmp_path / "real")
+    page = write_index(tmp_path, [fake, res], {"nasty": 0.0, res.name: 0.0}).read_text()
+    tables = _rendered_tables(page)
+    for table, r in zip(tables, (fake, res)):
+        assert table[0] == ["quantity", "value"]
+        assert table[1:] == [[k, _format(v)] for k, v in r.numbers.items()]
+    assert len(tables) == 2
+    from markdown_it import MarkdownIt
+
+    html = MarkdownIt("commonmark").render(page)
+    assert "caption with | and \\pi and *stars*" in html

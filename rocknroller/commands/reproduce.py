@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 import time
 from pathlib import Path
 
+from papers.output import PRODUCER
 from rocknroller.options import prepare_output_dir
 
 
@@ -34,17 +36,28 @@ def _format(value: object) -> str:
     return str(value)
 
 
+#: Characters with a meaning in Markdown text or tables, backslash-escaped so that they show as written.
+_MARKDOWN_SPECIAL = re.compile(r"([\\`*_\[\]<>|#])")
+
+
+def markdown_text(text: str) -> str:
+    """``text`` with Markdown's special characters escaped (a ``|`` would split a table cell)."""
+    return _MARKDOWN_SPECIAL.sub(r"\\\1", text)
+
+
 def write_index(out: Path, results: list, timings: dict[str, float]) -> Path:
+    """``out/index.md``: per output its caption, files and measured numbers (a two-column table whose cells are
+    the escaped :func:`markdown_text` of the quantity and of :func:`_format` of its value)."""
     lines = ["# rocknroller reproduction of Lynch & Bustamante", "",
-             "Every number below is computed by the library from the paper's initial conditions.", ""]
+             f"Every number below is computed by {markdown_text(PRODUCER)} from the paper's initial conditions.", ""]
     for res in results:
-        lines += [f"## {res.name}", "", res.caption, "", f"Run time: {timings[res.name]:.1f} s", ""]
+        lines += [f"## {res.name}", "", markdown_text(res.caption), "", f"Run time: {timings[res.name]:.1f} s", ""]
         for path in res.outputs:
             rel = path.relative_to(out) if path.is_relative_to(out) else path
             lines.append(f"![{res.name}]({rel})" if path.suffix == ".png" else f"- [{rel}]({rel})")
         if res.numbers:
             lines += ["", "| quantity | value |", "| --- | --- |"]
-            lines += [f"| {k} | {_format(v)} |" for k, v in res.numbers.items()]
+            lines += [f"| {markdown_text(k)} | {markdown_text(_format(v))} |" for k, v in res.numbers.items()]
         lines.append("")
     path = out / "index.md"
     path.write_text("\n".join(lines))
