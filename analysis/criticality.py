@@ -497,11 +497,11 @@ def critical_start(body: Body, theta0: ArrayLike, psi0: ArrayLike = 0.0, line: s
     QJv = QJ_crit(line, QRv, body) + offset
     _check_turning_theta(theta0, body, QRv, QJv)
     z = np.zeros(np.broadcast(theta0, psi0, QRv, QJv).shape)
-    phi_dot0 = V_phi(theta0, QJv, QRv, body) + z
+    phi_dot0 = V_phi(theta0, QR=QRv, QJ=QJv, body=body) + z
     omega = omega_from_rates(theta0 + z, psi0 + z, z, phi_dot0, z)
     omega[2] = r * QRv + z
     return CriticalStart(line=line, theta0=theta0 + z, psi0=psi0 + z, phi_dot0=phi_dot0,
-                         psi_dot0=V_psi(theta0, QJv, QRv, body) + z, omega=omega, QR=QRv + z, QJ=QJv + z,
+                         psi_dot0=V_psi(theta0, QR=QRv, QJ=QJv, body=body) + z, omega=omega, QR=QRv + z, QJ=QJv + z,
                          offset=offset + z)
 
 

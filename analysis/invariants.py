@@ -68,15 +68,19 @@ def invariants(body: Body, gamma: ArrayLike, omega: ArrayLike) -> tuple[NDArray,
     return energy(body, gamma, omega), routh(body, gamma, omega), jellett(body, gamma, omega)
 
 
-def V_phi(theta: ArrayLike, QJ: ArrayLike, QR: ArrayLike, body: Body) -> NDArray[np.float64]:
-    """φ̇ = V_φ(θ; Q_J, Q_R) = [Q_J − ρ f I3 Q_R]/(I1 s²) (paper eq. phidotCJQR)."""
+def V_phi(theta: ArrayLike, *, QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]:
+    """φ̇ = V_φ(θ; Q_R, Q_J) = [Q_J − ρ f I3 Q_R]/(I1 s²) (paper eq. phidotCJQR; the paper writes V_φ(θ; Q_J, Q_R)).
+
+    Q_R, Q_J and the body are keyword-only: the package orders Q_R before Q_J everywhere, and a swap here would
+    give wrong numbers silently."""
     theta = np.asarray(theta, float)
     s, c = np.sin(theta), np.cos(theta)
     return (QJ - rho(theta, body) * (c - body.a) * body.I3 * QR) / (body.I1 * s * s)
 
 
-def V_psi(theta: ArrayLike, QJ: ArrayLike, QR: ArrayLike, body: Body) -> NDArray[np.float64]:
-    """ψ̇ = V_ψ(θ; Q_J, Q_R) = −[c Q_J − ρ(c f I3 + I1 s²) Q_R]/(I1 s²) (paper eq. psidotCJQR)."""
+def V_psi(theta: ArrayLike, *, QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]:
+    """ψ̇ = V_ψ(θ; Q_R, Q_J) = −[c Q_J − ρ(c f I3 + I1 s²) Q_R]/(I1 s²) (paper eq. psidotCJQR); keyword-only
+    like :func:`V_phi`."""
     theta = np.asarray(theta, float)
     s, c = np.sin(theta), np.cos(theta)
     return -(c * QJ - rho(theta, body) * (c * (c - body.a) * body.I3 + body.I1 * s * s) * QR) / (body.I1 * s * s)

@@ -213,13 +213,15 @@ def laurent_function(quantity: str, about: str | float, order: int,
     Returns
     -------
     callable
-        ``fn(x, QJ, QR)`` with x = θ (about 0) or x = π − θ (about π), ``x > 0``.
+        ``fn(x, *, QR, QJ)`` with x = θ (about 0) or x = π − θ (about π), ``x > 0`` (Q_R and Q_J keyword-only,
+        as in :func:`analysis.invariants.V_phi`).
     """
     _check(quantity, order)
     body.require_symmetric("the Laurent expansion of V_phi, V_psi")
     fn = _lambdified(quantity, _about_sign(about), int(order))
 
-    def evaluate(xv: ArrayLike, QJv: ArrayLike, QRv: ArrayLike) -> NDArray[np.float64]:
+    def evaluate(xv: ArrayLike, *, QR: ArrayLike, QJ: ArrayLike) -> NDArray[np.float64]:
+        QRv, QJv = QR, QJ
         xv = np.asarray(xv, float)
         if np.any(~(xv > 0)):
             raise ValueError("x (distance from the expansion point) must be > 0 and finite")
@@ -243,11 +245,11 @@ def phidot_turning_point_errors(body: Body, theta_X: float, QR: float, QJ: float
     """
     if not 0.0 < theta_X < np.pi:
         raise ValueError(f"theta_X must satisfy 0 < theta_X < pi, got theta_X={theta_X!r}")
-    exact = float(V_phi(theta_X, QJ, QR, body))
+    exact = float(V_phi(theta_X, QR=QR, QJ=QJ, body=body))
     xv = np.pi - theta_X
     out: dict[int, dict[str, float]] = {}
     for n in orders:
-        pred = float(laurent_function("phi", "pi", n, body)(xv, QJ, QR))
+        pred = float(laurent_function("phi", "pi", n, body)(xv, QR=QR, QJ=QJ))
         err = abs(pred - exact)
         out[n] = {"exact": exact, "predicted": pred, "abs_error": err,
                   "rel_error": err / abs(exact) if exact != 0.0 else float("inf")}

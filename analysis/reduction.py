@@ -535,4 +535,4 @@ def state_from_turning_point(body: Body, theta0: ArrayLike, QR: ArrayLike, QJ: A
     E = _U_xy(x, y, QR, QJ, body)
     zero = np.zeros(np.broadcast(theta0, QR, QJ).shape)
     return TurningPointState(theta=theta0 + zero, E=E, theta_dot=zero,
-                             phi_dot=V_phi(theta0, QJ, QR, body) + zero, psi_dot=V_psi(theta0, QJ, QR, body) + zero)
+                             phi_dot=V_phi(theta0, QR=QR, QJ=QJ, body=body) + zero, psi_dot=V_psi(theta0, QR=QR, QJ=QJ, body=body) + zero)

@@ -120,8 +120,8 @@ def _slope_h(sym: Body, E0: float, vt: NDArray[np.float64]) -> NDArray[np.float6
     """h(ϑ) = ϑ² ∂V/∂Q(|ϑ|)/√F0(ϑ) for (ψ: Q_R, Q_J; φ: Q_R, Q_J), shape (4, n); even and smooth."""
     th = np.abs(vt)
     r = vt * vt / np.sqrt(F(th, E0, 0.0, 0.0, sym))
-    return np.vstack([V_psi(th, 0.0, 1.0, sym) * r, V_psi(th, 1.0, 0.0, sym) * r,
-                      V_phi(th, 0.0, 1.0, sym) * r, V_phi(th, 1.0, 0.0, sym) * r])
+    return np.vstack([V_psi(th, QR=1.0, QJ=0.0, body=sym) * r, V_psi(th, QR=0.0, QJ=1.0, body=sym) * r,
+                      V_phi(th, QR=1.0, QJ=0.0, body=sym) * r, V_phi(th, QR=0.0, QJ=1.0, body=sym) * r])
 
 
 def _quadratures(sym: Body, theta0: float, E0: float, n: int) -> NDArray[np.float64]:

@@ -67,8 +67,8 @@ def scipy_point(E: float, QR: float, QJ: float, body: Body) -> tuple[float, floa
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         T = integrate.quad(f, tN, tX, **opts)[0]
-        ph = integrate.quad(lambda th: V_phi(th, QJ, QR, body) * f(th), tN, tX, **opts)[0]
-        ps = integrate.quad(lambda th: V_psi(th, QJ, QR, body) * f(th), tN, tX, **opts)[0]
+        ph = integrate.quad(lambda th: V_phi(th, QR=QR, QJ=QJ, body=body) * f(th), tN, tX, **opts)[0]
+        ps = integrate.quad(lambda th: V_psi(th, QR=QR, QJ=QJ, body=body) * f(th), tN, tX, **opts)[0]
     return 2 * T, 2 * ph, 2 * ps
 
 

@@ -113,7 +113,7 @@ def free_spots(body: Body, window: tuple[float, float, float, float],
 def plot_V_phi(ax, body: Body, QR: float, QJ: float, region: str) -> None:
     """V_φ(θ; Q_J, Q_R) on (0, π) (paper eq. phidotCJQR) with its zero θ_z (I, III) or extremum θ_e (II, IV)."""
     theta = np.linspace(1e-3, math.pi - 1e-3, 1200)
-    v = V_phi(theta, QJ, QR, body)
+    v = V_phi(theta, QR=QR, QJ=QJ, body=body)
     core = v[(theta > 0.35) & (theta < math.pi - 0.35)]
     lo, hi = min(core.min(), 0.0), max(core.max(), 0.0)
     pad = 1.2 * (hi - lo) if hi > lo else 1.0
@@ -126,7 +126,7 @@ def plot_V_phi(ax, body: Body, QR: float, QJ: float, region: str) -> None:
     else:
         te = float(crit.theta_e(QR, QJ, body))
         ax.axvline(te, color="0.3", ls=":", lw=1)
-        ax.annotate(r"$\theta_e$", (te, float(V_phi(te, QJ, QR, body))), xytext=(4, 4 if region == "IV" else -12),
+        ax.annotate(r"$\theta_e$", (te, float(V_phi(te, QR=QR, QJ=QJ, body=body))), xytext=(4, 4 if region == "IV" else -12),
                     textcoords="offset points", fontsize=8)
     ax.set_xlim(0, math.pi)
     ax.set_ylim(lo - 0.25 * pad, hi + 0.25 * pad)

@@ -142,7 +142,7 @@ def check_criticality() -> list[Check]:
     out = []
     # regions from the critical lines against the signs of V_φ next to θ = 0 and θ = π
     QR, QJ = rng.uniform(-1, 1, 500), rng.uniform(-0.4, 0.4, 500)
-    near0, nearpi = np.sign(V_phi(1e-6, QJ, QR, body)), np.sign(V_phi(math.pi - 1e-6, QJ, QR, body))
+    near0, nearpi = np.sign(V_phi(1e-6, QR=QR, QJ=QJ, body=body)), np.sign(V_phi(math.pi - 1e-6, QR=QR, QJ=QJ, body=body))
     expected = np.select([(near0 < 0) & (nearpi > 0), (near0 > 0) & (nearpi > 0), (near0 > 0) & (nearpi < 0)],
                          ["I", "II", "III"], "IV")
     out.append(Check("criticality", "region I-IV from the critical lines (500 random points)",
@@ -152,7 +152,7 @@ def check_criticality() -> list[Check]:
     t = rng.uniform(0, 1, 200)
     QR = rng.uniform(-1, 1, 200)
     QJ = C.QJ_crit_pi(QR, body) + t * (C.QJ_crit_0(QR, body) - C.QJ_crit_pi(QR, body))
-    roots = np.array([math.cos(brentq(lambda th: float(V_phi(th, j, r, body)), 1e-9, math.pi - 1e-9, xtol=1e-16,
+    roots = np.array([math.cos(brentq(lambda th: float(V_phi(th, QR=r, QJ=j, body=body)), 1e-9, math.pi - 1e-9, xtol=1e-16,
                                       rtol=4 * np.finfo(float).eps)) for r, j in zip(QR, QJ)])
     out.append(Check("criticality", "cos(theta_z), corrected closed form (200 points in Regions I, III)",
                      "Brent root of V_phi", float(np.max(np.abs(C.cos_theta_z(QR, QJ, body) - roots))), 1e-12))
@@ -170,7 +170,7 @@ def check_criticality() -> list[Check]:
     # Laurent series about θ = π truncated at order 2: error falls as x⁴
     xs = np.array([0.2, 0.1, 0.05, 0.025])
     fn = laurent_function("phi", "pi", 2, body)
-    err = np.abs(fn(xs, 0.0123, -0.0456) - V_phi(math.pi - xs, 0.0123, -0.0456, body))
+    err = np.abs(fn(xs, QR=-0.0456, QJ=0.0123) - V_phi(math.pi - xs, QR=-0.0456, QJ=0.0123, body=body))
     out.append(Check("criticality", "Laurent series of V_phi about pi to order 2: error power 4",
                      "V_phi, fitted log-log slope", abs(loglog_slope(xs, err) - 4.0), 0.1))
     # starts placed on the critical lines

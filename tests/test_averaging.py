@@ -76,7 +76,7 @@ def _direct_step(eps: float, QR: float, QJ: float, psi: float) -> dict[str, floa
 def _rates(theta: float, QR: float, QJ: float) -> tuple[float, float]:
     from analysis.invariants import V_phi, V_psi
 
-    return float(V_phi(theta, QJ, QR, SYM)), float(V_psi(theta, QJ, QR, SYM))
+    return float(V_phi(theta, QR=QR, QJ=QJ, body=SYM)), float(V_psi(theta, QR=QR, QJ=QJ, body=SYM))
 
 
 def test_first_order_step_equals_finite_difference_of_direct_ode():

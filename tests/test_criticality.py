@@ -55,8 +55,8 @@ def test_region_matches_signs_of_V_phi_near_both_ends():
     for body in (BODY, OTHER):
         QR, QJ = _random_points(rng, 1500)
         reg = C.region(QR, QJ, body)
-        s0 = np.sign(V_phi(1e-6, QJ, QR, body))
-        spi = np.sign(V_phi(np.pi - 1e-6, QJ, QR, body))
+        s0 = np.sign(V_phi(1e-6, QR=QR, QJ=QJ, body=body))
+        spi = np.sign(V_phi(np.pi - 1e-6, QR=QR, QJ=QJ, body=body))
         expected = np.select([(s0 < 0) & (spi > 0), (s0 > 0) & (spi > 0), (s0 > 0) & (spi < 0), (s0 < 0) & (spi < 0)],
                              ["I", "II", "III", "IV"], "?")
         assert np.all(reg == expected)
@@ -81,7 +81,7 @@ def _numeric_zero_cos(QR, QJ, body):
     """cos of the zero of V_φ by Brent's method on analysis.invariants.V_phi (independent of the closed form)."""
     out = []
     for r, j in zip(QR, QJ):
-        th = brentq(lambda t: float(V_phi(t, j, r, body)), 1e-9, np.pi - 1e-9, xtol=1e-16, rtol=4 * np.finfo(float).eps, maxiter=500)
+        th = brentq(lambda t: float(V_phi(t, QR=r, QJ=j, body=body)), 1e-9, np.pi - 1e-9, xtol=1e-16, rtol=4 * np.finfo(float).eps, maxiter=500)
         out.append(math.cos(th))
     return np.array(out)
 
@@ -107,14 +107,14 @@ def test_cos_theta_z_printed_form_fails():
     good, printed = C.cos_theta_z(QR, QJ, BODY), C.cos_theta_z_printed(QR, QJ, BODY)
     assert np.max(np.abs(good - _numeric_zero_cos(QR, QJ, BODY))) <= 1e-12
     assert np.all(np.abs(printed - good) > 0.05)
-    assert np.all(np.abs(V_phi(np.arccos(np.clip(printed, -1, 1)), QJ, QR, BODY)) > 1e-3)
+    assert np.all(np.abs(V_phi(np.arccos(np.clip(printed, -1, 1)), QR=QR, QJ=QJ, body=BODY)) > 1e-3)
     # each error alone also fails: the right β with the + root fails for q < 0
     q = -0.2
     beta = BODY.I3 - q * q / BODY.I1
     a, I1, I3 = BODY.a, BODY.I1, BODY.I3
     plus = (a * beta * I3 + math.sqrt(I1 * (I3 - beta) * (beta * (I3 - I1) * (I3 + 1) - a * a * beta * I3
                                                           + I1 * I3 * (I3 + 1)))) / (beta * (I3 - I1) + I1 * I3)
-    assert abs(V_phi(math.acos(plus), q, 1.0, BODY)) > 1e-3
+    assert abs(V_phi(math.acos(plus), QR=1.0, QJ=q, body=BODY)) > 1e-3
 
 
 def test_cos_theta_z_sympy_derivation():
@@ -159,7 +159,7 @@ def test_theta_e_is_the_extremum():
     te = C.theta_e(QR, QJ, BODY)
     h = 1e-4
     for r, j, t in zip(QR, QJ, te):
-        v, vl, vr = (float(V_phi(x, j, r, BODY)) for x in (t, t - h, t + h))
+        v, vl, vr = (float(V_phi(x, QR=r, QJ=j, body=BODY)) for x in (t, t - h, t + h))
         if j > C.QJ_crit_0(r, BODY):  # Region II: minimum
             assert v < vl and v < vr
         else:
@@ -320,6 +320,6 @@ def test_ode_started_on_line_crosses_it(line):
     assert ra.count(other) == 0  # paper: "no visible (full) angle reversal"
     tp = ra.turning_points
     assert tp.t.size == len(traj.maxima) + len(traj.minima) and np.all(np.diff(tp.t) > 0)
-    assert np.all(tp.phi_dot_sign == np.sign(V_phi(tp.theta, tp.QJ, tp.QR, BODY_EPS)))
+    assert np.all(tp.phi_dot_sign == np.sign(V_phi(tp.theta, QR=tp.QR, QJ=tp.QJ, body=BODY_EPS)))
     for c in ra.crossings:
         assert c.region_before != c.region_after

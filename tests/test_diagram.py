@@ -39,7 +39,7 @@ def test_plotted_data_come_from_the_library(body):
     for lab, (qr, qj) in data.representatives.items():
         assert C.region(qr, qj, body) == lab
         theta, v = (np.asarray(a, float) for a in data.axes[lab].get_lines()[0].get_data())
-        np.testing.assert_array_equal(v, V_phi(theta, qj, qr, body))
+        np.testing.assert_array_equal(v, V_phi(theta, QR=qr, QJ=qj, body=body))
     plt.close(fig)
 
 

@@ -119,7 +119,7 @@ def test_u_numerator_matches_V_phi_and_mpmath():
     QR, QJ = rng.normal(scale=0.01, size=(2, 500))
     x, y = tilt_xy(theta)
     u = u_numerator(x, y, QR, QJ, body)
-    ref = body.I1 * np.sin(theta) ** 2 * V_phi(theta, QJ, QR, body)
+    ref = body.I1 * np.sin(theta) ** 2 * V_phi(theta, QR=QR, QJ=QJ, body=body)
     assert np.max(np.abs(u - ref)) <= 100 * EPS * np.max(np.abs(QJ) + np.abs(QR))
     # Near the ends u = u_e + (variation): the variation keeps its relative precision down to z = 1e-20,
     # so u is a smooth function of θ (the fixed rounding of u_e = Q_J − Q_J,e^crit is shared by all θ).
@@ -296,3 +296,14 @@ def test_bad_inputs_raise():
         invariants_from_euler(body, 4.0, 0.0, 0.0, 0.0)
     with pytest.raises(ValueError, match="phi_dot must be finite"):
         invariants_from_euler(body, 1.0, 0.0, float("inf"), 0.0)
+
+
+def test_V_phi_V_psi_take_QR_QJ_by_keyword_only():
+    """The paper writes V(θ; Q_J, Q_R), the package Q_R before Q_J: positional Q's would be a silent swap."""
+    from analysis.invariants import V_phi, V_psi
+
+    body = Body.paper(0.0)
+    for fn in (V_phi, V_psi):
+        with pytest.raises(TypeError):
+            fn(1.0, 0.1, 0.2, body)
+        assert fn(1.0, QR=0.1, QJ=0.2, body=body) == fn(1.0, QJ=0.2, body=body, QR=0.1)
