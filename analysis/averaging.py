@@ -10,9 +10,9 @@ One step (maximum n → maximum n+1), to first order in ε = (I2 − I1)/I1 at f
     Q_{n+1} = Q_n + ε ΔQ(Q_n, Θ_n),     Θ_{n+1} = Θ_n + W(Q_n) + ε ΔΘ(Q_n, Θ_n),
     t_{n+1} = t_n + T_θ(Q_n) + ε Δt(Q_n, Θ_n),   φ_{n+1} = φ_n + Δφ(Q_n) + ε Δφ₁(Q_n, Θ_n),
 
-with T_θ, W = 2(Δψ − π) and Δφ from the symmetric quadratures (``analysis.quadrature``) and the
+with T_θ, W = 2(Δψ − π) and Δφ from the symmetric quadratures (``rocknroller.analysis.quadrature``) and the
 first-order terms from the symmetric orbit integrated together with its first-order variational
-equations in ε (heyoka, on ``numerics.equations.body_frame_rhs`` with I2 = (1 + ε) I1):
+equations in ε (heyoka, on ``rocknroller.numerics.equations.body_frame_rhs`` with I2 = (1 + ε) I1):
 
     ż = (∂f/∂y) z + ∂f/∂ε,   z(0) = ∂y₀/∂ε,
 
@@ -34,7 +34,7 @@ change of the part of the kick received before the passage near θ = 0, multipli
 
 Tables.  The coefficient functions are tabulated once per (body, θ0) on a Chebyshev grid in the
 frame (u, v) of the kick direction at Q = 0 (the slow orbit lies close to the line v = 0) and cached
-on disk (``numerics.cache.cache_dir()/averaging``, plain arrays with their key and checksum, checked on
+on disk (``rocknroller.numerics.cache.cache_dir()/averaging``, plain arrays with their key and checksum, checked on
 load); they depend on neither ε nor ψ0.
 
 Range.  The map is built and validated for releases 0.75π ≤ θ0 ≤ 0.999π (``THETA0_RANGE``;
@@ -55,18 +55,18 @@ from typing import Any, Callable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from analysis.averaging_limits import MAX_MAXIMA, THETA0_RANGE, check_map_theta0, check_t_end, t_end_limit
-from analysis.body import Body
-from analysis.kinematics import angles_from_frame
-from analysis.invariants import energy, jellett, routh
-from analysis.quadrature import precession, wrap_angle
-from analysis.reduction import (effective_potential, require_open_tilt, state_from_turning_point, turning_points,
+from rocknroller.analysis.averaging_limits import MAX_MAXIMA, THETA0_RANGE, check_map_theta0, check_t_end, t_end_limit
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.kinematics import angles_from_frame
+from rocknroller.analysis.invariants import energy, jellett, routh
+from rocknroller.analysis.quadrature import precession, wrap_angle
+from rocknroller.analysis.reduction import (effective_potential, require_open_tilt, state_from_turning_point, turning_points,
                                 u_ends)
-from analysis.slow_diagnostics import azimuth_span, slow_period, span, unwrap_phase
-from numerics.cache import CacheWarning, cache_dir, load_arrays, save_arrays, warn_unwritable
-from numerics.equations import body_frame_rhs, state_from_euler, turning_point_function
+from rocknroller.analysis.slow_diagnostics import azimuth_span, slow_period, span, unwrap_phase
+from rocknroller.numerics.cache import CacheWarning, cache_dir, load_arrays, save_arrays, warn_unwritable
+from rocknroller.numerics.equations import body_frame_rhs, state_from_euler, turning_point_function
 
-from analysis import _slow_map_kernel as _kernel
+from rocknroller.analysis import _slow_map_kernel as _kernel
 
 __all__ = [
     "HARMONIC_PSI",
@@ -624,7 +624,7 @@ def load_or_build_table(body: Body, theta0: float, *, build: bool = True, use_ca
                         **grid: Any) -> SlowMapTable:
     """The tables of (body, θ0): from memory, from the disk cache, or built (and cached).
 
-    The cache file holds plain float64 arrays, the key and a SHA-256 checksum (``numerics.cache``; read with
+    The cache file holds plain float64 arrays, the key and a SHA-256 checksum (``rocknroller.numerics.cache``; read with
     ``allow_pickle=False``).  A file that fails any check is never used: it is rebuilt and replaced, with a
     ``CacheWarning``; an unwritable cache directory gives one ``CacheWarning`` per process (docs/averaging.md).
 
@@ -637,7 +637,7 @@ def load_or_build_table(body: Body, theta0: float, *, build: bool = True, use_ca
     build : bool
         If False and no valid cached table exists, raise ValueError instead of building.
     use_cache : bool
-        Read and write the disk cache (``numerics.cache.cache_dir()/averaging``).
+        Read and write the disk cache (``rocknroller.numerics.cache.cache_dir()/averaging``).
     grid : keyword arguments of :func:`build_table`.
     """
     theta0 = check_map_theta0(theta0)
@@ -726,7 +726,7 @@ class _FastTable:
     Chebyshev series of the kick functions 0-14, for the Jacobian of the implicit kick and a
     first-order correction of ε k_t, ε k_φ by less than the kick tolerance (they set the speed of
     convergence, not the converged value).  The rows are evaluated, and the map stepped, by the
-    compiled kernel ``analysis._slow_map_kernel`` (about 1 µs a step).
+    compiled kernel ``rocknroller.analysis._slow_map_kernel`` (about 1 µs a step).
     """
 
     def __init__(self, table: SlowMapTable) -> None:
@@ -817,7 +817,7 @@ def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float,
     to 1e-13 of the kick, + 4 ulp, or until the observed contraction η puts the remaining error
     η/(1 − η) × change below 1e-3 of that; Hairer & Wanner, Solving ODEs II, §IV.8); Θ += W(Q')/2;
     t += ½[T_θ(Q) + T_θ(Q')] + ε k_t(midpoint); φ += ½[Δφ(Q) + Δφ(Q')] + ε k_φ(midpoint).
-    The loop runs in the compiled kernel ``analysis._slow_map_kernel``.
+    The loop runs in the compiled kernel ``rocknroller.analysis._slow_map_kernel``.
 
     Parameters
     ----------
@@ -976,7 +976,7 @@ def predict_slow_motion(body: Body, theta0: float, psi0: float, t_end: float = 1
             f"unstable (period doubling at eps = {eps_period_doubling(table.kappa):.4g}); the first-order "
             f"averaging is expected to hold for K < {K_PERIOD_DOUBLING:g}", AveragingValidityWarning, stacklevel=2)
     if eps == 0.0:  # Routh's sphere from rest: rocking in a fixed vertical plane, Q ≡ 0, ψ and φ mod π fixed
-        from analysis.criticality import ON_BOTH
+        from rocknroller.analysis.criticality import ON_BOTH
 
         T0 = _fast(table).values(0.0, 0.0)[_N_KICK]
         t = T0 * np.arange(1, int(check_t_end(t_end, T0) // T0) + 1)
@@ -1007,7 +1007,7 @@ def critical_regions(QR: ArrayLike, QJ: ArrayLike, t: ArrayLike, body: Body):
         crossings: list of (t, from, to, line) with line "QJ0crit" (full-angle reversal) and/or
         "QJpicrit" (visible-angle reversal).  A sample exactly on a line (u = 0) counts as above it.
     """
-    from analysis.criticality import region_from_offsets, side_code  # imported here: it loads sympy
+    from rocknroller.analysis.criticality import region_from_offsets, side_code  # imported here: it loads sympy
 
     u0, upi = u_ends(QR, QJ, body.symmetric())
     regions = region_from_offsets(u0, upi).astype(object)

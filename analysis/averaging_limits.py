@@ -1,4 +1,4 @@
-"""Where the averaged slow map applies, and how long one run may be (``analysis.averaging``; docs/averaging.md).
+"""Where the averaged slow map applies, and how long one run may be (``rocknroller.analysis.averaging``; docs/averaging.md).
 
 Pure checks on plain floats: a ValueError naming the parameter (``name``, e.g. ``--theta0`` for the CLI) and its
 allowed range.

@@ -5,7 +5,7 @@ Paper §criticality (eqs. phidotCJQR th=0, th=pi, QJcrit_0, QJcrit_pi), §range_
 * The critical lines Q_J = Q_J,0^crit(Q_R) = ρ₀(1 − a) I3 Q_R and Q_J = Q_J,π^crit(Q_R) = −ρ_π(1 + a) I3 Q_R are the
   zeros of the numerator u = Q_J − ρ f I3 Q_R of V_φ (paper eq. phidotCJQR) at θ = 0 and θ = π.  Their signed
   distances u₀ = Q_J − Q_J,0^crit and u_π = Q_J − Q_J,π^crit are evaluated once, in double-double, by
-  :func:`analysis.reduction.u_ends`; everything here is built on them.
+  :func:`rocknroller.analysis.reduction.u_ends`; everything here is built on them.
 * Regions (paper §criticality): I: u₀ < 0 < u_π (Q_R > 0); II: u₀, u_π > 0; III: u_π < 0 < u₀ (Q_R < 0); IV: u₀, u_π < 0.
 * cos θ_z (zero of V_φ in Regions I and III).  With q = Q_J/Q_R, V_φ = 0 ⇔ q = ρ f I3, squared a quadratic in
   c = cos θ.  Its root is (derived by :func:`cos_theta_z_sympy`)
@@ -36,14 +36,14 @@ import sympy as sp
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import brentq
 
-from analysis.body import Body
-from analysis.invariants import V_phi, V_psi, rho
-from analysis.kinematics import omega_from_rates, rates_from_omega
-from analysis.laurent import SYMBOLS, V_phi_sym
-from analysis.reduction import require_open_tilt, u_ends
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.invariants import V_phi, V_psi, rho
+from rocknroller.analysis.kinematics import omega_from_rates, rates_from_omega
+from rocknroller.analysis.laurent import SYMBOLS, V_phi_sym
+from rocknroller.analysis.reduction import require_open_tilt, u_ends
 
 if TYPE_CHECKING:  # pragma: no cover
-    from numerics.trajectory import Trajectory
+    from rocknroller.numerics.trajectory import Trajectory
 
 __all__ = [
     "REGIONS",
@@ -92,7 +92,7 @@ _REGION_BY_CODE = np.array([_REGION_OF_SIGNS[(2 * (c // 2) - 1, 2 * (c % 2) - 1)
 def QJ_crit_0(QR: ArrayLike, body: Body) -> NDArray[np.float64]:
     """Critical Jellett quantity at θ = 0, Q_J,0^crit = ρ₀ (1 − a) I3 Q_R (paper eq. QJcrit_0).
 
-    ρ₀ = [I3 + (I3/I1)(1 − a)²]^(−1/2).  Correctly rounded (from :func:`analysis.reduction.u_ends`).
+    ρ₀ = [I3 + (I3/I1)(1 − a)²]^(−1/2).  Correctly rounded (from :func:`rocknroller.analysis.reduction.u_ends`).
     """
     return -u_ends(QR, 0.0, body)[0]
 
@@ -100,7 +100,7 @@ def QJ_crit_0(QR: ArrayLike, body: Body) -> NDArray[np.float64]:
 def QJ_crit_pi(QR: ArrayLike, body: Body) -> NDArray[np.float64]:
     """Critical Jellett quantity at θ = π, Q_J,π^crit = −ρ_π (1 + a) I3 Q_R (paper eq. QJcrit_pi).
 
-    ρ_π = [I3 + (I3/I1)(1 + a)²]^(−1/2).  Correctly rounded (from :func:`analysis.reduction.u_ends`).
+    ρ_π = [I3 + (I3/I1)(1 + a)²]^(−1/2).  Correctly rounded (from :func:`rocknroller.analysis.reduction.u_ends`).
     """
     return -u_ends(QR, 0.0, body)[1]
 
@@ -429,7 +429,7 @@ def _check_theta_range(theta0: NDArray) -> None:
 def _check_turning_theta(theta0: NDArray, body: Body, QR: NDArray, QJ: NDArray) -> None:
     _check_theta_range(theta0)
     if body.is_symmetric:
-        from analysis.reduction import STEADY, solve_turning_points, state_from_turning_point
+        from rocknroller.analysis.reduction import STEADY, solve_turning_points, state_from_turning_point
 
         E = state_from_turning_point(body, theta0, QR, QJ).E
         if np.any(solve_turning_points(E, QR, QJ, body).status == STEADY):
@@ -446,7 +446,7 @@ def critical_start(body: Body, theta0: ArrayLike, psi0: ArrayLike = 0.0, line: s
     valid for I1 ≠ I2 too) Q_J = I1 s² φ̇ + I3 f ω3' and Q_R = ω3'/ρ with ω3' = c φ̇ + ψ̇, independent of ψ0:
 
     * given Q_R: Q_J = Q_J,e^crit(Q_R) + offset, φ̇0 = V_φ(θ0), ψ̇0 = V_ψ(θ0) (eqs. phidotCJQR, psidotCJQR), and
-      the body-frame ω = Σ(θ0, ψ0)(0, φ̇0, ·) (:func:`analysis.kinematics.omega_from_rates`) with ω3 = ω3' = ρ Q_R;
+      the body-frame ω = Σ(θ0, ψ0)(0, φ̇0, ·) (:func:`rocknroller.analysis.kinematics.omega_from_rates`) with ω3 = ω3' = ρ Q_R;
     * given ψ̇0: φ̇0 solves the linear equation Q_J(φ̇0) = k Q_R(φ̇0) + offset (k the line's slope), which fixes
       Q_R; then as above (the returned ψ̇0 equals the given one to rounding, see :class:`CriticalStart`).
 
@@ -552,11 +552,11 @@ def reversal_analysis(traj: "Trajectory", tol: float = 0.0) -> ReversalAnalysis:
     Paper §Recession: the full angle reverses when Q_J − Q_J,0^crit changes sign between passages near θ_N
     (checked at consecutive θ-minima); the visible angle reverses when Q_J − Q_J,π^crit changes sign between
     passages near θ_X (checked at consecutive θ-maxima).  φ̇ at a turning point comes from the body-frame state
-    (φ̇ = (γ1 ω1 + γ2 ω2)/s², :func:`analysis.kinematics.rates_from_omega`), not from V_φ.
+    (φ̇ = (γ1 ω1 + γ2 ω2)/s², :func:`rocknroller.analysis.kinematics.rates_from_omega`), not from V_φ.
 
     Parameters
     ----------
-    traj : numerics.trajectory.Trajectory
+    traj : rocknroller.numerics.trajectory.Trajectory
     tol : float
         Passed to :func:`region`; a sample within tol of a line does not count as a side.
     """

@@ -34,8 +34,8 @@ import numpy as np
 import sympy as sp
 from numpy.typing import ArrayLike, NDArray
 
-from analysis.body import Body
-from analysis.invariants import V_phi, rho_inv_sq
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.invariants import V_phi, rho_inv_sq
 
 __all__ = [
     "SYMBOLS",
@@ -59,7 +59,7 @@ _QUANTITIES = ("phi", "psi")
 
 
 def _rho_inv_sq(c: sp.Expr) -> sp.Expr:
-    """ρ⁻² (paper eq. measure, analysis.invariants.rho_inv_sq) as a polynomial in c = cos θ."""
+    """ρ⁻² (paper eq. measure, rocknroller.analysis.invariants.rho_inv_sq) as a polynomial in c = cos θ."""
     return rho_inv_sq(SimpleNamespace(I1=I1, I3=I3), 1 - c**2, c - a)
 
 
@@ -214,7 +214,7 @@ def laurent_function(quantity: str, about: str | float, order: int,
     -------
     callable
         ``fn(x, *, QR, QJ)`` with x = θ (about 0) or x = π − θ (about π), ``x > 0`` (Q_R and Q_J keyword-only,
-        as in :func:`analysis.invariants.V_phi`).
+        as in :func:`rocknroller.analysis.invariants.V_phi`).
     """
     _check(quantity, order)
     body.require_symmetric("the Laurent expansion of V_phi, V_psi")

@@ -52,9 +52,9 @@ import mpmath
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from analysis.body import Body
-from analysis.invariants import rho_inv, rho_inv_sq
-from analysis.reduction import (
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.invariants import rho_inv, rho_inv_sq
+from rocknroller.analysis.reduction import (
     NO_MOTION,
     OK,
     STATUS_TEXT,

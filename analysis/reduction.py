@@ -35,9 +35,9 @@ import mpmath
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from analysis.body import Body
-from analysis.invariants import rho_inv, rho_inv_sq, invariants, V_phi, V_psi
-from analysis.kinematics import omega_from_rates, vertical_in_body
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.invariants import rho_inv, rho_inv_sq, invariants, V_phi, V_psi
+from rocknroller.analysis.kinematics import omega_from_rates, vertical_in_body
 
 __all__ = [
     "OK",

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from analysis.body import Body
+from rocknroller.analysis.body import Body
 
 __all__ = ["small_amplitude_frequency", "small_amplitude_frequency_as_printed"]
 

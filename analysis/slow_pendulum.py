@@ -1,6 +1,6 @@
 """Closed form of the slow motion near pure rocking: the standard map and its pendulum limit.
 
-As Q → 0 the first-order slow map of :mod:`analysis.averaging` linearises to
+As Q → 0 the first-order slow map of :mod:`rocknroller.analysis.averaging` linearises to
 
     Q_{n+1} = Q_n + ε C0 sin Θ_n,   Θ_{n+1} = Θ_n + ∇W·Q_{n+1},   W = 2(Δψ − π),
 
@@ -33,13 +33,13 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.special import ellipj, ellipk
 
-from analysis.averaging import (_QJ_of, _QR_of, directional_derivative, eps_derivative_rhs, eps_period_doubling,
+from rocknroller.analysis.averaging import (_QJ_of, _QR_of, directional_derivative, eps_derivative_rhs, eps_period_doubling,
                                 rest_energy)
-from analysis.body import Body
-from analysis.invariants import V_phi, V_psi
-from analysis.reduction import F
-from analysis.slow_diagnostics import azimuth_span, span
-from numerics.equations import state_from_euler
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.invariants import V_phi, V_psi
+from rocknroller.analysis.reduction import F
+from rocknroller.analysis.slow_diagnostics import azimuth_span, span
+from rocknroller.numerics.equations import state_from_euler
 
 __all__ = ["PendulumConstants", "pendulum_constants", "PendulumPrediction", "pendulum_prediction"]
 

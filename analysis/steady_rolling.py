@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import math
 
-from analysis.body import Body
-from analysis.reduction import require_open_tilt
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.reduction import require_open_tilt
 
 __all__ = ["steady_rolling_omega3"]
 

@@ -13,10 +13,10 @@ from __future__ import annotations
 import argparse
 import math
 
-from analysis.averaging import load_or_build_table
-from papers.averaging_check import compare_with_ode, loglog_slope
-from analysis.body import Body
-from analysis.slow_pendulum import pendulum_constants
+from rocknroller.analysis.averaging import load_or_build_table
+from rocknroller.papers.averaging_check import compare_with_ode, loglog_slope
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.slow_pendulum import pendulum_constants
 from rocknroller.options import parse_angle
 
 PSI0 = {"π/8": math.pi / 8, "π/4": math.pi / 4, "3π/8": 3 * math.pi / 8, "3.9π/8": 3.9 * math.pi / 8}

@@ -3,12 +3,12 @@
 Run:  python benchmarks/bench_averaging.py
 
 Paper body, ε = 1e-3, θ0 = 0.95π, ψ0 = π/4, 1000 time units.  Reports best-of-5 wall times of
-* the direct ODE producing the same prediction (papers.averaging_check.ode_slow_summary: heyoka with
+* the direct ODE producing the same prediction (rocknroller.papers.averaging_check.ode_slow_summary: heyoka with
   events, then the same slow diagnostics at its θ-maxima), and the integration alone
-  (numerics.integrate.simulate, output every 100 t.u.);
-* the averaged map once its tables exist (analysis.averaging.predict_slow_motion: the compiled
-  step loop, then the diagnostics), and its loop alone (analysis.averaging.iterate_slow_map) per step;
-* the closed form (analysis.slow_pendulum.pendulum_prediction, constants precomputed) and the
+  (rocknroller.numerics.integrate.simulate, output every 100 t.u.);
+* the averaged map once its tables exist (rocknroller.analysis.averaging.predict_slow_motion: the compiled
+  step loop, then the diagnostics), and its loop alone (rocknroller.analysis.averaging.iterate_slow_map) per step;
+* the closed form (rocknroller.analysis.slow_pendulum.pendulum_prediction, constants precomputed) and the
   one-dimensional quadratures of its constants;
 * the one-off table build (first use per body and θ0; cached on disk afterwards).
 """
@@ -19,12 +19,12 @@ import math
 import time
 import warnings
 
-from analysis import averaging as av
-from analysis.body import Body
-from analysis.slow_pendulum import pendulum_constants, pendulum_prediction
-from numerics.equations import EulerState
-from numerics.integrate import simulate
-from papers.averaging_check import ode_slow_summary
+from rocknroller.analysis import averaging as av
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.slow_pendulum import pendulum_constants, pendulum_prediction
+from rocknroller.numerics.equations import EulerState
+from rocknroller.numerics.integrate import simulate
+from rocknroller.papers.averaging_check import ode_slow_summary
 
 THETA0, PSI0, EPS, T_END = 0.95 * math.pi, math.pi / 4, 1e-3, 1000.0
 PSI0_GRID = {"pi/8": math.pi / 8, "pi/4": math.pi / 4, "3pi/8": 3 * math.pi / 8, "3.9pi/8": 3.9 * math.pi / 8}

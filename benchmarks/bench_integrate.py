@@ -13,10 +13,10 @@ import time
 
 import numpy as np
 
-from analysis.body import Body
-from analysis.invariants import energy
-from numerics.integrate import _build_heyoka, heyoka_integrator, simulate
-from papers.lynch_bustamante.fig5_symmetry_breaking import initial_state as fig5_initial_state
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.invariants import energy
+from rocknroller.numerics.integrate import _build_heyoka, heyoka_integrator, simulate
+from rocknroller.papers.lynch_bustamante.fig5_symmetry_breaking import initial_state as fig5_initial_state
 
 T_END = 1500.0
 
@@ -63,8 +63,8 @@ def main() -> None:
     # Equal energy error: loosen heyoka's tolerance until its error matches DOP853's.
     import heyoka as hy
 
-    from numerics.equations import STATE_SIZE, body_frame_rhs, turning_point_function
-    from numerics.integrate import _EventLog
+    from rocknroller.numerics.equations import STATE_SIZE, body_frame_rhs, turning_point_function
+    from rocknroller.numerics.integrate import _EventLog
 
     y = hy.make_vars(*[f"y{i}" for i in range(STATE_SIZE)])
     pars = [hy.par[i] for i in range(5)]

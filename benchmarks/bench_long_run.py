@@ -16,9 +16,9 @@ import resource
 import sys
 import time
 
-from analysis.body import Body
-from numerics.equations import EulerState
-from numerics.integrate import heyoka_integrator, simulate
+from rocknroller.analysis.body import Body
+from rocknroller.numerics.equations import EulerState
+from rocknroller.numerics.integrate import heyoka_integrator, simulate
 
 
 def peak_rss_mb() -> float:

@@ -28,8 +28,8 @@ from typing import Any, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from analysis.body import Body, require_finite
-from analysis.kinematics import (
+from rocknroller.analysis.body import Body, require_finite
+from rocknroller.analysis.kinematics import (
     angles_from_frame,
     omega_from_rates,
     primed_from_body,
@@ -226,7 +226,7 @@ def euler_from_state(y: ArrayLike) -> NDArray[np.float64]:
 # ---------------------------------------------------------------- form (ii): paper eq. (thetaomega)
 def _sigma_matrix(theta: float, psi: float) -> NDArray[np.float64]:
     """The paper's Σ(θ, ψ) of eq. (thetaomega), ω = Σ θ̇, transcribed here rather than taken from
-    analysis.kinematics so that forms (ii) and (iii) stay independent transcriptions of the paper,
+    rocknroller.analysis.kinematics so that forms (ii) and (iii) stay independent transcriptions of the paper,
     checked against form (i) and the kinematics by tests/test_equations.py."""
     s, c, sg, ch = math.sin(theta), math.cos(theta), math.sin(psi), math.cos(psi)
     return np.array([[ch, s * sg, 0.0], [-sg, s * ch, 0.0], [0.0, c, 1.0]])

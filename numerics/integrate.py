@@ -37,7 +37,7 @@ Accuracy ranges (dimensionless, unit mass and radius; outside them the run is re
 * E/g ≤ ``MAX_ENERGY_OVER_G`` = 1e12 (the energy in units of m g R), for the same reason.
 
 Every run's energy error is checked against the tolerance asked for
-(:func:`numerics.trajectory.energy_error_bound`): a run that misses it warns
+(:func:`rocknroller.numerics.trajectory.energy_error_bound`): a run that misses it warns
 (:class:`AccuracyWarning`), or raises :class:`AccuracyError` with ``strict=True``.
 """
 
@@ -51,11 +51,11 @@ from typing import Any, Callable
 import numpy as np
 from numpy.typing import NDArray
 
-from analysis.body import Body
-from analysis.invariants import energy
-from numerics.cache import CacheWarning, cache_dir, probe_writable, warn_unwritable  # cache_dir: re-exported
-from numerics.equations import STATE_SIZE, EulerState, body_frame_rhs, turning_point_function
-from numerics.trajectory import (DenseOutput, Trajectory, TurningPointRun, TurningPoints, _Samples,
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.invariants import energy
+from rocknroller.numerics.cache import CacheWarning, cache_dir, probe_writable, warn_unwritable  # cache_dir: re-exported
+from rocknroller.numerics.equations import STATE_SIZE, EulerState, body_frame_rhs, turning_point_function
+from rocknroller.numerics.trajectory import (DenseOutput, Trajectory, TurningPointRun, TurningPoints, _Samples,
                                  energy_scale)
 
 __all__ = ["simulate", "heyoka_integrator", "default_dt", "cache_dir", "rate_bound", "AccuracyWarning",
@@ -151,9 +151,9 @@ def default_dt(t_end: float, rate: float) -> float:
 
 def _validate(body: Body, initial: EulerState, t_end: float) -> tuple[NDArray[np.float64], float]:
     if not isinstance(body, Body):
-        raise ValueError(f"body must be an analysis.body.Body, got {type(body).__name__}")
+        raise ValueError(f"body must be a rocknroller.analysis.body.Body, got {type(body).__name__}")
     if not isinstance(initial, EulerState):
-        raise ValueError(f"initial must be a numerics.equations.EulerState, got {type(initial).__name__}")
+        raise ValueError(f"initial must be a rocknroller.numerics.equations.EulerState, got {type(initial).__name__}")
     if not math.isfinite(t_end) or t_end <= 0.0:
         raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}")
     lo, hi = MOMENT_RANGE
@@ -358,7 +358,7 @@ def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "he
         With ``samples=False``: called with (maxima, minima) of each stretch as it is finished (to stream them).
     strict : bool
         Raise :class:`AccuracyError` instead of warning when the energy error exceeds
-        :func:`numerics.trajectory.energy_error_bound`.
+        :func:`rocknroller.numerics.trajectory.energy_error_bound`.
 
     Returns
     -------

@@ -16,11 +16,11 @@ from typing import Callable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from analysis.body import Body
-from analysis.invariants import energy, jellett, routh
-from analysis.kinematics import angles_from_frame
-from analysis.quadrature import wrap_angle
-from analysis.slow_diagnostics import azimuth_span, slow_period, span
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.invariants import energy, jellett, routh
+from rocknroller.analysis.kinematics import angles_from_frame
+from rocknroller.analysis.quadrature import wrap_angle
+from rocknroller.analysis.slow_diagnostics import azimuth_span, slow_period, span
 
 __all__ = ["TurningPoints", "Trajectory", "TurningPointRun", "energy_scale", "energy_error_bound", "ENERGY_SLACK"]
 
@@ -171,7 +171,7 @@ class _TurningPointDiagnostics:
     @property
     def slow_period(self) -> float | None:
         """Period of Θ = 2ψ sampled at the θ-maxima, from interpolated crossings of the mean
-        (:func:`analysis.slow_diagnostics.slow_period`); None if not measurable within the run."""
+        (:func:`rocknroller.analysis.slow_diagnostics.slow_period`); None if not measurable within the run."""
         return slow_period(self.maxima.t, 2.0 * self.maxima.psi)
 
     @property
@@ -208,7 +208,7 @@ class Trajectory(_TurningPointDiagnostics):
         ``"heyoka"`` or ``"scipy"``.
     t : ndarray (N,)
     states : ndarray (N, 11)
-        Body-frame states (γ, ω, e_X, X, Y) of form (i), see :mod:`numerics.equations`.
+        Body-frame states (γ, ω, e_X, X, Y) of form (i), see :mod:`rocknroller.numerics.equations`.
     theta, phi, psi : ndarray (N,)
         Euler angles; φ (full azimuth) and ψ unwrapped and continuous.
     maxima, minima : TurningPoints

@@ -1,6 +1,6 @@
 """Comparison of the averaged predictions with the direct ODE (shared by the tests, the CLI and the docs table).
 
-The observables follow the shared definitions of :mod:`analysis.slow_diagnostics`: slow period of
+The observables follow the shared definitions of :mod:`rocknroller.analysis.slow_diagnostics`: slow period of
 Θ = 2ψ at the θ-maxima (crossings of the mean), extents of Q_R and Q_J over the maxima within t_end,
 and Φ, the span of φ mod π at the maxima.
 """
@@ -14,10 +14,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from analysis import averaging as av
-from analysis.body import Body
-from analysis.quadrature import wrap_angle
-from analysis.slow_pendulum import PendulumConstants, pendulum_prediction
+from rocknroller.analysis import averaging as av
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.quadrature import wrap_angle
+from rocknroller.analysis.slow_pendulum import PendulumConstants, pendulum_prediction
 
 __all__ = ["OBSERVABLES", "OdeSlowSummary", "ode_slow_summary", "relative_errors", "sample_errors",
            "loglog_slope", "Comparison", "compare_with_ode"]
@@ -45,8 +45,8 @@ class OdeSlowSummary:
 
 def ode_slow_summary(body: Body, theta0: float, psi0: float, t_end: float) -> OdeSlowSummary:
     """Run the direct ODE (heyoka) from rest at (θ0, ψ0) and summarise its θ-maxima."""
-    from numerics.equations import EulerState
-    from numerics.integrate import simulate
+    from rocknroller.numerics.equations import EulerState
+    from rocknroller.numerics.integrate import simulate
 
     tr = simulate(body, EulerState(theta0, 0.0, psi0), t_end, dt=t_end / 10)
     m = tr.maxima

@@ -1,6 +1,6 @@
 """Plotting helpers for the critical-line diagrams (paper figs. 4, 7–10), shared by ``rocknroller diagram`` and
 the figure scripts in ``papers/lynch_bustamante``.  No physics here: every number comes from
-:mod:`analysis.criticality` and :mod:`analysis.invariants`.
+:mod:`rocknroller.analysis.criticality` and :mod:`rocknroller.analysis.invariants`.
 
 Layout of :func:`region_diagram`: the (Q_R, Q_J) plane in the centre with the critical lines Q_J = Q_J,π^crit
 (red, solid) and Q_J = Q_J,0^crit (blue, dashed), one marked representative point per region, and the graph of
@@ -19,13 +19,13 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from numpy.typing import NDArray
 
-from analysis import criticality as crit
-from analysis.body import Body
-from analysis.invariants import V_phi
-from papers.output import new_figure
+from rocknroller.analysis import criticality as crit
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.invariants import V_phi
+from rocknroller.papers.output import new_figure
 
 if TYPE_CHECKING:  # pragma: no cover
-    from numerics.trajectory import Trajectory
+    from rocknroller.numerics.trajectory import Trajectory
 
 __all__ = ["LINE_STYLE", "DiagramData", "critical_line_data", "draw_critical_lines", "free_spots",
            "plot_V_phi", "region_diagram"]
@@ -160,7 +160,7 @@ def region_diagram(body: Body, QR_max: float = 1.0, traj: "Trajectory | None" = 
     body : Body
     QR_max : float
         Half-width of the Q_R window without a trajectory (Q_J spans 1.3× the steeper line).
-    traj : numerics.trajectory.Trajectory, optional
+    traj : rocknroller.numerics.trajectory.Trajectory, optional
         Zooms to the orbit (with 35 % margins) and overlays it.
 
     Returns
@@ -190,7 +190,7 @@ def region_diagram(body: Body, QR_max: float = 1.0, traj: "Trajectory | None" = 
         cells = {lab: gs[i, 2] for i, lab in enumerate(order)}
     lines = draw_critical_lines(ax, body, window[0], window[1])
     if traj is not None:
-        from papers.trajectory_plots import plot_invariant_orbit
+        from rocknroller.papers.trajectory_plots import plot_invariant_orbit
 
         plot_invariant_orbit(traj, ax=ax)
     ax.set_xlim(window[0], window[1])

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import math
 
-from numerics.trajectory import Trajectory, TurningPointRun
+from rocknroller.numerics.trajectory import Trajectory, TurningPointRun
 
 __all__ = ["plot_contact_track", "plot_phi_at_maxima", "plot_invariant_orbit"]
 

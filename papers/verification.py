@@ -13,10 +13,10 @@ from typing import Callable
 
 import numpy as np
 
-from analysis.body import Body
-from numerics.equations import EulerState
-from papers.averaging_check import loglog_slope
-from papers.lynch_bustamante.fig5_symmetry_breaking import initial_state as fig5_initial_state
+from rocknroller.analysis.body import Body
+from rocknroller.numerics.equations import EulerState
+from rocknroller.papers.averaging_check import loglog_slope
+from rocknroller.papers.lynch_bustamante.fig5_symmetry_breaking import initial_state as fig5_initial_state
 
 __all__ = ["Check", "CHECKS", "run_checks"]
 
@@ -41,7 +41,7 @@ class Check:
 
 # ------------------------------------------------------------------------------------------- ODE
 def check_formulations() -> list[Check]:
-    from numerics.equations import formulation_differences, state_from_euler
+    from rocknroller.numerics.equations import formulation_differences, state_from_euler
 
     rng = np.random.default_rng(5)
     n = 200
@@ -57,7 +57,7 @@ def check_formulations() -> list[Check]:
 
 
 def check_integrators() -> list[Check]:
-    from numerics.integrate import simulate
+    from rocknroller.numerics.integrate import simulate
 
     body = Body.paper(1e-3)
     ini = fig5_initial_state()
@@ -75,8 +75,8 @@ def check_integrators() -> list[Check]:
 
 
 def check_small_amplitude() -> list[Check]:
-    from analysis.rocking import small_amplitude_frequency
-    from papers.lynch_bustamante.table_small_amplitude import measured_frequency
+    from rocknroller.analysis.rocking import small_amplitude_frequency
+    from rocknroller.papers.lynch_bustamante.table_small_amplitude import measured_frequency
 
     body = Body.paper(1e-3)
     err = abs(measured_frequency(body, 0.0) / small_amplitude_frequency(body, body.I1) - 1.0)
@@ -85,8 +85,8 @@ def check_small_amplitude() -> list[Check]:
 
 # ------------------------------------------------------------------------------------ quadrature
 def _symmetric_run(theta0: float, QR: float, QJ: float, t_end: float = 60.0):
-    from analysis.reduction import state_from_turning_point
-    from numerics.integrate import simulate
+    from rocknroller.analysis.reduction import state_from_turning_point
+    from rocknroller.numerics.integrate import simulate
 
     body = Body.paper()
     st = state_from_turning_point(body, theta0, QR, QJ)
@@ -94,10 +94,10 @@ def _symmetric_run(theta0: float, QR: float, QJ: float, t_end: float = 60.0):
 
 
 def check_reduction_and_quadrature() -> list[Check]:
-    from analysis.invariants import invariants
-    from analysis.quadrature import precession, precession_mp
-    from analysis.reduction import F, turning_points
-    from numerics.equations import euler_from_state
+    from rocknroller.analysis.invariants import invariants
+    from rocknroller.analysis.quadrature import precession, precession_mp
+    from rocknroller.analysis.reduction import F, turning_points
+    from rocknroller.numerics.equations import euler_from_state
 
     out = []
     # a passage close to the vertical, and a maximum close to θ = π
@@ -133,9 +133,9 @@ def check_criticality() -> list[Check]:
     """Critical lines, regions, cos θ_z, the δ expansion, the Laurent series and critical-line starts."""
     from scipy.optimize import brentq
 
-    from analysis import criticality as C
-    from analysis.invariants import V_phi
-    from analysis.laurent import laurent_function
+    from rocknroller.analysis import criticality as C
+    from rocknroller.analysis.invariants import V_phi
+    from rocknroller.analysis.laurent import laurent_function
 
     body = Body.paper()
     rng = np.random.default_rng(17)
@@ -191,9 +191,9 @@ def check_averaging() -> list[Check]:
     acceptance bound, and 5e-4 at ε = 1e-3; the closed form is first order in K = εκ with larger
     constants: 1e-2 on the slow period at ε = 1e-4.
     """
-    from analysis.averaging import load_or_build_table
-    from analysis.slow_pendulum import pendulum_constants
-    from papers.averaging_check import compare_with_ode
+    from rocknroller.analysis.averaging import load_or_build_table
+    from rocknroller.analysis.slow_pendulum import pendulum_constants
+    from rocknroller.papers.averaging_check import compare_with_ode
 
     theta0, psi0, t_end = 0.95 * math.pi, math.pi / 4, 1000.0
     out = []

@@ -60,7 +60,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return 2
-    from numerics.integrate import AccuracyError
+    from rocknroller.numerics.integrate import AccuracyError
 
     try:
         return int(args.run(args) or 0)

@@ -12,8 +12,8 @@ import tempfile
 from pathlib import Path
 from typing import Any, Iterable
 
-from analysis.body import PAPER_A, PAPER_G, PAPER_I3, Body, paper_I1
-from numerics.equations import EulerState
+from rocknroller.analysis.body import PAPER_A, PAPER_G, PAPER_I3, Body, paper_I1
+from rocknroller.numerics.equations import EulerState
 
 __all__ = [
     "parse_angle",

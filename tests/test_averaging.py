@@ -1,6 +1,6 @@
 """First-order ε-averaging of the slow (Q_R, Q_J) motion, checked against the direct ODE.
 
-Reference: numerics.integrate.simulate (heyoka, form (i)).  Paper body, θ0 = 0.95π, released from
+Reference: rocknroller.numerics.integrate.simulate (heyoka, form (i)).  Paper body, θ0 = 0.95π, released from
 rest.  The full error table (all ψ0, three ε) is in docs/averaging.md; its generator is
 ``python benchmarks/averaging_table.py``.
 """
@@ -14,17 +14,17 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from analysis import averaging as av
-from analysis.body import Body
-from analysis.invariants import energy
-from analysis.quadrature import precession, wrap_angle
-from analysis.slow_diagnostics import azimuth_span, mean_crossings, slow_period, unwrap_phase
-from papers.averaging_check import (OdeSlowSummary, loglog_slope, ode_slow_summary, relative_errors,
+from rocknroller.analysis import averaging as av
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.invariants import energy
+from rocknroller.analysis.quadrature import precession, wrap_angle
+from rocknroller.analysis.slow_diagnostics import azimuth_span, mean_crossings, slow_period, unwrap_phase
+from rocknroller.papers.averaging_check import (OdeSlowSummary, loglog_slope, ode_slow_summary, relative_errors,
                                       sample_errors)
-from analysis import slow_pendulum
-from analysis.slow_pendulum import pendulum_constants, pendulum_prediction
-from numerics.equations import EulerState, euler_from_state, state_from_euler
-from numerics.integrate import simulate
+from rocknroller.analysis import slow_pendulum
+from rocknroller.analysis.slow_pendulum import pendulum_constants, pendulum_prediction
+from rocknroller.numerics.equations import EulerState, euler_from_state, state_from_euler
+from rocknroller.numerics.integrate import simulate
 
 THETA0 = 0.95 * math.pi
 PSI0 = {"pi/8": math.pi / 8, "pi/4": math.pi / 4, "3pi/8": 3 * math.pi / 8, "3.9pi/8": 3.9 * math.pi / 8}
@@ -74,7 +74,7 @@ def _direct_step(eps: float, QR: float, QJ: float, psi: float) -> dict[str, floa
 
 
 def _rates(theta: float, QR: float, QJ: float) -> tuple[float, float]:
-    from analysis.invariants import V_phi, V_psi
+    from rocknroller.analysis.invariants import V_phi, V_psi
 
     return float(V_phi(theta, QR=QR, QJ=QJ, body=SYM)), float(V_psi(theta, QR=QR, QJ=QJ, body=SYM))
 

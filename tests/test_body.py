@@ -9,7 +9,7 @@ import sympy as sp
 from hypothesis import given
 from hypothesis import strategies as st
 
-from analysis.body import Body, polar_cap_offset_as_printed, polar_cap_volume
+from rocknroller.analysis.body import Body, polar_cap_offset_as_printed, polar_cap_volume
 
 
 def test_paper_defaults():

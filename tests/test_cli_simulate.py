@@ -10,6 +10,7 @@ import sys
 import pytest
 
 from rocknroller.cli import main
+from rocknroller.papers.output import PRODUCER
 from rocknroller.options import parse_angle
 
 
@@ -29,7 +30,7 @@ def test_parse_angle():
 def test_json_summary(capsys):
     assert main(["simulate", "--t-end", "50", "--json", "--quiet"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert set(out) == {"energy_rel_error", "energy_tolerance", "n_maxima", "n_minima", "Phi", "t_end", "n_steps",
+    assert set(out) == {"rocknroller_version", "energy_rel_error", "energy_tolerance", "n_maxima", "n_minima", "Phi", "t_end", "n_steps",
                         "warnings"}
     assert out["t_end"] == 50 and out["n_maxima"] >= 3 and out["energy_rel_error"] < 1e-13
     assert out["warnings"] == [] and out["energy_rel_error"] <= out["energy_tolerance"]
@@ -41,8 +42,8 @@ def test_outputs_written(tmp_path, capsys):
     for name in ("samples.csv", "turning_points.csv", "contact_track.png", "contact_track.pdf",
                  "phi_at_maxima.png", "phi_at_maxima.pdf", "QR_QJ_orbit.png", "QR_QJ_orbit.pdf"):
         assert (tmp_path / name).stat().st_size > 0, name
-    head = (tmp_path / "samples.csv").read_text().splitlines()[:4]
-    assert head[0].startswith("# rocknroller simulate") and "epsilon=0.01" in head[1]
+    head = (tmp_path / "samples.csv").read_text().splitlines()[:5]
+    assert head[0] == f"# {PRODUCER}" and head[1].startswith("# rocknroller simulate") and "epsilon=0.01" in head[2]
 
 
 @pytest.mark.parametrize(
@@ -83,9 +84,9 @@ def _json(capsys) -> dict:
 
 def test_explicit_zero_rates_start_from_rest(capsys):
     """--theta-dot0 0 --phi-dot0 0 --psi-dot0 0 is a start from rest (it used to run the figure-5 ω)."""
-    from analysis.body import Body
-    from numerics.equations import EulerState
-    from numerics.integrate import simulate
+    from rocknroller.analysis.body import Body
+    from rocknroller.numerics.equations import EulerState
+    from rocknroller.numerics.integrate import simulate
 
     argv = ["simulate", "--t-end", "50", "--json", "--quiet", "--psi0", "pi/4"]
     assert main(argv + ["--theta-dot0", "0", "--phi-dot0", "0", "--psi-dot0", "0"]) == 0
@@ -116,14 +117,14 @@ def test_negative_values_parse_like_the_equals_form(values, capsys):
 
 
 def test_outputs_are_checked_before_computing_and_never_overwritten(tmp_path, capsys, monkeypatch):
-    import numerics.integrate
+    import rocknroller.numerics.integrate
 
     def no_run(*args, **kwargs):
         raise AssertionError("simulate must not run before the output directory is checked")
 
     blocker = tmp_path / "file"
     blocker.write_text("x")
-    monkeypatch.setattr(numerics.integrate, "simulate", no_run)
+    monkeypatch.setattr(rocknroller.numerics.integrate, "simulate", no_run)
     for out, fragment in ((blocker, "not a directory"), (blocker / "sub", "cannot write")):
         assert main(["simulate", "--quiet", "--out", str(out)]) == 2
         assert fragment in capsys.readouterr().err
@@ -131,7 +132,7 @@ def test_outputs_are_checked_before_computing_and_never_overwritten(tmp_path, ca
     out = tmp_path / "run"
     assert main(["simulate", "--t-end", "10", "--quiet", "--out", str(out)]) == 0
     before = (out / "samples.csv").read_bytes()
-    monkeypatch.setattr(numerics.integrate, "simulate", no_run)
+    monkeypatch.setattr(rocknroller.numerics.integrate, "simulate", no_run)
     assert main(["simulate", "--t-end", "20", "--quiet", "--out", str(out)]) == 2
     assert "--force" in capsys.readouterr().err and (out / "samples.csv").read_bytes() == before
     monkeypatch.undo()
@@ -182,7 +183,7 @@ def test_extreme_input_is_refused_quickly(argv, fragment, capsys):
 def test_strict_energy_check(capsys, monkeypatch):
     """Without --strict a run that misses its energy tolerance warns (exit 0, listed in the JSON); with it, exit 1.
     The bound is made impossibly tight to exercise the check."""
-    monkeypatch.setattr("numerics.trajectory.ENERGY_SLACK", 1e-30)
+    monkeypatch.setattr("rocknroller.numerics.trajectory.ENERGY_SLACK", 1e-30)
     assert main(["simulate", "--t-end", "20", "--quiet", "--json"]) == 0
     captured = capsys.readouterr()
     assert "energy error" in captured.err and json.loads(captured.out)["warnings"]

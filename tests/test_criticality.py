@@ -10,13 +10,13 @@ import pytest
 import sympy as sp
 from scipy.optimize import brentq
 
-from analysis import criticality as C
-from analysis.body import Body
-from analysis.invariants import V_phi, invariants
-from analysis.kinematics import vertical_in_body
-from analysis.laurent import SYMBOLS, V_phi_sym, laurent_coefficients
-from analysis.reduction import state_from_turning_point, turning_points
-from papers.averaging_check import loglog_slope
+from rocknroller.analysis import criticality as C
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.invariants import V_phi, invariants
+from rocknroller.analysis.kinematics import vertical_in_body
+from rocknroller.analysis.laurent import SYMBOLS, V_phi_sym, laurent_coefficients
+from rocknroller.analysis.reduction import state_from_turning_point, turning_points
+from rocknroller.papers.averaging_check import loglog_slope
 
 BODY = Body.paper()
 BODY_EPS = Body.paper(1e-3)
@@ -50,7 +50,7 @@ def test_critical_lines_are_the_laurent_leading_zeros(body):
 
 def test_region_matches_signs_of_V_phi_near_both_ends():
     """≥ 1000 random points: the region from the lines equals the one read off the signs of V_φ computed
-    directly (analysis.invariants.V_phi) at θ = 1e-6 and θ = π − 1e-6."""
+    directly (rocknroller.analysis.invariants.V_phi) at θ = 1e-6 and θ = π − 1e-6."""
     rng = np.random.default_rng(4)
     for body in (BODY, OTHER):
         QR, QJ = _random_points(rng, 1500)
@@ -78,7 +78,7 @@ def test_region_on_line_labels_and_tolerance():
 
 # ----------------------------------------------------------------------------- cos θ_z
 def _numeric_zero_cos(QR, QJ, body):
-    """cos of the zero of V_φ by Brent's method on analysis.invariants.V_phi (independent of the closed form)."""
+    """cos of the zero of V_φ by Brent's method on rocknroller.analysis.invariants.V_phi (independent of the closed form)."""
     out = []
     for r, j in zip(QR, QJ):
         th = brentq(lambda t: float(V_phi(t, QR=r, QJ=j, body=body)), 1e-9, np.pi - 1e-9, xtol=1e-16, rtol=4 * np.finfo(float).eps, maxiter=500)
@@ -213,7 +213,7 @@ def test_delta_expansion_error_powers(body):
 
 def test_delta_bound_against_turning_points():
     """The bound is saturated at θ_X = θ_z: a symmetric start at the turning point θ_z(δ) has θ_X = θ_z from
-    analysis.reduction.turning_points, V_φ(θ_X) = 0, and the expansions approach that θ_X with the powers of δ."""
+    rocknroller.analysis.reduction.turning_points, V_φ(θ_X) = 0, and the expansions approach that θ_X with the powers of δ."""
     QR = 0.003
     deltas = np.array([3e-3, 1e-3, 3e-4, 1e-4])  # two-term error 3e-8 .. 6e-12, above arccos rounding (~1e-14)
     QJ = C.QJ_crit_pi(QR, BODY) * (1 - deltas)
@@ -240,7 +240,7 @@ def test_delta_errors():
 @pytest.mark.parametrize("body", [BODY, BODY_EPS])
 @pytest.mark.parametrize("line", C.LINES)
 def test_critical_start_lands_on_line(body, line):
-    """(Q_R, Q_J) recomputed from the body-frame state (analysis.invariants) lie on the line to ≤ 1e-14 relative."""
+    """(Q_R, Q_J) recomputed from the body-frame state (rocknroller.analysis.invariants) lie on the line to ≤ 1e-14 relative."""
     rng = np.random.default_rng(11)
     theta0 = rng.uniform(0.55 * np.pi, 0.99 * np.pi, 200)
     psi0 = rng.uniform(0, np.pi, 200)
@@ -263,7 +263,7 @@ def test_critical_start_reaches_the_ode_on_the_line(line):
     started on a line, it lies on it to ≤ 4e-15 relative also at θ0 = 0.999π and 0.001π, where φ̇ and ψ̇
     are large and nearly opposite.  (Rebuilding ω from the Euler rates, as before, put the θ0 = 0.999π
     start on the Q_J,0 line 6e-12 off it.)"""
-    from numerics.equations import EulerState
+    from rocknroller.numerics.equations import EulerState
 
     for theta0 in (0.001 * np.pi, 0.05 * np.pi, 0.95 * np.pi, 0.999 * np.pi):
         for psi0 in (0.0, np.pi / 4, 2.0):
@@ -293,7 +293,7 @@ def test_critical_start_errors():
     with pytest.raises(ValueError, match="line must be one of"):
         C.critical_start(BODY, 2.0, 0.0, "2pi", QR=0.1)
     # a steady-rolling tilt is not a turning point: find (QR, QJ) whose U has its minimum at theta0
-    from analysis.reduction import solve_turning_points
+    from rocknroller.analysis.reduction import solve_turning_points
 
     QR, QJ = 0.5, C.QJ_crit_pi(0.5, BODY) + 0.05
     tp = solve_turning_points(1.0, QR, QJ, BODY)
@@ -306,9 +306,9 @@ def test_critical_start_errors():
 def test_ode_started_on_line_crosses_it(line):
     """Paper §numerics "Recession and Criticality" (figs. 8, 9): ε = 1e-3, θ0 = 0.95π, ψ0 = π/4, started on each line; the direct ODE shows ≥ 1
     crossing of that line within 200 time units; φ̇ at the turning points has the sign of V_φ there."""
-    from numerics.equations import EulerState
-    from numerics.integrate import simulate
-    from papers.lynch_bustamante import fig8_visible_reversal as fig8, fig9_full_reversal as fig9
+    from rocknroller.numerics.equations import EulerState
+    from rocknroller.numerics.integrate import simulate
+    from rocknroller.papers.lynch_bustamante import fig8_visible_reversal as fig8, fig9_full_reversal as fig9
 
     psi_dot0 = fig9.PSI_DOT0 if line == "0" else fig8.PSI_DOT0
     st = C.critical_start(BODY_EPS, 0.95 * np.pi, np.pi / 4, line, psi_dot0=psi_dot0)

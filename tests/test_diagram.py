@@ -1,4 +1,4 @@
-"""`rocknroller diagram` and papers.plotting: files, plotted data from the library, bad input (issue 4)."""
+"""`rocknroller diagram` and rocknroller.papers.plotting: files, plotted data from the library, bad input (issue 4)."""
 
 from __future__ import annotations
 
@@ -7,10 +7,10 @@ import json
 import numpy as np
 import pytest
 
-from analysis import criticality as C
-from analysis.body import Body
-from analysis.invariants import V_phi
-from papers.plotting import region_diagram
+from rocknroller.analysis import criticality as C
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.invariants import V_phi
+from rocknroller.papers.plotting import region_diagram
 from rocknroller.cli import main
 
 BODY = Body.paper()
@@ -24,7 +24,7 @@ def _line(ax, gid):
 @pytest.mark.parametrize("body", [BODY, Body(a=0.2, I1=0.3, I2=0.3, I3=0.5, g=9.81)])
 def test_plotted_data_come_from_the_library(body):
     """Line data equal Q_J,0^crit and Q_J,π^crit exactly; each representative point lies in its region and its
-    panel plots V_φ (analysis.invariants) at that point."""
+    panel plots V_φ (rocknroller.analysis.invariants) at that point."""
     import matplotlib.pyplot as plt
 
     fig, data = region_diagram(body, QR_max=2.0)

@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from analysis.body import Body
-from analysis.invariants import energy, jellett, routh
-from numerics.equations import (
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.invariants import energy, jellett, routh
+from rocknroller.numerics.equations import (
     body_frame_rhs,
     euler_angle_rhs,
     euler_angle_state_from_body,
@@ -59,7 +59,7 @@ def test_paper_forms_agree_with_body_frame(body):
 
 def test_formulation_differences_detect_a_wrong_form(monkeypatch):
     """A transcription error in one form shows: g replaced by 1.01 g in form (ii)'s right-hand side."""
-    import numerics.equations as eq
+    import rocknroller.numerics.equations as eq
 
     body = Body.paper(0.1)
     Y = _random_states(np.random.default_rng(3), 50)
@@ -130,7 +130,7 @@ def test_conservation_laws_exact(symmetric):
 
 
 def test_numeric_invariants_match_symbolic_definitions():
-    """analysis.invariants evaluates the same E, Q_J, Q_R as the definitions in the intermediate frame."""
+    """rocknroller.analysis.invariants evaluates the same E, Q_J, Q_R as the definitions in the intermediate frame."""
     body = Body.paper(0.0)
     th, ps, td, pd, sd = 2.0, 0.7, 0.3, -0.4, 1.1
     y = state_from_euler(th, 0.2, ps, td, pd, sd)

@@ -7,13 +7,13 @@ import math
 import numpy as np
 import pytest
 
-from analysis.body import Body
-from analysis.kinematics import angles_from_frame
-from analysis.quadrature import wrap_angle
-from analysis.rocking import small_amplitude_frequency, small_amplitude_frequency_as_printed
-from numerics.equations import EulerState, turning_point_function
-from numerics.integrate import simulate
-from analysis.slow_diagnostics import azimuth_span
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.kinematics import angles_from_frame
+from rocknroller.analysis.quadrature import wrap_angle
+from rocknroller.analysis.rocking import small_amplitude_frequency, small_amplitude_frequency_as_printed
+from rocknroller.numerics.equations import EulerState, turning_point_function
+from rocknroller.numerics.integrate import simulate
+from rocknroller.analysis.slow_diagnostics import azimuth_span
 
 
 @pytest.fixture(scope="module")
@@ -134,7 +134,7 @@ def test_small_amplitude_rocking_period(psi0, moment):
 
 def test_pure_rocking_through_the_pole_keeps_phi_plus_psi():
     """Exact planar rocking passes θ = 0 to round-off; φ jumps by +π and ψ by −π (φ + ψ continuous; an
-    exact half-turn step is taken in (−π, π], the convention of analysis.quadrature.wrap_angle)."""
+    exact half-turn step is taken in (−π, π], the convention of rocknroller.analysis.quadrature.wrap_angle)."""
     traj = simulate(Body.paper(), EulerState(0.95 * math.pi), 40.0)
     assert np.all(traj.minima.theta < 1e-12)
     assert np.allclose(np.diff(traj.maxima.phi), math.pi, atol=1e-12)
@@ -168,7 +168,7 @@ def test_bad_input(make, fragment):
 
 
 def test_slow_diagnostics_follow_their_definitions(fig5_runs):
-    from analysis.slow_diagnostics import slow_period, span
+    from rocknroller.analysis.slow_diagnostics import slow_period, span
 
     traj = fig5_runs[1e-3]
     assert traj.slow_period == slow_period(traj.maxima.t, 2 * traj.maxima.psi)

@@ -53,7 +53,7 @@ def test_outputs_record_the_version(tmp_path, capsys):
 
 
 def test_figures_embed_truetype_and_name_their_producer(tmp_path):
-    from papers.output import PRODUCER, new_figure, save_figure
+    from rocknroller.papers.output import PRODUCER, new_figure, save_figure
 
     fig = new_figure(figsize=(2, 2))
     fig.subplots().set_title("θ, φ, ψ")
@@ -64,3 +64,14 @@ def test_figures_embed_truetype_and_name_their_producer(tmp_path):
     from PIL import Image
 
     assert Image.open(png).info["Software"] == PRODUCER
+
+
+def test_local_modules_named_like_the_folders_do_not_shadow_the_package(tmp_path):
+    """The folders install as rocknroller.analysis, .numerics and .papers: a user's own analysis.py (or
+    numerics.py, papers.py) in the working directory cannot replace them."""
+    for name in ("analysis", "numerics", "papers"):
+        (tmp_path / f"{name}.py").write_text("raise ImportError('the user module was imported')\n")
+    code = "import rocknroller, rocknroller.cli, rocknroller.papers.output; print(rocknroller.Body.paper().a)"
+    out = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "0.05"

@@ -7,10 +7,10 @@ import math
 
 import pytest
 
-from analysis.body import Body
-from numerics.equations import EulerState
-from numerics.integrate import simulate
-from papers.lynch_bustamante import MODULES, registry
+from rocknroller.analysis.body import Body
+from rocknroller.numerics.equations import EulerState
+from rocknroller.numerics.integrate import simulate
+from rocknroller.papers.lynch_bustamante import MODULES, registry
 from rocknroller.cli import main
 
 
@@ -27,7 +27,7 @@ def test_registry_is_complete():
 
 
 def test_fig6_spans_are_the_trajectories(tmp_path):
-    from papers.lynch_bustamante import fig6_contact_tracks as fig6
+    from rocknroller.papers.lynch_bustamante import fig6_contact_tracks as fig6
 
     res = fig6.run(tmp_path)
     rows = _read_csv(tmp_path / "fig6_Phi.csv")
@@ -42,7 +42,7 @@ def test_fig6_spans_are_the_trajectories(tmp_path):
 
 
 def test_polar_cap_table(tmp_path):
-    from papers.lynch_bustamante import table_polar_cap
+    from rocknroller.papers.lynch_bustamante import table_polar_cap
 
     res = table_polar_cap.run(tmp_path)
     b = Body.from_polar_cap(table_polar_cap.PAPER_D)
@@ -51,7 +51,7 @@ def test_polar_cap_table(tmp_path):
 
 
 def test_small_amplitude_table(tmp_path):
-    from papers.lynch_bustamante import table_small_amplitude as tsa
+    from rocknroller.papers.lynch_bustamante import table_small_amplitude as tsa
 
     res = tsa.run(tmp_path)
     assert res.numbers["nu1_ODE"] == pytest.approx(res.numbers["nu1_exact"], rel=1e-6)
@@ -60,7 +60,7 @@ def test_small_amplitude_table(tmp_path):
 
 
 def test_periodic_orbit(tmp_path):
-    from papers.lynch_bustamante import table_periodic_orbit as tpo
+    from rocknroller.papers.lynch_bustamante import table_periodic_orbit as tpo
 
     res = tpo.run(tmp_path)
     assert res.numbers["rocks_per_slow_period"] == 10
@@ -79,8 +79,8 @@ def test_reproduce_only_and_index(tmp_path, capsys):
 
 def test_azimuth_span_figure_data(tmp_path):
     """Φ(ψ0): the CSV rows are the library's ODE, map and closed-form values, and they agree."""
-    from analysis.slow_pendulum import pendulum_prediction
-    from papers.lynch_bustamante import fig_azimuth_span as fig
+    from rocknroller.analysis.slow_pendulum import pendulum_prediction
+    from rocknroller.papers.lynch_bustamante import fig_azimuth_span as fig
 
     res = fig.run(tmp_path)
     rows = _read_csv(tmp_path / "fig_azimuth_span.csv")
@@ -95,9 +95,9 @@ def test_azimuth_span_figure_data(tmp_path):
 
 def test_critical_line_figures(tmp_path):
     """Figs. 8, 9: starts computed on the lines; captions' Q_R recomputed; crossings as the paper reports."""
-    from analysis.criticality import QJ_crit_0, QJ_crit_pi
-    from papers.lynch_bustamante import fig8_visible_reversal as fig8
-    from papers.lynch_bustamante import fig9_full_reversal as fig9
+    from rocknroller.analysis.criticality import QJ_crit_0, QJ_crit_pi
+    from rocknroller.papers.lynch_bustamante import fig8_visible_reversal as fig8
+    from rocknroller.papers.lynch_bustamante import fig9_full_reversal as fig9
 
     body = Body.paper(1e-3)
     r8, r9 = fig8.run(tmp_path), fig9.run(tmp_path)
@@ -113,8 +113,8 @@ def test_critical_line_figures(tmp_path):
 
 
 def test_fig4_lines_are_the_criticality_functions(tmp_path):
-    from analysis.criticality import QJ_crit_0, QJ_crit_pi
-    from papers.lynch_bustamante import fig4_regions
+    from rocknroller.analysis.criticality import QJ_crit_0, QJ_crit_pi
+    from rocknroller.papers.lynch_bustamante import fig4_regions
 
     fig4_regions.run(tmp_path)
     rows = _read_csv(tmp_path / "fig4_critical_lines.csv")
@@ -126,7 +126,7 @@ def test_fig4_lines_are_the_criticality_functions(tmp_path):
 
 
 def test_orbit_extent_and_high_QR(tmp_path):
-    from papers.lynch_bustamante import fig10_combined, fig11_high_QR
+    from rocknroller.papers.lynch_bustamante import fig10_combined, fig11_high_QR
 
     res = fig10_combined.run(tmp_path)
     extents = [v for k, v in res.numbers.items() if k.startswith("Q_R extent")]
@@ -154,9 +154,9 @@ def test_figures_leave_the_users_backend_alone(tmp_path):
     code = (
         "import sys, matplotlib\n"
         "matplotlib.use('svg')\n"
-        "from analysis.body import Body\n"
-        "from papers.output import save_figure\n"
-        "from papers.plotting import region_diagram\n"
+        "from rocknroller.analysis.body import Body\n"
+        "from rocknroller.papers.output import save_figure\n"
+        "from rocknroller.papers.plotting import region_diagram\n"
         "fig, _ = region_diagram(Body.paper(0.0))\n"
         f"paths = save_figure(fig, {str(tmp_path)!r}, 'regions')\n"
         "assert all(p.stat().st_size > 0 for p in paths)\n"
@@ -188,13 +188,13 @@ def _rendered_tables(markdown: str) -> list[list[list[str]]]:
 def test_index_cells_render_as_the_numbers(tmp_path):
     """Every cell of index.md renders to the quantity's name and formatted value, with the characters Markdown
     would eat (|, \\, *, _, <, [) intact, and the caption renders as written."""
-    from papers.output import Reproduction
+    from rocknroller.papers.output import Reproduction
     from rocknroller.commands.reproduce import _format, write_index
 
     numbers = {"max |map/ODE-1|, eps=0.01": 2.8e-3, r"slope of Q_J,\pi^crit": -0.123456789, "*bold* <x> [y](z)": "a|b",
                "n": 7}
     fake = Reproduction("nasty", r"caption with | and \pi and *stars*", [], numbers)
-    from papers.lynch_bustamante import table_polar_cap
+    from rocknroller.papers.lynch_bustamante import table_polar_cap
 
     res = table_polar_cap.run(tmp_path / "real")
     page = write_index(tmp_path, [fake, res], {"nasty": 0.0, res.name: 0.0}).read_text()

@@ -6,19 +6,19 @@ import mpmath
 import numpy as np
 import pytest
 
-from analysis.body import Body
-from analysis.criticality import QJ_crit_0, QJ_crit_pi
-from analysis.kinematics import primed_from_body
-from analysis.quadrature import (
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.criticality import QJ_crit_0, QJ_crit_pi
+from rocknroller.analysis.kinematics import primed_from_body
+from rocknroller.analysis.quadrature import (
     UNRESOLVED,
     precession,
     precession_from_turning_point,
     precession_mp,
     wrap_angle,
 )
-from analysis.reduction import NO_MOTION, OK, STEADY, F, solve_turning_points, state_from_turning_point
-from numerics.equations import EulerState
-from numerics.integrate import simulate
+from rocknroller.analysis.reduction import NO_MOTION, OK, STEADY, F, solve_turning_points, state_from_turning_point
+from rocknroller.numerics.equations import EulerState
+from rocknroller.numerics.integrate import simulate
 
 BODY = Body.paper()
 _QJ0, _QJPI = float(QJ_crit_0(0.01, BODY)), float(QJ_crit_pi(0.01, BODY))
@@ -319,7 +319,7 @@ def test_visible_reversal_across_QJpi_line_is_continuous():
 def test_node_cap_is_bounded_and_large_inputs_run_in_blocks(monkeypatch):
     """max_nodes is refused above MAX_NODES_LIMIT (it used to allocate points × nodes at once); a block size
     smaller than the input gives the same numbers bit for bit."""
-    import analysis.quadrature as q
+    import rocknroller.analysis.quadrature as q
 
     body = Body.paper()
     with pytest.raises(ValueError, match="max_nodes must be an integer in"):

@@ -1,6 +1,6 @@
 """Lynch & Bustamante, "Precession and recession of the rock'n'roller": one module per figure or table.
 
-Each module defines ``NAME`` and ``run(out: Path) -> papers.output.Reproduction``; it computes with the
+Each module defines ``NAME`` and ``run(out: Path) -> rocknroller.papers.output.Reproduction``; it computes with the
 library, writes PNG + PDF and the data as CSV into ``out``, and returns a caption with the numbers it
 measured.  ``MODULES`` lists them in the order ``rocknroller reproduce`` runs them.
 """

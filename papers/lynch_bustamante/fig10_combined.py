@@ -6,12 +6,12 @@ from pathlib import Path
 
 import numpy as np
 
-from numerics.equations import EulerState
-from papers.lynch_bustamante import fig8_visible_reversal as fig8
-from papers.lynch_bustamante import fig9_full_reversal as fig9
-from papers.lynch_bustamante import reversals
-from papers.output import Reproduction, new_figure, save_figure
-from papers.plotting import draw_critical_lines
+from rocknroller.numerics.equations import EulerState
+from rocknroller.papers.lynch_bustamante import fig8_visible_reversal as fig8
+from rocknroller.papers.lynch_bustamante import fig9_full_reversal as fig9
+from rocknroller.papers.lynch_bustamante import reversals
+from rocknroller.papers.output import Reproduction, new_figure, save_figure
+from rocknroller.papers.plotting import draw_critical_lines
 
 NAME = "fig10"
 

@@ -14,13 +14,13 @@ from pathlib import Path
 
 import numpy as np
 
-from analysis.criticality import QJ_crit_pi, critical_start, region
-from numerics.equations import EulerState
-from analysis.quadrature import wrap_angle
-from papers.lynch_bustamante import reversals
-from papers.output import Reproduction, new_figure, save_figure, write_csv
-from papers.plotting import draw_critical_lines
-from papers.trajectory_plots import plot_invariant_orbit
+from rocknroller.analysis.criticality import QJ_crit_pi, critical_start, region
+from rocknroller.numerics.equations import EulerState
+from rocknroller.analysis.quadrature import wrap_angle
+from rocknroller.papers.lynch_bustamante import reversals
+from rocknroller.papers.output import Reproduction, new_figure, save_figure, write_csv
+from rocknroller.papers.plotting import draw_critical_lines
+from rocknroller.papers.trajectory_plots import plot_invariant_orbit
 
 NAME = "fig11"
 QR0 = 0.1

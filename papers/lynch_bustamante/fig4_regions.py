@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from analysis.body import Body
-from papers.output import Reproduction, save_figure, write_csv
-from papers.plotting import region_diagram
+from rocknroller.analysis.body import Body
+from rocknroller.papers.output import Reproduction, save_figure, write_csv
+from rocknroller.papers.plotting import region_diagram
 
 NAME = "fig4"
 

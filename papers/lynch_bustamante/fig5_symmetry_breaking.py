@@ -8,10 +8,10 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from analysis.body import Body
-from numerics.equations import EulerState
-from numerics.integrate import simulate
-from papers.output import Reproduction, new_figure, save_figure, write_csv
+from rocknroller.analysis.body import Body
+from rocknroller.numerics.equations import EulerState
+from rocknroller.numerics.integrate import simulate
+from rocknroller.papers.output import Reproduction, new_figure, save_figure, write_csv
 
 NAME = "fig5"
 T_END = 1500.0
@@ -32,7 +32,7 @@ def compute():
 
 
 def run(out: Path) -> Reproduction:
-    from papers.trajectory_plots import plot_contact_track, plot_phi_at_maxima
+    from rocknroller.papers.trajectory_plots import plot_contact_track, plot_phi_at_maxima
 
     runs = compute()
     fig = new_figure(figsize=(9, 8.5))

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from numerics.equations import EulerState
-from papers.lynch_bustamante import reversals
-from papers.output import Reproduction
+from rocknroller.numerics.equations import EulerState
+from rocknroller.papers.lynch_bustamante import reversals
+from rocknroller.papers.output import Reproduction
 
 NAME = "fig7"
 

@@ -8,8 +8,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from papers.lynch_bustamante import reversals
-from papers.output import Reproduction
+from rocknroller.papers.lynch_bustamante import reversals
+from rocknroller.papers.output import Reproduction
 
 NAME = "fig8"
 PSI_DOT0 = 0.002

@@ -8,10 +8,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from analysis.criticality import QJ_crit_0
-from analysis.reduction import invariants_from_euler
-from papers.lynch_bustamante import reversals
-from papers.output import Reproduction
+from rocknroller.analysis.criticality import QJ_crit_0
+from rocknroller.analysis.reduction import invariants_from_euler
+from rocknroller.papers.lynch_bustamante import reversals
+from rocknroller.papers.output import Reproduction
 
 NAME = "fig9"
 PSI_DOT0 = 0.378

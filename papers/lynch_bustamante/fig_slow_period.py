@@ -11,12 +11,12 @@ from pathlib import Path
 
 import numpy as np
 
-from analysis.averaging import load_or_build_table, predict_slow_motion
-from analysis.body import Body
-from analysis.slow_pendulum import pendulum_constants, pendulum_prediction
-from numerics.equations import EulerState
-from numerics.integrate import simulate
-from papers.output import Reproduction, new_figure, save_figure, write_csv
+from rocknroller.analysis.averaging import load_or_build_table, predict_slow_motion
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.slow_pendulum import pendulum_constants, pendulum_prediction
+from rocknroller.numerics.equations import EulerState
+from rocknroller.numerics.integrate import simulate
+from rocknroller.papers.output import Reproduction, new_figure, save_figure, write_csv
 
 NAME = "fig_slow_period"
 THETA0 = 0.95 * math.pi

@@ -2,7 +2,7 @@
 
 Paper §numerics (Recession and criticality): ε = 1e-3, released at θ0 = 0.95π with θ̇0 = 0, φ0 = 0,
 ψ0 = π/4, 200 time units.  Starts "on a critical line" are placed by computation
-(:func:`analysis.criticality.critical_start`), not by the paper's rounded rates.
+(:func:`rocknroller.analysis.criticality.critical_start`), not by the paper's rounded rates.
 """
 
 from __future__ import annotations
@@ -13,14 +13,14 @@ from pathlib import Path
 
 import numpy as np
 
-from analysis.body import Body
-from analysis.criticality import critical_start, reversal_analysis
-from numerics.equations import EulerState
-from numerics.integrate import simulate
-from numerics.trajectory import Trajectory
-from papers.output import new_figure, save_figure, write_csv
-from papers.plotting import draw_critical_lines
-from papers.trajectory_plots import plot_invariant_orbit
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.criticality import critical_start, reversal_analysis
+from rocknroller.numerics.equations import EulerState
+from rocknroller.numerics.integrate import simulate
+from rocknroller.numerics.trajectory import Trajectory
+from rocknroller.papers.output import new_figure, save_figure, write_csv
+from rocknroller.papers.plotting import draw_critical_lines
+from rocknroller.papers.trajectory_plots import plot_invariant_orbit
 
 EPSILON = 1e-3
 THETA0 = 0.95 * math.pi

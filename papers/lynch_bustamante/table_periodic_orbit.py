@@ -11,10 +11,10 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from analysis.body import Body
-from numerics.equations import EulerState
-from numerics.integrate import simulate
-from papers.output import Reproduction, write_csv
+from rocknroller.analysis.body import Body
+from rocknroller.numerics.equations import EulerState
+from rocknroller.numerics.integrate import simulate
+from rocknroller.papers.output import Reproduction, write_csv
 
 NAME = "table_periodic_orbit"
 EPSILON = 1e-3

@@ -5,8 +5,8 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from analysis.body import Body, polar_cap_offset_as_printed
-from papers.output import Reproduction, write_csv
+from rocknroller.analysis.body import Body, polar_cap_offset_as_printed
+from rocknroller.papers.output import Reproduction, write_csv
 
 NAME = "table_polar_cap"
 D_VALUES = (-0.5, 0.0, 0.2, 0.4, 0.6, 0.8, 0.9, 0.95)  # d = 1, the homogeneous ball (I1 = I3), is no loaded sphere

@@ -10,11 +10,11 @@ import math
 from pathlib import Path
 
 
-from analysis.body import Body
-from analysis.rocking import small_amplitude_frequency, small_amplitude_frequency_as_printed
-from numerics.equations import EulerState
-from numerics.integrate import simulate
-from papers.output import Reproduction, write_csv
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.rocking import small_amplitude_frequency, small_amplitude_frequency_as_printed
+from rocknroller.numerics.equations import EulerState
+from rocknroller.numerics.integrate import simulate
+from rocknroller.papers.output import Reproduction, write_csv
 
 NAME = "table_small_amplitude"
 AMPLITUDE = 1e-3

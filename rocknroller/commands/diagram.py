@@ -46,8 +46,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def _initial_state(args, body):
-    from analysis.criticality import critical_start
-    from numerics.equations import EulerState
+    from rocknroller.analysis.criticality import critical_start
+    from rocknroller.numerics.equations import EulerState
 
     if args.psi0 is None:
         args.psi0 = SIM_PSI0
@@ -65,16 +65,16 @@ def _initial_state(args, body):
 
 
 def run(args: argparse.Namespace) -> int:
-    from analysis import criticality as crit
-    from papers.output import save_figure
-    from papers.plotting import region_diagram
+    from rocknroller.analysis import criticality as crit
+    from rocknroller.papers.output import save_figure
+    from rocknroller.papers.plotting import region_diagram
 
     summary: dict = {}
     traj = None
     name = "regions_orbit" if args.simulate else "regions"
     prepare_output_dir(args.out, "--out", args.force, [f"{name}.png", f"{name}.pdf"])
     if args.simulate:
-        from numerics.integrate import simulate
+        from rocknroller.numerics.integrate import simulate
 
         if args.eps is None and args.I2 is None:
             args.eps = SIM_EPS

@@ -8,7 +8,7 @@ import sys
 import time
 from pathlib import Path
 
-from papers.output import PRODUCER
+from rocknroller.papers.output import PRODUCER
 from rocknroller.options import prepare_output_dir
 
 
@@ -67,7 +67,7 @@ def write_index(out: Path, results: list, timings: dict[str, float]) -> Path:
 def run(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
-    from papers.lynch_bustamante import registry
+    from rocknroller.papers.lynch_bustamante import registry
 
     modules = registry()
     if args.list:

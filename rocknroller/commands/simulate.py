@@ -7,7 +7,7 @@ import sys
 import warnings
 from pathlib import Path
 
-from papers.lynch_bustamante import fig5_symmetry_breaking as fig5
+from rocknroller.papers.lynch_bustamante import fig5_symmetry_breaking as fig5
 from rocknroller.options import (add_body_options, add_force_option, add_initial_state_options, body_from_args,
                                  initial_state_from_args, prepare_output_dir, print_json, rates_given)
 
@@ -28,7 +28,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "Taylor integrator or scipy DOP853) and find every turning point of the tilt theta. Defaults: the "
         f"paper's body with eps={eps:g} and the figure-5 start theta0=0.95pi, omega=(0, 0.001, -0.001) "
         "(used only when no rate option is given). Runs are limited to what fits in memory and time "
-        "(numerics.integrate: MAX_SAMPLES samples, MAX_DENSE_RADIANS with samples, MAX_RADIANS without); "
+        "(rocknroller.numerics.integrate: MAX_SAMPLES samples, MAX_DENSE_RADIANS with samples, MAX_RADIANS without); "
         "--turning-points-only streams the turning points and keeps no samples.",
     )
     add_body_options(p, eps_default=eps)
@@ -67,8 +67,8 @@ def _turning_point_columns(maxima, minima) -> dict[str, list]:
 
 
 def _plots(traj, body, out: Path, names: tuple[str, ...]) -> list[Path]:
-    from papers.output import save_figure
-    from papers.trajectory_plots import plot_contact_track, plot_invariant_orbit, plot_phi_at_maxima
+    from rocknroller.papers.output import save_figure
+    from rocknroller.papers.trajectory_plots import plot_contact_track, plot_invariant_orbit, plot_phi_at_maxima
 
     written = []
     for name, plot in (("contact_track", plot_contact_track), ("phi_at_maxima", plot_phi_at_maxima),
@@ -81,7 +81,7 @@ def _plots(traj, body, out: Path, names: tuple[str, ...]) -> list[Path]:
 
 
 def _write_outputs(traj, body, initial, out: Path) -> list[Path]:
-    from papers.output import write_csv
+    from rocknroller.papers.output import write_csv
 
     header = _header(traj.method, body, initial)
     w1, w2, w3 = traj.omega
@@ -93,9 +93,9 @@ def _write_outputs(traj, body, initial, out: Path) -> list[Path]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from numerics.equations import EulerState
-    from numerics.integrate import AccuracyWarning, simulate
-    from papers.output import CsvStream
+    from rocknroller.numerics.equations import EulerState
+    from rocknroller.numerics.integrate import AccuracyWarning, simulate
+    from rocknroller.papers.output import CsvStream
 
     body = body_from_args(args)
     initial = initial_state_from_args(args)

@@ -17,7 +17,7 @@ import warnings
 from pathlib import Path
 from typing import Any
 
-from analysis import averaging as av
+from rocknroller.analysis import averaging as av
 from rocknroller.options import (add_body_options, add_force_option, body_from_args, parse_angle,
                                  prepare_output_dir, print_json)
 
@@ -108,7 +108,7 @@ def _parse(args: argparse.Namespace, option: str) -> float:
 
 
 def run(args: argparse.Namespace) -> int:
-    from analysis.slow_pendulum import pendulum_constants, pendulum_prediction
+    from rocknroller.analysis.slow_pendulum import pendulum_constants, pendulum_prediction
 
     if args.plot is not None:
         prepare_output_dir(args.plot, "--plot", args.force, ["slow_orbit.png", "slow_orbit.pdf"])
@@ -156,7 +156,7 @@ def run(args: argparse.Namespace) -> int:
         summary["pendulum"]["slow_period"] = None  # K = 0: no libration (the closed form's period is infinite)
     ode = None
     if args.check or args.plot is not None:
-        from papers.averaging_check import ode_slow_summary, relative_errors
+        from rocknroller.papers.averaging_check import ode_slow_summary, relative_errors
 
         ode = ode_slow_summary(body, theta0, psi0, args.t_end)
         summary["ode"] = {q: getattr(ode, q) for q in _QUANTITIES}
@@ -215,7 +215,7 @@ def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: flo
 def _plot(pred, ode, body, theta0: float, psi0: float, out: Path) -> list[Path]:
     import numpy as np
 
-    from papers.output import new_figure, save_figure
+    from rocknroller.papers.output import new_figure, save_figure
 
     fig = new_figure(figsize=(11, 4.2))
     ax1, ax2 = fig.subplots(1, 2)

@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from analysis.quadrature import DEFAULT_RTOL
+from rocknroller.analysis.quadrature import DEFAULT_RTOL
 from rocknroller.options import (add_body_options, add_force_option, body_from_args, parse_angle,
                                  prepare_output_file, print_json)
 
@@ -107,8 +107,8 @@ def _cell(v: Any, dps: int | None) -> Any:
 
 
 def run(args: argparse.Namespace) -> int:
-    from analysis.quadrature import OK, STEADY, UNRESOLVED, precession, precession_from_turning_point
-    from analysis.reduction import NO_MOTION
+    from rocknroller.analysis.quadrature import OK, STEADY, UNRESOLVED, precession, precession_from_turning_point
+    from rocknroller.analysis.reduction import NO_MOTION
 
     body = body_from_args(args)
     body.require_symmetric("rocknroller table (Routh's sphere quadratures)")
@@ -164,7 +164,7 @@ def run(args: argparse.Namespace) -> int:
             else:
                 _fill_double(rows, sl, pr, status == OK, factor)
             bar.update(sl.stop - sl.start)
-    from analysis.criticality import region
+    from rocknroller.analysis.criticality import region
 
     rows["region"] = [str(v) for v in np.asarray(region(QR, QJ, body)).ravel()]
     if args.dps is not None:
@@ -172,7 +172,7 @@ def run(args: argparse.Namespace) -> int:
             rows[c] = [_cell(v, args.dps) for v in rows[c]]
     elapsed = time.perf_counter() - t_start
 
-    from papers.output import write_csv
+    from rocknroller.papers.output import write_csv
 
     mode = (f"turning point theta_X = theta0 = {theta0!r} fixed, E = U(theta0; Q_R, Q_J)" if theta0 is not None
             else "grid of (E, Q_R, Q_J)")
@@ -185,7 +185,7 @@ def run(args: argparse.Namespace) -> int:
         f"backend: {'mpmath dps=' + str(args.dps) if args.dps else 'double precision, rtol=' + repr(args.rtol)}",
         "T_theta: time between successive maxima of theta; tau = 2 T_theta (the paper's tau = 4 integral)",
         f"delta_phi, delta_psi: full unwrapped increments per {args.per}; visible_phi = delta_phi mod 2pi in (-pi, pi]",
-        "region: I-IV from analysis.criticality.region (or on a critical line)",
+        "region: I-IV from rocknroller.analysis.criticality.region (or on a critical line)",
         *(f"status {k}: {v}" for k, v in STATUS_LEGEND.items()),
     ]
     write_csv(args.out, rows, header)
@@ -205,7 +205,7 @@ def run(args: argparse.Namespace) -> int:
 
 def _fill_double(rows: dict, sl: slice, pr: Any, ok: np.ndarray, factor: float) -> None:
     """Numeric cells of the rows in ``sl``; None (an empty cell) where there is no motion."""
-    from analysis.quadrature import wrap_angle
+    from rocknroller.analysis.quadrature import wrap_angle
 
     values = {
         "theta_N": pr.theta_N, "theta_X": pr.theta_X, "T_theta": pr.T_theta, "tau": pr.tau,
@@ -219,7 +219,7 @@ def _fill_double(rows: dict, sl: slice, pr: Any, ok: np.ndarray, factor: float) 
 def _fill_mp(rows: dict, i: int, pr: Any, j: int, body: Any, dps: int, theta0: float | None, factor: float) -> None:
     import mpmath
 
-    from analysis.quadrature import precession_mp, wrap_angle
+    from rocknroller.analysis.quadrature import precession_mp, wrap_angle
 
     ref = precession_mp(None if theta0 is not None else float(pr.E[j]), float(pr.QR[j]), float(pr.QJ[j]), body,
                         dps=dps, theta0=theta0)

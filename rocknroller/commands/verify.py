@@ -23,7 +23,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from papers.verification import run_checks
+    from rocknroller.papers.verification import run_checks
 
     def progress(name: str) -> None:
         if not args.quiet:
