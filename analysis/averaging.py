@@ -702,6 +702,12 @@ class SlowSeries:
         """φ mod π at the maxima (the visible half-angle)."""
         return np.mod(self.phi, math.pi)
 
+    def to_dataframe(self) -> "pandas.DataFrame":  # noqa: F821
+        """One row per maximum: t, Q_R, Q_J, Θ, φ (needs pandas)."""
+        from rocknroller.analysis.frames import dataframe
+
+        return dataframe({n: getattr(self, n) for n in ("t", "QR", "QJ", "Theta", "phi")})
+
 
 _IDX = {name: i for i, name in enumerate(TABLE_FUNCTIONS)}
 _HARM = ("c0", "c1", "s1")
@@ -919,6 +925,25 @@ class SlowPrediction:
     def rocks_per_region(self) -> dict[str, int]:
         """Total number of rocks (maxima) in each critical region within t_end."""
         return rocks_per_region(self.region_runs)
+
+    def to_dataframe(self) -> "pandas.DataFrame":  # noqa: F821
+        """The series at the maxima (:meth:`SlowSeries.to_dataframe`) with each maximum's critical region."""
+        frame = self.series.to_dataframe()
+        if self.regions is not None:
+            frame["region"] = np.asarray(self.regions)
+        return frame
+
+    def plot(self, ax: Any = None) -> Any:
+        """Draw the predicted (Q_R, Q_J) at the θ-maxima on ``ax`` (a new pyplot figure without one); returns
+        the axes.  Over the critical lines: :func:`rocknroller.papers.plotting.draw_critical_lines`."""
+        if ax is None:
+            import matplotlib.pyplot as plt
+
+            _, ax = plt.subplots(figsize=(5, 4))
+        ax.plot(self.series.QR, self.series.QJ, ".", ms=3, color="k", label="averaged map (maxima)")
+        ax.set_xlabel("$Q_R$")
+        ax.set_ylabel("$Q_J$")
+        return ax
 
 
 def predict_slow_motion(body: Body, theta0: float, psi0: float, t_end: float = 1000.0, *,

@@ -43,7 +43,7 @@ residue subtraction, turning points by ``mpmath.findroot``): the reference.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from functools import lru_cache
 from types import SimpleNamespace
 from typing import Any
@@ -169,6 +169,13 @@ class Precession:
     def status_text(self) -> NDArray[np.str_]:
         """Explanatory text of each status code."""
         return np.vectorize(QUADRATURE_STATUS_TEXT.get, otypes=[str])(np.asarray(self.status))
+
+    def to_dataframe(self) -> "pandas.DataFrame":  # noqa: F821
+        """One row per point, one column per field (masked entries are missing values; needs pandas)."""
+        from rocknroller.analysis.frames import dataframe
+
+        names = [f.name for f in fields(self) if getattr(self, f.name) is not None]
+        return dataframe({**{n: getattr(self, n) for n in names}, "status_text": self.status_text()})
 
 
 # ----------------------------------------------------------------------------- double precision

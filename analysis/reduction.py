@@ -366,6 +366,16 @@ class TurningPoints:
     def theta_X(self) -> NDArray[np.float64]:
         return theta_from_xy(self.x_X, self.y_X)
 
+    def to_dataframe(self) -> "pandas.DataFrame":  # noqa: F821
+        """One row per point: E, Q_R, Q_J, θ_N, θ_X, min U, its θ and the status (missing where a turning
+        point does not exist; needs pandas)."""
+        from rocknroller.analysis.frames import dataframe
+
+        return dataframe({"E": self.E, "QR": self.QR, "QJ": self.QJ, "theta_N": self.theta_N,
+                          "theta_X": self.theta_X, "U_min": self.U_min, "theta_min": self.theta_min,
+                          "status": self.status, "status_text": np.vectorize(STATUS_TEXT.get, otypes=[str])(
+                              np.asarray(self.status))})
+
 
 def _minimize_U(QR, QJ, body: Body):
     """Golden-section search of U over w = log tan²(θ/2) ∈ [−_W_MAX, _W_MAX] (U is unimodal)."""
@@ -475,13 +485,13 @@ def turning_points(E: ArrayLike, QR: ArrayLike, QJ: ArrayLike,
     if np.any(tp.status == NO_MOTION):
         i = np.flatnonzero(tp.status == NO_MOTION)[0]
         raise NoMotionError(
-            f"no motion: F(theta) < 0 on all of (0, pi) for E={tp.E.flat[i]!r}, QR={tp.QR.flat[i]!r}, "
-            f"QJ={tp.QJ.flat[i]!r}; E must be >= min U = {tp.U_min.flat[i]!r}")
+            f"no motion: F(theta) < 0 on all of (0, pi) for E={float(tp.E.flat[i])!r}, QR={float(tp.QR.flat[i])!r}, "
+            f"QJ={float(tp.QJ.flat[i])!r}; E must be >= min U = {float(tp.U_min.flat[i])!r}")
     if np.any(tp.status == STEADY):
         i = np.flatnonzero(tp.status == STEADY)[0]
         raise SteadyRollingError(
-            f"double root: E={tp.E.flat[i]!r} equals min U to round-off for QR={tp.QR.flat[i]!r}, "
-            f"QJ={tp.QJ.flat[i]!r}; this is steady circular rolling at theta={tp.theta_min.flat[i]!r}, "
+            f"double root: E={float(tp.E.flat[i])!r} equals min U to round-off for QR={float(tp.QR.flat[i])!r}, "
+            f"QJ={float(tp.QJ.flat[i])!r}; this is steady circular rolling at theta={float(tp.theta_min.flat[i])!r}, "
             "not a rocking motion", where_defined(tp.theta_min, tp.status == STEADY))
     return tp.theta_N, tp.theta_X
 

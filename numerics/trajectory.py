@@ -11,7 +11,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Any, Callable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -49,6 +49,12 @@ class TurningPoints:
 
     def __len__(self) -> int:
         return int(self.t.size)
+
+    def to_dataframe(self) -> "pandas.DataFrame":  # noqa: F821
+        """One row per turning point: t, θ, φ, ψ, Q_R, Q_J (needs pandas)."""
+        from rocknroller.analysis.frames import dataframe
+
+        return dataframe({n: getattr(self, n) for n in ("t", "theta", "phi", "psi", "QR", "QJ")})
 
     @classmethod
     def concatenate(cls, parts: list["TurningPoints"]) -> "TurningPoints":
@@ -191,6 +197,25 @@ class _TurningPointDiagnostics:
         """max − min of Q_J over the θ-maxima (the samples of the averaged map)."""
         return span(self.maxima.QJ)
 
+    def turning_points_dataframe(self) -> "pandas.DataFrame":  # noqa: F821
+        """Every turning point in time order, with ``kind`` "max" or "min" (needs pandas)."""
+        import pandas as pd
+
+        frames = [tp.to_dataframe().assign(kind=kind) for kind, tp in (("max", self.maxima), ("min", self.minima))]
+        return pd.concat(frames, ignore_index=True).sort_values("t", kind="stable", ignore_index=True)
+
+    def plot(self, ax: Any = None, kind: str = "orbit") -> Any:
+        """Draw the run on ``ax`` (a new pyplot figure without one): ``"orbit"`` the (Q_R, Q_J) orbit with its
+        turning points (paper figs. 7-10), ``"phi"`` φ at the θ-maxima (paper fig. 5), ``"track"`` the contact
+        track (samples only, paper figs. 5, 6).  Returns the axes."""
+        from rocknroller.numerics import trajectory_plots as tp
+
+        plots = {"orbit": tp.plot_invariant_orbit, "phi": tp.plot_phi_at_maxima, "track": tp.plot_contact_track}
+        if kind not in plots or (kind == "track" and not isinstance(self, Trajectory)):
+            allowed = list(plots) if isinstance(self, Trajectory) else ["orbit", "phi"]
+            raise ValueError(f"kind must be one of {allowed}, got kind={kind!r}")
+        return plots[kind](self, ax=ax)
+
     @property
     def energy_tolerance(self) -> float:
         """The largest energy error consistent with the integrator's tolerance (:func:`energy_error_bound`)."""
@@ -287,6 +312,13 @@ class Trajectory(_TurningPointDiagnostics):
         E = self.E
         return float(np.max(np.abs(E - E[0])) / energy_scale(self.body, E[0]))
 
+    def to_dataframe(self) -> "pandas.DataFrame":  # noqa: F821
+        """One row per sample: t, θ, φ, ψ, the contact point X, Y, and E, Q_R, Q_J (needs pandas; the turning
+        points alone: :meth:`turning_points_dataframe`)."""
+        from rocknroller.analysis.frames import dataframe
+
+        return dataframe({n: getattr(self, n) for n in ("t", "theta", "phi", "psi", "X", "Y", "E", "QR", "QJ")})
+
     def state_at(self, t: ArrayLike) -> NDArray[np.float64]:
         """Body-frame state(s) at time(s) ``t`` from the integrator's dense output, shape (..., 11)."""
         t = np.asarray(t, float)
@@ -319,3 +351,7 @@ class TurningPointRun(_TurningPointDiagnostics):
     energy_rel_error: float
     n_steps: int
     tolerance: float
+
+    def to_dataframe(self) -> "pandas.DataFrame":  # noqa: F821
+        """Every turning point in time order (:meth:`turning_points_dataframe`; needs pandas)."""
+        return self.turning_points_dataframe()

@@ -190,7 +190,7 @@ def region_diagram(body: Body, QR_max: float = 1.0, traj: "Trajectory | None" = 
         cells = {lab: gs[i, 2] for i, lab in enumerate(order)}
     lines = draw_critical_lines(ax, body, window[0], window[1])
     if traj is not None:
-        from rocknroller.papers.trajectory_plots import plot_invariant_orbit
+        from rocknroller.numerics.trajectory_plots import plot_invariant_orbit
 
         plot_invariant_orbit(traj, ax=ax)
     ax.set_xlim(window[0], window[1])

@@ -1,24 +1,49 @@
 """rocknroller: Routh's sphere and the rock'n'roller.
 
-Public API re-exported from ``analysis`` and ``numerics`` (no physics lives here)::
+The public API, re-exported from :mod:`rocknroller.analysis` and :mod:`rocknroller.numerics` (no physics lives
+here).  Q_R comes before Q_J in every signature; where the paper orders them the other way (V_φ, V_ψ), they are
+keyword-only::
 
-    from rocknroller import Body, EulerState, simulate
+    import rocknroller as rr
+
+    body = rr.Body.paper(epsilon=1e-3)
+    traj = rr.simulate(body, rr.EulerState.from_omega(0.95 * 3.141592653589793, 0, 0, (0, 1e-3, -1e-3)), 100.0)
+    rr.region(traj.maxima.QR, traj.maxima.QJ, body)
 """
 
 from rocknroller._version import __version__
-from rocknroller.citation import cite
-from rocknroller.analysis.averaging import predict_slow_motion
+from rocknroller.analysis.averaging import SlowPrediction, predict_slow_motion
 from rocknroller.analysis.body import Body
-from rocknroller.analysis.quadrature import precession, precession_mp
-from rocknroller.analysis.reduction import F, turning_points
+from rocknroller.analysis.criticality import (CriticalStart, QJ_crit, QJ_crit_0, QJ_crit_pi, cos_theta_z,
+                                              critical_start, delta_bound_coefficients, delta_of, region,
+                                              reversal_analysis, theta_e, theta_z, theta_z_expansion)
+from rocknroller.analysis.invariants import V_phi, V_psi
+from rocknroller.analysis.laurent import laurent_coefficients, laurent_function, laurent_series
+from rocknroller.analysis.quadrature import Precession, precession, precession_from_turning_point, precession_mp
+from rocknroller.analysis.reduction import (F, NoMotionError, SteadyRollingError, effective_potential,
+                                            invariants_from_euler, solve_turning_points, state_from_turning_point,
+                                            turning_points)
 from rocknroller.analysis.slow_diagnostics import azimuth_span
-from rocknroller.analysis.slow_pendulum import pendulum_constants, pendulum_prediction
+from rocknroller.analysis.slow_pendulum import PendulumConstants, pendulum_constants, pendulum_prediction
+from rocknroller.citation import cite
 from rocknroller.numerics.equations import EulerState
-from rocknroller.numerics.integrate import simulate
-from rocknroller.numerics.trajectory import Trajectory, TurningPoints
+from rocknroller.numerics.integrate import AccuracyError, AccuracyWarning, simulate
+from rocknroller.numerics.trajectory import Trajectory, TurningPointRun, TurningPoints
 
 __all__ = [
-    "__version__", "cite", "Body", "EulerState", "simulate", "Trajectory", "TurningPoints", "azimuth_span",
-    "F", "turning_points", "precession", "precession_mp",
-    "predict_slow_motion", "pendulum_constants", "pendulum_prediction",
+    "__version__", "cite",
+    # the body and the direct ODE
+    "Body", "EulerState", "simulate", "Trajectory", "TurningPointRun", "TurningPoints", "AccuracyError",
+    "AccuracyWarning",
+    # Routh's sphere: the reduction and the precession quadratures
+    "F", "effective_potential", "turning_points", "solve_turning_points", "invariants_from_euler", "state_from_turning_point",
+    "V_phi", "V_psi", "precession", "precession_from_turning_point", "precession_mp", "Precession",
+    "NoMotionError", "SteadyRollingError",
+    # criticality
+    "QJ_crit_0", "QJ_crit_pi", "QJ_crit", "region", "cos_theta_z", "theta_z", "theta_e", "delta_of",
+    "delta_bound_coefficients", "theta_z_expansion", "critical_start", "CriticalStart", "reversal_analysis",
+    "laurent_coefficients", "laurent_series", "laurent_function",
+    # the slow motion of the rock'n'roller
+    "predict_slow_motion", "SlowPrediction", "pendulum_constants", "pendulum_prediction", "PendulumConstants",
+    "azimuth_span",
 ]

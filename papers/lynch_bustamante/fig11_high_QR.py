@@ -20,7 +20,7 @@ from rocknroller.analysis.quadrature import wrap_angle
 from rocknroller.papers.lynch_bustamante import reversals
 from rocknroller.papers.output import Reproduction, new_figure, save_figure, write_csv
 from rocknroller.papers.plotting import draw_critical_lines
-from rocknroller.papers.trajectory_plots import plot_invariant_orbit
+from rocknroller.numerics.trajectory_plots import plot_invariant_orbit
 
 NAME = "fig11"
 QR0 = 0.1

@@ -32,7 +32,7 @@ def compute():
 
 
 def run(out: Path) -> Reproduction:
-    from rocknroller.papers.trajectory_plots import plot_contact_track, plot_phi_at_maxima
+    from rocknroller.numerics.trajectory_plots import plot_contact_track, plot_phi_at_maxima
 
     runs = compute()
     fig = new_figure(figsize=(9, 8.5))

@@ -10,7 +10,7 @@ from rocknroller.analysis.body import Body
 from rocknroller.numerics.equations import EulerState
 from rocknroller.numerics.integrate import simulate
 from rocknroller.papers.output import Reproduction, new_figure, save_figure, write_csv
-from rocknroller.papers.trajectory_plots import plot_contact_track
+from rocknroller.numerics.trajectory_plots import plot_contact_track
 
 NAME = "fig6"
 T_END = 1000.0

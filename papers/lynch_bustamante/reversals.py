@@ -20,7 +20,7 @@ from rocknroller.numerics.integrate import simulate
 from rocknroller.numerics.trajectory import Trajectory
 from rocknroller.papers.output import new_figure, save_figure, write_csv
 from rocknroller.papers.plotting import draw_critical_lines
-from rocknroller.papers.trajectory_plots import plot_invariant_orbit
+from rocknroller.numerics.trajectory_plots import plot_invariant_orbit
 
 EPSILON = 1e-3
 THETA0 = 0.95 * math.pi

@@ -68,7 +68,7 @@ def _turning_point_columns(maxima, minima) -> dict[str, list]:
 
 def _plots(traj, body, out: Path, names: tuple[str, ...]) -> list[Path]:
     from rocknroller.papers.output import save_figure
-    from rocknroller.papers.trajectory_plots import plot_contact_track, plot_invariant_orbit, plot_phi_at_maxima
+    from rocknroller.numerics.trajectory_plots import plot_contact_track, plot_invariant_orbit, plot_phi_at_maxima
 
     written = []
     for name, plot in (("contact_track", plot_contact_track), ("phi_at_maxima", plot_phi_at_maxima),
