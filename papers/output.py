@@ -1,6 +1,6 @@
 """Writing results: CSV tables whose header records the parameters, and figures as PNG + PDF.
 
-Every CSV starts with ``# ``-prefixed lines (the package version first, then the parameters): read it with
+Every CSV starts with lines beginning with ``#`` (the package version first, then the parameters): read it with
 ``pandas.read_csv(path, comment="#")`` or ``numpy.genfromtxt(path, delimiter=",", names=True)``.  Figures carry
 the package version in their metadata and embed TrueType fonts in the PDF (``pdf.fonttype = 42``), as journals ask.
 """
@@ -31,7 +31,7 @@ def _cell(v: object) -> str:
 
 
 class CsvStream:
-    """A CSV file written in pieces: ``# ``-prefixed header lines (:data:`PRODUCER` first), the column names,
+    """A CSV file written in pieces: header lines starting with ``#`` (:data:`PRODUCER` first), the column names,
     then rows as they come.
 
     Use as a context manager; :meth:`write` takes equal-length columns.  Floats are written with ``repr``
@@ -64,7 +64,7 @@ class CsvStream:
 
 
 def write_csv(path: str | Path, columns: Mapping[str, Sequence], header: Iterable[str] = ()) -> Path:
-    """Write equal-length ``columns`` to ``path`` with ``# ``-prefixed header lines first (:class:`CsvStream`)."""
+    """Write equal-length ``columns`` to ``path`` with header lines starting with ``#`` first (:class:`CsvStream`)."""
     with CsvStream(path, list(columns), header) as stream:
         stream.write(columns)
     return stream.path

@@ -22,6 +22,7 @@ COMMANDS = ("reproduce", "simulate", "table", "diagram", "slow", "verify", "cite
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The ``rocknroller`` argument parser with every subcommand of :data:`COMMANDS`."""
     parser = argparse.ArgumentParser(
         prog="rocknroller",
         description="Routh's sphere and the rock'n'roller: direct ODE, precession quadratures, "
@@ -54,6 +55,7 @@ def option_names(message: str, argv: list[str]) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Run the console script on ``argv`` (default ``sys.argv[1:]``); returns the exit status (see the module)."""
     parser = build_parser()
     argv = sys.argv[1:] if argv is None else list(argv)
     args = parser.parse_args(argv)

@@ -6,6 +6,7 @@ import argparse
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``cite`` subcommand and its ``--help`` to ``sub``."""
     from rocknroller.citation import USES
 
     p = sub.add_parser(
@@ -21,6 +22,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run ``rocknroller cite`` with the parsed ``args``; returns the exit status."""
     from rocknroller.citation import cite
 
     print(cite(args.for_command), end="")

@@ -14,6 +14,7 @@ SIM_EPS, SIM_PSI0, SIM_T_END = 1e-3, "pi/4", 200.0
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``diagram`` subcommand and its ``--help`` to ``sub``."""
     p = sub.add_parser(
         "diagram",
         help="critical Jellett lines and regions I-IV (paper fig. 4), optionally with a simulated orbit",
@@ -65,6 +66,7 @@ def _initial_state(args, body):
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run ``rocknroller diagram`` with the parsed ``args``; returns the exit status."""
     from rocknroller.analysis import criticality as crit
     from rocknroller.papers.output import save_figure
     from rocknroller.papers.plotting import region_diagram

@@ -13,6 +13,7 @@ from rocknroller.options import prepare_output_dir
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``reproduce`` subcommand and its ``--help`` to ``sub``."""
     p = sub.add_parser(
         "reproduce",
         help="reproduce the paper's figures and tables (PNG, PDF, CSV and an index page)",
@@ -65,6 +66,7 @@ def write_index(out: Path, results: list, timings: dict[str, float]) -> Path:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run ``rocknroller reproduce`` with the parsed ``args``; returns the exit status."""
     from tqdm import tqdm
 
     from rocknroller.papers.lynch_bustamante import registry

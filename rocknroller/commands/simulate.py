@@ -20,6 +20,7 @@ _TP_COLUMNS = ("kind", "t", "theta", "phi", "psi", "Q_R", "Q_J", "X", "Y")
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``simulate`` subcommand and its ``--help`` to ``sub``."""
     eps = fig5.EPSILONS[1]
     p = sub.add_parser(
         "simulate",
@@ -93,6 +94,7 @@ def _write_outputs(traj, body, initial, out: Path) -> list[Path]:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run ``rocknroller simulate`` with the parsed ``args``; returns the exit status."""
     from rocknroller.numerics.equations import EulerState
     from rocknroller.numerics.integrate import AccuracyWarning, simulate
     from rocknroller.papers.output import CsvStream

@@ -32,6 +32,7 @@ _PURE_ROCKING = ("eps = 0 (Routh's sphere) released from rest: pure rocking in a
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``slow`` subcommand and its ``--help`` to ``sub``."""
     p = sub.add_parser(
         "slow",
         help="predict the slow (Q_R, Q_J) oscillation by first-order eps-averaging",
@@ -108,6 +109,7 @@ def _parse(args: argparse.Namespace, option: str) -> float:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run ``rocknroller slow`` with the parsed ``args``; returns the exit status."""
     from rocknroller.analysis.slow_pendulum import pendulum_constants, pendulum_prediction
 
     if args.plot is not None:

@@ -61,6 +61,7 @@ def parse_grid(text: str, name: str) -> np.ndarray:
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``table`` subcommand and its ``--help`` to ``sub``."""
     p = sub.add_parser(
         "table",
         help="precession table of Routh's sphere (T_theta, tau, delta_phi, delta_psi) over a (Q_R, Q_J) grid",
@@ -107,6 +108,7 @@ def _cell(v: Any, dps: int | None) -> Any:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run ``rocknroller table`` with the parsed ``args``; returns the exit status."""
     from rocknroller.analysis.quadrature import OK, STEADY, UNRESOLVED, precession, precession_from_turning_point
     from rocknroller.analysis.reduction import NO_MOTION
 

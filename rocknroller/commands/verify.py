@@ -9,6 +9,7 @@ from rocknroller.options import print_json
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``verify`` subcommand and its ``--help`` to ``sub``."""
     p = sub.add_parser(
         "verify",
         help="check every formula against an independent reference (exit 1 on any failure)",
@@ -23,6 +24,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run ``rocknroller verify`` with the parsed ``args``; returns the exit status."""
     from rocknroller.papers.verification import run_checks
 
     def progress(name: str) -> None:
