@@ -100,3 +100,7 @@ class Reproduction:
     caption: str
     outputs: list[Path] = field(default_factory=list)
     numbers: dict[str, float | int | str] = field(default_factory=dict)
+
+    def summary(self) -> str:
+        """The caption, then one line per number measured (``quantity: value``)."""
+        return "\n".join([self.caption, *(f"{k}: {v}" for k, v in self.numbers.items())])

@@ -207,3 +207,14 @@ def test_index_cells_render_as_the_numbers(tmp_path):
 
     html = MarkdownIt("commonmark").render(page)
     assert "caption with | and \\pi and *stars*" in html
+
+
+def test_reproduce_one_output(tmp_path):
+    """``reproduce(name)`` runs one module as ``rocknroller reproduce --only name`` does (the paper gallery's entry)."""
+    from rocknroller.papers.lynch_bustamante import reproduce
+
+    res = reproduce("table_polar_cap", tmp_path)
+    assert res.outputs and all(p.parent == tmp_path and p.stat().st_size > 0 for p in res.outputs)
+    assert res.summary().splitlines() == [res.caption, *(f"{k}: {v}" for k, v in res.numbers.items())]
+    with pytest.raises(ValueError, match="name must be one of"):
+        reproduce("fig99")

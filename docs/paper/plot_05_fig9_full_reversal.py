@@ -6,16 +6,7 @@ Runs :mod:`rocknroller.papers.lynch_bustamante.fig9_full_reversal` (``rocknrolle
 """
 
 # %%
-import tempfile
-from pathlib import Path
+from rocknroller.papers.lynch_bustamante import reproduce
 
-from rocknroller.papers.lynch_bustamante import fig9_full_reversal as module
-
-result = module.run(Path(tempfile.mkdtemp(prefix="rocknroller-gallery-")))
-print(result.caption)
-
-# %%
-# The numbers measured
-# --------------------
-for quantity, value in result.numbers.items():
-    print(f"{quantity}: {value}")
+result = reproduce("fig9")
+print(result.summary())

@@ -6,16 +6,7 @@ Runs :mod:`rocknroller.papers.lynch_bustamante.fig11_high_QR` (``rocknroller rep
 """
 
 # %%
-import tempfile
-from pathlib import Path
+from rocknroller.papers.lynch_bustamante import reproduce
 
-from rocknroller.papers.lynch_bustamante import fig11_high_QR as module
-
-result = module.run(Path(tempfile.mkdtemp(prefix="rocknroller-gallery-")))
-print(result.caption)
-
-# %%
-# The numbers measured
-# --------------------
-for quantity, value in result.numbers.items():
-    print(f"{quantity}: {value}")
+result = reproduce("fig11")
+print(result.summary())

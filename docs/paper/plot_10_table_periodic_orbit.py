@@ -6,16 +6,7 @@ Runs :mod:`rocknroller.papers.lynch_bustamante.table_periodic_orbit` (``rocknrol
 """
 
 # %%
-import tempfile
-from pathlib import Path
+from rocknroller.papers.lynch_bustamante import reproduce
 
-from rocknroller.papers.lynch_bustamante import table_periodic_orbit as module
-
-result = module.run(Path(tempfile.mkdtemp(prefix="rocknroller-gallery-")))
-print(result.caption)
-
-# %%
-# The numbers measured
-# --------------------
-for quantity, value in result.numbers.items():
-    print(f"{quantity}: {value}")
+result = reproduce("table_periodic_orbit")
+print(result.summary())

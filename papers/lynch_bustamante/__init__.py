@@ -8,7 +8,11 @@ measured.  ``MODULES`` lists them in the order ``rocknroller reproduce`` runs th
 from __future__ import annotations
 
 import importlib
+import tempfile
+from pathlib import Path
 from types import ModuleType
+
+from rocknroller.papers.output import Reproduction
 
 MODULES = (
     "fig4_regions",
@@ -36,3 +40,12 @@ def registry() -> dict[str, ModuleType]:
     """NAME -> module, in run order."""
     mods = [load(m) for m in MODULES]
     return {m.NAME: m for m in mods}
+
+
+def reproduce(name: str, out: str | Path | None = None) -> Reproduction:
+    """Run the reproduction ``name`` (a key of :func:`registry`) into ``out`` (a new temporary directory if None),
+    as ``rocknroller reproduce --only name`` does."""
+    modules = registry()
+    if name not in modules:
+        raise ValueError(f"name must be one of {', '.join(modules)}, got name={name!r}")
+    return modules[name].run(Path(tempfile.mkdtemp(prefix=f"rocknroller-{name}-") if out is None else out))
