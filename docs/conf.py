@@ -1,8 +1,8 @@
 """Sphinx configuration: ``python -m sphinx -W docs docs/_build`` (warnings are errors).
 
 The API reference is generated from the docstrings (autosummary, NumPy style through napoleon); the two
-galleries (sphinx-gallery) execute ``docs/examples`` and ``docs/paper`` at every build; the CLI page is
-written from the argparse parsers at build time.
+galleries (sphinx-gallery) execute ``docs/examples`` and ``docs/paper`` at every build; the CLI page and the
+API page's list of modules are written when this file is read.
 """
 
 from __future__ import annotations
@@ -61,7 +61,7 @@ html_title = f"rocknroller {release}"
 html_static_path: list[str] = []
 
 
-def _write_cli_page(app) -> None:
+def _write_cli_page() -> None:
     """docs/cli.md: the ``--help`` of the console script and of every subcommand, from the parsers."""
     from rocknroller.cli import build_parser
 
@@ -85,7 +85,7 @@ API_MODULES = ("rocknroller.analysis", "rocknroller.numerics", "rocknroller.pape
                "rocknroller.options", "rocknroller.citation", "rocknroller.commands")
 
 
-def _write_api_page(app) -> None:
+def _write_api_page() -> None:
     """docs/api.rst: the public namespace (each name linked to where it is defined) and every module."""
     names = [n for n in rocknroller.__all__ if not n.startswith("_")]
     targets = [f"{getattr(rocknroller, n).__module__}.{getattr(rocknroller, n).__qualname__}" for n in names]
@@ -108,7 +108,10 @@ def _plain_text_math(app, what, name, obj, options, lines) -> None:
         lines[i] = line.replace("|", "\\|")
 
 
+# Written when the configuration is read, before autosummary looks for the pages to generate.
+_write_cli_page()
+_write_api_page()
+
+
 def setup(app) -> None:
     app.connect("autodoc-process-docstring", _plain_text_math)
-    app.connect("builder-inited", _write_cli_page)
-    app.connect("builder-inited", _write_api_page)
