@@ -40,7 +40,7 @@ from rocknroller.analysis.body import Body
 from rocknroller.analysis.invariants import V_phi, V_psi, rho
 from rocknroller.analysis.kinematics import omega_from_rates, rates_from_omega
 from rocknroller.analysis.laurent import SYMBOLS, V_phi_sym
-from rocknroller.analysis.reduction import require_open_tilt, u_ends
+from rocknroller.analysis.reduction import check_invariants, require_open_tilt, u_ends
 
 if TYPE_CHECKING:  # pragma: no cover
     from rocknroller.numerics.trajectory import Trajectory
@@ -94,6 +94,7 @@ def QJ_crit_0(QR: ArrayLike, body: Body) -> NDArray[np.float64]:
 
     ρ₀ = [I3 + (I3/I1)(1 − a)²]^(−1/2).  Correctly rounded (from :func:`rocknroller.analysis.reduction.u_ends`).
     """
+    (QR,) = check_invariants(QR=QR)
     return -u_ends(QR, 0.0, body)[0]
 
 
@@ -102,6 +103,7 @@ def QJ_crit_pi(QR: ArrayLike, body: Body) -> NDArray[np.float64]:
 
     ρ_π = [I3 + (I3/I1)(1 + a)²]^(−1/2).  Correctly rounded (from :func:`rocknroller.analysis.reduction.u_ends`).
     """
+    (QR,) = check_invariants(QR=QR)
     return -u_ends(QR, 0.0, body)[1]
 
 
@@ -152,7 +154,7 @@ def region(QR: ArrayLike, QJ: ArrayLike, body: Body, tol: float = REGION_TOL) ->
     -------
     numpy array of str (a plain str for scalar input).
     """
-    QR, QJ = _finite("QR", QR), _finite("QJ", QJ)
+    QR, QJ = check_invariants(QR=QR, QJ=QJ)
     tol = float(tol)
     if not 0.0 <= tol < 1.0:
         raise ValueError(f"tol must satisfy 0 <= tol < 1, got tol={tol!r}")
@@ -194,7 +196,7 @@ def cos_theta_z(QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]
     ValueError
         Q_R = 0, or a point outside Regions I and III (no zero there).
     """
-    QR, QJ = _finite("QR", QR), _finite("QJ", QJ)
+    QR, QJ = check_invariants(QR=QR, QJ=QJ)
     q = _ratio(QR, QJ)
     _strict_regions(QR, QJ, body, ("I", "III"), "the zero theta_z of V_phi")
     a, I1, I3 = body.a, body.I1, body.I3
@@ -209,7 +211,7 @@ def cos_theta_z_printed(QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.
     Kept only to document the erratum (tests show it misses the zero of V_φ).  Returns NaN where the printed
     square root is of a negative number.
     """
-    QR, QJ = _finite("QR", QR), _finite("QJ", QJ)
+    QR, QJ = check_invariants(QR=QR, QJ=QJ)
     q = _ratio(QR, QJ)
     a, I1, I3 = body.a, body.I1, body.I3
     beta = I3 - q * q
@@ -292,7 +294,7 @@ def theta_e(QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]:
     ValueError
         A point outside Regions II and IV.
     """
-    QR, QJ = np.broadcast_arrays(_finite("QR", QR), _finite("QJ", QJ))
+    QR, QJ = np.broadcast_arrays(*check_invariants(QR=QR, QJ=QJ))
     _strict_regions(QR, QJ, body, ("II", "IV"), "the extremum theta_e of V_phi")
     out = np.array([_theta_e_one(float(r), float(j), body) for r, j in zip(QR.ravel(), QJ.ravel())])
     return out.reshape(QR.shape) if QR.ndim else out[0]
@@ -309,7 +311,7 @@ def necessary_condition(theta_X: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: 
         θ_X outside (0, π], or a point exactly on a critical line (no region); Q_R = 0 in Regions I/III
         cannot occur (there Q_J,π^crit < Q_J < Q_J,0^crit forces Q_R ≠ 0).
     """
-    theta_X, QR, QJ = np.broadcast_arrays(_finite("theta_X", theta_X), _finite("QR", QR), _finite("QJ", QJ))
+    theta_X, QR, QJ = np.broadcast_arrays(_finite("theta_X", theta_X), *check_invariants(QR=QR, QJ=QJ))
     if np.any((theta_X <= 0.0) | (theta_X > np.pi)):
         raise ValueError(f"theta_X must lie in (0, pi], got {theta_X!r}")
     reg = np.asarray(region(QR, QJ, body, tol=0.0))
@@ -334,7 +336,7 @@ def delta_of(QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]:
     ValueError
         Q_R = 0 (then Q_J,π^crit = 0).
     """
-    QR, QJ = _finite("QR", QR), _finite("QJ", QJ)
+    QR, QJ = check_invariants(QR=QR, QJ=QJ)
     if np.any(QR == 0.0):
         raise ValueError("QR must be nonzero: delta = 1 - QJ/QJ_pi^crit needs QJ_pi^crit = k QR != 0")
     return 1.0 - QJ / QJ_crit_pi(QR, body)
@@ -481,7 +483,7 @@ def critical_start(body: Body, theta0: ArrayLike, psi0: ArrayLike = 0.0, line: s
     slope = QJ_crit(line, 1.0, body)
     r = rho(theta0, body)
     if QR is not None:
-        QRv = _finite("QR", QR)
+        (QRv,) = check_invariants(QR=QR)
     else:
         pd = _finite("psi_dot0", psi_dot0)
         c, s2 = np.cos(theta0), np.sin(theta0) ** 2
@@ -494,6 +496,11 @@ def critical_start(body: Body, theta0: ArrayLike, psi0: ArrayLike = 0.0, line: s
                              "(the line is parallel to the family of states); give QR instead")
         phi_dot = (slope * pd / r + offset - body.I3 * f * pd) / den
         QRv = (c * phi_dot + pd) / r
+        try:
+            check_invariants(QR=QRv)
+        except ValueError as exc:
+            raise ValueError(f"psi_dot0 with this theta0 puts the start outside the resolved range: {exc}") from None
+    (offset,) = check_invariants(offset=offset)
     QJv = QJ_crit(line, QRv, body) + offset
     _check_turning_theta(theta0, body, QRv, QJv)
     z = np.zeros(np.broadcast(theta0, psi0, QRv, QJv).shape)

@@ -59,6 +59,8 @@ from rocknroller.analysis.reduction import (
     OK,
     STATUS_TEXT,
     STEADY,
+    E_MAX,
+    check_invariants,
     D_coefficient,
     NoMotionError,
     SteadyRollingError,
@@ -426,11 +428,17 @@ def precession_from_turning_point(theta0: ArrayLike, QR: ArrayLike, QJ: ArrayLik
     """
     body.require_symmetric("the precession quadratures")
     theta0 = require_open_tilt(theta0)
-    theta0, QR, QJ = np.broadcast_arrays(theta0, np.asarray(QR, float), np.asarray(QJ, float))
+    theta0, QR, QJ = np.broadcast_arrays(theta0, *check_invariants(QR=QR, QJ=QJ))
     x0, y0 = tilt_xy(theta0)
     E = _U_xy(x0, y0, QR, QJ, body)
+    if np.any(~(np.abs(E) <= E_MAX)):
+        i = np.flatnonzero(~(np.abs(E) <= E_MAX))[0]
+        raise ValueError(f"theta0={float(theta0.flat[i])!r} with QR={float(QR.flat[i])!r}, QJ={float(QJ.flat[i])!r} "
+                         f"gives the energy E = U(theta0) = {float(E.flat[i]):.3g}, beyond E_MAX = {E_MAX:g}: move "
+                         "theta0 away from the vertical or reduce QR, QJ")
     tp = solve_turning_points(E, QR, QJ, body)
-    upper = np.abs(np.log(tp.x_X / x0)) <= np.abs(np.log(tp.x_N / x0))
+    with np.errstate(divide="ignore", invalid="ignore"):  # only the OK entries are used
+        upper = np.abs(np.log(tp.x_X / x0)) <= np.abs(np.log(tp.x_N / x0))
     upper = np.where(tp.status == OK, upper, True)
     ok = tp.status == OK
     pin = lambda cond, a, b: np.where(ok & cond, a, b)  # noqa: E731

@@ -63,7 +63,36 @@ __all__ = [
     "turning_points",
     "invariants_from_euler",
     "state_from_turning_point",
+    "Q_RANGE",
+    "TILT_MIN",
+    "E_MAX",
+    "check_invariants",
 ]
+
+#: Magnitudes of Q_R and Q_J that the closed forms resolve: 0, or |Q| in Q_RANGE.  Above, the squares that the
+#: energies contain leave double range; below, the double-double products that decide the side of a critical
+#: line (:func:`u_ends`) lose their low part to underflow.
+Q_RANGE = (1e-150, 1e150)
+#: Largest |E| accepted (the energies of |Q| ≤ 1e150 stay below it; 2 s² E must not overflow).
+E_MAX = 1e300
+
+
+def check_invariants(**values: ArrayLike) -> list[NDArray[np.float64]]:
+    """The given invariants (keywords ``E``, ``QR``, ``QJ``) as float arrays, or a ValueError naming the first one
+    that is not finite or lies outside its range (:data:`Q_RANGE` for Q_R, Q_J; :data:`E_MAX` for E)."""
+    out = []
+    lo, hi = Q_RANGE
+    for name, value in values.items():
+        v = np.asarray(value, float)
+        a = np.abs(v)
+        if name == "E":
+            bad, allowed = ~(a <= E_MAX), f"finite with |E| <= {E_MAX:g}"
+        else:
+            bad, allowed = ~((a == 0.0) | ((a >= lo) & (a <= hi))), f"0 or finite with {lo:g} <= |{name}| <= {hi:g}"
+        if np.any(bad):
+            raise ValueError(f"{name} must be {allowed}, got {name}={float(v[bad].flat[0])!r}")
+        out.append(v)
+    return out
 
 #: Status codes of :func:`solve_turning_points` (and of the quadratures built on it).
 OK, NO_MOTION, STEADY = 0, 1, 2
@@ -202,7 +231,7 @@ def u_ends(QR: ArrayLike, QJ: ArrayLike, body: Body) -> tuple[NDArray[np.float64
     """(u₀, u_π) = (Q_J − Q_J,0^crit, Q_J − Q_J,π^crit): the numerator u at θ = 0 and θ = π.
 
     Evaluated in double-double, so each is correctly rounded to ~ε |u_e| (not ε |Q_J|): its sign,
-    the side of the critical line, is exact for the given doubles down to |u_e| ~ 1e-300.
+    the side of the critical line, is exact for the given doubles (|Q| in :data:`Q_RANGE`, or 0).
     """
     QR, QJ = np.asarray(QR, float), np.asarray(QJ, float)
     res = []
@@ -245,7 +274,7 @@ def _N_xy(x, y, QR, QJ, body: Body):
 
 
 def _U_xy(x, y, QR, QJ, body: Body):
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # U → +inf at the poles
         return potential(x, body) + _N_xy(x, y, QR, QJ, body) / (2.0 * x * y)
 
 
@@ -322,11 +351,17 @@ def F(theta: ArrayLike, E: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: Body) 
     return _P_xy(x, y, E, QR, QJ, body) / (x * y * D_coefficient(x, body))
 
 
+#: Smallest tilt from the vertical of a start: closer, 1 − cos θ = 2 sin²(θ/2) underflows and sin θ = 0 is a pole.
+TILT_MIN = 1e-150
+
+
 def require_open_tilt(theta: ArrayLike, name: str = "theta0", why: str = "") -> NDArray[np.float64]:
-    """``theta`` as a float array, or a ValueError naming ``name`` unless every value is finite and in (0, π)."""
+    """``theta`` as a float array, or a ValueError naming ``name`` unless every value is finite and in
+    [TILT_MIN, π) (the open interval (0, π) as far as double precision resolves it near θ = 0)."""
     t = np.asarray(theta, float)
-    if not np.all(np.isfinite(t)) or np.any((t <= 0.0) | (t >= np.pi)):
-        raise ValueError(f"{name} must lie in the open interval (0, pi){why}, got {name}={theta!r}")
+    if not np.all(np.isfinite(t)) or np.any((t < TILT_MIN) | (t >= np.pi)):
+        raise ValueError(f"{name} must lie in the open interval (0, pi), at least {TILT_MIN:g}{why}, "
+                         f"got {name}={theta!r}")
     return t
 
 
@@ -439,13 +474,10 @@ def solve_turning_points(E: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: Body)
     Raises
     ------
     ValueError
-        Asymmetric body, or non-finite input.
+        Asymmetric body, or E, Q_R, Q_J outside :func:`check_invariants`' ranges.
     """
     body.require_symmetric("the turning points of theta_dot^2 = F(theta)")
-    E, QR, QJ = np.broadcast_arrays(*(np.asarray(v, float) for v in (E, QR, QJ)))
-    for name, v in (("E", E), ("QR", QR), ("QJ", QJ)):
-        if not np.all(np.isfinite(v)):
-            raise ValueError(f"{name} must be finite, got {v!r}")
+    E, QR, QJ = np.broadcast_arrays(*check_invariants(E=E, QR=QR, QJ=QJ))
     w_min, U_min = _minimize_U(QR, QJ, body)
     u0, upi = u_ends(QR, QJ, body)
     tol = _STEADY_RTOL * np.abs(U_min)

@@ -38,6 +38,7 @@ from rocknroller.analysis.kinematics import (
 )
 
 __all__ = [
+    "RATE_MAX",
     "STATE_LAYOUT",
     "STATE_SIZE",
     "EulerState",
@@ -139,6 +140,11 @@ def body_frame_rhs(y: Sequence[Any], p: Sequence[Any]) -> list[Any]:
     return [*gdot, *wdot, *exdot, _dot(om, ey), -_dot(om, ex)]
 
 
+#: Largest |rate| of an initial state (θ̇, φ̇, ψ̇ or a component of ω): the body-frame ω, its square in the
+#: energy and φ̇ = ω/sin²θ-type conversions stay in double range.  (simulate() refuses far smaller energies.)
+RATE_MAX = 1e150
+
+
 @dataclass(frozen=True)
 class EulerState:
     """An initial state in Euler angles and Euler rates (paper eq. angledot).
@@ -174,10 +180,15 @@ class EulerState:
             object.__setattr__(self, name, require_finite(name, getattr(self, name)))
         if not 0.0 <= self.theta <= math.pi:
             raise ValueError(f"theta0 must satisfy 0 <= theta0 <= pi, got theta0={self.theta!r}")
+        for name in ("theta_dot", "phi_dot", "psi_dot"):
+            if abs(getattr(self, name)) > RATE_MAX:
+                raise ValueError(f"{name} must satisfy |{name}| <= {RATE_MAX:g} (the body-frame angular velocity and "
+                                 f"the energy must stay in double range), got {name}={getattr(self, name)!r}")
         if self.omega is not None:
             om = np.asarray(self.omega, float)
-            if om.shape != (3,) or not np.all(np.isfinite(om)):
-                raise ValueError(f"omega must be three finite numbers (w1, w2, w3), got {self.omega!r}")
+            if om.shape != (3,) or not np.all(np.isfinite(om)) or np.any(np.abs(om) > RATE_MAX):
+                raise ValueError(f"omega must be three finite numbers (w1, w2, w3) with |w| <= {RATE_MAX:g}, "
+                                 f"got {self.omega!r}")
             object.__setattr__(self, "omega", tuple(float(w) for w in om))
 
     @classmethod
@@ -185,15 +196,20 @@ class EulerState:
                    X: float = 0.0, Y: float = 0.0) -> "EulerState":
         """State from the body-frame angular velocity ω = (ω1, ω2, ω3); needs 0 < θ < π."""
         omega = np.asarray(omega, float)
-        if omega.shape != (3,) or not np.all(np.isfinite(omega)):
-            raise ValueError(f"omega must be three finite numbers (w1, w2, w3), got {omega!r}")
+        if omega.shape != (3,) or not np.all(np.isfinite(omega)) or np.any(np.abs(omega) > RATE_MAX):
+            raise ValueError(f"omega must be three finite numbers (w1, w2, w3) with |w| <= {RATE_MAX:g}, "
+                             f"got omega={omega.tolist()!r}")
         if not 0.0 < float(theta) < math.pi:
             raise ValueError(
                 "theta0 must satisfy 0 < theta0 < pi when the body-frame omega is given "
                 f"(the Euler rates are singular at theta = 0, pi), got theta0={theta!r}"
             )
-        td, pd, sd = rates_from_omega(theta, psi, omega)
-        return cls(theta, phi, psi, float(td), float(pd), float(sd), X, Y, omega=tuple(omega))
+        with np.errstate(over="ignore"):
+            td, pd, sd = (float(r) for r in rates_from_omega(theta, psi, omega))
+        if not all(math.isfinite(r) and abs(r) <= RATE_MAX for r in (td, pd, sd)):
+            raise ValueError(f"theta0={theta!r} is too close to the vertical for omega={omega.tolist()!r}: the Euler "
+                             f"rates (phi_dot ~ omega/sin(theta)^2) exceed {RATE_MAX:g}")
+        return cls(theta, phi, psi, td, pd, sd, X, Y, omega=tuple(omega))
 
     def to_body_state(self) -> NDArray[np.float64]:
         """The 11-component body-frame state of form (i) (with ``omega`` as given, if present)."""

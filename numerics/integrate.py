@@ -145,8 +145,9 @@ def rate_bound(body: Body, y0: NDArray[np.float64]) -> float:
 
 def default_dt(t_end: float, rate: float) -> float:
     """Default sample spacing: ``DT_RADIANS``/Λ (≈ 0.05 time units, ≈ 200 samples per rocking period, for
-    the paper's runs), and at least 200 samples over the run."""
-    return min(DT_RADIANS / rate, t_end / 200.0)
+    the paper's runs), and at least 200 samples over the run (a t_end so small that t_end/200 underflows to 0
+    gets the two samples 0 and t_end)."""
+    return min(DT_RADIANS / rate, t_end / 200.0) or t_end
 
 
 def _validate(body: Body, initial: EulerState, t_end: float) -> tuple[NDArray[np.float64], float]:
@@ -389,7 +390,8 @@ def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "he
     dt = float(dt)
     if not math.isfinite(dt) or dt <= 0.0:
         raise ValueError(f"dt must be a finite number > 0, got dt={dt!r}")
-    n_grid = int(math.ceil(t_end / dt - 1e-9)) + 1
+    intervals = t_end / dt  # inf for a subnormal dt: refused below, never converted to an integer
+    n_grid = max(2, int(math.ceil(intervals - 1e-9)) + 1) if intervals < 1e18 else math.inf  # both ends
     if n_grid > (MAX_SAMPLES if samples else MAX_GRID_POINTS):
         what = (f"MAX_SAMPLES = {MAX_SAMPLES} (≈ 0.5 kB each); give a larger dt or samples=False" if samples else
                 f"MAX_GRID_POINTS = {MAX_GRID_POINTS:g} (≈ 1 µs each); give a larger dt")

@@ -323,3 +323,27 @@ def test_ode_started_on_line_crosses_it(line):
     assert np.all(tp.phi_dot_sign == np.sign(V_phi(tp.theta, QR=tp.QR, QJ=tp.QJ, body=BODY_EPS)))
     for c in ra.crossings:
         assert c.region_before != c.region_after
+
+
+@pytest.mark.parametrize("QR, QJ, bad", [(1e308, 0.0, "QR"), (1e308, -1e308, "QR"), (0.01, 1e300, "QJ"),
+                                          (5e-324, 0.0, "QR"), (0.01, -1e-200, "QJ"), (math.inf, 0.0, "QR")])
+def test_invariants_outside_the_resolved_range_are_refused(QR, QJ, bad):
+    """Fuzzing found overflow (QJ_crit_0(1e308) = -inf, region of 1e308) and silently wrong offsets for subnormal
+    Q (the double-double product underflows): every criticality function refuses such Q, naming it."""
+    from rocknroller.analysis.reduction import Q_RANGE
+
+    message = rf"^{bad} must be 0 or finite with {Q_RANGE[0]:g} <= \|{bad}\|"
+    calls = [C.region, C.delta_of, C.cos_theta_z, C.theta_z, C.theta_e]
+    if bad == "QR":
+        calls += [lambda QR, QJ, body: C.QJ_crit_0(QR, body), lambda QR, QJ, body: C.QJ_crit_pi(QR, body)]
+    for call in calls:
+        with pytest.raises(ValueError, match=message):
+            call(QR, QJ, BODY)
+    # the ends of the range are accepted and give finite values
+    for q in Q_RANGE:
+        assert np.isfinite(C.QJ_crit_0(q, BODY)) and np.isfinite(C.delta_of(q, q, BODY))
+
+
+def test_critical_start_names_psi_dot0_when_it_leaves_the_range():
+    with pytest.raises(ValueError, match="psi_dot0"):
+        C.critical_start(BODY, 0.95 * math.pi, 0.0, "pi", psi_dot0=1e300)

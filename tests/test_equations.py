@@ -18,6 +18,7 @@ import sympy as sp
 from rocknroller.analysis.body import Body
 from rocknroller.analysis.invariants import energy, jellett, routh
 from rocknroller.numerics.equations import (
+    EulerState,
     body_frame_rhs,
     euler_angle_rhs,
     euler_angle_state_from_body,
@@ -144,3 +145,17 @@ def test_numeric_invariants_match_symbolic_definitions():
     assert energy(body, y[0:3], y[3:6]) == pytest.approx(E, rel=1e-14)
     assert jellett(body, y[0:3], y[3:6]) == pytest.approx(QJ, rel=1e-14)
     assert routh(body, y[0:3], y[3:6]) == pytest.approx(QR, rel=1e-14)
+
+
+def test_initial_states_that_would_overflow_are_refused():
+    """Fuzzing found states whose body-frame ω overflowed to inf (ψ̇ = 1.8e308) and from_omega at θ = 5e-324 giving
+    φ̇ = inf (named as a derived rate): both are refused, naming what the user gave."""
+    from rocknroller.numerics.equations import RATE_MAX
+
+    with pytest.raises(ValueError, match=r"^psi_dot must satisfy \|psi_dot\| <= 1e\+150"):
+        EulerState(0.0, 0.0, 0.0, 0.0, 1.0, 1.7976931348623157e308)
+    with pytest.raises(ValueError, match=r"^omega must be three finite numbers"):
+        EulerState(1.0, omega=(0.0, 2 * RATE_MAX, 0.0))
+    with pytest.raises(ValueError, match=r"^theta0=5e-324 is too close to the vertical for omega"):
+        EulerState.from_omega(5e-324, 0.0, 0.0, (0.0, 1.0, 0.0))
+    assert np.all(np.isfinite(EulerState(1.0, 0.0, 0.0, RATE_MAX, RATE_MAX, -RATE_MAX).to_body_state()))

@@ -330,3 +330,21 @@ def test_node_cap_is_bounded_and_large_inputs_run_in_blocks(monkeypatch):
     blocks = precession(1.0, QR, 0.003, body)
     for name in ("T_theta", "delta_phi", "delta_psi"):
         assert np.array_equal(getattr(whole, name), getattr(blocks, name)), name
+
+
+def test_turning_point_start_closer_to_the_vertical_than_resolved_is_refused():
+    """Fuzzing found E = nan for θ0 = 5e-324 (1 − cos θ0 underflows): refused, naming theta0 and the bound."""
+    from rocknroller.analysis.reduction import TILT_MIN
+
+    with pytest.raises(ValueError, match=r"^theta0 must lie in the open interval \(0, pi\), at least 1e-150"):
+        precession_from_turning_point(np.array([5e-324, 0.9 * np.pi]), 0.0, 0.0, Body.paper(0.0))
+    pr, _ = precession_from_turning_point(np.array([TILT_MIN, 0.9 * np.pi]), 0.01, 0.0, Body.paper(0.0))
+    assert np.all(np.isfinite(np.ma.compressed(pr.T_theta)))
+
+
+def test_turning_point_energy_beyond_range_names_the_inputs():
+    """Fuzzing found θ0 = 4e-93 with Q_R = 6e57 refused as "E must be ..." (E derived, not given): the error now
+    names theta0, QR and QJ."""
+    with pytest.raises(ValueError, match=r"^theta0=4.4043059857065464e-93 with QR=6.132999124217221e\+57, QJ=0.0 gives"):
+        precession_from_turning_point(np.array([4.4043059857065464e-93, 0.9 * np.pi]), 6.132999124217221e57, 0.0,
+                                      Body.paper(0.0))
