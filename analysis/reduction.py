@@ -69,11 +69,12 @@ __all__ = [
     "check_invariants",
 ]
 
-#: Magnitudes of Q_R and Q_J that the closed forms resolve: 0, or |Q| in Q_RANGE.  Above, the squares that the
-#: energies contain leave double range; below, the double-double products that decide the side of a critical
-#: line (:func:`u_ends`) lose their low part to underflow.
-Q_RANGE = (1e-150, 1e150)
-#: Largest |E| accepted (the energies of |Q| ≤ 1e150 stay below it; 2 s² E must not overflow).
+#: Magnitudes of Q_R and Q_J that the closed forms resolve: 0, or |Q| in Q_RANGE.  Above, U = … + Q²/(2 I1 s²)
+#: overflows inside the turning-point search (which reaches sin²θ ≈ 4 e^(−300) ≈ 2e-130 near the poles); below,
+#: the double-double products that decide the side of a critical line (:func:`u_ends`) lose their low part to
+#: underflow.
+Q_RANGE = (1e-150, 1e80)
+#: Largest |E| accepted (2 s² E must not overflow).
 E_MAX = 1e300
 
 
@@ -461,15 +462,17 @@ def solve_turning_points(E: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: Body)
 
     U(θ) (module docstring) is unimodal on (0, π), so the allowed set {E ≥ U} is one interval.
     Its minimum is found by golden section in w = log tan²(θ/2), the two roots of P by bisection
-    in w and a final regula-falsi step in the exact end variable x or y.  Reaches θ_N ~ 1e-60
-    and π − θ_X ~ 1e-60.
+    in w and a final regula-falsi step in the exact end variable x or y.  Reaches θ_N and π − θ_X down to
+    2 e^(−150) ≈ 1.4e-65, the end of the search range (|w| ≤ 300); a root closer to the pole (|Q_J − Q_J,e^crit|
+    below ~1e-65 √E) is reported at that end, within 1.5e-65 rad of the truth, which the precession
+    quadratures do not feel (their pole terms are exact for every θ_N).
 
     Returns
     -------
     TurningPoints
         ``status`` = NO_MOTION where E < min U − tol, STEADY (double root, steady circular
         rolling, paper §2.3 "Pure Rolling") where |E − min U| ≤ tol with
-        tol = 64 ε min U; root fields are NaN there.
+        tol = 64 ε min U; root fields are masked there.
 
     Raises
     ------
