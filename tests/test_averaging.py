@@ -1,6 +1,6 @@
 """First-order ε-averaging of the slow (Q_R, Q_J) motion, checked against the direct ODE.
 
-Reference: numerics.integrate.simulate (heyoka, form (i)).  Paper body, θ0 = 0.95π, released from
+Reference: rocknroller.numerics.integrate.simulate (heyoka, form (i)).  Paper body, θ0 = 0.95π, released from
 rest.  The full error table (all ψ0, three ε) is in docs/averaging.md; its generator is
 ``python benchmarks/averaging_table.py``.
 """
@@ -14,17 +14,17 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from analysis import averaging as av
-from analysis.body import Body
-from analysis.invariants import energy
-from analysis.quadrature import precession, precession_mp, wrap_angle
-from analysis.slow_diagnostics import azimuth_span, mean_crossings, slow_period, unwrap_phase
-from papers.averaging_check import (OdeSlowSummary, loglog_slope, ode_slow_summary, relative_errors,
+from rocknroller.analysis import averaging as av
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.invariants import energy
+from rocknroller.analysis.quadrature import precession, precession_mp, wrap_angle
+from rocknroller.analysis.slow_diagnostics import azimuth_span, mean_crossings, slow_period, unwrap_phase
+from rocknroller.papers.averaging_check import (OdeSlowSummary, loglog_slope, ode_slow_summary, relative_errors,
                                       sample_errors)
-from analysis import slow_pendulum
-from analysis.slow_pendulum import pendulum_constants, pendulum_prediction
-from numerics.equations import EulerState, euler_from_state, state_from_euler
-from numerics.integrate import simulate
+from rocknroller.analysis import slow_pendulum
+from rocknroller.analysis.slow_pendulum import pendulum_constants, pendulum_prediction
+from rocknroller.numerics.equations import EulerState, euler_from_state, state_from_euler
+from rocknroller.numerics.integrate import simulate
 
 import roundoff as ro
 
@@ -76,7 +76,7 @@ def _direct_step(eps: float, QR: float, QJ: float, psi: float) -> dict[str, floa
 
 
 def _rates(theta: float, QR: float, QJ: float) -> tuple[float, float]:
-    from analysis.invariants import V_phi, V_psi
+    from rocknroller.analysis.invariants import V_phi, V_psi
 
     return float(V_phi(theta, QJ, QR, SYM)), float(V_psi(theta, QJ, QR, SYM))
 
@@ -104,9 +104,9 @@ def _step_period_bound(step: av.FirstOrderStep, E0: float, margin: float = 4.0) 
     ∇q at the start) and shifts the event at the end by ‖∇h‖₁ δ/|ḣ| (h = dγ3/dt); the event's Newton iteration
     stops within 4e-16 t (then converges quadratically) and t rounds (u t).  × margin; against 30-digit mpmath.
     """
-    from analysis.invariants import jellett, routh
-    from analysis.reduction import state_from_turning_point
-    from numerics.equations import body_frame_rhs, turning_point_function
+    from rocknroller.analysis.invariants import jellett, routh
+    from rocknroller.analysis.reduction import state_from_turning_point
+    from rocknroller.numerics.equations import body_frame_rhs, turning_point_function
 
     QR, QJ = step.QR, step.QJ
     st = state_from_turning_point(SYM, step.theta_X, QR, QJ)
@@ -188,7 +188,7 @@ def test_raw_data_are_reversible(table):
     for u in (0.3, -0.7):
         Q = u * table.U * table.e
         a, b = av.step_coefficients(SYM, THETA0, *Q), av.step_coefficients(SYM, THETA0, *(-Q))
-        # exact: T_θ depends on Q through squares, the product Q_R Q_J and u → −u only (analysis.reduction, the
+        # exact: T_θ depends on Q through squares, the product Q_R Q_J and u → −u only (rocknroller.analysis.reduction, the
         # double-double u_ends included), the same operations on negated inputs, and rounding to nearest is
         # symmetric under negation
         assert a.T == b.T
@@ -339,7 +339,7 @@ def _kick_derivatives(ft, m) -> tuple[np.ndarray, np.ndarray]:
 
 
 #: Parity in Q of the 18 run-time functions (k_u, k_v harmonics even, k_Θ odd, k_t even, k_φ odd, T even, W and
-#: Δφ odd): the parities that make the map reversible (``analysis.averaging._ODD``, ``_EVEN``).
+#: Δφ odd): the parities that make the map reversible (``rocknroller.analysis.averaging._ODD``, ``_EVEN``).
 _RUN_TIME_PARITY = np.array([1.0] * 6 + [-1.0] * 3 + [1.0] * 3 + [-1.0] * 3 + [1.0, -1.0, -1.0])
 
 

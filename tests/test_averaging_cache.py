@@ -18,9 +18,9 @@ import zipfile
 import numpy as np
 import pytest
 
-from analysis import averaging as av
-from analysis.body import Body
-from numerics import cache
+from rocknroller.analysis import averaging as av
+from rocknroller.analysis.body import Body
+from rocknroller.numerics import cache
 
 SYM = Body.paper(0.0)
 THETA0 = 0.9 * math.pi
@@ -102,7 +102,7 @@ def test_file_holds_plain_arrays_key_and_checksum(fresh):
 
 
 def test_numerics_integrate_reexports_cache_dir():
-    from numerics import integrate
+    from rocknroller.numerics import integrate
 
     assert integrate.cache_dir is cache.cache_dir
 

@@ -11,7 +11,7 @@ import sympy as sp
 from hypothesis import given
 from hypothesis import strategies as st
 
-from analysis.body import Body, polar_cap_offset_as_printed, polar_cap_volume
+from rocknroller.analysis.body import Body, polar_cap_offset_as_printed, polar_cap_volume
 
 import roundoff as ro
 

@@ -13,7 +13,7 @@ from rocknroller.cli import main
 from rocknroller.options import parse_angle
 
 import roundoff as ro
-from analysis.body import Body
+from rocknroller.analysis.body import Body
 
 
 def test_parse_angle():
@@ -91,9 +91,9 @@ def _json(capsys) -> dict:
 
 def test_explicit_zero_rates_start_from_rest(capsys):
     """--theta-dot0 0 --phi-dot0 0 --psi-dot0 0 is a start from rest (it used to run the figure-5 ω)."""
-    from analysis.body import Body
-    from numerics.equations import EulerState
-    from numerics.integrate import simulate
+    from rocknroller.analysis.body import Body
+    from rocknroller.numerics.equations import EulerState
+    from rocknroller.numerics.integrate import simulate
 
     argv = ["simulate", "--t-end", "50", "--json", "--quiet", "--psi0", "pi/4"]
     assert main(argv + ["--theta-dot0", "0", "--phi-dot0", "0", "--psi-dot0", "0"]) == 0
@@ -124,14 +124,14 @@ def test_negative_values_parse_like_the_equals_form(values, capsys):
 
 
 def test_outputs_are_checked_before_computing_and_never_overwritten(tmp_path, capsys, monkeypatch):
-    import numerics.integrate
+    import rocknroller.numerics.integrate
 
     def no_run(*args, **kwargs):
         raise AssertionError("simulate must not run before the output directory is checked")
 
     blocker = tmp_path / "file"
     blocker.write_text("x")
-    monkeypatch.setattr(numerics.integrate, "simulate", no_run)
+    monkeypatch.setattr(rocknroller.numerics.integrate, "simulate", no_run)
     for out, fragment in ((blocker, "not a directory"), (blocker / "sub", "cannot write")):
         assert main(["simulate", "--quiet", "--out", str(out)]) == 2
         assert fragment in capsys.readouterr().err
@@ -139,7 +139,7 @@ def test_outputs_are_checked_before_computing_and_never_overwritten(tmp_path, ca
     out = tmp_path / "run"
     assert main(["simulate", "--t-end", "10", "--quiet", "--out", str(out)]) == 0
     before = (out / "samples.csv").read_bytes()
-    monkeypatch.setattr(numerics.integrate, "simulate", no_run)
+    monkeypatch.setattr(rocknroller.numerics.integrate, "simulate", no_run)
     assert main(["simulate", "--t-end", "20", "--quiet", "--out", str(out)]) == 2
     assert "--force" in capsys.readouterr().err and (out / "samples.csv").read_bytes() == before
     monkeypatch.undo()
@@ -190,7 +190,7 @@ def test_extreme_input_is_refused_quickly(argv, fragment, capsys):
 def test_strict_energy_check(capsys, monkeypatch):
     """Without --strict a run that misses its energy tolerance warns (exit 0, listed in the JSON); with it, exit 1.
     The bound is made impossibly tight to exercise the check."""
-    monkeypatch.setattr("numerics.trajectory.ENERGY_SLACK", 1e-30)
+    monkeypatch.setattr("rocknroller.numerics.trajectory.ENERGY_SLACK", 1e-30)
     assert main(["simulate", "--t-end", "20", "--quiet", "--json"]) == 0
     captured = capsys.readouterr()
     assert "energy error" in captured.err and json.loads(captured.out)["warnings"]

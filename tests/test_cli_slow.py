@@ -7,9 +7,9 @@ import math
 
 import pytest
 
-from analysis import averaging as av
-from analysis.body import Body
-from analysis.slow_pendulum import pendulum_constants
+from rocknroller.analysis import averaging as av
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.slow_pendulum import pendulum_constants
 from rocknroller.cli import main
 
 
@@ -203,7 +203,7 @@ def test_errors_name_the_option_given(fresh_cache, capsys, argv, flag):
 def test_map_at_the_ends_of_the_theta0_range(frac, K):
     """The ends of THETA0_RANGE: the tables build (interpolation error < 1e-7) and the map agrees with the
     direct ODE to < 5e-3 at eps = 1e-3 (0.75pi; K = 0.018) or K = 0.4 (0.999pi, eps = 3.8e-7); docs/averaging.md."""
-    from papers.averaging_check import ode_slow_summary, relative_errors
+    from rocknroller.papers.averaging_check import ode_slow_summary, relative_errors
 
     theta0 = frac * math.pi
     table = av.build_table(Body.paper(0.0), theta0)

@@ -10,13 +10,13 @@ import pytest
 import sympy as sp
 from scipy.optimize import brentq
 
-from analysis import criticality as C
-from analysis.body import Body
-from analysis.invariants import V_phi, invariants
-from analysis.kinematics import vertical_in_body
-from analysis.laurent import SYMBOLS, V_phi_sym, laurent_coefficients
-from analysis.reduction import state_from_turning_point, turning_points
-from papers.averaging_check import loglog_slope
+from rocknroller.analysis import criticality as C
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.invariants import V_phi, invariants
+from rocknroller.analysis.kinematics import vertical_in_body
+from rocknroller.analysis.laurent import SYMBOLS, V_phi_sym, laurent_coefficients
+from rocknroller.analysis.reduction import state_from_turning_point, turning_points
+from rocknroller.papers.averaging_check import loglog_slope
 
 import roundoff as ro
 
@@ -60,7 +60,7 @@ def test_critical_lines_are_the_laurent_leading_zeros(body):
 
 def test_region_matches_signs_of_V_phi_near_both_ends():
     """≥ 1000 random points: the region from the lines equals the one read off the signs of V_φ computed
-    directly (analysis.invariants.V_phi) at θ = 1e-6 and θ = π − 1e-6."""
+    directly (rocknroller.analysis.invariants.V_phi) at θ = 1e-6 and θ = π − 1e-6."""
     rng = np.random.default_rng(4)
     for body in (BODY, OTHER):
         QR, QJ = _random_points(rng, 1500)
@@ -91,7 +91,7 @@ _XTOL, _RTOL = 1e-16, 4 * np.finfo(float).eps
 
 
 def _numeric_zero_cos(QR, QJ, body):
-    """cos of the zero of V_φ by Brent's method on analysis.invariants.V_phi (independent of the closed form)."""
+    """cos of the zero of V_φ by Brent's method on rocknroller.analysis.invariants.V_phi (independent of the closed form)."""
     out = []
     for r, j in zip(QR, QJ):
         th = brentq(lambda t: float(V_phi(t, j, r, body)), 1e-9, np.pi - 1e-9, xtol=_XTOL, rtol=_RTOL, maxiter=500)
@@ -127,7 +127,7 @@ def _cos_theta_z_bound(QR, QJ, body):
 
 
 def _rho(theta, body):
-    from analysis.invariants import rho
+    from rocknroller.analysis.invariants import rho
 
     return rho(theta, body)
 
@@ -263,7 +263,7 @@ def _theta_z_round_trip_bound(QR, QJ, tz, E):
     """|θ_X(E) − θ_z| for E = U(θ_z): θ_z = arccos of the closed form (its rounding, ``_cos_theta_z_bound``'s closed
     part, over sin θ_z, + u), and the root of P = 2 s² (E − V) − N at the rounded E: P's rounding at the root (γ_20 ×
     the size of its terms) and E's (γ_15 |E| × ∂P/∂E = 2 s²), over |∂P/∂θ| (central differences)."""
-    from analysis.reduction import _P_and_terms, tilt_xy
+    from rocknroller.analysis.reduction import _P_and_terms, tilt_xy
 
     c = np.cos(tz)
     closed = ro.formula_bound(_closed_form, {"q": QJ / QR, "a": BODY.a, "I1": BODY.I1, "I3": BODY.I3, "one": 1.0}, 20)
@@ -278,7 +278,7 @@ def _theta_z_round_trip_bound(QR, QJ, tz, E):
 
 def test_delta_bound_against_turning_points():
     """The bound is saturated at θ_X = θ_z: a symmetric start at the turning point θ_z(δ) has θ_X = θ_z from
-    analysis.reduction.turning_points, V_φ(θ_X) = 0, and the expansions approach that θ_X with the powers of δ."""
+    rocknroller.analysis.reduction.turning_points, V_φ(θ_X) = 0, and the expansions approach that θ_X with the powers of δ."""
     QR = 0.003
     deltas = np.array([3e-3, 1e-3, 3e-4, 1e-4])  # two-term error 3e-8 .. 6e-12, above arccos rounding (~1e-14)
     QJ = C.QJ_crit_pi(QR, BODY) * (1 - deltas)
@@ -309,7 +309,7 @@ def _on_line_bounds(body, line, gamma, omega, QJ):
     from (γ, ω): the construction (rates from Q_R and the line, ω from the rates) and the recomputation each round
     ≤ 25 operations, carried by κ = Σ|yᵢ ∂Q/∂yᵢ| (which also measures the cancellation in Q_J), Q_R's through the
     line's slope; the line itself rounds by γ_2 |Q_J|; × MARGIN."""
-    from analysis.invariants import jellett, routh
+    from rocknroller.analysis.invariants import jellett, routh
 
     g, w = np.asarray(gamma, float).reshape(3, -1), np.asarray(omega, float).reshape(3, -1)
     n = max(g.shape[1], w.shape[1])
@@ -323,7 +323,7 @@ def _on_line_bounds(body, line, gamma, omega, QJ):
 @pytest.mark.parametrize("body", [BODY, BODY_EPS])
 @pytest.mark.parametrize("line", C.LINES)
 def test_critical_start_lands_on_line(body, line):
-    """(Q_R, Q_J) recomputed from the body-frame state (analysis.invariants) lie on the line to round-off
+    """(Q_R, Q_J) recomputed from the body-frame state (rocknroller.analysis.invariants) lie on the line to round-off
     (``_on_line_bounds``)."""
     rng = np.random.default_rng(11)
     theta0 = rng.uniform(0.55 * np.pi, 0.99 * np.pi, 200)
@@ -349,7 +349,7 @@ def test_critical_start_reaches_the_ode_on_the_line(line):
     started on a line, it lies on it to round-off (``_on_line_bounds``) also at θ0 = 0.999π and 0.001π, where φ̇ and ψ̇
     are large and nearly opposite.  (Rebuilding ω from the Euler rates, as before, put the θ0 = 0.999π
     start on the Q_J,0 line 6e-12 off it.)"""
-    from numerics.equations import EulerState
+    from rocknroller.numerics.equations import EulerState
 
     for theta0 in (0.001 * np.pi, 0.05 * np.pi, 0.95 * np.pi, 0.999 * np.pi):
         for psi0 in (0.0, np.pi / 4, 2.0):
@@ -380,7 +380,7 @@ def test_critical_start_errors():
     with pytest.raises(ValueError, match="line must be one of"):
         C.critical_start(BODY, 2.0, 0.0, "2pi", QR=0.1)
     # a steady-rolling tilt is not a turning point: find (QR, QJ) whose U has its minimum at theta0
-    from analysis.reduction import solve_turning_points
+    from rocknroller.analysis.reduction import solve_turning_points
 
     QR, QJ = 0.5, C.QJ_crit_pi(0.5, BODY) + 0.05
     tp = solve_turning_points(1.0, QR, QJ, BODY)
@@ -393,9 +393,9 @@ def test_critical_start_errors():
 def test_ode_started_on_line_crosses_it(line):
     """Paper §numerics "Recession and Criticality" (figs. 8, 9): ε = 1e-3, θ0 = 0.95π, ψ0 = π/4, started on each line; the direct ODE shows ≥ 1
     crossing of that line within 200 time units; φ̇ at the turning points has the sign of V_φ there."""
-    from numerics.equations import EulerState
-    from numerics.integrate import simulate
-    from papers.lynch_bustamante import fig8_visible_reversal as fig8, fig9_full_reversal as fig9
+    from rocknroller.numerics.equations import EulerState
+    from rocknroller.numerics.integrate import simulate
+    from rocknroller.papers.lynch_bustamante import fig8_visible_reversal as fig8, fig9_full_reversal as fig9
 
     psi_dot0 = fig9.PSI_DOT0 if line == "0" else fig8.PSI_DOT0
     st = C.critical_start(BODY_EPS, 0.95 * np.pi, np.pi / 4, line, psi_dot0=psi_dot0)

@@ -1,4 +1,4 @@
-"""`rocknroller diagram` and papers.plotting: files, plotted data from the library, bad input (issue 4)."""
+"""`rocknroller diagram` and rocknroller.papers.plotting: files, plotted data from the library, bad input (issue 4)."""
 
 from __future__ import annotations
 
@@ -7,10 +7,10 @@ import json
 import numpy as np
 import pytest
 
-from analysis import criticality as C
-from analysis.body import Body
-from analysis.invariants import V_phi
-from papers.plotting import region_diagram
+from rocknroller.analysis import criticality as C
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.invariants import V_phi
+from rocknroller.papers.plotting import region_diagram
 from rocknroller.cli import main
 
 import roundoff as ro
@@ -26,7 +26,7 @@ def _line(ax, gid):
 @pytest.mark.parametrize("body", [BODY, Body(a=0.2, I1=0.3, I2=0.3, I3=0.5, g=9.81)])
 def test_plotted_data_come_from_the_library(body):
     """Line data equal Q_J,0^crit and Q_J,π^crit exactly; each representative point lies in its region and its
-    panel plots V_φ (analysis.invariants) at that point."""
+    panel plots V_φ (rocknroller.analysis.invariants) at that point."""
     import matplotlib.pyplot as plt
 
     fig, data = region_diagram(body, QR_max=2.0)
@@ -80,9 +80,9 @@ def test_cli_simulate_on_critical_line(tmp_path, capsys):
         assert (tmp_path / name).stat().st_size > 10_000, name
     assert out["region0"] == C.ON_LINE_PI
     # the same run through the library (the CLI's defaults: ε = 1e-3, θ0 = 0.95π, ψ0 = π/4): identical numbers
-    from analysis.invariants import routh
-    from numerics.equations import EulerState
-    from numerics.integrate import simulate
+    from rocknroller.analysis.invariants import routh
+    from rocknroller.numerics.equations import EulerState
+    from rocknroller.numerics.integrate import simulate
 
     body = Body.paper(1e-3)
     start = C.critical_start(body, 0.95 * np.pi, np.pi / 4, "pi", QR=0.003)

@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from analysis.body import Body
-from analysis.invariants import energy, jellett, routh
-from numerics.equations import (
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.invariants import energy, jellett, routh
+from rocknroller.numerics.equations import (
     body_frame_rhs,
     euler_angle_rhs,
     euler_angle_state_from_body,
@@ -44,7 +44,7 @@ def _form_bounds(Y, body):
     condition is ≤ cond(K) cond(Σ)², Σ the Euler-rate matrix (cond ~ 1/sin θ near the poles); their terms are of
     size g a + |ω|² + |ω̇| (gravity, velocity products, M θ̈).  Rounding: γ_n (n = N_OPS_FORM) × condition × terms
     (Higham, §7.1: a linear solve errs by ≤ cond × the relative error of its data), × MARGIN."""
-    from numerics.equations import _sigma_matrix
+    from rocknroller.numerics.equations import _sigma_matrix
 
     D = np.array(body_frame_rhs(Y, body.params))
     out = []
@@ -85,7 +85,7 @@ def test_paper_forms_agree_with_body_frame(body):
     for form, values in per_state.items():
         assert max(values) == diff[form]
         ro.assert_within(np.array(values), bounds, form, 1.0)
-    from numerics.equations import _sigma_matrix
+    from rocknroller.numerics.equations import _sigma_matrix
 
     errs, bounds, sizes = [], [], []
     for y in Y.T[:100]:  # kinematics: Euler rates from form (i)'s ω, two ways through Σ⁻¹ (≤ 20 operations each,
@@ -100,7 +100,7 @@ def test_paper_forms_agree_with_body_frame(body):
 
 def test_formulation_differences_detect_a_wrong_form(monkeypatch):
     """A transcription error in one form shows: g replaced by 1.01 g in form (ii)'s right-hand side."""
-    import numerics.equations as eq
+    import rocknroller.numerics.equations as eq
 
     body = Body.paper(0.1)
     Y = _random_states(np.random.default_rng(3), 50)
@@ -171,7 +171,7 @@ def test_conservation_laws_exact(symmetric):
 
 
 def test_numeric_invariants_match_symbolic_definitions():
-    """analysis.invariants evaluates the same E, Q_J, Q_R as the definitions in the intermediate frame."""
+    """rocknroller.analysis.invariants evaluates the same E, Q_J, Q_R as the definitions in the intermediate frame."""
     body = Body.paper(0.0)
     th, ps, td, pd, sd = 2.0, 0.7, 0.3, -0.4, 1.1
     y = state_from_euler(th, 0.2, ps, td, pd, sd)

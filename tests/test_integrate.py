@@ -7,15 +7,15 @@ import math
 import numpy as np
 import pytest
 
-from analysis.body import Body
-from analysis.kinematics import angles_from_frame
-from analysis.quadrature import wrap_angle
-from analysis.rocking import small_amplitude_frequency, small_amplitude_frequency_as_printed
-from numerics.equations import EulerState, turning_point_function
-from numerics.integrate import simulate
-from analysis.slow_diagnostics import azimuth_span
-from analysis.invariants import energy, jellett, routh
-from numerics.trajectory import energy_scale
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.kinematics import angles_from_frame
+from rocknroller.analysis.quadrature import wrap_angle
+from rocknroller.analysis.rocking import small_amplitude_frequency, small_amplitude_frequency_as_printed
+from rocknroller.numerics.equations import EulerState, turning_point_function
+from rocknroller.numerics.integrate import simulate
+from rocknroller.analysis.slow_diagnostics import azimuth_span
+from rocknroller.analysis.invariants import energy, jellett, routh
+from rocknroller.numerics.trajectory import energy_scale
 
 import roundoff as ro
 
@@ -23,7 +23,7 @@ import roundoff as ro
 #: and add the steps up linearly (worst cases already); the margin covers the first-order propagation and
 #: the per-step error model of ``roundoff.integration_bound``.
 MARGIN = 4.0
-#: Rounded operations in one evaluation of E, Q_J or Q_R (analysis.invariants; E has the most: ≤ 25).
+#: Rounded operations in one evaluation of E, Q_J or Q_R (rocknroller.analysis.invariants; E has the most: ≤ 25).
 N_OPS_INVARIANT = 25
 #: numpy's SIMD arctan2 is accurate to ≤ 4 ulp (libm's scalar one to ≤ 1): two evaluations of one angle in
 #: (−π, π] on different code paths differ by ≤ 8 ulp(π) = 32 u π / π ... = 8 · 4u (ulp(π) = 2⁻⁵¹ = 4u).
@@ -197,7 +197,7 @@ def test_small_amplitude_rocking_period(psi0, moment):
 
 def test_pure_rocking_through_the_pole_keeps_phi_plus_psi():
     """Exact planar rocking passes θ = 0 to round-off; φ jumps by +π and ψ by −π (φ + ψ continuous; an
-    exact half-turn step is taken in (−π, π], the convention of analysis.quadrature.wrap_angle)."""
+    exact half-turn step is taken in (−π, π], the convention of rocknroller.analysis.quadrature.wrap_angle)."""
     traj = simulate(Body.paper(), EulerState(0.95 * math.pi), 40.0)
     # The out-of-plane components stay exactly 0 (multiplied by 0 in every step), so the computed orbit passes
     # θ = 0 itself; θ at the located minimum is |θ̇| × the event's time error: the event function dγ3/dt
@@ -241,7 +241,7 @@ def test_bad_input(make, fragment):
 
 
 def test_slow_diagnostics_follow_their_definitions(fig5_runs):
-    from analysis.slow_diagnostics import slow_period, span
+    from rocknroller.analysis.slow_diagnostics import slow_period, span
 
     traj = fig5_runs[1e-3]
     assert traj.slow_period == slow_period(traj.maxima.t, 2 * traj.maxima.psi)

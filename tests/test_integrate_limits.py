@@ -14,13 +14,13 @@ import time
 import numpy as np
 import pytest
 
-import numerics.integrate as integ
-from analysis.body import Body
-from analysis.invariants import energy
-from numerics import equations
-from numerics.equations import EulerState, turning_point_function
-from numerics.integrate import AccuracyError, AccuracyWarning, simulate
-from numerics.trajectory import TurningPointRun, energy_scale
+import rocknroller.numerics.integrate as integ
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.invariants import energy
+from rocknroller.numerics import equations
+from rocknroller.numerics.equations import EulerState, turning_point_function
+from rocknroller.numerics.integrate import AccuracyError, AccuracyWarning, simulate
+from rocknroller.numerics.trajectory import TurningPointRun, energy_scale
 
 import roundoff as ro
 
@@ -144,7 +144,7 @@ def test_energy_check_warns_or_fails(fig5_initial, monkeypatch):
     The bound is made impossibly tight here to exercise the check; the real runs stay far below it."""
     traj = simulate(BODY, fig5_initial, 50.0)
     assert traj.energy_rel_error <= traj.energy_tolerance / 100
-    monkeypatch.setattr("numerics.trajectory.ENERGY_SLACK", 1e-30)
+    monkeypatch.setattr("rocknroller.numerics.trajectory.ENERGY_SLACK", 1e-30)
     with pytest.warns(AccuracyWarning, match="energy error"):
         simulate(BODY, fig5_initial, 50.0)
     with pytest.raises(AccuracyError, match="energy error"):
@@ -176,8 +176,8 @@ def test_nothing_planted_in_the_cache_runs(tmp_path):
         with open(path, "wb") as fh:
             fh.write(payload)
     env = {**os.environ, "ROCKNROLLER_CACHE": str(cache)}
-    code = ("import math; from analysis.body import Body; from numerics.equations import EulerState; "
-            "from numerics.integrate import simulate; "
+    code = ("import math; from rocknroller.analysis.body import Body; from rocknroller.numerics.equations import EulerState; "
+            "from rocknroller.numerics.integrate import simulate; "
             "print(len(simulate(Body.paper(1e-3), EulerState(0.95 * math.pi), 20.0).maxima))")
     proc = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr
@@ -191,8 +191,8 @@ def test_unwritable_heyoka_cache_gives_a_warning(tmp_path):
     blocker = tmp_path / "file"
     blocker.write_text("")
     env = {**os.environ, "HEYOKA_CACHE_DIR": str(blocker / "sub")}
-    code = ("import warnings; warnings.simplefilter('always'); from analysis.body import Body; "
-            "from numerics.equations import EulerState; from numerics.integrate import simulate; "
+    code = ("import warnings; warnings.simplefilter('always'); from rocknroller.analysis.body import Body; "
+            "from rocknroller.numerics.equations import EulerState; from rocknroller.numerics.integrate import simulate; "
             "print(len(simulate(Body.paper(), EulerState(1.0), 5.0).maxima))")
     proc = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=600)
     assert proc.returncode == 0, proc.stderr

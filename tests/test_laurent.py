@@ -7,12 +7,12 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from analysis import criticality as C
-from analysis.body import Body
-from analysis.invariants import V_phi, V_psi
-from analysis.laurent import (SYMBOLS, V_phi_sym, V_psi_sym, laurent_coefficients, laurent_function,
+from rocknroller.analysis import criticality as C
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.invariants import V_phi, V_psi
+from rocknroller.analysis.laurent import (SYMBOLS, V_phi_sym, V_psi_sym, laurent_coefficients, laurent_function,
                               laurent_series, phidot_turning_point_errors)
-from papers.averaging_check import loglog_slope
+from rocknroller.papers.averaging_check import loglog_slope
 
 import roundoff as ro
 
@@ -38,13 +38,13 @@ def _subs(body, QJ, QR):
 
 
 def test_exact_sympy_rates_equal_invariants():
-    """The symbolic V_φ, V_ψ used for the derivations equal analysis.invariants' (paper eqs. phidotCJQR, psidotCJQR)."""
+    """The symbolic V_φ, V_ψ used for the derivations equal rocknroller.analysis.invariants' (paper eqs. phidotCJQR, psidotCJQR)."""
     th = np.linspace(0.1, 3.0, 7)
     for q, num in (("phi", V_phi), ("psi", V_psi)):
         expr = EXACT[q](S["theta"])
         f = sp.lambdify((S["theta"], S["QJ"], S["QR"], S["a"], S["I1"], S["I3"]), expr, "numpy")
         got = f(th, 0.3, -0.2, BODY.a, BODY.I1, BODY.I3)
-        # two double evaluations: sympy's operations (count_ops) and analysis.invariants' (≤ 30), each within
+        # two double evaluations: sympy's operations (count_ops) and rocknroller.analysis.invariants' (≤ 30), each within
         # γ_n × the condition Σ|xᵢ ∂f/∂xᵢ| over θ, Q_J, Q_R, a, I1, I3 (``roundoff.formula_bound``), × MARGIN
         n_ops = int(sp.count_ops(expr)) + 30
         bound = MARGIN * ro.formula_bound(lambda theta, QJ, QR, a, I1, I3: f(theta, QJ, QR, a, I1, I3),

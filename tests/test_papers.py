@@ -7,10 +7,10 @@ import math
 
 import pytest
 
-from analysis.body import Body
-from numerics.equations import EulerState
-from numerics.integrate import simulate
-from papers.lynch_bustamante import MODULES, registry
+from rocknroller.analysis.body import Body
+from rocknroller.numerics.equations import EulerState
+from rocknroller.numerics.integrate import simulate
+from rocknroller.papers.lynch_bustamante import MODULES, registry
 from rocknroller.cli import main
 
 import roundoff as ro
@@ -29,7 +29,7 @@ def test_registry_is_complete():
 
 
 def test_fig6_spans_are_the_trajectories(tmp_path):
-    from papers.lynch_bustamante import fig6_contact_tracks as fig6
+    from rocknroller.papers.lynch_bustamante import fig6_contact_tracks as fig6
 
     res = fig6.run(tmp_path)
     rows = _read_csv(tmp_path / "fig6_Phi.csv")
@@ -44,7 +44,7 @@ def test_fig6_spans_are_the_trajectories(tmp_path):
 
 
 def test_polar_cap_table(tmp_path):
-    from papers.lynch_bustamante import table_polar_cap
+    from rocknroller.papers.lynch_bustamante import table_polar_cap
 
     res = table_polar_cap.run(tmp_path)
     b = Body.from_polar_cap(table_polar_cap.PAPER_D)
@@ -58,7 +58,7 @@ def test_polar_cap_table(tmp_path):
 
 
 def test_small_amplitude_table(tmp_path):
-    from papers.lynch_bustamante import table_small_amplitude as tsa
+    from rocknroller.papers.lynch_bustamante import table_small_amplitude as tsa
 
     res = tsa.run(tmp_path)
     assert res.numbers["nu1_ODE"] == pytest.approx(res.numbers["nu1_exact"], rel=1e-6)
@@ -67,7 +67,7 @@ def test_small_amplitude_table(tmp_path):
 
 
 def test_periodic_orbit(tmp_path):
-    from papers.lynch_bustamante import table_periodic_orbit as tpo
+    from rocknroller.papers.lynch_bustamante import table_periodic_orbit as tpo
 
     res = tpo.run(tmp_path)
     assert res.numbers["rocks_per_slow_period"] == 10
@@ -86,8 +86,8 @@ def test_reproduce_only_and_index(tmp_path, capsys):
 
 def test_azimuth_span_figure_data(tmp_path):
     """Φ(ψ0): the CSV rows are the library's ODE, map and closed-form values, and they agree."""
-    from analysis.slow_pendulum import pendulum_prediction
-    from papers.lynch_bustamante import fig_azimuth_span as fig
+    from rocknroller.analysis.slow_pendulum import pendulum_prediction
+    from rocknroller.papers.lynch_bustamante import fig_azimuth_span as fig
 
     res = fig.run(tmp_path)
     rows = _read_csv(tmp_path / "fig_azimuth_span.csv")
@@ -103,14 +103,14 @@ def test_azimuth_span_figure_data(tmp_path):
 
 def test_critical_line_figures(tmp_path):
     """Figs. 8, 9: starts computed on the lines; captions' Q_R recomputed; crossings as the paper reports."""
-    from analysis.criticality import QJ_crit_0, QJ_crit_pi
-    from papers.lynch_bustamante import fig8_visible_reversal as fig8
-    from papers.lynch_bustamante import fig9_full_reversal as fig9
+    from rocknroller.analysis.criticality import QJ_crit_0, QJ_crit_pi
+    from rocknroller.papers.lynch_bustamante import fig8_visible_reversal as fig8
+    from rocknroller.papers.lynch_bustamante import fig9_full_reversal as fig9
 
     body = Body.paper(1e-3)
     r8, r9 = fig8.run(tmp_path), fig9.run(tmp_path)
-    from analysis.invariants import jellett, routh
-    from papers.lynch_bustamante import reversals
+    from rocknroller.analysis.invariants import jellett, routh
+    from rocknroller.papers.lynch_bustamante import reversals
 
     for res, line, name, mod in ((r8, QJ_crit_pi, "pi", fig8), (r9, QJ_crit_0, "0", fig9)):
         QR0, QJ0 = res.numbers["Q_R(0)"], res.numbers["Q_J(0)"]
@@ -132,8 +132,8 @@ def test_critical_line_figures(tmp_path):
 
 
 def test_fig4_lines_are_the_criticality_functions(tmp_path):
-    from analysis.criticality import QJ_crit_0, QJ_crit_pi
-    from papers.lynch_bustamante import fig4_regions
+    from rocknroller.analysis.criticality import QJ_crit_0, QJ_crit_pi
+    from rocknroller.papers.lynch_bustamante import fig4_regions
 
     fig4_regions.run(tmp_path)
     rows = _read_csv(tmp_path / "fig4_critical_lines.csv")
@@ -145,7 +145,7 @@ def test_fig4_lines_are_the_criticality_functions(tmp_path):
 
 
 def test_orbit_extent_and_high_QR(tmp_path):
-    from papers.lynch_bustamante import fig10_combined, fig11_high_QR
+    from rocknroller.papers.lynch_bustamante import fig10_combined, fig11_high_QR
 
     res = fig10_combined.run(tmp_path)
     extents = [v for k, v in res.numbers.items() if k.startswith("Q_R extent")]

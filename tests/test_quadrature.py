@@ -6,19 +6,19 @@ import mpmath
 import numpy as np
 import pytest
 
-from analysis.body import Body
-from analysis.criticality import QJ_crit_0, QJ_crit_pi
-from analysis.kinematics import primed_from_body
-from analysis.quadrature import (
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.criticality import QJ_crit_0, QJ_crit_pi
+from rocknroller.analysis.kinematics import primed_from_body
+from rocknroller.analysis.quadrature import (
     UNRESOLVED,
     precession,
     precession_from_turning_point,
     precession_mp,
     wrap_angle,
 )
-from analysis.reduction import NO_MOTION, OK, STEADY, F, solve_turning_points, state_from_turning_point
-from numerics.equations import EulerState
-from numerics.integrate import simulate
+from rocknroller.analysis.reduction import NO_MOTION, OK, STEADY, F, solve_turning_points, state_from_turning_point
+from rocknroller.numerics.equations import EulerState
+from rocknroller.numerics.integrate import simulate
 
 import roundoff as ro
 
@@ -152,7 +152,7 @@ def _root_error(tp, i: int, end: str) -> float:
     """Relative rounding bound of a turning point in its exact end variable z (x near θ = 0, y near π): P's
     operations (γ_16) × the amplification (|2 s² K| + |N|)/|z ∂P/∂z| of the rounding of P's terms into the root
     (∂P/∂z by central differences), + u."""
-    from analysis.reduction import _P_and_terms
+    from rocknroller.analysis.reduction import _P_and_terms
 
     x, y = (float(np.ravel(getattr(tp, f"{c}_{end}"))[i]) for c in ("x", "y"))
     E, QR, QJ = (float(np.ravel(getattr(tp, k))[i]) for k in ("E", "QR", "QJ"))
@@ -178,9 +178,9 @@ def quadrature_bound(tp, n_nodes) -> tuple[np.ndarray, np.ndarray]:
     measured by a one-sided difference (the substitution stretches a root's rounding over the nodes near it by
     ~1/e, e a node's distance from the end: more nodes, larger response; ``rounding_error`` leaves this out).
     (d) Δφ = kπ + 2 I_φ and the wrap of the visible angle round (3u max(|Δφ|, |Δψ|, π)).  T_θ = 2 T_half.
-    × MARGIN.  Private functions of analysis.quadrature: the same rule.
+    × MARGIN.  Private functions of rocknroller.analysis.quadrature: the same rule.
     """
-    from analysis import quadrature as q
+    from rocknroller.analysis import quadrature as q
 
     names = ("x_N", "y_N", "x_X", "y_X", "E", "QR", "QJ", "u0", "upi")
     bT, bA = [], []
@@ -214,7 +214,7 @@ def quadrature_bound(tp, n_nodes) -> tuple[np.ndarray, np.ndarray]:
 
 def _bound_at(E, QR, QJ, n_nodes):
     """``quadrature_bound`` at one point (E, Q_R, Q_J) with the node count the quadrature used."""
-    from analysis.reduction import solve_turning_points
+    from rocknroller.analysis.reduction import solve_turning_points
 
     bT, bA = quadrature_bound(solve_turning_points(np.atleast_1d(E), np.atleast_1d(QR), np.atleast_1d(QJ), BODY),
                               np.atleast_1d(n_nodes))
@@ -224,7 +224,7 @@ def _bound_at(E, QR, QJ, n_nodes):
 def _compare_with_mpmath(E, QR, QJ, dps=40):
     """Per point: relative differences of T_θ and the largest difference of Δφ, Δψ and the visible φ (per T_θ)
     against mpmath, and their bounds (``quadrature_bound``); the angles relative to max(|Δ|, 1 rad)."""
-    from analysis.reduction import solve_turning_points
+    from rocknroller.analysis.reduction import solve_turning_points
 
     dbl = precession(E, QR, QJ, BODY)
     assert np.all(dbl.status == OK)
@@ -412,7 +412,7 @@ def test_visible_reversal_across_QJpi_line_is_continuous():
 def test_node_cap_is_bounded_and_large_inputs_run_in_blocks(monkeypatch):
     """max_nodes is refused above MAX_NODES_LIMIT (it used to allocate points × nodes at once); a block size
     smaller than the input gives the same numbers bit for bit."""
-    import analysis.quadrature as q
+    import rocknroller.analysis.quadrature as q
 
     body = Body.paper()
     with pytest.raises(ValueError, match="max_nodes must be an integer in"):

@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from analysis.body import Body
-from analysis.criticality import QJ_crit_0, QJ_crit_pi
-from analysis.invariants import V_phi
-from analysis.quadrature import _mp_body, _mp_terms, turning_points_mp
-from analysis.reduction import (
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.criticality import QJ_crit_0, QJ_crit_pi
+from rocknroller.analysis.invariants import V_phi
+from rocknroller.analysis.quadrature import _mp_body, _mp_terms, turning_points_mp
+from rocknroller.analysis.reduction import (
     OK,
     STEADY,
     NO_MOTION,
@@ -106,7 +106,7 @@ def test_cancellation_free_u_is_an_identity(end):
 
 # ----------------------------------------------------------------------------- numeric consistency
 def test_F_equals_theta_dot_squared_of_random_states():
-    """(E, Q_R, Q_J) of random Euler states through analysis.invariants: F(θ) = θ̇² to round-off."""
+    """(E, Q_R, Q_J) of random Euler states through rocknroller.analysis.invariants: F(θ) = θ̇² to round-off."""
     rng = np.random.default_rng(3)
     body = Body.paper()
     n = 2000
@@ -135,7 +135,7 @@ def test_F_equals_theta_dot_squared_of_random_states():
 
 
 def test_u_numerator_matches_V_phi_and_mpmath():
-    """u = I1 s² V_φ (analysis.invariants.V_phi); near the ends against 50-digit mpmath."""
+    """u = I1 s² V_φ (rocknroller.analysis.invariants.V_phi); near the ends against 50-digit mpmath."""
     rng = np.random.default_rng(4)
     body = Body.paper()
     theta = rng.uniform(0.1, 3.0, 500)
@@ -292,7 +292,7 @@ def test_turning_points_reach_the_ends():
             x, y = to_xy(z * factor)
             theta = 2 * np.arctan2(np.sqrt(x), np.sqrt(y))  # F is evaluated from θ: keep θ away from π's ulp
             if which == "X":
-                from analysis.reduction import _P_xy
+                from rocknroller.analysis.reduction import _P_xy
                 val = _P_xy(np.array(x), np.array(y), E, 0.01, QJ, body)
             else:
                 val = F(theta, E, 0.01, QJ, body)

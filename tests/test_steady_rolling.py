@@ -7,10 +7,10 @@ import math
 import numpy as np
 import pytest
 
-from analysis.body import Body
-from analysis.steady_rolling import steady_rolling_omega3
-from numerics.equations import EulerState, intermediate_frame_rhs
-from numerics.integrate import simulate
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.steady_rolling import steady_rolling_omega3
+from rocknroller.numerics.equations import EulerState, intermediate_frame_rhs
+from rocknroller.numerics.integrate import simulate
 
 import roundoff as ro
 

@@ -8,9 +8,9 @@ import json
 import numpy as np
 import pytest
 
-from analysis.body import Body
-from analysis.criticality import region
-from analysis.quadrature import precession, precession_from_turning_point
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.criticality import region
+from rocknroller.analysis.quadrature import precession, precession_from_turning_point
 from rocknroller.cli import main
 from rocknroller.commands.table import COLUMNS, parse_grid
 
@@ -88,7 +88,7 @@ def test_per_tau_and_mpmath_backend(tmp_path, capsys):
     _, _, rt = _read(tau)
     header, _, rm = _read(mp)
     from test_quadrature import _bound_at, _root_error
-    from analysis.reduction import solve_turning_points
+    from rocknroller.analysis.reduction import solve_turning_points
 
     QJs = [float(r["Q_J"]) for r in rb]
     pr, _ = precession_from_turning_point(0.9 * np.pi, 0.01, np.array(QJs), Body.paper())

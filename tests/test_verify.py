@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 
-from papers import verification
+from rocknroller.papers import verification
 from rocknroller.cli import main
 
 
