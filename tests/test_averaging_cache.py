@@ -41,7 +41,7 @@ def _fields(table: av.SlowMapTable) -> dict[str, np.ndarray]:
 def _assert_same(t1: av.SlowMapTable, t2: av.SlowMapTable) -> None:
     f1, f2 = _fields(t1), _fields(t2)
     assert f1.keys() == f2.keys()
-    for k in f1:
+    for k in f1:  # exact: the cache stores the float64 values in binary
         assert np.array_equal(f1[k], f2[k]), k
 
 

@@ -18,6 +18,11 @@ from rocknroller.analysis.laurent import SYMBOLS, V_phi_sym, laurent_coefficient
 from rocknroller.analysis.reduction import state_from_turning_point, turning_points
 from rocknroller.papers.averaging_check import loglog_slope
 
+import roundoff as ro
+
+#: Safety margin of the rounding bounds below (first-order analysis, worst-case constants).
+MARGIN = 4.0
+
 BODY = Body.paper()
 BODY_EPS = Body.paper(1e-3)
 OTHER = Body(a=0.2, I1=0.3, I2=0.3, I3=0.5, g=9.81)
@@ -41,11 +46,16 @@ def test_critical_lines_are_the_laurent_leading_zeros(body):
         A = laurent_coefficients("phi", about, -2)[-2]
         for qr, qj in zip(QR, fn(QR, body)):
             val = A.evalf(30, subs={**subs, SYMBOLS["QR"]: qr, SYMBOLS["QJ"]: qj})
-            assert abs(float(val)) <= 4e-16 * abs(qj) / body.I1
+            # A₋₂ = ±(Q_J − Q_J,e^crit)/I1 at 30 digits: the double-double evaluation (slope to 2⁻¹⁰⁶, then
+            # QR·lo and the final subtraction: 2 roundings) puts the double Q_J within γ_2 |Q_J| of the line
+            ro.assert_within(float(val), MARGIN * ro.gamma(2) * abs(qj) / body.I1, "A-2", qj / body.I1)
     rho0 = 1 / math.sqrt(body.I3 + body.I3 / body.I1 * (1 - body.a) ** 2)
     rhopi = 1 / math.sqrt(body.I3 + body.I3 / body.I1 * (1 + body.a) ** 2)
-    np.testing.assert_allclose(C.QJ_crit_0(QR, body), rho0 * (1 - body.a) * body.I3 * QR, rtol=4e-16)
-    np.testing.assert_allclose(C.QJ_crit_pi(QR, body), -rhopi * (1 + body.a) * body.I3 * QR, rtol=4e-16)
+    # the printed form in plain double: 1 ± a, its square, I3/I1, ×, +, sqrt, 1/x, × (1 ± a), × I3, × QR — ten
+    # roundings on positive terms (γ_10 relative), against the correctly rounded line (u)
+    for got, want in ((C.QJ_crit_0(QR, body), rho0 * (1 - body.a) * body.I3 * QR),
+                      (C.QJ_crit_pi(QR, body), -rhopi * (1 + body.a) * body.I3 * QR)):
+        ro.assert_within(got - want, MARGIN * (ro.gamma(10) + ro.u) * np.abs(want), "printed", want)
 
 
 def test_region_matches_signs_of_V_phi_near_both_ends():
@@ -77,26 +87,63 @@ def test_region_on_line_labels_and_tolerance():
 
 
 # ----------------------------------------------------------------------------- cos θ_z
+_XTOL, _RTOL = 1e-16, 4 * np.finfo(float).eps
+
+
 def _numeric_zero_cos(QR, QJ, body):
     """cos of the zero of V_φ by Brent's method on rocknroller.analysis.invariants.V_phi (independent of the closed form)."""
     out = []
     for r, j in zip(QR, QJ):
-        th = brentq(lambda t: float(V_phi(t, QR=r, QJ=j, body=body)), 1e-9, np.pi - 1e-9, xtol=1e-16, rtol=4 * np.finfo(float).eps, maxiter=500)
+        th = brentq(lambda t: float(V_phi(t, QR=r, QJ=j, body=body)), 1e-9, np.pi - 1e-9, xtol=_XTOL, rtol=_RTOL, maxiter=500)
         out.append(math.cos(th))
     return np.array(out)
 
 
+def _closed_form(q, a, I1, I3, one):
+    """The closed form of C.cos_theta_z as a function of q = Q_J/Q_R and the constants (for its condition only)."""
+    beta = I3 - q * q / I1
+    root = np.sqrt(beta * (I3 - I1) * (I3 + one) - a * a * beta * I3 + I1 * I3 * (I3 + one))
+    return (a * beta * I3 + q * root) / (beta * (I3 - I1) + I1 * I3)
+
+
+def _cos_theta_z_bound(QR, QJ, body):
+    """Bound on |closed form − numeric zero| of cos θ_z, both in double.
+
+    Closed form: ~20 rounded operations (q, β, the radicand, √, numerator, denominator) × its condition
+    Σ|xᵢ ∂cos/∂xᵢ| over q, a, I1, I3 and the constant 1 (``roundoff.formula_bound``).  Numeric zero: Brent stops
+    within 2 (xtol + rtol θ) of the computed root, which lies within δu/|u'(θ)| of the true one, u = Q_J − ρ f I3 Q_R
+    the numerator of V_φ (rounding δu ≤ γ_12 (|Q_J| + |ρ f I3 Q_R|), u' by central differences); cos adds
+    |sin θ| × that + its own rounding u.
+    """
+    c = C.cos_theta_z(QR, QJ, body)
+    closed = ro.formula_bound(_closed_form, {"q": QJ / QR, "a": body.a, "I1": body.I1, "I3": body.I3, "one": 1.0}, 20)
+    th = np.arccos(c)
+    numer = lambda t: QJ - _rho(t, body) * (np.cos(t) - body.a) * body.I3 * QR  # noqa: E731
+    h = 1e-6
+    du = np.abs(numer(th + h) - numer(th - h)) / (2 * h)
+    du_round = ro.gamma(12) * (np.abs(QJ) + np.abs(_rho(th, body) * (np.cos(th) - body.a) * body.I3 * QR))
+    numeric = np.sin(th) * (du_round / du + 2 * (_XTOL + _RTOL * th)) + ro.u
+    return MARGIN * (closed + numeric)
+
+
+def _rho(theta, body):
+    from rocknroller.analysis.invariants import rho
+
+    return rho(theta, body)
+
+
 @pytest.mark.parametrize("body", [BODY, OTHER])
 def test_cos_theta_z_equals_numeric_zero(body):
-    """Corrected closed form = numeric zero of V_φ to ≤ 1e-12 in ≥ 1000 random Region I/III cases."""
+    """Corrected closed form = numeric zero of V_φ to round-off (``_cos_theta_z_bound``) in ≥ 1000 random Region I/III
+    cases."""
     rng = np.random.default_rng(7)
     QR = rng.uniform(-1.0, 1.0, 1000)
     t = np.concatenate([rng.uniform(0, 1, 980), rng.uniform(0, 1e-6, 10), 1 - rng.uniform(0, 1e-6, 10)])
     QJ = C.QJ_crit_pi(QR, body) + t * (C.QJ_crit_0(QR, body) - C.QJ_crit_pi(QR, body))  # between the lines
     assert np.all(np.isin(C.region(QR, QJ, body), ("I", "III")))
     assert np.any(QJ / QR < 0) and np.any(QJ / QR > 0)
-    err = np.abs(C.cos_theta_z(QR, QJ, body) - _numeric_zero_cos(QR, QJ, body))
-    assert err.max() <= 1e-12
+    err = C.cos_theta_z(QR, QJ, body) - _numeric_zero_cos(QR, QJ, body)
+    ro.assert_within(err, _cos_theta_z_bound(QR, QJ, body), "cos_theta_z", 1.0)
 
 
 def test_cos_theta_z_printed_form_fails():
@@ -105,7 +152,7 @@ def test_cos_theta_z_printed_form_fails():
     QJ = np.array([0.2, -0.2, 0.2])  # q = 0.2, −0.2 (Region I), −0.2 (Region III)
     assert set(C.region(QR, QJ, BODY)) <= {"I", "III"}
     good, printed = C.cos_theta_z(QR, QJ, BODY), C.cos_theta_z_printed(QR, QJ, BODY)
-    assert np.max(np.abs(good - _numeric_zero_cos(QR, QJ, BODY))) <= 1e-12
+    ro.assert_within(good - _numeric_zero_cos(QR, QJ, BODY), _cos_theta_z_bound(QR, QJ, BODY), "cos_theta_z", 1.0)
     assert np.all(np.abs(printed - good) > 0.05)
     assert np.all(np.abs(V_phi(np.arccos(np.clip(printed, -1, 1)), QR=QR, QJ=QJ, body=BODY)) > 1e-3)
     # each error alone also fails: the right β with the + root fails for q < 0
@@ -136,7 +183,8 @@ def test_cos_theta_z_sympy_derivation():
         r_plus, r_minus = (sp.N(r.subs(sub), 50) for r in (plus, minus))
         c_pos = sp.N(closed.subs(q, qpos).subs(sub), 50)
         c_neg = sp.N(closed.subs(q, -qpos).subs(sub), 50)
-        # q > 0 takes one root, q < 0 the other: the sign of the root follows sgn(q)
+        # q > 0 takes one root, q < 0 the other: the sign of the root follows sgn(q) (50-digit evaluations of the
+        # same exact numbers: 10⁻⁵⁰ per operation; 1e-45 leaves a factor ≥ 10³; the roots differ by > 1e-10)
         pos_is_plus = abs(c_pos - r_plus) < 1e-45
         assert pos_is_plus or abs(c_pos - r_minus) < 1e-45
         assert abs(c_neg - (r_minus if pos_is_plus else r_plus)) < 1e-45
@@ -211,6 +259,23 @@ def test_delta_expansion_error_powers(body):
     assert np.all(e2 < e1)
 
 
+def _theta_z_round_trip_bound(QR, QJ, tz, E):
+    """|θ_X(E) − θ_z| for E = U(θ_z): θ_z = arccos of the closed form (its rounding, ``_cos_theta_z_bound``'s closed
+    part, over sin θ_z, + u), and the root of P = 2 s² (E − V) − N at the rounded E: P's rounding at the root (γ_20 ×
+    the size of its terms) and E's (γ_15 |E| × ∂P/∂E = 2 s²), over |∂P/∂θ| (central differences)."""
+    from rocknroller.analysis.reduction import _P_and_terms, tilt_xy
+
+    c = np.cos(tz)
+    closed = ro.formula_bound(_closed_form, {"q": QJ / QR, "a": BODY.a, "I1": BODY.I1, "I3": BODY.I3, "one": 1.0}, 20)
+    theta_err = closed / np.sin(tz) + ro.u * tz
+    P = lambda th: _P_and_terms(*tilt_xy(th), E, QR, QJ, BODY)  # noqa: E731
+    h = 1e-7
+    dP = np.abs(P(tz + h)[0] - P(tz - h)[0]) / (2 * h)
+    x, y = tilt_xy(tz)
+    root_err = (ro.gamma(20) * P(tz)[1] + ro.gamma(15) * np.abs(E) * 2 * x * y) / dP
+    return MARGIN * (theta_err + root_err + ro.u * np.abs(tz))
+
+
 def test_delta_bound_against_turning_points():
     """The bound is saturated at θ_X = θ_z: a symmetric start at the turning point θ_z(δ) has θ_X = θ_z from
     rocknroller.analysis.reduction.turning_points, V_φ(θ_X) = 0, and the expansions approach that θ_X with the powers of δ."""
@@ -220,8 +285,10 @@ def test_delta_bound_against_turning_points():
     tz = C.theta_z(QR, QJ, BODY)
     E = state_from_turning_point(BODY, tz, QR, QJ).E
     _, theta_X = turning_points(E, QR, QJ, BODY)
-    np.testing.assert_allclose(theta_X, tz, rtol=0, atol=1e-12)
-    np.testing.assert_allclose(C.delta_of(QR, QJ, BODY), deltas, rtol=0, atol=4e-16)  # 1 − ratio: absolute rounding
+    ro.assert_within(theta_X - tz, _theta_z_round_trip_bound(QR, QJ, tz, E), "theta_X", tz)
+    # δ = 1 − Q_J/Q_J,π^crit with Q_J = Q_J,π^crit (1 − δ): 1 − δ, the product and the quotient round (γ_3 of 1 − δ);
+    # 1 − ratio is exact (Sterbenz)
+    ro.assert_within(C.delta_of(QR, QJ, BODY) - deltas, MARGIN * ro.gamma(3) * (1 - deltas), "delta", deltas)
     e1 = np.abs(C.theta_z_expansion(deltas, BODY, 1) - theta_X)
     e2 = np.abs(C.theta_z_expansion(deltas, BODY, 2) - theta_X)
     assert abs(loglog_slope(deltas, e1) - 1.5) < 0.05
@@ -237,20 +304,39 @@ def test_delta_errors():
 
 
 # ----------------------------------------------------------------------------- critical-line starts
+def _on_line_bounds(body, line, gamma, omega, QJ):
+    """Bounds on |Q_J − Q_J,e^crit(Q_R)| and |Q_R − Q_R given| for a start built on a line and Q_R, Q_J recomputed
+    from (γ, ω): the construction (rates from Q_R and the line, ω from the rates) and the recomputation each round
+    ≤ 25 operations, carried by κ = Σ|yᵢ ∂Q/∂yᵢ| (which also measures the cancellation in Q_J), Q_R's through the
+    line's slope; the line itself rounds by γ_2 |Q_J|; × MARGIN."""
+    from rocknroller.analysis.invariants import jellett, routh
+
+    g, w = np.asarray(gamma, float).reshape(3, -1), np.asarray(omega, float).reshape(3, -1)
+    n = max(g.shape[1], w.shape[1])
+    Y = np.vstack([np.broadcast_to(g, (3, n)), np.broadcast_to(w, (3, n))]).T
+    kJ, kR = (ro.relative_condition(lambda Z, q=q: q(body, Z[:, 0:3].T, Z[:, 3:6].T), Y) for q in (jellett, routh))
+    slope = abs(float(C.QJ_crit(line, 1.0, body)))
+    bJ = MARGIN * (2 * 2 * ro.gamma(25) * (kJ + slope * kR) + ro.gamma(2) * np.abs(QJ))
+    return bJ, MARGIN * 2 * 2 * ro.gamma(25) * kR
+
+
 @pytest.mark.parametrize("body", [BODY, BODY_EPS])
 @pytest.mark.parametrize("line", C.LINES)
 def test_critical_start_lands_on_line(body, line):
-    """(Q_R, Q_J) recomputed from the body-frame state (rocknroller.analysis.invariants) lie on the line to ≤ 1e-14 relative."""
+    """(Q_R, Q_J) recomputed from the body-frame state (rocknroller.analysis.invariants) lie on the line to round-off
+    (``_on_line_bounds``)."""
     rng = np.random.default_rng(11)
     theta0 = rng.uniform(0.55 * np.pi, 0.99 * np.pi, 200)
     psi0 = rng.uniform(0, np.pi, 200)
     QR = rng.uniform(-0.1, 0.1, 200)
     for kw in ({"QR": QR}, {"psi_dot0": rng.uniform(-0.5, 0.5, 200)}):
         st = C.critical_start(body, theta0, psi0, line, **kw)
-        _, QRr, QJr = invariants(body, vertical_in_body(theta0, psi0), st.omega)
+        gamma = vertical_in_body(theta0, psi0)
+        _, QRr, QJr = invariants(body, gamma, st.omega)
         crit = C.QJ_crit(line, QRr, body)
-        assert np.max(np.abs(QJr - crit) / np.abs(QJr)) <= 1e-14
-        assert np.max(np.abs(QRr - st.QR) / np.abs(st.QR)) <= 1e-14
+        bJ, bR = _on_line_bounds(body, line, gamma, st.omega, QJr)
+        ro.assert_within(QJr - crit, bJ, "QJ on line", QJr)
+        ro.assert_within(QRr - st.QR, bR, "QR", st.QR)
     # the requested spin rate is reproduced to rounding (ω3' = c φ̇ + ψ̇ cancels near θ = π)
     pd = rng.uniform(-0.5, 0.5, 200)
     st = C.critical_start(body, theta0, psi0, line, psi_dot0=pd)
@@ -260,7 +346,7 @@ def test_critical_start_lands_on_line(body, line):
 @pytest.mark.parametrize("line", C.LINES)
 def test_critical_start_reaches_the_ode_on_the_line(line):
     """The ODE's initial body-frame state (EulerState.from_omega → to_body_state) keeps ω as given:
-    started on a line, it lies on it to ≤ 4e-15 relative also at θ0 = 0.999π and 0.001π, where φ̇ and ψ̇
+    started on a line, it lies on it to round-off (``_on_line_bounds``) also at θ0 = 0.999π and 0.001π, where φ̇ and ψ̇
     are large and nearly opposite.  (Rebuilding ω from the Euler rates, as before, put the θ0 = 0.999π
     start on the Q_J,0 line 6e-12 off it.)"""
     from rocknroller.numerics.equations import EulerState
@@ -270,9 +356,10 @@ def test_critical_start_reaches_the_ode_on_the_line(line):
             st = C.critical_start(BODY_EPS, theta0, psi0, line, QR=0.01)
             omega = np.asarray(st.omega, float).reshape(3)
             y = EulerState.from_omega(theta0, 0.0, psi0, omega).to_body_state()
-            assert np.array_equal(y[3:6], omega)
+            assert np.array_equal(y[3:6], omega)  # exact: ω is copied, not rebuilt from the rates
             _, QR, QJ = invariants(BODY_EPS, y[:3], y[3:6])
-            assert abs(QJ - C.QJ_crit(line, QR, BODY_EPS)) <= 4e-15 * abs(QJ)
+            bJ, _ = _on_line_bounds(BODY_EPS, line, y[:3], y[3:6], QJ)
+            ro.assert_within(QJ - C.QJ_crit(line, QR, BODY_EPS), bJ, "QJ on line", QJ)
 
 
 def test_critical_start_offset_is_signed_distance():

@@ -13,6 +13,8 @@ from rocknroller.analysis.invariants import V_phi
 from rocknroller.papers.plotting import region_diagram
 from rocknroller.cli import main
 
+import roundoff as ro
+
 BODY = Body.paper()
 
 
@@ -32,6 +34,7 @@ def test_plotted_data_come_from_the_library(body):
     x0, y0 = _line(ax, "QJ0crit")
     xpi, ypi = _line(ax, "QJpicrit")
     assert x0.min() == -2.0 and x0.max() == 2.0
+    # exact: the plotted data are these functions' values on the same inputs
     np.testing.assert_array_equal(y0, C.QJ_crit_0(x0, body))
     np.testing.assert_array_equal(ypi, C.QJ_crit_pi(xpi, body))
     np.testing.assert_array_equal(data.QJ0_line, C.QJ_crit_0(data.QR_line, body))
@@ -76,8 +79,24 @@ def test_cli_simulate_on_critical_line(tmp_path, capsys):
     for name in ("regions_orbit.png", "regions_orbit.pdf"):
         assert (tmp_path / name).stat().st_size > 10_000, name
     assert out["region0"] == C.ON_LINE_PI
-    assert abs(out["QR0"] - 0.003) < 1e-12
-    assert out["energy_rel_error"] < 1e-12
+    # the same run through the library (the CLI's defaults: ε = 1e-3, θ0 = 0.95π, ψ0 = π/4): identical numbers
+    from rocknroller.analysis.invariants import routh
+    from rocknroller.numerics.equations import EulerState
+    from rocknroller.numerics.integrate import simulate
+
+    body = Body.paper(1e-3)
+    start = C.critical_start(body, 0.95 * np.pi, np.pi / 4, "pi", QR=0.003)
+    traj = simulate(body, EulerState.from_omega(0.95 * np.pi, 0.0, np.pi / 4, start.omega), 40.0)
+    assert (out["QR0"], out["energy_rel_error"]) == (float(traj.QR[0]), traj.energy_rel_error)  # same computation
+    # Q_R of the start: ω3 = ρ(θ0) Q_R built from sin/cos of θ0, Q_R recomputed as ω3/ρ from γ; each ≤ 25 rounded
+    # operations on positive terms (ρ⁻² = I3 + s² + (I3/I1) f²), carried by κ_R = Σ|yᵢ ∂Q_R/∂yᵢ|; × 4 (margin)
+    y0 = traj.states[:1, 0:6]
+    kappa_R = float(ro.relative_condition(lambda Z: routh(body, Z[:, 0:3].T, Z[:, 3:6].T), y0)[0])
+    ro.assert_within(out["QR0"] - 0.003, 4 * 2 * ro.gamma(25) * kappa_R, "QR0", 0.003)
+    # energy: heyoka at ε over traj.n_steps steps, amplified by c_E (``roundoff.energy_condition``), × 4
+    c_E = ro.energy_condition(body)
+    bound = 4 * (ro.integration_bound(traj.n_steps, traj.tolerance, c_E) + 2 * ro.gamma(25) * c_E)
+    ro.assert_within(out["energy_rel_error"], bound, "energy", 1.0)
 
 
 def test_cli_simulate_plain_initial_state(tmp_path, capsys):

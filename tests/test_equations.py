@@ -25,12 +25,38 @@ from rocknroller.numerics.equations import (
     euler_from_state,
     formulation_differences,
     intermediate_frame_rhs,
+    omega_dot_by_form,
     state_from_euler,
 )
 
+import roundoff as ro
+
 N_STATES = 1000
-#: Round-off level for ω̇ at O(1) states: forms (ii)-(iv) lose a factor ~1/sin θ near the poles.
-ROUNDOFF = 2e-13
+#: Safety margin of the rounding bounds below.
+MARGIN = 4.0
+#: Rounded operations along a path from a state to ω̇ in forms (ii)-(iv): the 3×3 products Σᵀ K Σ (sums of 9
+#: products of 3 factors), the right-hand sides, the 3×3 solve and ω̇ = Σ θ̈ + Σ̇ θ̇.
+N_OPS_FORM = 50
+
+
+def _form_bounds(Y, body):
+    """Per state, the bound on |ω̇_form − ω̇_(i)|∞ / (1 + |ω̇_(i)|∞) (the measure of
+    ``formulation_differences``): the paper's forms solve with M = Σᵀ K Σ (or K after θ̇ = Σ⁻¹ ω), whose
+    condition is ≤ cond(K) cond(Σ)², Σ the Euler-rate matrix (cond ~ 1/sin θ near the poles); their terms are of
+    size g a + |ω|² + |ω̇| (gravity, velocity products, M θ̈).  Rounding: γ_n (n = N_OPS_FORM) × condition × terms
+    (Higham, §7.1: a linear solve errs by ≤ cond × the relative error of its data), × MARGIN."""
+    from rocknroller.numerics.equations import _sigma_matrix
+
+    D = np.array(body_frame_rhs(Y, body.params))
+    out = []
+    for y, d in zip(Y.T, D.T):
+        th, ph, ps = euler_from_state(y)[:3]
+        r = y[0:3] - np.array([0.0, 0.0, body.a])
+        K = np.diag([body.I1, body.I2, body.I3]) + r @ r * np.eye(3) - np.outer(r, r)
+        cond = np.linalg.cond(K) * np.linalg.cond(_sigma_matrix(th, ps)) ** 2
+        terms = body.g * body.a + np.sum(y[3:6] ** 2) + np.max(np.abs(d[3:6]))
+        out.append(MARGIN * ro.gamma(N_OPS_FORM) * cond * terms / (1.0 + np.max(np.abs(d[3:6]))))
+    return np.array(out), D
 
 
 def _random_states(rng, n):
@@ -52,10 +78,25 @@ def test_paper_forms_agree_with_body_frame(body):
     Y = _random_states(rng, N_STATES)
     diff = formulation_differences(Y, body)
     assert set(diff) == ({"ii", "iii", "iv"} if body.is_symmetric else {"ii", "iii"})
-    assert max(diff.values()) < ROUNDOFF
-    for y in Y.T[:100]:  # kinematics: Euler rates from form (i)'s ω
+    bounds, D = _form_bounds(Y, body)
+    per_state: dict[str, list[float]] = {form: [] for form in diff}  # formulation_differences' measure, per state
+    for y, d in zip(Y.T, D.T):
+        for form, wdot in omega_dot_by_form(y, body).items():
+            per_state[form].append(np.max(np.abs(wdot - d[3:6])) / (1.0 + np.max(np.abs(d[3:6]))))
+    for form, values in per_state.items():
+        assert max(values) == diff[form]
+        ro.assert_within(np.array(values), bounds, form, 1.0)
+    from rocknroller.numerics.equations import _sigma_matrix
+
+    errs, bounds, sizes = [], [], []
+    for y in Y.T[:100]:  # kinematics: Euler rates from form (i)'s ω, two ways through Σ⁻¹ (≤ 20 operations each,
+        # amplified by cond(Σ)), relative to the rates' size
         d2 = euler_angle_rhs(euler_angle_state_from_body(y), body)
-        assert np.allclose(d2[:3], euler_from_state(y)[3:], rtol=0, atol=ROUNDOFF * (1 + np.abs(d2[:3]).max()))
+        th, _, ps = euler_from_state(y)[:3]
+        errs.append(np.max(np.abs(d2[:3] - euler_from_state(y)[3:])))
+        bounds.append(MARGIN * 2 * ro.gamma(20) * np.linalg.cond(_sigma_matrix(th, ps)) * (1 + np.abs(d2[:3]).max()))
+        sizes.append(np.abs(d2[:3]).max())
+    ro.assert_within(np.array(errs), np.array(bounds), "rates", np.array(sizes))
 
 
 def test_formulation_differences_detect_a_wrong_form(monkeypatch):
@@ -68,7 +109,7 @@ def test_formulation_differences_detect_a_wrong_form(monkeypatch):
     true_rhs = eq.euler_angle_rhs
     monkeypatch.setattr(eq, "euler_angle_rhs", lambda x, b: true_rhs(x, wrong))
     diff = formulation_differences(Y, body)
-    assert diff["ii"] > 1e-4 and diff["iii"] < ROUNDOFF
+    assert diff["ii"] > 1e-4 and diff["ii"] > 1e3 * _form_bounds(Y, body)[0].max() and diff["iii"] < 1e-11
 
 
 def test_form_iv_refuses_asymmetric_body():
@@ -142,9 +183,11 @@ def test_numeric_invariants_match_symbolic_definitions():
     E = 0.5 * sum(x * x for x in v) + 0.5 * (body.I1 * (u1**2 + u2**2) + body.I3 * u3**2) + body.g * body.a * (1 - c)
     QJ = body.I1 * s * u2 + body.I3 * f * u3
     QR = u3 * math.sqrt(body.I3 + s * s + body.I3 / body.I1 * f * f)
-    assert energy(body, y[0:3], y[3:6]) == pytest.approx(E, rel=1e-14)
-    assert jellett(body, y[0:3], y[3:6]) == pytest.approx(QJ, rel=1e-14)
-    assert routh(body, y[0:3], y[3:6]) == pytest.approx(QR, rel=1e-14)
+    # two evaluations (≤ 25 rounded operations each, from (γ, ω) and from the Euler rates), each within γ_25 × the
+    # condition κ = Σ|yᵢ ∂q/∂yᵢ| of q (which measures the size of its terms), × MARGIN
+    for name, fun, want in (("E", energy, E), ("QJ", jellett, QJ), ("QR", routh, QR)):
+        kappa = float(ro.relative_condition(lambda Z, f=fun: f(body, Z[:, 0:3].T, Z[:, 3:6].T), y[None, 0:6])[0])
+        ro.assert_within(fun(body, y[0:3], y[3:6]) - want, MARGIN * 2 * ro.gamma(25) * kappa, name, want)
 
 
 def test_initial_states_that_would_overflow_are_refused():

@@ -22,6 +22,8 @@ from rocknroller.numerics.equations import EulerState, turning_point_function
 from rocknroller.numerics.integrate import AccuracyError, AccuracyWarning, simulate
 from rocknroller.numerics.trajectory import TurningPointRun, energy_scale
 
+import roundoff as ro
+
 BODY = Body.paper(1e-3)
 U = np.finfo(float).eps
 
@@ -57,7 +59,13 @@ def test_energy_error_is_measured_against_a_scale_that_does_not_vanish():
     traj = simulate(BODY, EulerState(1e-6), 60.0)
     E0 = float(traj.E[0])
     assert energy_scale(BODY, E0) == E0 + BODY.g * BODY.a
-    assert 0.0 <= traj.energy_rel_error <= 8 * U  # one evaluation of E: ~4 rounded terms of size ≤ scale
+    # n_steps × ε × κ_E (``roundoff.integration_bound``; κ_E = Σ|yᵢ ∂E/∂yᵢ| ≈ g a here, from γ3 ≈ 1) plus the
+    # rounding of two evaluations of E (≤ 25 operations on terms whose size κ_E measures), × 4 (margin)
+    kappa = float(ro.relative_condition(lambda Z: energy(BODY, Z[:, 0:3].T, Z[:, 3:6].T), traj.states[:, 0:6]).max())
+    scale = energy_scale(BODY, E0)
+    bound = 4 * (ro.integration_bound(traj.n_steps, traj.tolerance, kappa) + 2 * ro.gamma(25) * kappa) / scale
+    assert traj.energy_rel_error >= 0.0
+    ro.assert_within(traj.energy_rel_error, bound, "energy", 1.0)  # ≈ 1e-14 (relative to E it was 3e-4)
     assert np.isfinite(traj.energy_rel_error)
 
 

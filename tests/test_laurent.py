@@ -14,11 +14,21 @@ from rocknroller.analysis.laurent import (SYMBOLS, V_phi_sym, V_psi_sym, laurent
                               laurent_series, phidot_turning_point_errors)
 from rocknroller.papers.averaging_check import loglog_slope
 
+import roundoff as ro
+
+#: Safety margin of the rounding bounds below.
+MARGIN = 4.0
+
 BODY = Body.paper()
 OTHER = Body(a=0.2, I1=0.3, I2=0.3, I3=0.5, g=9.81)
 S = SYMBOLS
 ARGS = (S["x"], S["QJ"], S["QR"], S["a"], S["I1"], S["I3"])
 EXACT = {"phi": V_phi_sym, "psi": V_psi_sym}
+
+
+def _by_name(lam):
+    """A lambdified function of ARGS called with keyword arguments x, QJ, QR, a, I1, I3 (for roundoff.formula_bound)."""
+    return lambda x, QJ, QR, a, I1, I3: lam(x, QJ, QR, a, I1, I3)
 
 
 def _subs(body, QJ, QR):
@@ -31,8 +41,16 @@ def test_exact_sympy_rates_equal_invariants():
     """The symbolic V_φ, V_ψ used for the derivations equal rocknroller.analysis.invariants' (paper eqs. phidotCJQR, psidotCJQR)."""
     th = np.linspace(0.1, 3.0, 7)
     for q, num in (("phi", V_phi), ("psi", V_psi)):
-        f = sp.lambdify((S["theta"], S["QJ"], S["QR"], S["a"], S["I1"], S["I3"]), EXACT[q](S["theta"]), "numpy")
-        np.testing.assert_allclose(f(th, 0.3, -0.2, BODY.a, BODY.I1, BODY.I3), num(th, QR=-0.2, QJ=0.3, body=BODY), rtol=1e-13)
+        expr = EXACT[q](S["theta"])
+        f = sp.lambdify((S["theta"], S["QJ"], S["QR"], S["a"], S["I1"], S["I3"]), expr, "numpy")
+        got = f(th, 0.3, -0.2, BODY.a, BODY.I1, BODY.I3)
+        # two double evaluations: sympy's operations (count_ops) and rocknroller.analysis.invariants' (≤ 30), each within
+        # γ_n × the condition Σ|xᵢ ∂f/∂xᵢ| over θ, Q_J, Q_R, a, I1, I3 (``roundoff.formula_bound``), × MARGIN
+        n_ops = int(sp.count_ops(expr)) + 30
+        bound = MARGIN * ro.formula_bound(lambda theta, QJ, QR, a, I1, I3: f(theta, QJ, QR, a, I1, I3),
+                                          {"theta": th, "QJ": 0.3, "QR": -0.2, "a": BODY.a, "I1": BODY.I1,
+                                           "I3": BODY.I3}, n_ops)
+        ro.assert_within(got - num(th, QR=-0.2, QJ=0.3, body=BODY), bound, q, got)
 
 
 def test_leading_terms_reproduce_the_paper():
@@ -64,6 +82,8 @@ def test_coefficients_agree_with_sympy_series(quantity, about):
         for k in range(-2, 5):
             r = sp.N(ref.coeff(x, k).subs(sub), 40)
             o = sp.N(ours.coeff(x, k).subs(sub), 40)
+            # two 40-digit evaluations of the same exact number (10⁻⁴⁰ per operation, a few hundred operations,
+            # moderate cancellation): 1e-30 leaves a factor ≥ 10⁶; not a double-precision comparison
             assert abs(r - o) <= 1e-30 * (1 + abs(r))
 
 
@@ -99,7 +119,13 @@ def test_numeric_function_matches_series():
             with mpmath.workdps(40):
                 ref = [float(ser(mpmath.mpf(x), mpmath.mpf(0.0123), mpmath.mpf(-0.0456), mpmath.mpf(BODY.a),
                                  mpmath.mpf(BODY.I1), mpmath.mpf(BODY.I3))) for x in xs]
-            np.testing.assert_allclose(got, ref, rtol=1e-13)
+            # the series' operations (count_ops) in double, each within γ_n × its condition over x, Q_J, Q_R and
+            # the body's parameters (``roundoff.formula_bound``), + the rounding of the 40-digit value (u); × MARGIN
+            expr = laurent_series(q, about, 4)
+            lam = sp.lambdify(ARGS, expr, "numpy")
+            cond = ro.formula_bound(_by_name(lam), {"x": xs, "QJ": 0.0123, "QR": -0.0456, "a": BODY.a, "I1": BODY.I1,
+                                          "I3": BODY.I3}, int(sp.count_ops(expr)))
+            ro.assert_within(got - np.array(ref), MARGIN * (cond + ro.u * np.abs(ref)), f"{q} about {about}", ref)
 
 
 def test_phidot_at_theta_X_high_QR():
@@ -115,8 +141,18 @@ def test_phidot_at_theta_X_high_QR():
         errs = [res[n]["rel_error"] for n in (-2, 0, 2, 4, 6)]
         assert all(e2 < 0.1 * e1 for e1, e2 in zip(errs, errs[1:])), errs
     # the leading order is exactly zero on the line, i.e. 100 % off
-    on = phidot_turning_point_errors(BODY, theta_X, QR, float(C.QJ_crit_pi(QR, BODY)), orders=(-2,))
-    assert abs(on[-2]["rel_error"] - 1.0) < 1e-12
+    QJ = float(C.QJ_crit_pi(QR, BODY))
+    on = phidot_turning_point_errors(BODY, theta_X, QR, QJ, orders=(-2,))
+    # the leading term A₋₂/x² vanishes on the line up to its rounding: γ_n (n = count_ops of the term) × its
+    # condition over Q_J, Q_R and the parameters (the cancellation Q_J − ρ_π (1 + a) I3 Q_R), relative to the
+    # exact φ̇; the relative error itself rounds twice; × MARGIN
+    expr = laurent_series("phi", "pi", -2)
+    lam = sp.lambdify(ARGS, expr, "numpy")
+    xv = np.pi - theta_X
+    lead = ro.formula_bound(_by_name(lam), {"x": xv, "QJ": QJ, "QR": QR, "a": BODY.a, "I1": BODY.I1, "I3": BODY.I3},
+                            int(sp.count_ops(expr)))
+    bound = MARGIN * (float(lead) / abs(on[-2]["exact"]) + ro.gamma(2))
+    ro.assert_within(on[-2]["rel_error"] - 1.0, bound, "rel_error", 1.0)
 
 
 def test_errors():

@@ -34,7 +34,15 @@ from rocknroller.analysis.reduction import (
     u_numerator,
 )
 
+import roundoff as ro
+
 EPS = np.finfo(float).eps
+#: Safety margin of the rounding bounds below.
+MARGIN = 4.0
+
+
+def _sym(a, I1, I3, g):
+    return Body(a=float(a), I1=float(I1), I2=float(I1), I3=float(I3), g=float(g))
 
 
 # ----------------------------------------------------------------------------- symbolic
@@ -106,9 +114,24 @@ def test_F_equals_theta_dot_squared_of_random_states():
     thd, phd, psd = rng.normal(size=(3, n))
     E, QR, QJ = invariants_from_euler(body, theta, thd, phd, psd)
     F_val = F(theta, E, QR, QJ, body)
-    # E is a sum of terms of size ~ E; F = 2(E − U)/D, so round-off is ~ ε E/D
-    scale = 2 * np.abs(E) / D_coefficient(tilt_xy(theta)[0], body)
-    assert np.max(np.abs(F_val - thd**2) / scale) <= 50 * EPS
+    # two stages: (E, Q_R, Q_J) from the Euler state (≤ 60 rounded operations: the frame, ω, E, Q_R, Q_J), each
+    # within γ_60 × its condition over θ, the rates and the parameters (``roundoff.formula_bound``); then F (≤ 40
+    # operations, γ_40 × its condition over θ, E, Q_R, Q_J and the parameters: it measures E − U), to which the
+    # first stage's errors are carried by |∂F/∂E|, |∂F/∂Q_R|, |∂F/∂Q_J| (central differences); × MARGIN
+    params = {"a": body.a, "I1": body.I1, "I3": body.I3, "g": body.g}
+    stage1 = ro.formula_bound(lambda theta, thd, phd, psd, a, I1, I3, g: np.array(
+        invariants_from_euler(_sym(a, I1, I3, g), theta, thd, phd, psd)),
+        {"theta": theta, "thd": thd, "phd": phd, "psd": psd, **params}, 60)
+    F_of = lambda theta, E, QR, QJ, a, I1, I3, g: F(theta, E, QR, QJ, _sym(a, I1, I3, g))  # noqa: E731
+    args = {"theta": theta, "E": E, "QR": QR, "QJ": QJ, **params}
+    carried = 0.0
+    for k, name in enumerate(("E", "QR", "QJ")):
+        h = 1e-7 * np.maximum(np.abs(args[name]), 1e-300)
+        up, down = dict(args), dict(args)
+        up[name], down[name] = args[name] + h, args[name] - h
+        carried = carried + np.abs(F_of(**up) - F_of(**down)) / (2 * h) * stage1[k]
+    bound = MARGIN * (carried + ro.formula_bound(F_of, args, 40))
+    ro.assert_within(F_val - thd**2, bound, "F", thd**2)
 
 
 def test_u_numerator_matches_V_phi_and_mpmath():
@@ -120,7 +143,15 @@ def test_u_numerator_matches_V_phi_and_mpmath():
     x, y = tilt_xy(theta)
     u = u_numerator(x, y, QR, QJ, body)
     ref = body.I1 * np.sin(theta) ** 2 * V_phi(theta, QR=QR, QJ=QJ, body=body)
-    assert np.max(np.abs(u - ref)) <= 100 * EPS * np.max(np.abs(QJ) + np.abs(QR))
+    # two evaluations of u = Q_J − I3 f ρ Q_R (≤ 25 rounded operations each, V_φ's path with sin, cos, √ and the
+    # product and quotient by I1 s²), γ_50 × the condition over θ, Q_R, Q_J and the parameters, × MARGIN
+    def direct(theta, QR, QJ, a, I1, I3):
+        b = _sym(a, I1, I3, body.g)
+        return b.I1 * np.sin(theta) ** 2 * V_phi(theta, QR=QR, QJ=QJ, body=b)
+
+    bound = MARGIN * ro.formula_bound(direct, {"theta": theta, "QR": QR, "QJ": QJ, "a": body.a, "I1": body.I1,
+                                               "I3": body.I3}, 50)
+    ro.assert_within(u - ref, bound, "u", ref)
     # Near the ends u = u_e + (variation): the variation keeps its relative precision down to z = 1e-20,
     # so u is a smooth function of θ (the fixed rounding of u_e = Q_J − Q_J,e^crit is shared by all θ).
     for QJc, small_x in ((float(QJ_crit_0(0.01, body) + 1e-14), True),
@@ -137,8 +168,11 @@ def test_u_numerator_matches_V_phi_and_mpmath():
                 R = mpmath.sqrt(body.I3 + X * (2 - X) + body.I3 / body.I1 * f * f)
                 Re = mpmath.sqrt(body.I3 + body.I3 / body.I1 * fe * fe)
                 want = body.I3 * mpmath.mpf(0.01) * (fe / Re - f / R)
-            # ... up to the rounding of u itself (ulp of u_e + variation); the direct formula errs by ε |Q_J|
-            assert abs(got - float(want)) <= 8 * EPS * abs(float(want)) + 2 * np.spacing(abs(u_e) + abs(float(want)))
+            # ... up to the rounding of u itself (ulp of u_e + variation, twice: u and u − u_e); the direct formula
+            # errs by ε |Q_J|.  The variation x [I3 (f₀ + f) + f₀² y]/[R R₀ (f₀ R + f R₀)]: ≤ 16 rounded operations on
+            # positive terms (two square roots), γ_16 relative
+            bound = ro.gamma(16) * abs(float(want)) + 2 * np.spacing(abs(u_e) + abs(float(want)))
+            ro.assert_within(got - float(want), bound, "variation", float(want))
 
 
 def test_state_from_turning_point_round_trip():
@@ -149,10 +183,26 @@ def test_state_from_turning_point_round_trip():
     st = state_from_turning_point(body, theta0, QR, QJ)
     assert np.all(st.theta_dot == 0.0)
     E, QR2, QJ2 = invariants_from_euler(body, theta0, st.theta_dot, st.phi_dot, st.psi_dot)
-    assert np.allclose(QR2, QR, rtol=1e-13, atol=1e-17)
-    assert np.allclose(QJ2, QJ, rtol=1e-13, atol=1e-17)
-    assert np.allclose(E, st.E, rtol=1e-13)
-    assert np.allclose(st.E, effective_potential(theta0, QR, QJ, body), rtol=0, atol=0)
+    # two stages: the rates from (θ0, Q_R, Q_J) (≤ 40 operations each, γ_40 × their condition over θ0, Q_R, Q_J and
+    # the parameters), carried by |∂(E, Q_R, Q_J)/∂rate| (central differences), and (E, Q_R, Q_J) from the rates
+    # (≤ 60 operations, γ_60 × their condition); × MARGIN
+    params = {"a": body.a, "I1": body.I1, "I3": body.I3, "g": body.g}
+    rates = ro.formula_bound(lambda theta0, QR, QJ, a, I1, I3, g: np.array(
+        [(s := state_from_turning_point(_sym(a, I1, I3, g), theta0, QR, QJ)).phi_dot, s.psi_dot]),
+        {"theta0": theta0, "QR": QR, "QJ": QJ, **params}, 40)
+    inv = lambda theta0, thd, phd, psd, a, I1, I3, g: np.array(  # noqa: E731
+        invariants_from_euler(_sym(a, I1, I3, g), theta0, thd, phd, psd))
+    args = {"theta0": theta0, "thd": st.theta_dot, "phd": st.phi_dot, "psd": st.psi_dot, **params}
+    bound = ro.formula_bound(inv, args, 60)
+    for k, name in enumerate(("phd", "psd")):
+        h = 1e-7 * np.maximum(np.abs(args[name]), 1e-300)
+        up, down = dict(args), dict(args)
+        up[name], down[name] = args[name] + h, args[name] - h
+        bound = bound + np.abs(inv(**up) - inv(**down)) / (2 * h) * rates[k]
+    bound = MARGIN * bound
+    ro.assert_within(np.array([E - st.E, QR2 - QR, QJ2 - QJ]), bound, "round trip", np.array([st.E, QR, QJ]))
+    # exact: both are _U_xy of tilt_xy(θ0) with the same arguments (the same operations)
+    assert np.array_equal(st.E, effective_potential(theta0, QR, QJ, body))
 
 
 # ----------------------------------------------------------------------------- turning points
@@ -199,23 +249,28 @@ def _amplification(E, QR, QJ, theta, body):
 def test_turning_points_against_mpmath(label, E, QR, QJ):
     """Roots against mpmath findroot at 30 digits on the same (E, Q_R, Q_J) doubles.
 
-    Compared in the exact end variables (θ_N and π − θ_X).  Tolerance: 1e-13 plus the
-    amplification of the rounding of P's largest term 2 s² E (the kinetic energy at a root can be tiny).
+    Compared in the exact end variables (θ_N and π − θ_X).  Tolerance: the bisection in w narrows to 600/2⁷² (below
+    the rounding of x), so each root is as good as P's rounding allows: γ_16 (the operations of P) × the
+    amplification of the rounding of P's terms into the root (``_amplification``), + u for θ from the end variable;
+    near π, θ_X as a double is off by ≤ ½ ulp(π) and np.pi by u π; × MARGIN.
     """
     body = Body.paper()
     tN, tX = turning_points(E, QR, QJ, body)
     ref = SimpleNamespace(**dict(zip(("theta_N", "theta_X"), turning_points_mp(E, QR, QJ, body, dps=30))))
     assert 0.0 <= tN < tX < np.pi
-    rel_N = 1e-13 + 16 * EPS * _amplification(E, QR, QJ, ref.theta_N, body)
-    rel_X = 1e-13 + 16 * EPS * _amplification(E, QR, QJ, ref.theta_X, body)
+    rel_N = MARGIN * (ro.gamma(16) * _amplification(E, QR, QJ, ref.theta_N, body) + ro.u)
+    rel_X = MARGIN * (ro.gamma(16) * _amplification(E, QR, QJ, ref.theta_X, body) + ro.u)
     if ref.theta_N == 0:  # Q_J exactly critical (pure rocking): the motion passes through θ = 0
         assert tN <= 1e-60
     else:
-        assert abs(tN - float(ref.theta_N)) <= rel_N * float(ref.theta_N)
+        ro.assert_within(tN - float(ref.theta_N), rel_N * float(ref.theta_N), "theta_N", float(ref.theta_N))
     dX = float(mpmath.pi - ref.theta_X)
-    # y = 2 cos²(θ/2) ≈ (π − θ)²/2
-    assert abs(float(tilt_xy(tX)[1]) - 2 * float(mpmath.cos(ref.theta_X / 2)) ** 2) <= 2 * rel_X * 0.5 * dX**2
-    assert abs((np.pi - tX) - dX) <= rel_X * dX + 2 * EPS * np.pi  # θ_X as a double: π − θ_X to ulp(π)
+    absX = MARGIN * (0.5 * np.spacing(np.pi) + ro.u * np.pi)  # θ_X as a double, π as np.pi
+    # y = 2 cos²(θ/2) ≈ (π − θ)²/2, from the double θ_X: dy/dθ ≈ −(π − θ), and cos(θ/2) ≈ (π − θ)/2 rounds
+    y_ref = 2 * float(mpmath.cos(ref.theta_X / 2)) ** 2
+    bound_y = dX * (rel_X * dX + absX) + MARGIN * ro.gamma(4) * y_ref
+    ro.assert_within(float(tilt_xy(tX)[1]) - y_ref, bound_y, "y_X", y_ref)
+    ro.assert_within((np.pi - tX) - dX, rel_X * dX + absX, "pi - theta_X", dX)
 
 
 def test_turning_points_reach_the_ends():

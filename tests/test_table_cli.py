@@ -14,6 +14,8 @@ from rocknroller.analysis.quadrature import precession, precession_from_turning_
 from rocknroller.cli import main
 from rocknroller.commands.table import COLUMNS, parse_grid
 
+import roundoff as ro
+
 EXPECTED_COLUMNS = ["Q_R", "Q_J", "E", "theta_N", "theta_X", "T_theta", "tau", "delta_phi", "delta_psi",
                     "visible_phi", "region", "status"]
 
@@ -85,12 +87,24 @@ def test_per_tau_and_mpmath_backend(tmp_path, capsys):
     _, _, rb = _read(base)
     _, _, rt = _read(tau)
     header, _, rm = _read(mp)
-    for b, t, m in zip(rb, rt, rm):
-        assert float(t["delta_phi"]) == 2 * float(b["delta_phi"])
-        assert float(t["tau"]) == float(b["tau"])
+    from test_quadrature import _bound_at, _root_error
+    from rocknroller.analysis.reduction import solve_turning_points
+
+    QJs = [float(r["Q_J"]) for r in rb]
+    pr, _ = precession_from_turning_point(0.9 * np.pi, 0.01, np.array(QJs), Body.paper())
+    for i, (b, t, m) in enumerate(zip(rb, rt, rm)):
+        assert float(t["delta_phi"]) == 2 * float(b["delta_phi"])  # exact: ×2 of the same value
+        assert float(t["tau"]) == float(b["tau"])  # exact: the same column, written the same way
         assert len(m["T_theta"].replace(".", "").lstrip("0")) >= 24  # 25 significant digits written
-        for c in ("T_theta", "delta_phi", "delta_psi", "theta_N"):
-            assert abs(float(m[c]) - float(b[c])) <= 2e-13 * max(abs(float(m[c])), 1.0), c
+        # the double quadrature's bound (tests/test_quadrature.py: quadrature_bound), the mpmath value to 1e-25;
+        # θ_N from its end variable x: half x's relative rounding (``_root_error``) + the atan, √ (γ_4); × 4
+        E, QR, QJ = float(b["E"]), float(b["Q_R"]), float(b["Q_J"])
+        bT, bA = _bound_at(E, QR, QJ, pr.n_nodes[i])
+        tp = solve_turning_points(np.array([E]), np.array([QR]), np.array([QJ]), Body.paper())
+        bounds = {"T_theta": bT * float(b["T_theta"]), "delta_phi": bA, "delta_psi": bA,
+                  "theta_N": 4 * (0.5 * _root_error(tp, 0, "N") + ro.gamma(4)) * float(b["theta_N"])}
+        for c, bound in bounds.items():
+            ro.assert_within(float(m[c]) - float(b[c]), bound + 1e-25 * max(abs(float(m[c])), 1.0), c, float(m[c]))
     assert any("mpmath dps=25" in ln for ln in header)
 
 
