@@ -15,7 +15,6 @@ import contextlib
 import json
 import math
 import signal
-import tempfile
 import warnings
 from pathlib import Path
 
@@ -301,8 +300,10 @@ def check_exit(code: int, argv: list[str], out: str) -> None:
         json.loads(out, parse_constant=lambda c: pytest.fail(f"{c} in JSON output of {argv}"))
 
 
-def out_dir() -> str:
-    return tempfile.mkdtemp(prefix="rnr-fuzz-")
+@pytest.fixture(scope="module")
+def outputs(tmp_path_factory):
+    """A new output directory per example, under pytest's temporary tree (cleaned by pytest)."""
+    return lambda: str(tmp_path_factory.mktemp("cli"))
 
 
 @FEW
@@ -310,9 +311,9 @@ def out_dir() -> str:
                                              "--psi-dot0", "--eps", "--t-end", "--dt", "--a", "--I3", "--g"]),
                             TEXT, max_size=4),
        json_out=st.booleans(), strict=st.booleans(), tp_only=st.booleans())
-def test_cli_simulate(opts, json_out, strict, tp_only, capsys):
+def test_cli_simulate(opts, json_out, strict, tp_only, capsys, outputs):
     opts["--t-end"] = _short(opts.get("--t-end", "5"))
-    argv = ["simulate", "--out", out_dir(), "--quiet"] + [x for kv in opts.items() for x in kv]
+    argv = ["simulate", "--out", outputs(), "--quiet"] + [x for kv in opts.items() for x in kv]
     argv += ["--json"] * json_out + ["--strict"] * strict + ["--turning-points-only"] * tp_only
     code, out, _ = run_cli(argv, capsys)
     check_exit(code, argv, out)
@@ -331,10 +332,10 @@ def _short(text: str) -> str:
 @FEW
 @given(qr=TEXT, qj=TEXT, theta0=TEXT, per=st.sampled_from(["T_theta", "tau", "bad"]), json_out=st.booleans(),
        grid=st.booleans())
-def test_cli_table(qr, qj, theta0, per, json_out, grid, capsys):
+def test_cli_table(qr, qj, theta0, per, json_out, grid, capsys, outputs):
     qr_arg = f"{qr}:0.01:3" if grid else qr
     argv = ["table", "--QR", qr_arg, "--QJ", qj, "--theta0", theta0, "--per", per, "--out",
-            str(Path(out_dir()) / "t.csv"), "--quiet"] + ["--json"] * json_out
+            str(Path(outputs()) / "t.csv"), "--quiet"] + ["--json"] * json_out
     code, out, _ = run_cli(argv, capsys)
     check_exit(code, argv, out)
 
@@ -342,8 +343,8 @@ def test_cli_table(qr, qj, theta0, per, json_out, grid, capsys):
 @FEW
 @given(qr_max=TEXT, eps=TEXT, simulate_it=st.booleans(), t_end=st.sampled_from(["10", "1e300", "-1", "nan"]),
        line=st.sampled_from(["pi", "0", "x"]))
-def test_cli_diagram(qr_max, eps, simulate_it, t_end, line, capsys):
-    argv = ["diagram", "--QR-max", qr_max, "--eps", eps, "--out", out_dir()]
+def test_cli_diagram(qr_max, eps, simulate_it, t_end, line, capsys, outputs):
+    argv = ["diagram", "--QR-max", qr_max, "--eps", eps, "--out", outputs()]
     if simulate_it:
         argv += ["--simulate", "--t-end", t_end, "--critical-line", line, "--psi-dot0", "0.002"]
     code, out, _ = run_cli(argv, capsys)
@@ -363,8 +364,8 @@ def test_cli_slow(theta0, psi0, eps, t_end, json_out, capsys):
 @FEW
 @given(only=st.lists(st.sampled_from(["table_polar_cap", "table_small_amplitude", "nope", ""]), min_size=1,
                      max_size=2), listing=st.booleans())
-def test_cli_reproduce(only, listing, capsys):
-    argv = ["reproduce", "--out", out_dir(), "--quiet", "--only", *only] + ["--list"] * listing
+def test_cli_reproduce(only, listing, capsys, outputs):
+    argv = ["reproduce", "--out", outputs(), "--quiet", "--only", *only] + ["--list"] * listing
     code, out, _ = run_cli(argv, capsys)
     check_exit(code, argv, out)
 
