@@ -33,8 +33,8 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.special import ellipj, ellipk
 
-from rocknroller.analysis.averaging import (_QJ_of, _QR_of, directional_derivative, eps_derivative_rhs, eps_period_doubling,
-                                rest_energy)
+from rocknroller.analysis.averaging import eps_period_doubling
+from rocknroller.analysis.slow_orbit import _QJ_of, _QR_of, directional_derivative, eps_derivative_rhs, rest_energy
 from rocknroller.analysis.body import Body
 from rocknroller.analysis.invariants import V_phi, V_psi
 from rocknroller.analysis.reduction import F

@@ -15,6 +15,7 @@ import pytest
 from scipy.optimize import brentq
 
 from rocknroller.analysis import averaging as av
+from rocknroller.analysis import slow_orbit as so
 from rocknroller.analysis.body import Body
 from rocknroller.analysis.invariants import energy
 from rocknroller.analysis.quadrature import precession, precession_mp, wrap_angle
@@ -32,6 +33,7 @@ THETA0 = 0.95 * math.pi
 PSI0 = {"pi/8": math.pi / 8, "pi/4": math.pi / 4, "3pi/8": 3 * math.pi / 8, "3.9pi/8": 3.9 * math.pi / 8}
 EPS = (1e-2, 1e-3, 1e-4)
 SYM = Body.paper(0.0)
+E0 = so.rest_energy(SYM, THETA0)
 #: "Falls at least linearly": an error aε + bε² has the log-log slope 1 + O(bε/a) over the fitted range;
 #: 0.9 admits |bε/a| up to ~0.2 at the largest ε and rejects any O(√ε) or O(1) part (slope ≤ 0.5 or 0).
 MIN_SLOPE = 0.9
@@ -64,7 +66,6 @@ def _direct_step(eps: float, QR: float, QJ: float, psi: float) -> dict[str, floa
     """One maximum → maximum of the asymmetric body by the direct ODE, started at the maximum with
     the given (E, Q_R, Q_J, ψ) (θ_X solved from the energy of the ε-body)."""
     body = Body.paper(eps)
-    E0 = av.rest_energy(SYM, THETA0)
     st = lambda th: state_from_euler(th, 0.0, psi, 0.0, *_rates(th, QR, QJ))  # noqa: E731
     th = brentq(lambda x: float(energy(body, st(x)[0:3], st(x)[3:6])) - E0, THETA0 - 0.02, THETA0 + 0.02,
                 xtol=1e-16, rtol=1e-15)
@@ -84,10 +85,10 @@ def _rates(theta: float, QR: float, QJ: float) -> tuple[float, float]:
 def test_first_order_step_equals_finite_difference_of_direct_ode():
     """ε-derivatives from the variational equations = Richardson finite differences of the ODE."""
     QR, QJ, psi = 2.0e-3, -3.0e-5, 0.3
-    step = av.first_order_step(SYM, THETA0, QR, QJ, psi)
+    step = so.first_order_step(SYM, E0, QR, QJ, psi)
     h = 1e-6
     f0, f1, f2 = (_direct_step(e, QR, QJ, psi) for e in (0.0, h, 2 * h))
-    for name in av.FIRST_ORDER_NAMES:
+    for name in so.FIRST_ORDER_NAMES:
         wrap = (lambda x: float(wrap_angle(x))) if name in ("Theta", "phi") else float
         d1, d2 = wrap(f1[name] - f0[name]) / h, wrap(f2[name] - f0[name]) / (2 * h)
         fd = 2.0 * d1 - d2  # Richardson: O(h²)
@@ -95,7 +96,7 @@ def test_first_order_step_equals_finite_difference_of_direct_ode():
         assert fd == pytest.approx(step.d[name], rel=1e-5, abs=1e-6), name
 
 
-def _step_period_bound(step: av.FirstOrderStep, E0: float, margin: float = 4.0) -> float:
+def _step_period_bound(step: so.FirstOrderStep, E0: float, margin: float = 4.0) -> float:
     """Bound on the error of the period T of ``first_order_step``'s heyoka run (variational integrator at ε).
 
     Each step errs by ≤ ε max(1, ‖(y, z)‖∞) in every component (heyoka's error control on the 22-component state);
@@ -112,7 +113,7 @@ def _step_period_bound(step: av.FirstOrderStep, E0: float, margin: float = 4.0) 
     st = state_from_turning_point(SYM, step.theta_X, QR, QJ)
     initial = EulerState(step.theta_X, 0.0, step.psi, 0.0, float(st.phi_dot), float(st.psi_dot))
     n_steps = simulate(SYM, initial, step.T).n_steps
-    scale = max(1.0, float(np.abs(av._variational_integrator().state).max()))
+    scale = max(1.0, float(np.abs(so._variational_integrator().state).max()))
     y0 = initial.to_body_state()
     def qs(y):
         return np.array([q(SYM, y[0:3], y[3:6]) for q in (energy, routh, jellett)])
@@ -136,8 +137,7 @@ def test_symmetric_step_equals_quadrature():
     """The symmetric orbit of the variational run reproduces T_θ, Δψ and Δφ (mod π) of the quadratures (T_θ against
     the 30-digit one, within ``_step_period_bound``)."""
     QR, QJ = 4.0e-3, -1.0e-4
-    step = av.first_order_step(SYM, THETA0, QR, QJ, 1.1)
-    E0 = av.rest_energy(SYM, THETA0)
+    step = so.first_order_step(SYM, E0, QR, QJ, 1.1)
     pr = precession(E0, QR, QJ, SYM)
     ro.assert_within(step.T - float(precession_mp(E0, QR, QJ, SYM, dps=30).T_theta), _step_period_bound(step, E0),
                      "T", step.T)
@@ -147,16 +147,16 @@ def test_symmetric_step_equals_quadrature():
 
 def test_response_has_only_harmonics_0_and_2():
     """Three orbits determine the response at any ψ_n (rotational symmetry of Routh's sphere)."""
-    sc = av.step_coefficients(SYM, THETA0, 3.0e-3, 5.0e-5)
+    sc = so.step_coefficients(SYM, E0, 3.0e-3, 5.0e-5)
     for psi in (0.4, 2.0):
-        direct = av.first_order_step(SYM, THETA0, 3.0e-3, 5.0e-5, psi)
-        for name in av.FIRST_ORDER_NAMES:
+        direct = so.first_order_step(SYM, E0, 3.0e-3, 5.0e-5, psi)
+        for name in so.FIRST_ORDER_NAMES:
             assert float(sc.response(name, psi)) == pytest.approx(direct.d[name], rel=1e-8, abs=1e-9), name
 
 
 def test_pure_rocking_is_exact_and_kick_is_sin_theta():
     """At Q = 0: no response at ψ = 0 or π/2 (rocking about a principal axis is exact), ΔQ = C0 sin Θ."""
-    sc = av.step_coefficients(SYM, THETA0, 0.0, 0.0)
+    sc = so.step_coefficients(SYM, E0, 0.0, 0.0)
     for name in ("QR", "QJ"):
         c0, c1, s1 = sc.harmonics[name]
         assert abs(c0) < 1e-10 * abs(s1) and abs(c1) < 1e-10 * abs(s1)
@@ -169,7 +169,7 @@ def test_table_interpolates_the_coefficients(table):
     for _ in range(3):
         u, v = rng.uniform(-1, 1) * table.U, rng.uniform(-1, 1) * table.V
         Q = u * table.e + v * table.n
-        sc = av.step_coefficients(SYM, THETA0, *Q)
+        sc = so.step_coefficients(SYM, E0, *Q)
         vals = dict(zip(av.TABLE_FUNCTIONS, table.evaluate(Q)))
         assert vals["T"] == pytest.approx(sc.T, rel=1e-11)
         assert float(wrap_angle(vals["W"] - sc.W)) == pytest.approx(0.0, abs=1e-9)
@@ -187,7 +187,7 @@ def test_raw_data_are_reversible(table):
     """The unsymmetrised first-order data already have the parities of a reversible map."""
     for u in (0.3, -0.7):
         Q = u * table.U * table.e
-        a, b = av.step_coefficients(SYM, THETA0, *Q), av.step_coefficients(SYM, THETA0, *(-Q))
+        a, b = so.step_coefficients(SYM, E0, *Q), so.step_coefficients(SYM, E0, *(-Q))
         # exact: T_θ depends on Q through squares, the product Q_R Q_J and u → −u only (rocknroller.analysis.reduction, the
         # double-double u_ends included), the same operations on negated inputs, and rounding to nearest is
         # symmetric under negation
@@ -561,7 +561,6 @@ def test_pendulum_constants_match_tables_and_quadrature(table, constants):
     c = constants
     assert np.allclose(c.C0, table.C0, rtol=1e-9)
     assert c.kappa == pytest.approx(table.kappa, rel=1e-7)
-    E0 = av.rest_energy(SYM, THETA0)
     h = 1e-7
     pr = precession(E0, np.array([h, 0.0]), np.array([0.0, h]), SYM)
     assert c.T0 == pytest.approx(float(precession(E0, 1e-12, 0.0, SYM).T_theta), rel=1e-11)

@@ -1,0 +1,301 @@
+"""One step maximum → maximum of Routh's sphere with its first-order ε-responses (the orbit stage of the
+averaged slow map, ``rocknroller.analysis.averaging``; docs/averaging.md, "Method").
+
+The symmetric orbit from a maximum θ_X at (E, Q, ψ_n) is integrated (heyoka) together with its first-order
+variational equations in ε (I2 = (1 + ε) I1) on ``rocknroller.numerics.equations.body_frame_rhs``:
+
+    ż = (∂f/∂y) z + ∂f/∂ε,   z(0) = ∂y₀/∂ε,
+
+where z(0) is the shift of the starting maximum θ_X at fixed (E, Q, ψ) (the kinetic energy depends on I2),
+and the shift of the event time (the next zero of dγ3/dt) is included:
+dy_{n+1}/dε = z + f dt₁/dε,  dt₁/dε = −∇h·z / ∇h·f,  h = dγ3/dt.
+
+By the rotational symmetry of Routh's sphere, the first-order response contains only the harmonics 0 and 2
+of ψ_n (0 and 1 of Θ_n = 2ψ_n): three orbits per Q (ψ_n = 0, π/3, 2π/3) determine it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.invariants import energy, jellett, routh
+from rocknroller.analysis.kinematics import angles_from_frame
+from rocknroller.analysis.quadrature import precession, wrap_angle
+from rocknroller.analysis.reduction import effective_potential, require_open_tilt, state_from_turning_point, turning_points
+from rocknroller.numerics.equations import body_frame_rhs, state_from_euler, turning_point_function
+
+__all__ = [
+    "HARMONIC_PSI",
+    "FIRST_ORDER_NAMES",
+    "rest_energy",
+    "directional_derivative",
+    "eps_derivative_rhs",
+    "FirstOrderStep",
+    "first_order_step",
+    "StepCoefficients",
+    "step_coefficients",
+    "symmetric_data",
+]
+
+#: Spin angles ψ_n of the three orbits that determine the harmonics 0 and 2 of ψ_n.
+HARMONIC_PSI = (0.0, math.pi / 3.0, 2.0 * math.pi / 3.0)
+#: First-order responses per step: ε-derivatives of Q_R, Q_J, Θ = 2ψ, the event time and φ.
+FIRST_ORDER_NAMES = ("QR", "QJ", "Theta", "t", "phi")
+_INTEGRATOR: dict[str, Any] = {}
+
+
+def rest_energy(body: Body, theta0: float) -> float:
+    """E of the body released from rest at θ0: U(θ0; 0, 0) = g a (1 − cos θ0) (paper eq. energy)."""
+    theta0 = float(require_open_tilt(float(theta0)))
+    return float(effective_potential(theta0, 0.0, 0.0, body.symmetric()))
+
+
+def directional_derivative(fun: Callable[[NDArray[np.float64]], float], y: ArrayLike, v: ArrayLike,
+                           *, angle: bool = False, h: float = 1e-4) -> float:
+    """D fun(y)[v] by the fourth-order central difference along v/|v| (step h), times |v|.
+
+    Exact to round-off for quadratic functions (Q_J, dγ3/dt); truncation ~h⁴ otherwise.
+    ``angle=True`` wraps the differences to (−π, π] (for ψ and φ from ``atan2``).
+    """
+    y, v = np.asarray(y, float), np.asarray(v, float)
+    norm = float(np.linalg.norm(v))
+    if norm == 0.0:
+        return 0.0
+    e = v / norm
+    wrap = (lambda x: float(wrap_angle(x))) if angle else float
+    return norm * _central_difference(lambda s: fun(y + s * e), 0.0, h, wrap)
+
+
+def _central_difference(fun: Callable[[float], Any], x: float, h: float,
+                        wrap: Callable[[Any], Any] = lambda d: d) -> Any:
+    """f'(x) ≈ [8 (f(x + h) − f(x − h)) − (f(x + 2h) − f(x − 2h))]/(12 h), fourth order; ``wrap`` is applied
+    to each difference (for angles).  Works on scalar or array values of f."""
+    d1 = wrap(fun(x + h) - fun(x - h))
+    d2 = wrap(fun(x + 2 * h) - fun(x - 2 * h))
+    return (8.0 * d1 - d2) / (12.0 * h)
+
+
+def eps_derivative_rhs(y: ArrayLike, body: Body) -> NDArray[np.float64]:
+    """∂f/∂ε of ``body_frame_rhs`` at ε = 0, I2 = (1 + ε) I1, by the complex step (exact to round-off)."""
+    a, I1, _, I3, g = body.params
+    h = 1e-30
+    out = body_frame_rhs(np.asarray(y, float).astype(complex), (a, I1, I1 * complex(1.0, h), I3, g))
+    return np.array([complex(v).imag / h for v in out])
+
+
+def _psi_of(y: NDArray[np.float64]) -> float:
+    return float(angles_from_frame(y[0:3], y[6:9])[2])
+
+
+def _phi_of(y: NDArray[np.float64]) -> float:
+    return float(angles_from_frame(y[0:3], y[6:9])[1])
+
+
+def _QR_of(body: Body) -> Callable[[NDArray[np.float64]], float]:
+    return lambda y: float(routh(body, y[0:3], y[3:6]))
+
+
+def _QJ_of(body: Body) -> Callable[[NDArray[np.float64]], float]:
+    return lambda y: float(jellett(body, y[0:3], y[3:6]))
+
+
+def _variational_integrator() -> Any:
+    """heyoka integrator of form (i) with its first-order variational equations in ε.
+
+    State (y, z), 22 components; parameters (a, I1, I3, g, ε) with I2 = (1 + ε) I1.
+    """
+    if "ta" in _INTEGRATOR:
+        return _INTEGRATOR["ta"]
+    import heyoka as hy
+
+    names = ["g1", "g2", "g3", "w1", "w2", "w3", "x1", "x2", "x3", "X", "Y"]
+    y = hy.make_vars(*names)
+    z = hy.make_vars(*("d" + n for n in names))
+    a, I1, I3, g, eps = (hy.par[i] for i in range(5))
+    f = body_frame_rhs(y, (a, I1, I1 * (1.0 + eps), I3, g))
+    fz = []
+    for fi in f:
+        expr = hy.diff(fi, eps)
+        for yj, zj in zip(y, z):
+            expr = expr + hy.diff(fi, yj) * zj
+        fz.append(expr)
+    ta = hy.taylor_adaptive(list(zip(y, f)) + list(zip(z, fz)), np.zeros(22), pars=np.zeros(5),
+                            compact_mode=True)
+    _INTEGRATOR["ta"] = ta
+    return ta
+
+
+# ----------------------------------------------------------------------------- one orbit
+@dataclass(frozen=True)
+class FirstOrderStep:
+    """One step maximum → maximum of the symmetric orbit with its first-order ε-responses.
+
+    Attributes
+    ----------
+    QR, QJ, psi : the starting point (Q_R, Q_J, ψ_n) at the maximum θ_X.
+    theta_X : the symmetric body's maximum for (E, Q_R, Q_J).
+    T : time to the next maximum (symmetric orbit, event on dγ3/dt located to round-off).
+    dpsi, dphi : the symmetric increments of ψ and φ, wrapped to (−π/2, π/2] (mod π).
+    d : ε-derivatives at fixed (E, Q_n, ψ_n) of Q_R, Q_J, Θ = 2ψ, the event time and φ at the
+        next maximum (keys of ``FIRST_ORDER_NAMES``).
+    """
+
+    QR: float
+    QJ: float
+    psi: float
+    theta_X: float
+    T: float
+    dpsi: float
+    dphi: float
+    d: dict[str, float]
+
+
+def _max_state(sym: Body, theta: float, QR: float, QJ: float, psi: float) -> NDArray[np.float64]:
+    st = state_from_turning_point(sym, theta, QR, QJ)
+    return state_from_euler(theta, 0.0, psi, 0.0, float(st.phi_dot), float(st.psi_dot))
+
+
+def first_order_step(body: Body, E: float, QR: float, QJ: float, psi: float, *,
+                     theta_X: float | None = None) -> FirstOrderStep:
+    """Integrate one step of the symmetric orbit and its first-order variational equations in ε.
+
+    Parameters
+    ----------
+    body : Body
+        Any body; its symmetric part (a, I1, I3, g) is used, with I2 = (1 + ε) I1.
+    E : float
+        The energy (exact, conserved by the asymmetric body too); for a release from rest at θ0,
+        :func:`rest_energy`.
+    QR, QJ : float
+        Routh's and Jellett's quantities at the starting maximum.
+    psi : float
+        Spin angle ψ_n at the starting maximum.
+    theta_X : float, optional
+        The maximum θ_X(E, Q_R, Q_J) if already known (``reduction.turning_points``).
+    """
+    sym = body.symmetric()
+    if theta_X is None:
+        theta_X = float(turning_points(E, QR, QJ, sym)[1])
+    y0 = _max_state(sym, theta_X, QR, QJ, psi)
+    # shift of θ_X at fixed (E, Q, ψ): ∂E/∂ε (E is linear in I2) over ∂U/∂θ
+    e_half = 0.5 * (sym.I3 / sym.I1 - 1.0)
+    dE_deps = float(energy(sym.with_epsilon(e_half), y0[0:3], y0[3:6]) - energy(sym, y0[0:3], y0[3:6])) / e_half
+    hth = 1e-4 * min(theta_X, math.pi - theta_X)
+    U = lambda th: float(effective_potential(th, QR, QJ, sym))  # noqa: E731
+    dU = _central_difference(U, theta_X, hth)
+    dy_dth = _central_difference(lambda th: _max_state(sym, th, QR, QJ, psi), theta_X, hth)
+    z0 = dy_dth * (-dE_deps / dU)
+
+    ta = _variational_integrator()
+    ta.time = 0.0
+    ta.state[:11] = y0
+    ta.state[11:] = z0
+    ta.pars[:] = [sym.a, sym.I1, sym.I3, sym.g, 0.0]
+    # step until dγ3/dt rises through zero (a maximum of θ) after the minimum
+    h_prev, passed_min = turning_point_function(y0), False
+    for _ in range(100000):
+        outcome = ta.step(write_tc=True)[0]
+        if outcome.name != "success":
+            raise RuntimeError(f"heyoka step failed: {outcome}")
+        hv = turning_point_function(ta.state[:11])
+        if h_prev > 0.0 >= hv:
+            passed_min = True
+        if passed_min and h_prev < 0.0 <= hv:
+            break
+        h_prev = hv
+    else:  # pragma: no cover
+        raise RuntimeError("no next maximum of theta found")
+    p0 = sym.params
+    t1 = float(ta.time)
+    for _ in range(50):  # Newton on the dense output
+        ta.update_d_output(t1)
+        Y = np.array(ta.d_output[:11])
+        dt = -turning_point_function(Y) / directional_derivative(turning_point_function, Y,
+                                                                  np.array(body_frame_rhs(Y, p0)))
+        t1 += dt
+        if abs(dt) <= 4e-16 * t1:
+            break
+    ta.update_d_output(t1)
+    Y, Z = np.array(ta.d_output[:11]), np.array(ta.d_output[11:])
+    fY = np.array(body_frame_rhs(Y, p0))
+    dt1 = -directional_derivative(turning_point_function, Y, Z) / directional_derivative(turning_point_function, Y, fY)
+    dY = Z + fY * dt1
+    d = {
+        "QR": directional_derivative(_QR_of(sym), Y, dY),
+        "QJ": directional_derivative(_QJ_of(sym), Y, dY),
+        "Theta": 2.0 * directional_derivative(_psi_of, Y, dY, angle=True),
+        "t": dt1,
+        "phi": directional_derivative(_phi_of, Y, dY, angle=True),
+    }
+    return FirstOrderStep(QR=float(QR), QJ=float(QJ), psi=float(psi), theta_X=theta_X, T=t1,
+                          dpsi=float(wrap_angle(_psi_of(Y) - psi, math.pi)),
+                          dphi=float(wrap_angle(_phi_of(Y) - _phi_of(y0), math.pi)), d=d)
+
+
+# ----------------------------------------------------------------------------- coefficients at one Q
+@dataclass(frozen=True)
+class StepCoefficients:
+    """First-order one-step coefficients at a given Q (paper-body units).
+
+    Attributes
+    ----------
+    QR, QJ : float
+    T : float
+        T_θ(Q), time between maxima of the symmetric body (quadrature).
+    W : float
+        2(Δψ − π) wrapped to (−π, π] (quadrature, per T_θ).
+    dphi : float
+        Δφ per T_θ mod π in (−π/2, π/2] (quadrature).
+    harmonics : dict
+        For each name of ``FIRST_ORDER_NAMES``, (c0, c1, s1) with
+        ε-response(Θ_n) = c0 + c1 cos Θ_n + s1 sin Θ_n, Θ_n = 2ψ_n.
+    steps : tuple of FirstOrderStep
+        The three orbits (ψ_n in ``HARMONIC_PSI``).
+    """
+
+    QR: float
+    QJ: float
+    T: float
+    W: float
+    dphi: float
+    harmonics: dict[str, tuple[float, float, float]]
+    steps: tuple[FirstOrderStep, ...] = field(repr=False)
+
+    def response(self, name: str, psi: ArrayLike) -> NDArray[np.float64]:
+        """ε-response ``name`` at spin angle(s) ψ_n."""
+        c0, c1, s1 = self.harmonics[name]
+        Th = 2.0 * np.asarray(psi, float)
+        return c0 + c1 * np.cos(Th) + s1 * np.sin(Th)
+
+
+def _harmonics(values: ArrayLike) -> NDArray[np.float64]:
+    """(c0, c1, s1) from values at Θ = 0, 2π/3, 4π/3 (last axis)."""
+    v = np.asarray(values, float)
+    Th = 2.0 * np.asarray(HARMONIC_PSI)
+    return np.stack([v.mean(axis=-1), (2.0 / 3.0) * (v * np.cos(Th)).sum(axis=-1),
+                     (2.0 / 3.0) * (v * np.sin(Th)).sum(axis=-1)], axis=-1)
+
+
+def symmetric_data(sym: Body, E: float, QR: ArrayLike, QJ: ArrayLike) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """(T_θ, W, Δφ mod π, θ_X) at energy E from the quadratures, vectorised."""
+    pr = precession(E, QR, QJ, sym, rtol=1e-12)  # W errors are amplified by the twist: full precision
+    bad = np.asarray(pr.status) != 0
+    if np.any(bad):
+        raise ValueError(f"the symmetric quadrature failed at some Q (status {pr.status_text()[bad][:3]})")
+    return (np.asarray(pr.T_theta, float), np.asarray(wrap_angle(2.0 * np.asarray(pr.delta_psi) - 2.0 * math.pi)),
+            np.asarray(pr.visible_half_phi, float), np.asarray(pr.theta_X, float))
+
+
+def step_coefficients(body: Body, E: float, QR: float, QJ: float) -> StepCoefficients:
+    """The first-order one-step coefficients at energy E and Q = (Q_R, Q_J) (three variational orbits)."""
+    sym = body.symmetric()
+    T, W, dphi, theta_X = (float(x) for x in symmetric_data(sym, E, QR, QJ))
+    steps = tuple(first_order_step(sym, E, QR, QJ, psi, theta_X=theta_X) for psi in HARMONIC_PSI)
+    harm = {name: tuple(float(c) for c in _harmonics([s.d[name] for s in steps])) for name in FIRST_ORDER_NAMES}
+    return StepCoefficients(QR=float(QR), QJ=float(QJ), T=T, W=W, dphi=dphi, harmonics=harm, steps=steps)
