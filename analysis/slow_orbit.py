@@ -28,7 +28,7 @@ from rocknroller.analysis.invariants import energy, jellett, routh
 from rocknroller.analysis.kinematics import angles_from_frame
 from rocknroller.analysis.quadrature import precession, wrap_angle
 from rocknroller.analysis.reduction import effective_potential, require_open_tilt, state_from_turning_point, turning_points
-from rocknroller.numerics.equations import body_frame_rhs, state_from_euler, turning_point_function
+from rocknroller.numerics.equations import EulerState, body_frame_rhs, state_from_euler, turning_point_function
 
 __all__ = [
     "HARMONIC_PSI",
@@ -41,6 +41,8 @@ __all__ = [
     "StepCoefficients",
     "step_coefficients",
     "symmetric_data",
+    "FirstMaximum",
+    "first_maximum",
 ]
 
 #: Spin angles ψ_n of the three orbits that determine the harmonics 0 and 2 of ψ_n.
@@ -299,3 +301,65 @@ def step_coefficients(body: Body, E: float, QR: float, QJ: float) -> StepCoeffic
     steps = tuple(first_order_step(sym, E, QR, QJ, psi, theta_X=theta_X) for psi in HARMONIC_PSI)
     harm = {name: tuple(float(c) for c in _harmonics([s.d[name] for s in steps])) for name in FIRST_ORDER_NAMES}
     return StepCoefficients(QR=float(QR), QJ=float(QJ), T=T, W=W, dphi=dphi, harmonics=harm, steps=steps)
+
+
+# ----------------------------------------------------------------------------- any start → its first maximum
+@dataclass(frozen=True)
+class FirstMaximum:
+    """The state of a run at its first maximum of θ: where the slow map of a start with velocity begins.
+
+    Attributes
+    ----------
+    t : time of the maximum (0 if the start is itself a maximum, as a release from rest is).
+    E : the body's energy (exact for the asymmetric body too; paper eq. energy).
+    theta, QR, QJ, psi, phi : θ_X, Routh's and Jellett's quantities, and the Euler angles ψ, φ there.
+    """
+
+    t: float
+    E: float
+    theta: float
+    QR: float
+    QJ: float
+    psi: float
+    phi: float
+
+
+#: Longest stretch (in periods of the symmetric rocking at the start's energy) searched for the first maximum.
+_FIRST_MAXIMUM_PERIODS = 4.0
+
+
+def first_maximum(body: Body, initial: EulerState) -> FirstMaximum:
+    """Carry ``initial`` to its first maximum of θ by a short direct integration of the asymmetric body.
+
+    The direct ODE (heyoka, tolerance the unit round-off; ``rocknroller.numerics.integrate.simulate``) adds no
+    error of the averaging's kind: the map then starts from the true maximum.  A start with θ̇ = 0 at which θ
+    is about to decrease (a release from rest at 0 < θ0 < π) is itself the first maximum (t = 0).
+
+    Raises
+    ------
+    ValueError
+        A start that ``simulate`` refuses (naming the parameter), or one whose θ has no maximum within
+        ``_FIRST_MAXIMUM_PERIODS`` times the symmetric body's period T_θ at its (E, Q) (steady rolling).
+    """
+    from rocknroller.numerics.integrate import simulate
+
+    y0 = initial.to_body_state()
+    E = float(energy(body, y0[0:3], y0[3:6]))
+    QR0, QJ0 = float(routh(body, y0[0:3], y0[3:6])), float(jellett(body, y0[0:3], y0[3:6]))
+    h0 = float(turning_point_function(y0))
+    dh0 = directional_derivative(turning_point_function, y0, np.array(body_frame_rhs(y0, body.params)))
+    if h0 == 0.0 and dh0 > 0.0:  # θ̇ = 0 and θ about to fall: the start is a maximum
+        return FirstMaximum(t=0.0, E=E, theta=float(initial.theta), QR=QR0, QJ=QJ0, psi=float(initial.psi),
+                            phi=float(initial.phi))
+    sym = body.symmetric()
+    try:
+        period = float(precession(E, QR0, QJ0, sym).T_theta)
+    except ValueError as exc:
+        raise ValueError(f"the start has no oscillation of theta to average over: {exc}") from None
+    run = simulate(body, initial, _FIRST_MAXIMUM_PERIODS * period, samples=False)
+    if len(run.maxima) == 0:
+        raise ValueError(f"theta has no maximum within {_FIRST_MAXIMUM_PERIODS:g} rocking periods "
+                         f"({_FIRST_MAXIMUM_PERIODS * period:.4g} time units) of this start: nothing to average")
+    m = run.maxima
+    return FirstMaximum(t=float(m.t[0]), E=E, theta=float(m.theta[0]), QR=float(m.QR[0]), QJ=float(m.QJ[0]),
+                        psi=float(m.psi[0]), phi=float(m.phi[0]))
