@@ -3,8 +3,8 @@
  *
  * The step of analysis.averaging.iterate_slow_map, in C so that it costs ~1 us instead of the ~15 us
  * of interpreter overhead of a Python loop.  It evaluates the run-time tables built by
- * analysis.averaging._FastTable (values on a fine uniform grid in u, 6-point Lagrange interpolation
- * between them, Chebyshev series in v) and solves the implicit midpoint kick m = a + (eps/2) k(m) by
+ * analysis.averaging._FastTable (values on a fine uniform grid in x = u/U, 6-point Lagrange interpolation
+ * between them, Chebyshev series in tau = (v - c(x))/w(x), the table's chart) and solves the implicit midpoint kick m = a + (eps/2) k(m) by
  * simplified Newton: the explicit kick as first iterate, the Jacobian I - (eps/2) dk/dm once at that
  * iterate, and a stop when the change of the end point 2m - a is within 1e-13 of the kick (+ 4 ulp) or
  * the observed contraction eta puts the remaining error eta/(1 - eta) x change below 1e-3 of that
@@ -13,17 +13,20 @@
  * from the tables.  tests/test_averaging.py::_reference_map evaluates the same map plainly in NumPy
  * (fixed-point kick) and the tests compare the two.
  *
- * iterate(rows, rows_jac, out, U, V, dx, nv, eps, u, v, Th, t, phi, t_end)
- *     rows      C-contiguous float64 buffer (Nf, 18 * nv): the 18 run-time functions
- *     rows_jac  C-contiguous float64 buffer (Nf, 48 * nv): those and the u-, v-derivatives of 0-14
+ * iterate(rows, rows_jac, geom, out, U, dx, nv, eps, u, v, Th, t, phi, t_end)
+ *     rows      C-contiguous float64 buffer (Nf, 18 * nv): the 18 run-time functions (Chebyshev in tau)
+ *     rows_jac  C-contiguous float64 buffer (Nf, 48 * nv): those, their x-derivatives at fixed tau divided
+ *               by U, and their tau-derivatives, for the kick functions 0-14
+ *     geom      C-contiguous float64 buffer (Nf, 4): the chart c(x), w(x) > 0, c'(x)/U, w'(x)/U
  *     out       writable C-contiguous float64 buffer (n_max, 5): rows (t, u, v, Theta, phi)
  *     the state (u, v, Theta, t, phi) at a maximum, and t_end
  * returns (n, status, u_bad, v_bad, n_jacobian, n_plain): n rows written; status 0 = t_end reached,
  *     1 = out is full, 2 = the orbit left the table at (u_bad, v_bad), 3 = the implicit kick did not
  *     converge; the numbers of table evaluations with and without the Jacobian rows.
  *
- * evaluate(rows, width, nv, U, V, dx, u, v)
- *     the `width` (18 or 48) functions of rows at (u, v), or None outside the table.
+ * evaluate(rows, geom, width, nv, U, dx, u, v)
+ *     the `width` (18 or 48) functions of rows at (u, v), or None outside the table; with width 48 the
+ *     derivatives are d/du and d/dv at (u, v).
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -40,9 +43,9 @@
 enum { DONE = 0, FULL = 1, LEFT_TABLE = 2, NO_CONVERGENCE = 3 };
 
 typedef struct {
-    const double *rows, *rows_jac;
+    const double *rows, *rows_jac, *geom;
     Py_ssize_t n_fine;
-    double U, V, dx;
+    double U, dx;
     int nv;
 } table_t;
 
@@ -55,12 +58,14 @@ static double ulp(double x)
     return nextafter(x, INFINITY) - x;
 }
 
-/* the `width` functions of `rows` (stride width * nv) at (u, v); 0 if inside the table */
+/* the `width` functions of `rows` (stride width * nv) at (u, v); 0 if inside the table.  With width N_JAC
+   the tabulated (d/dx at fixed tau)/U and d/dtau become d/du and d/dv by the chain rule through the chart
+   v = c(x) + tau w(x): d/dv = (d/dtau)/w, d/du = (d/dx)/U - (c'/U + tau w'/U) d/dv. */
 static int evaluate(const table_t *tb, const double *rows, int width, double u, double v,
                     double *val)
 {
-    double x = u / tb->U, y = v / tb->V;
-    if (!(x >= -1.0 && x <= 1.0 && y >= -1.0 && y <= 1.0))
+    double x = u / tb->U;
+    if (!(x >= -1.0 && x <= 1.0))
         return 1;
     double s = (x + 1.0) / tb->dx;
     Py_ssize_t i = (Py_ssize_t)s;
@@ -75,6 +80,14 @@ static int evaluate(const table_t *tb, const double *rows, int width, double u, 
     double l4 = l3 * d3, r1 = r2 * d2;
     double w[6] = {r1 * d1 * LAGRANGE_INV[0], d0 * r1 * LAGRANGE_INV[1], l2 * r2 * LAGRANGE_INV[2],
                    l3 * r3 * LAGRANGE_INV[3], l4 * d5 * LAGRANGE_INV[4], l4 * d4 * LAGRANGE_INV[5]};
+    double g[4];
+    const double *gb = tb->geom + (i - 2) * 4;
+    for (int k = 0; k < 4; k++)
+        g[k] = w[0] * gb[k] + w[1] * gb[4 + k] + w[2] * gb[8 + k] + w[3] * gb[12 + k] + w[4] * gb[16 + k]
+               + w[5] * gb[20 + k];
+    double y = (v - g[0]) / g[1];
+    if (!(y >= -1.0 && y <= 1.0))
+        return 1;
     double T[MAX_NV];
     int nv = tb->nv;
     T[0] = 1.0;
@@ -93,6 +106,12 @@ static int evaluate(const table_t *tb, const double *rows, int width, double u, 
         }
         val[f] = acc;
     }
+    if (width == N_JAC)
+        for (int f = 0; f < N_KICK; f++) {
+            double dv = val[N_FUN + N_KICK + f] / g[1];
+            val[N_FUN + N_KICK + f] = dv;
+            val[N_FUN + f] -= (g[2] + y * g[3]) * dv;
+        }
     return 0;
 }
 
@@ -185,36 +204,45 @@ static int get_buffer(PyObject *obj, Py_buffer *view, int writable, const char *
 
 static PyObject *iterate(PyObject *self, PyObject *args)
 {
-    PyObject *o_rows, *o_jac, *o_out;
-    double U, V, dx, eps, u, v, Th, t, phi, t_end;
+    PyObject *o_rows, *o_jac, *o_geom, *o_out;
+    double U, dx, eps, u, v, Th, t, phi, t_end;
     int nv;
-    if (!PyArg_ParseTuple(args, "OOOdddiddddddd", &o_rows, &o_jac, &o_out, &U, &V, &dx, &nv, &eps, &u, &v,
+    if (!PyArg_ParseTuple(args, "OOOOddiddddddd", &o_rows, &o_jac, &o_geom, &o_out, &U, &dx, &nv, &eps, &u, &v,
                           &Th, &t, &phi, &t_end))
         return NULL;
     if (nv < 2 || nv > MAX_NV) {
         PyErr_Format(PyExc_ValueError, "nv must be in [2, %d], got %d", MAX_NV, nv);
         return NULL;
     }
-    Py_buffer b_rows, b_jac, b_out;
+    Py_buffer b_rows, b_jac, b_geom, b_out;
     if (get_buffer(o_rows, &b_rows, 0, "rows") < 0)
         return NULL;
     if (get_buffer(o_jac, &b_jac, 0, "rows_jac") < 0) {
         PyBuffer_Release(&b_rows);
         return NULL;
     }
-    if (get_buffer(o_out, &b_out, 1, "out") < 0) {
+    if (get_buffer(o_geom, &b_geom, 0, "geom") < 0) {
         PyBuffer_Release(&b_rows);
         PyBuffer_Release(&b_jac);
         return NULL;
     }
-    table_t tb = {(const double *)b_rows.buf, (const double *)b_jac.buf, b_rows.len / (8 * N_FUN * nv), U, V, dx,
-                  nv};
-    Py_ssize_t n_max = b_out.len / (8 * 5);
-    if (tb.n_fine < 6 || b_rows.len != tb.n_fine * 8 * N_FUN * nv || b_jac.len != tb.n_fine * 8 * N_JAC * nv) {
+    if (get_buffer(o_out, &b_out, 1, "out") < 0) {
         PyBuffer_Release(&b_rows);
         PyBuffer_Release(&b_jac);
+        PyBuffer_Release(&b_geom);
+        return NULL;
+    }
+    table_t tb = {(const double *)b_rows.buf, (const double *)b_jac.buf, (const double *)b_geom.buf,
+                  b_rows.len / (8 * N_FUN * nv), U, dx, nv};
+    Py_ssize_t n_max = b_out.len / (8 * 5);
+    if (tb.n_fine < 6 || b_rows.len != tb.n_fine * 8 * N_FUN * nv || b_jac.len != tb.n_fine * 8 * N_JAC * nv
+        || b_geom.len != tb.n_fine * 8 * 4) {
+        PyBuffer_Release(&b_rows);
+        PyBuffer_Release(&b_jac);
+        PyBuffer_Release(&b_geom);
         PyBuffer_Release(&b_out);
-        PyErr_SetString(PyExc_ValueError, "rows, rows_jac must hold (Nf >= 6) x 18 x nv and Nf x 48 x nv values");
+        PyErr_SetString(PyExc_ValueError,
+                        "rows, rows_jac, geom must hold (Nf >= 6) x 18 x nv, Nf x 48 x nv and Nf x 4 values");
         return NULL;
     }
     double *out = (double *)b_out.buf, f[N_FUN], f1[N_FUN], res[5], bad[2] = {NAN, NAN};
@@ -261,30 +289,37 @@ static PyObject *iterate(PyObject *self, PyObject *args)
     Py_END_ALLOW_THREADS
     PyBuffer_Release(&b_rows);
     PyBuffer_Release(&b_jac);
+    PyBuffer_Release(&b_geom);
     PyBuffer_Release(&b_out);
     return Py_BuildValue("niddnn", n, status, bad[0], bad[1], counts[0], counts[1]);
 }
 
 static PyObject *evaluate_py(PyObject *self, PyObject *args)
 {
-    PyObject *o_rows;
-    double U, V, dx, u, v;
+    PyObject *o_rows, *o_geom;
+    double U, dx, u, v;
     int width, nv;
-    if (!PyArg_ParseTuple(args, "Oiiddddd", &o_rows, &width, &nv, &U, &V, &dx, &u, &v))
+    if (!PyArg_ParseTuple(args, "OOiidddd", &o_rows, &o_geom, &width, &nv, &U, &dx, &u, &v))
         return NULL;
     if (nv < 2 || nv > MAX_NV || (width != N_FUN && width != N_JAC)) {
         PyErr_Format(PyExc_ValueError, "nv must be in [2, %d] and width %d or %d", MAX_NV, N_FUN, N_JAC);
         return NULL;
     }
-    Py_buffer b;
+    Py_buffer b, bg;
     if (get_buffer(o_rows, &b, 0, "rows") < 0)
         return NULL;
-    table_t tb = {(const double *)b.buf, NULL, b.len / (8 * (Py_ssize_t)width * nv), U, V, dx, nv};
+    if (get_buffer(o_geom, &bg, 0, "geom") < 0) {
+        PyBuffer_Release(&b);
+        return NULL;
+    }
+    table_t tb = {(const double *)b.buf, NULL, (const double *)bg.buf, b.len / (8 * (Py_ssize_t)width * nv), U, dx,
+                  nv};
     double val[N_JAC];
-    int out = tb.n_fine < 6 ? -1 : evaluate(&tb, tb.rows, width, u, v, val);
+    int out = (tb.n_fine < 6 || bg.len != tb.n_fine * 8 * 4) ? -1 : evaluate(&tb, tb.rows, width, u, v, val);
     PyBuffer_Release(&b);
+    PyBuffer_Release(&bg);
     if (out < 0) {
-        PyErr_SetString(PyExc_ValueError, "rows must hold at least 6 grid points");
+        PyErr_SetString(PyExc_ValueError, "rows must hold at least 6 grid points and geom 4 values for each");
         return NULL;
     }
     if (out)
@@ -305,11 +340,11 @@ static PyObject *evaluate_py(PyObject *self, PyObject *args)
 
 static PyMethodDef methods[] = {
     {"iterate", iterate, METH_VARARGS,
-     "iterate(rows, rows_jac, out, U, V, dx, nv, eps, u, v, Theta, t, phi, t_end)\n"
+     "iterate(rows, rows_jac, geom, out, U, dx, nv, eps, u, v, Theta, t, phi, t_end)\n"
      "    -> (n, status, u_bad, v_bad, n_jacobian, n_plain)\n\n"
      "Step the slow map from a maximum until t_end; see analysis/_slow_map_kernel.c."},
     {"evaluate", evaluate_py, METH_VARARGS,
-     "evaluate(rows, width, nv, U, V, dx, u, v) -> list of width values, or None outside the table"},
+     "evaluate(rows, geom, width, nv, U, dx, u, v) -> list of width values, or None outside the table"},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_slow_map_kernel",

@@ -81,7 +81,7 @@ __all__ = [
 ]
 
 #: Bump when the table construction or its file format changes (part of the cache key).
-_TABLE_VERSION = "4"
+_TABLE_VERSION = "5"
 #: Chirikov's standard map I' = I + K sin Θ, Θ' = Θ + I' (the slow map near pure rocking, K = ε κ): the
 #: Jacobian at its stable fixed point has trace 2 − K, which reaches −2 (period doubling) at K = 4.
 K_PERIOD_DOUBLING = 4.0
@@ -145,22 +145,33 @@ def _cheb_fit_matrix(n: int) -> NDArray[np.float64]:
     return A
 
 
+#: Chebyshev coefficients of the chart's c(x) and w(x) (:class:`SlowMapTable`), zero-padded.
+CHART_TERMS = 48
+
+
 @dataclass(frozen=True)
 class SlowMapTable:
-    """Tabulated first-order slow map of one (body, θ0): Chebyshev series on a rectangle in (u, v).
+    """Tabulated first-order slow map of one (body, E): Chebyshev series in the chart coordinates (x, τ).
 
-    Q = u e + v n, with e the kick direction at Q = 0 and n ⟂ e; |u| ≤ U, |v| ≤ V.
+    Q = u e + v n with u = x U and v = c(x) + τ w(x), |x| ≤ 1, |τ| ≤ 1: e and n ⟂ e are unit vectors in
+    the (Q_R, Q_J) plane, c(x) (odd) and w(x) > 0 (even) Chebyshev series in x.  The tables of a release
+    from rest (:func:`build_table`) use the kick direction at Q = 0 for e, c = 0 and w = V (a rectangle);
+    those of a whole region (:func:`rocknroller.analysis.slow_region.build_region_table`) follow the critical
+    line Q_J,0^crit and the region's width.
 
     Attributes
     ----------
-    a, I1, I3, g, theta0, E0 : the symmetric body, the release angle and the energy.
+    a, I1, I3, g, theta0, E0 : the symmetric body, the release angle (NaN for a region table whose energy is
+        not that of a release from rest in (0, π)) and the energy.
     e, n : unit vectors in the (Q_R, Q_J) plane.
-    U, V : half-widths of the tabulated rectangle.
-    coef : ndarray (len(TABLE_FUNCTIONS), Nu, Nv), Chebyshev coefficients in (u/U, v/V).
+    U : half-length of the chart along e.
+    c_coef, w_coef : Chebyshev coefficients (``CHART_TERMS``) of c(x) and w(x).
+    coef : ndarray (len(TABLE_FUNCTIONS), Nu, Nv), Chebyshev coefficients in (x, τ).
     kappa : ∇W·C0 at Q = 0 (the standard-map constant, K = ε κ), from the table.
     C0 : the kick ΔQ(0, Θ) = C0 sin Θ, from the variational orbits at Q = 0.
     interp_error : largest relative error of the table against direct coefficients at three
         off-grid points, measured when the table was built.
+    delta_min : the region tables' least distance (E − min U)/E to steady rolling (0 for release tables).
     """
 
     a: float
@@ -172,29 +183,66 @@ class SlowMapTable:
     e: NDArray[np.float64]
     n: NDArray[np.float64]
     U: float
-    V: float
+    c_coef: NDArray[np.float64]
+    w_coef: NDArray[np.float64]
     coef: NDArray[np.float64]
     C0: NDArray[np.float64]
     kappa: float
     interp_error: float
+    delta_min: float = 0.0
 
     @property
     def body(self) -> Body:
         """The symmetric body the table was built for."""
         return Body(a=self.a, I1=self.I1, I2=self.I1, I3=self.I3, g=self.g)
 
+    def chart(self, x: ArrayLike, tau: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """(Q_R, Q_J) at the chart coordinates (x, τ)."""
+        x, tau = np.asarray(x, float), np.asarray(tau, float)
+        u = x * self.U
+        v = np.polynomial.chebyshev.chebval(x, self.c_coef) + tau * np.polynomial.chebyshev.chebval(x, self.w_coef)
+        return u * self.e[0] + v * self.n[0], u * self.e[1] + v * self.n[1]
+
+    def coordinates(self, Q: ArrayLike) -> tuple[float, float]:
+        """The chart coordinates (x, τ) of Q = (Q_R, Q_J)."""
+        Q = np.asarray(Q, float)
+        x = float(self.e @ Q) / self.U
+        xc = min(max(x, -1.0), 1.0)  # c, w are only defined on [−1, 1]; |x| > 1 is outside anyway
+        c, w = (float(np.polynomial.chebyshev.chebval(xc, k)) for k in (self.c_coef, self.w_coef))
+        return x, (float(self.n @ Q) - c) / w
+
     def evaluate(self, Q: ArrayLike) -> NDArray[np.float64]:
         """All ``TABLE_FUNCTIONS`` at Q = (Q_R, Q_J); raises AveragingRangeError outside the table."""
         Q = np.asarray(Q, float)
-        x, y = (self.e @ Q) / self.U, (self.n @ Q) / self.V
+        x, y = self.coordinates(Q)
         if not (abs(x) <= 1.0 and abs(y) <= 1.0):
+            if self.delta_min > 0.0:
+                from rocknroller.analysis.slow_region import boundary_distance
+
+                delta = float(boundary_distance(self.body, self.E0, Q[0], Q[1]))
+                raise AveragingRangeError(
+                    f"the slow orbit left the tabulated region at Q=({Q[0]:.4g}, {Q[1]:.4g}), whose distance to "
+                    f"steady rolling is (E - min U)/E = {delta:.3g}: the tables of E={self.E0:.6g} cover "
+                    f"|u| <= {self.U:.4g} along the critical line Q_J,0^crit and distances >= "
+                    f"{self.delta_min:g}; nearer steady rolling the oscillation of theta is too small to average")
             raise AveragingRangeError(
                 f"the slow orbit left the tabulated region at Q=({Q[0]:.4g}, {Q[1]:.4g}): the tables cover "
                 f"|u| <= {self.U:.4g} along the kick direction e=({self.e[0]:.4f}, {self.e[1]:.4f}) and "
-                f"|v| <= {self.V:.3g} across it; the averaging is valid for K = eps*kappa < {K_PERIOD_DOUBLING:g} "
-                f"(eps < {eps_period_doubling(self.kappa):.4g}) and orbits near pure rocking")
+                f"|v| <= {self.w_coef[0]:.3g} across it; the averaging is valid for K = eps*kappa < "
+                f"{K_PERIOD_DOUBLING:g} (eps < {eps_period_doubling(self.kappa):.4g}) and orbits near pure rocking")
         nu, nv = self.coef.shape[1:]
         return (self.coef @ _cheb_basis(y, nv)) @ _cheb_basis(x, nu)
+
+    def gradient(self, name: str, Q: ArrayLike) -> NDArray[np.float64]:
+        """(∂F/∂u, ∂F/∂v) of the table function ``name`` at Q (Q = u e + v n), by the chain rule through the chart."""
+        x, y = self.coordinates(Q)
+        self.evaluate(Q)  # the range check
+        cheb = np.polynomial.chebyshev
+        c = self.coef[TABLE_FUNCTIONS.index(name)]
+        gx = cheb.chebval2d(x, y, cheb.chebder(c, axis=0)) / self.U
+        gt = cheb.chebval2d(x, y, cheb.chebder(c, axis=1)) / cheb.chebval(x, self.w_coef)
+        slope = (cheb.chebval(x, cheb.chebder(self.c_coef)) + y * cheb.chebval(x, cheb.chebder(self.w_coef))) / self.U
+        return np.array([gx - slope * gt, gt])
 
 
 def _table_key(sym: Body, theta0: float, nu: int, nv: int, u_factor: float, v_ratio: float) -> str:
@@ -204,7 +252,8 @@ def _table_key(sym: Body, theta0: float, nu: int, nv: int, u_factor: float, v_ra
 
 def _table_spec(nu: int, nv: int) -> dict[str, tuple[int, ...]]:
     """Fields of a SlowMapTable file in checksum order, each float64 with this shape."""
-    shapes = {"e": (2,), "n": (2,), "C0": (2,), "coef": (len(TABLE_FUNCTIONS), nu, nv)}
+    shapes = {"e": (2,), "n": (2,), "C0": (2,), "c_coef": (CHART_TERMS,), "w_coef": (CHART_TERMS,),
+              "coef": (len(TABLE_FUNCTIONS), nu, nv)}
     return {name: shapes.get(name, ()) for name in SlowMapTable.__dataclass_fields__}
 
 
@@ -232,37 +281,30 @@ def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_fact
         admits no motion somewhere on the table rectangle (possible for bodies other than the paper's).
     """
     theta0 = check_map_theta0(theta0)
-    for name, val in (("nu", nu), ("nv", nv)):
-        if int(val) != val or val < 4 or val % 2:
-            raise ValueError(f"{name} must be an even integer >= 4, got {name}={val!r}")
+    check_grid(nu, nv)
     if not (u_factor > 0 and 0 < v_ratio <= 1):
         raise ValueError(f"u_factor must be > 0 and v_ratio in (0, 1], got {u_factor!r}, {v_ratio!r}")
     sym = body.symmetric()
     E0 = rest_energy(sym, theta0)
-    # kick direction and twist slope at Q = 0
-    at0 = [first_order_step(sym, E0, 0.0, 0.0, psi) for psi in HARMONIC_PSI]
-    C0 = np.array([_harmonics([s.d[k] for s in at0])[2] for k in ("QR", "QJ")])
+    C0 = kick_at_rest(sym, E0)
     e = C0 / np.linalg.norm(C0)
     nvec = np.array([-e[1], e[0]])
     hq = 1e-7
     Wp = symmetric_data(sym, E0, np.array([hq * e[0], -hq * e[0]]), np.array([hq * e[1], -hq * e[1]]))[1]
     dW_du = (Wp[0] - Wp[1]) / (2 * hq)
     U = u_factor * K_PERIOD_DOUBLING / abs(dW_du)
-    V = v_ratio * U
-    xu, xv = _cheb_nodes(nu), _cheb_nodes(nv)
-    uu, vv = np.meshgrid(U * xu, V * xv, indexing="ij")
-    QRg, QJg = uu * e[0] + vv * nvec[0], uu * e[1] + vv * nvec[1]
+    c_coef, w_coef = np.zeros(CHART_TERMS), np.zeros(CHART_TERMS)
+    w_coef[0] = v_ratio * U
+    frame = SlowMapTable(a=sym.a, I1=sym.I1, I3=sym.I3, g=sym.g, theta0=theta0, E0=E0, e=e, n=nvec, U=U,
+                         c_coef=c_coef, w_coef=w_coef, coef=np.zeros((len(TABLE_FUNCTIONS), nu, nv)), C0=C0,
+                         kappa=0.0, interp_error=0.0)
+    QRg, QJg = frame.chart(*np.meshgrid(_cheb_nodes(nu), _cheb_nodes(nv), indexing="ij"))
     try:
         T, W, dphi, thX = symmetric_data(sym, E0, QRg, QJg)
     except ValueError as exc:
         raise AveragingRangeError(
             f"the averaging tables of theta0={theta0!r} cannot be built for this body ({sym.describe()}): on their "
             f"rectangle |u| <= {U:.4g} (2.5 times the libration amplitude at K = 4) {exc}") from None
-    # continuous branches along u (both are ~0 at the centre)
-    W = np.unwrap(W, axis=0)
-    W -= 2 * math.pi * np.round(W[nu // 2] / (2 * math.pi))
-    dphi = np.unwrap(dphi, axis=0, period=math.pi)
-    dphi -= math.pi * np.round(dphi[nu // 2] / math.pi)
     resp = np.empty((len(FIRST_ORDER_NAMES), nu, nv, 3))
     for i in range(nu):
         for j in range(nv):
@@ -270,7 +312,45 @@ def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_fact
                      for psi in HARMONIC_PSI]
             for k, name in enumerate(FIRST_ORDER_NAMES):
                 resp[k, i, j] = _harmonics([s.d[name] for s in steps])
+    table = fit_table(frame, T, W, dphi, resp)
+    err = _interpolation_error(table)
+    if err > _INTERP_WARN:
+        warnings.warn(f"the averaging tables for theta0={theta0!r} interpolate the coefficients only to {err:.1e} "
+                      f"(relative); use more nodes (nu={nu}, nv={nv})", AveragingValidityWarning, stacklevel=2)
+    return dataclasses.replace(table, interp_error=err)
+
+
+def check_grid(nu: int, nv: int) -> None:
+    """ValueError unless nu and nv are even integers ≥ 4 (and nv ≤ 32, the compiled kernel's limit)."""
+    for name, val, top in (("nu", nu, 4096), ("nv", nv, 32)):
+        if int(val) != val or not 4 <= val <= top or val % 2:
+            raise ValueError(f"{name} must be an even integer in [4, {top}], got {name}={val!r}")
+
+
+def kick_at_rest(sym: Body, E: float) -> NDArray[np.float64]:
+    """C0 with ΔQ(0, Θ) = C0 sin Θ: the kick at Q = 0 from the three variational orbits at energy E."""
+    at0 = [first_order_step(sym, E, 0.0, 0.0, psi) for psi in HARMONIC_PSI]
+    return np.array([_harmonics([s.d[k] for s in at0])[2] for k in ("QR", "QJ")])
+
+
+def fit_table(frame: SlowMapTable, T: NDArray, W: NDArray, dphi: NDArray, resp: NDArray) -> SlowMapTable:
+    """The table on ``frame``'s chart from the data at its Chebyshev nodes (x_i, τ_j).
+
+    T, W, Δφ (mod π) of the symmetric orbit and ``resp`` (len(FIRST_ORDER_NAMES), nu, nv, 3), the harmonics of
+    the ε-responses.  W and Δφ are lifted to continuous branches (along τ, then along x through the middle of
+    the chart, odd in Q); the kick is put in drift–kick–drift form (module docstring) with ∇F by the chain
+    rule through the chart; each function gets its parity in Q ((x, τ) → (−x, −τ)) and its Chebyshev series.
+    ``frame`` supplies everything but ``coef`` and ``kappa``.
+    """
+    nu, nv = T.shape
+    xu, xv = _cheb_nodes(nu), _cheb_nodes(nv)
+    W, dphi = _lift(W, 2.0 * math.pi), _lift(dphi, math.pi)
     Au, Av = _cheb_fit_matrix(nu), _cheb_fit_matrix(nv)
+    cheb = np.polynomial.chebyshev
+    e, nvec, U = frame.e, frame.n, frame.U
+    w_x = cheb.chebval(xu, frame.w_coef)[:, None]
+    slope = (cheb.chebval(xu, cheb.chebder(frame.c_coef))[:, None]
+             + xv[None, :] * cheb.chebval(xu, cheb.chebder(frame.w_coef))[:, None]) / U  # (c' + τ w')/U
 
     def parity(F: NDArray, kind: str) -> NDArray:
         flipped = F[::-1, ::-1]
@@ -288,11 +368,16 @@ def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_fact
 
     kQR, kQJ = rotate(resp[0]), rotate(resp[1])
 
-    def half_grad_dot_kQ(F: NDArray, kind: str) -> NDArray:
-        """½ ∇F·k_Q at the nodes (harmonics), F a symmetric-orbit function fitted on the grid."""
+    def gradient(F: NDArray, kind: str) -> tuple[NDArray, NDArray]:
+        """(∂F/∂u, ∂F/∂v) at the nodes, F a symmetric-orbit function fitted on the grid."""
         c = fit(parity(F, kind))
-        gu = np.polynomial.chebyshev.chebgrid2d(xu, xv, np.polynomial.chebyshev.chebder(c, axis=0) / U)
-        gv = np.polynomial.chebyshev.chebgrid2d(xu, xv, np.polynomial.chebyshev.chebder(c, axis=1) / V)
+        gx = cheb.chebgrid2d(xu, xv, cheb.chebder(c, axis=0)) / U
+        gt = cheb.chebgrid2d(xu, xv, cheb.chebder(c, axis=1)) / w_x
+        return gx - slope * gt, gt
+
+    def half_grad_dot_kQ(F: NDArray, kind: str) -> NDArray:
+        """½ ∇F·k_Q at the nodes (harmonics)."""
+        gu, gv = gradient(F, kind)
         return 0.5 * (gu[..., None] * (e[0] * kQR + e[1] * kQJ) + gv[..., None] * (nvec[0] * kQR + nvec[1] * kQJ))
 
     # the part of each response received after the kick is carried by the second half-drift
@@ -307,14 +392,18 @@ def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_fact
     for k, name in enumerate(TABLE_FUNCTIONS):
         kind = "odd" if name in _ODD else "even" if name in _EVEN else "none"
         coef[k] = fit(parity(np.asarray(data[name], float), kind))
-    kappa = float(dW_du * np.linalg.norm(C0))
-    table = SlowMapTable(a=sym.a, I1=sym.I1, I3=sym.I3, g=sym.g, theta0=theta0, E0=E0, e=e, n=nvec, U=U, V=V,
-                         coef=coef, C0=C0, kappa=kappa, interp_error=0.0)
-    err = _interpolation_error(table)
-    if err > _INTERP_WARN:
-        warnings.warn(f"the averaging tables for theta0={theta0!r} interpolate the coefficients only to {err:.1e} "
-                      f"(relative); use more nodes (nu={nu}, nv={nv})", AveragingValidityWarning, stacklevel=2)
-    return dataclasses.replace(table, interp_error=err)
+    table = dataclasses.replace(frame, coef=coef)
+    gu, gv = (float(g) for g in table.gradient("W", (0.0, 0.0)))
+    return dataclasses.replace(table, kappa=gu * frame.C0 @ e + gv * frame.C0 @ nvec)
+
+
+def _lift(F: NDArray, period: float) -> NDArray:
+    """F (given modulo ``period`` on the nodes) on a continuous branch: along τ (axis 1), then the middle
+    column along x, and the multiple of ``period`` that makes F odd under (x, τ) → (−x, −τ)."""
+    F = np.unwrap(F, axis=1, period=period)
+    mid = F[:, F.shape[1] // 2]
+    F = F + (np.unwrap(mid, period=period) - mid)[:, None]
+    return F - period * np.round(np.mean(F + F[::-1, ::-1]) / (2.0 * period))
 
 
 #: Off-grid points (u/U, v/V) at which a new table is checked against direct coefficients.
@@ -326,7 +415,7 @@ def _interpolation_error(table: SlowMapTable) -> float:
     """Largest relative error of the table against :func:`step_coefficients` at ``_CHECK_POINTS``."""
     sym, worst = table.body, 0.0
     for x, y in _CHECK_POINTS:
-        Q = x * table.U * table.e + y * table.V * table.n
+        Q = np.array(table.chart(x, y))
         sc = step_coefficients(sym, table.E0, float(Q[0]), float(Q[1]))
         vals = dict(zip(TABLE_FUNCTIONS, table.evaluate(Q)))
         w = 0.5 * vals["W"]
@@ -444,11 +533,12 @@ _CHUNK = 1 << 16
 
 
 class _FastTable:
-    """Run-time form of a SlowMapTable: values on a fine uniform grid in u, Chebyshev series in v.
+    """Run-time form of a SlowMapTable: values on a fine uniform grid in x = u/U, Chebyshev series in τ.
 
     Each row of ``rows`` holds the 18 run-time functions (see ``_N_KICK``) at one grid point as
-    Chebyshev coefficients in v; 6-point Lagrange interpolation in u on 8193 points reproduces the
-    Chebyshev interpolant to ~1e-13 relative.  ``rows_jac`` adds the u- and v-derivatives of the
+    Chebyshev coefficients in τ; 6-point Lagrange interpolation in x on 8193 points reproduces the
+    Chebyshev interpolant to ~1e-13 relative.  ``geom`` holds the chart there (c, w, c'/U, w'/U).
+    ``rows_jac`` adds the x- (over U) and τ-derivatives of the
     Chebyshev series of the kick functions 0-14, for the Jacobian of the implicit kick and a
     first-order correction of ε k_t, ε k_φ by less than the kick tolerance (they set the speed of
     convergence, not the converged value).  The rows are evaluated, and the map stepped, by the
@@ -465,16 +555,21 @@ class _FastTable:
         kick = [rows[m][0] for m in range(3)] + [rows[m][1] for m in range(3)]
         kick += [c[_IDX[f"{pre}_{h}"]] for pre in ("kTh", "dt", "dphi1") for h in _HARM]
         drift = [c[_IDX[name]] for name in ("T", "W", "dphi")]
-        self.U, self.V, self.nv = float(table.U), float(table.V), c.shape[2]
+        self.U, self.nv = float(table.U), c.shape[2]
         self.e, self.n = e, n
         x = np.linspace(-1.0, 1.0, _FINE_POINTS)
         self.dx = float(x[1] - x[0])
+        cheb = np.polynomial.chebyshev
+        self.geom = np.ascontiguousarray(np.stack(
+            [cheb.chebval(x, table.c_coef), cheb.chebval(x, table.w_coef),
+             cheb.chebval(x, cheb.chebder(table.c_coef)) / self.U, cheb.chebval(x, cheb.chebder(table.w_coef)) / self.U],
+            axis=1))
         Bu = _cheb_basis(x, c.shape[1])                                   # (nu, Nf)
         fine = np.concatenate([np.einsum("fkj,ki->ifj", np.array(kick), Bu),
                                np.einsum("fkj,ki->ifj", np.array(drift), Bu)], axis=1)  # (Nf, 18, nv)
         kick = np.array(kick)
         du = np.polynomial.chebyshev.chebder(kick, axis=1) / self.U                 # (15, nu − 1, nv)
-        dv = np.polynomial.chebyshev.chebder(kick, axis=2) / self.V                 # (15, nu, nv − 1)
+        dv = np.polynomial.chebyshev.chebder(kick, axis=2)                          # (15, nu, nv − 1), d/dτ
         dv = np.concatenate([dv, np.zeros(dv.shape[:2] + (1,))], axis=2)
         fine_d = np.concatenate([np.einsum("fkj,ki->ifj", du, Bu[: du.shape[1]]),
                                  np.einsum("fkj,ki->ifj", dv, Bu)], axis=1)         # (Nf, 30, nv)
@@ -483,7 +578,7 @@ class _FastTable:
         self.table = table
 
     def _evaluate(self, rows: NDArray[np.float64], u: float, v: float) -> list[float]:
-        out = _kernel.evaluate(rows, rows.shape[1] // self.nv, self.nv, self.U, self.V, self.dx, u, v)
+        out = _kernel.evaluate(rows, self.geom, rows.shape[1] // self.nv, self.nv, self.U, self.dx, u, v)
         if out is None:
             self.table.evaluate(u * self.e + v * self.n)  # raises AveragingRangeError with the explanation
         return out
@@ -506,7 +601,7 @@ class _FastTable:
         chunks, t, counts = [], 0.0, [0, 0]
         while True:
             out = np.empty((max(cap, 1), 5))
-            n, status, ub, vb, n_jac, n_plain = _kernel.iterate(self.rows, self.rows_jac, out, self.U, self.V,
+            n, status, ub, vb, n_jac, n_plain = _kernel.iterate(self.rows, self.rows_jac, self.geom, out, self.U,
                                                                  self.dx, self.nv, eps, u, v, Th, t, phi, t_end)
             counts[0] += n_jac
             counts[1] += n_plain

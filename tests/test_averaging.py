@@ -167,8 +167,7 @@ def test_table_interpolates_the_coefficients(table):
     assert table.interp_error < 1e-9  # its own check at three off-grid points
     rng = np.random.default_rng(7)
     for _ in range(3):
-        u, v = rng.uniform(-1, 1) * table.U, rng.uniform(-1, 1) * table.V
-        Q = u * table.e + v * table.n
+        Q = np.array(table.chart(rng.uniform(-1, 1), rng.uniform(-1, 1)))
         sc = so.step_coefficients(SYM, E0, *Q)
         vals = dict(zip(av.TABLE_FUNCTIONS, table.evaluate(Q)))
         assert vals["T"] == pytest.approx(sc.T, rel=1e-11)
@@ -218,7 +217,7 @@ def test_map_is_reversible(table):
     reversal and the end add γ_2 |Q| each.  Times ``FAST_MAP_MARGIN``.
     """
     eps, N = 3e-3, 25
-    Q0 = 0.2 * table.U * table.e + 0.1 * table.V * table.n
+    Q0 = np.array(table.chart(0.2, 0.1))
     fwd = av.iterate_slow_map(table, eps, 0.7, 1e9, Q0=Q0, n_steps=N)
     Q_rev = (-fwd.QR[-1], -fwd.QJ[-1])
     back = av.iterate_slow_map(table, eps, 0.5 * fwd.Theta[-1], 1e9, Q0=Q_rev, n_steps=N)
@@ -258,7 +257,8 @@ def _reference_map(table: av.SlowMapTable, eps: float, psi0: float, t_end: float
     off = np.arange(-2, 4)
 
     def ev(u, v):
-        x, y = u / ft.U, v / ft.V
+        x = u / ft.U
+        y = (v - np.polynomial.chebyshev.chebval(x, table.c_coef)) / np.polynomial.chebyshev.chebval(x, table.w_coef)
         assert abs(x) <= 1.0 and abs(y) <= 1.0
         s = (x + 1.0) / ft.dx
         i = min(max(int(s), 2), av._FINE_POINTS - 4)
@@ -439,7 +439,7 @@ def test_fast_map_equals_plain_evaluation(table, eps, psi0, Q0):
     in Q into Θ and back (up to ~10³ over the ~75 steps to t = 1000, ``roundoff.amplification``); times
     ``FAST_MAP_MARGIN``.  A difference of 1e-10 relative in any series exceeds it.  Also checks the cost: one
     Jacobian and two or three plain evaluations per step."""
-    Q0 = (0.0, 0.0) if Q0 is None else tuple(Q0[0] * table.U * table.e + Q0[1] * table.V * table.n)
+    Q0 = (0.0, 0.0) if Q0 is None else table.chart(*Q0)
     fast = av.iterate_slow_map(table, eps, psi0, 1000.0, Q0=Q0)
     ref = _reference_map(table, eps, psi0, 1000.0, Q0=Q0)
     assert ref.shape == (fast.t.size, 5) and fast.t.size > 50
@@ -451,7 +451,7 @@ def test_fast_map_equals_plain_evaluation(table, eps, psi0, Q0):
     B = FAST_MAP_MARGIN * ro.propagated_bound(jac, local)
     # the first-order propagation holds: the largest growth of a relative error along the run times the bound
     # stays far below the variables' own size (the map is not chaotic on these runs)
-    scale = np.array([table.U, table.V, 1.0, 1000.0, 1.0])
+    scale = np.array([table.U, table.w_coef[0], 1.0, 1000.0, 1.0])  # the release tables' rectangle: w = V
     assert ro.amplification(jac, scale) * np.max(B / scale) < 1e-6
     QR, QJ = (ref[:, 1] * table.e[k] + ref[:, 2] * table.n[k] for k in (0, 1))
     # Q = u e + v n: two more roundings in each implementation; unwrapping Θ: one subtraction of 2πk in each
@@ -490,10 +490,10 @@ def test_run_time_jacobian(table):
     """The derivative rows of the run-time table equal central differences of its values."""
     ft = av._fast(table)
     for x, y in ((0.1, 0.2), (-0.5, -0.3), (0.8, 0.6)):
-        u, v = x * table.U, y * table.V
+        u, v = x * table.U, y * table.w_coef[0]  # the release tables' rectangle: c = 0, w = V
         out = np.array(ft.values_and_jacobian(u, v))
         assert np.array_equal(out[:18], ft.values(u, v))  # exact: the same stencil loop over the same stored values
-        for d, (hu, hv) in enumerate(((1e-6 * table.U, 0.0), (0.0, 1e-4 * table.V))):
+        for d, (hu, hv) in enumerate(((1e-6 * table.U, 0.0), (0.0, 1e-4 * table.w_coef[0]))):
             fd = (np.array(ft.values(u + hu, v + hv)) - np.array(ft.values(u - hu, v - hv)))[:15] / (2 * (hu + hv))
             got = out[18 + 15 * d:33 + 15 * d]
             # central difference: truncation ~ (h/scale)² ≈ 1e-9 of the largest derivative
