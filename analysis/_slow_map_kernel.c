@@ -35,7 +35,7 @@
 #define N_FUN 18    /* run-time functions: 0-14 kick harmonics, 15-17 drifts T, W, dphi */
 #define N_KICK 15
 #define N_JAC 48    /* N_FUN + 2 * N_KICK */
-#define MAX_NV 32
+#define MAX_NV 64
 #define MAX_ITER 60
 #define KICK_RTOL 1e-13
 #define NEWTON_SAFETY 1e-3

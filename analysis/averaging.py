@@ -41,7 +41,7 @@ import math
 import os
 import warnings
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -52,8 +52,9 @@ from rocknroller.analysis.quadrature import wrap_angle
 from rocknroller.analysis.reduction import u_ends
 from rocknroller.analysis.slow_diagnostics import azimuth_span, slow_period, span, unwrap_phase
 from rocknroller.numerics.cache import CacheWarning, cache_dir, load_arrays, save_arrays, warn_unwritable
-from rocknroller.analysis.slow_orbit import (FIRST_ORDER_NAMES, HARMONIC_PSI, _harmonics, first_order_step, rest_energy,
-                                             step_coefficients, symmetric_data)
+from rocknroller.analysis.slow_orbit import (FIRST_ORDER_NAMES, HARMONIC_PSI, _harmonics, first_maximum, first_order_step,
+                                             rest_energy, step_coefficients, symmetric_data)
+from rocknroller.numerics.equations import EulerState
 
 from rocknroller.analysis import _slow_map_kernel as _kernel
 
@@ -245,9 +246,11 @@ class SlowMapTable:
         return np.array([gx - slope * gt, gt])
 
 
-def _table_key(sym: Body, theta0: float, nu: int, nv: int, u_factor: float, v_ratio: float) -> str:
-    """The cache key of a table: version, body, θ0 and grid options (stored in the file; its SHA-256 names it)."""
-    return f"slowmap|{_TABLE_VERSION}|{sym.params!r}|{theta0!r}|{nu}|{nv}|{u_factor!r}|{v_ratio!r}"
+def _table_key(builder: str, sym: Body, where: float, opts: dict[str, Any]) -> str:
+    """The cache key of a table: version, builder, body, θ0 or E, and grid options (stored in the file; its SHA-256
+    names it)."""
+    return f"slowmap|{_TABLE_VERSION}|{builder}|{sym.params!r}|{where!r}|" + "|".join(
+        f"{k}={opts[k]!r}" for k in sorted(opts))
 
 
 def _table_spec(nu: int, nv: int) -> dict[str, tuple[int, ...]]:
@@ -321,8 +324,8 @@ def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_fact
 
 
 def check_grid(nu: int, nv: int) -> None:
-    """ValueError unless nu and nv are even integers ≥ 4 (and nv ≤ 32, the compiled kernel's limit)."""
-    for name, val, top in (("nu", nu, 4096), ("nv", nv, 32)):
+    """ValueError unless nu and nv are even integers ≥ 4 (and nv ≤ 64, the compiled kernel's limit)."""
+    for name, val, top in (("nu", nu, 4096), ("nv", nv, 64)):
         if int(val) != val or not 4 <= val <= top or val % 2:
             raise ValueError(f"{name} must be an even integer in [4, {top}], got {name}={val!r}")
 
@@ -450,14 +453,25 @@ def load_or_build_table(body: Body, theta0: float, *, build: bool = True, use_ca
     grid : keyword arguments of :func:`build_table`.
     """
     theta0 = check_map_theta0(theta0)
+    return cached_table(build_table, body, theta0, f"theta0={theta0!r}", build=build, use_cache=use_cache, **grid)
+
+
+def cached_table(builder: Callable[..., SlowMapTable], body: Body, where: float, what: str, *, build: bool = True,
+                 use_cache: bool = True, **grid: Any) -> SlowMapTable:
+    """``builder(body.symmetric(), where, **grid)`` from memory, from the disk cache, or built (and cached).
+
+    ``what`` names ``where`` in messages.  The key holds the table version, the builder, the body, ``where`` and every
+    keyword-only option of the builder (defaults filled in); see :func:`load_or_build_table`.
+    """
     sym = body.symmetric()
-    opts = {name: p.default for name, p in inspect.signature(build_table).parameters.items()
-            if p.kind is p.KEYWORD_ONLY}
-    unknown = set(grid) - set(opts)
+    opts = {name: p.default for name, p in inspect.signature(builder).parameters.items()
+            if p.kind is p.KEYWORD_ONLY and name != "progress"}
+    unknown = set(grid) - set(opts) - {"progress"}
     if unknown:
         raise ValueError(f"unknown table options {sorted(unknown)}; allowed: {sorted(opts)}")
+    progress = bool(grid.pop("progress", False))
     opts.update(grid)
-    key = _table_key(sym, theta0, opts["nu"], opts["nv"], opts["u_factor"], opts["v_ratio"])
+    key = _table_key(builder.__name__, sym, where, opts)
     if key in _TABLES:
         return _TABLES[key]
     directory = os.path.join(str(cache_dir()), "averaging")
@@ -468,21 +482,21 @@ def load_or_build_table(body: Body, theta0: float, *, build: bool = True, use_ca
         arrays, reason = load_arrays(path, key, spec)
         if arrays is None:
             warnings.warn(f"the cached averaging table {path} is not used ({reason}); it is rebuilt", CacheWarning,
-                          stacklevel=2)
+                          stacklevel=3)
         else:
             table = SlowMapTable(**{k: (a if a.ndim else float(a)) for k, a in arrays.items()})
     if table is None:
         if not build:
             raise ValueError(
-                f"no averaging tables for theta0={theta0!r} and this body ({sym.describe()}); they are built "
-                "on first use (a few seconds): call without build=False / --cached-only")
-        table = build_table(sym, theta0, **opts)
+                f"no averaging tables for {what} and this body ({sym.describe()}); they are built "
+                "on first use: call without build=False / --cached-only")
+        table = builder(sym, where, **opts, **({"progress": progress} if progress else {}))
         if use_cache:
             try:
                 save_arrays(path, key, {k: getattr(table, k) for k in spec})
             except OSError as exc:
-                warn_unwritable(directory, exc, "the averaging tables are rebuilt in every process (~6 s for each "
-                                "body and theta0)")
+                warn_unwritable(directory, exc, f"the averaging tables are rebuilt in every process (for each body "
+                                f"and {what.split('=')[0]})")
     _TABLES[key] = table
     return table
 
@@ -704,7 +718,7 @@ class SlowPrediction:
 
     Attributes
     ----------
-    eps, theta0, psi0, t_end : inputs.
+    eps, theta0, psi0, t_end : inputs (θ0 and ψ0 of the initial state, for a start with velocity).
     K : ε κ, the standard-map parameter near pure rocking.
     slow_period : period of Θ = 2ψ at the maxima; None if undefined (pure rocking) or not measurable
         within t_end (fewer than two crossings of the mean).
@@ -718,6 +732,7 @@ class SlowPrediction:
         maximum, the intersection of both critical lines, and Θ, φ mod π are constant.  Then every
         sample's region is ``criticality.ON_BOTH``, there are no region runs or crossings, the extents
         and Φ are 0 and the slow period and line slope are None.
+    start : the initial state of a start with velocity (None for a release from rest).
     """
 
     eps: float
@@ -735,6 +750,7 @@ class SlowPrediction:
     region_runs: list[tuple[str, int, float]] | None = field(default=None, repr=False)
     crossings: list[tuple[float, str, str, str]] | None = field(default=None, repr=False)
     pure_rocking: bool = False
+    start: EulerState | None = field(default=None, repr=False)
 
     @property
     def rocks_per_region(self) -> dict[str, int]:
@@ -761,17 +777,23 @@ class SlowPrediction:
         return ax
 
 
-def predict_slow_motion(body: Body, theta0: float, psi0: float, t_end: float = 1000.0, *,
+def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | None = None,
+                        t_end: float = 1000.0, *,
                         table: SlowMapTable | None = None, build: bool = True) -> SlowPrediction:
-    """Predict the slow (Q_R, Q_J) motion of ``body`` released from rest at θ0 with spin angle ψ0.
+    """Predict the slow (Q_R, Q_J) motion of ``body`` released from rest at θ0 with spin angle ψ0, or from any
+    initial state.
 
     Parameters
     ----------
     body : Body
         The asymmetric body (ε = body.epsilon ≥ 0).
-    theta0 : float
+    theta0 : float or EulerState
         Release tilt in ``THETA0_RANGE`` = [0.75π, 0.999π], where the tables can be built and the map is
         validated against the direct ODE (docs/averaging.md); other amplitudes are refused (ValueError).
+        Or an initial state (the one ``simulate`` takes): it is carried to its first θ-maximum by a short
+        direct integration (:func:`rocknroller.analysis.slow_orbit.first_maximum`) and the map is iterated from
+        there on the region tables of its energy (:mod:`rocknroller.analysis.slow_region`); then ``psi0`` is
+        not given and ``table`` is a region table of that energy, if given.
     psi0 : float
         Release spin angle (Θ0 = 2ψ0).
     t_end : float
@@ -798,7 +820,13 @@ def predict_slow_motion(body: Body, theta0: float, psi0: float, t_end: float = 1
     AveragingValidityWarning
         If K = ε κ > 4 (pure rocking about the stable axis has period-doubled).
     """
+    if isinstance(theta0, EulerState):
+        if psi0 is not None:
+            raise ValueError("psi0 is part of the initial state: give either (theta0, psi0) or an EulerState")
+        return _predict_from_state(body, theta0, t_end, table=table, build=build)
     theta0 = check_map_theta0(theta0)
+    if psi0 is None:
+        raise ValueError("psi0 must be given with a release angle theta0")
     eps, psi0 = body.epsilon, float(psi0)
     if not math.isfinite(psi0):
         raise ValueError(f"psi0 must be finite, got psi0={psi0!r}")
@@ -826,14 +854,48 @@ def predict_slow_motion(body: Body, theta0: float, psi0: float, t_end: float = 1
             QJ_extent=0.0, Phi=0.0, line_slope=None,
             series=SlowSeries(t=t, QR=zero, QJ=zero.copy(), Theta=np.full_like(t, 2.0 * psi0), phi=zero.copy()),
             regions=np.full(t.size, ON_BOTH, dtype=object), region_runs=[], crossings=[], pure_rocking=True)
-    series = iterate_slow_map(table, eps, psi0, t_end)
-    regions, runs, crossings = critical_regions(series.QR, series.QJ, series.t, table.body)
+    return _prediction(eps, theta0, psi0, t_end, K, iterate_slow_map(table, eps, psi0, t_end), table.body)
+
+
+def _prediction(eps: float, theta0: float, psi0: float, t_end: float, K: float, series: SlowSeries,
+                sym: Body, start: EulerState | None = None) -> SlowPrediction:
+    """The diagnostics of a series of maxima."""
+    regions, runs, crossings = critical_regions(series.QR, series.QJ, series.t, sym)
     return SlowPrediction(
         eps=eps, theta0=theta0, psi0=float(psi0), t_end=float(t_end), K=K,
         slow_period=slow_period(series.t, series.Theta) if series.t.size >= 3 else None,
         QR_extent=span(series.QR), QJ_extent=span(series.QJ), Phi=azimuth_span(series.phi),
         line_slope=line_slope(series.QR, series.QJ),
-        series=series, regions=regions, region_runs=runs, crossings=crossings)
+        series=series, regions=regions, region_runs=runs, crossings=crossings, start=start)
+
+
+def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: SlowMapTable | None,
+                        build: bool) -> SlowPrediction:
+    """predict_slow_motion from an initial state: its first maximum, then the map on the region tables."""
+    from rocknroller.analysis.slow_region import load_or_build_region_table
+
+    t_end = float(t_end)
+    if not (math.isfinite(t_end) and t_end > 0.0):
+        raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}")
+    fm = first_maximum(body, start)
+    if fm.t >= t_end:
+        raise ValueError(f"t_end={t_end!r} ends before the first maximum of theta (t = {fm.t:.6g})")
+    if table is None:
+        table = load_or_build_region_table(body, fm.E, build=build)
+    elif table.E0 != fm.E or table.delta_min == 0.0:
+        raise ValueError(f"the table is not the region table of this start's energy E={fm.E!r}")
+    elif table.body != body.symmetric():
+        raise ValueError(f"the table is for the body {table.body.describe()}, not {body.symmetric().describe()}")
+    eps = body.epsilon
+    rest = iterate_slow_map(table, eps, fm.psi, t_end - fm.t, Q0=(fm.QR, fm.QJ), phi0=fm.phi)
+    first = [fm.t > 0.0]  # a start that is itself a maximum is not a sample (the ODE reports none at t = 0)
+    series = SlowSeries(t=np.concatenate([[fm.t][: sum(first)], fm.t + rest.t]),
+                        QR=np.concatenate([[fm.QR][: sum(first)], rest.QR]),
+                        QJ=np.concatenate([[fm.QJ][: sum(first)], rest.QJ]),
+                        Theta=unwrap_phase(np.concatenate([[2.0 * fm.psi][: sum(first)], rest.Theta])),
+                        phi=np.concatenate([[fm.phi][: sum(first)], rest.phi]))
+    return _prediction(eps, float(start.theta), float(start.psi), t_end, eps * table.kappa, series, table.body,
+                       start=start)
 
 
 def critical_regions(QR: ArrayLike, QJ: ArrayLike, t: ArrayLike, body: Body):

@@ -25,7 +25,7 @@ from rocknroller.numerics import cache
 SYM = Body.paper(0.0)
 THETA0 = 0.9 * math.pi
 GRID = {"nu": 8, "nv": 4}
-KEY = av._table_key(SYM, THETA0, 8, 4, 2.5, 0.002)
+KEY = av._table_key("build_table", SYM, THETA0, {"nu": 8, "nv": 4, "u_factor": 2.5, "v_ratio": 0.002})
 
 
 def _load(**kw) -> av.SlowMapTable:

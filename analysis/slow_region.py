@@ -1,0 +1,210 @@
+"""The averaged slow map over the whole (Q_R, Q_J) region of one energy: starts with velocity (issue 12).
+
+At energy E the set of (Q_R, Q_J) for which θ oscillates (F > 0 between two simple roots, paper eq.
+thetadotsq) is {Q : min_θ U(θ; Q) < E}.  U is a positive quadratic form in Q plus g a (1 − cos θ) for each θ,
+so the set is star-shaped about Q = 0; it is a spindle along the critical line Q_J,0^crit (paper eq.
+QJcrit_0), whose tips are the sleeping top at θ = 0 spinning with all of E, and its boundary is steady
+rolling (a double root of F).
+
+Chart.  The tables use the frame e along Q_J,0^crit, n ⟂ e, and Q = x U e + (c(x) + τ w(x)) n with
+|x|, |τ| ≤ 1 (``averaging.SlowMapTable``): across the line, τ = ±1 is the level set (E − min U)/E = δ_min of
+the distance to steady rolling; along it, U = ``tip_fraction`` times the tip of that level set.  The
+coefficient functions are analytic inside the region but not at the tips (Chebyshev coefficients along x
+decay like 1.2^−n when the chart reaches 97 % of the tip), hence the tip fraction.  c (odd) and w (even)
+are Chebyshev fits of the level set's two sides, so Q → −Q is (x, τ) → (−x, −τ): the parities that make
+the map reversible hold on the grid.
+
+Data.  T_θ, W = 2(Δψ − π) mod 2π and Δφ mod π come from the same variational orbits as the ε-responses
+(``slow_orbit.first_order_step``), not from the quadratures: those lose their double-precision accuracy
+near steady rolling and at small amplitude, where these tables reach.  ``averaging.fit_table`` lifts W and
+Δφ to continuous branches and builds the drift–kick–drift form.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import warnings
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.optimize import brentq
+
+from rocknroller.analysis.averaging import (CHART_TERMS, TABLE_FUNCTIONS, AveragingRangeError,
+                                            AveragingValidityWarning, SlowMapTable, _cheb_nodes, cached_table,
+                                            check_grid, fit_table, kick_at_rest)
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.quadrature import wrap_angle
+from rocknroller.analysis.reduction import E_MAX, NoMotionError, solve_turning_points
+from rocknroller.analysis.slow_orbit import FIRST_ORDER_NAMES, HARMONIC_PSI, _harmonics, first_order_step
+
+__all__ = ["boundary_distance", "region_frame", "build_region_table", "region_interpolation_error",
+           "load_or_build_region_table", "DELTA_MIN_RANGE", "TIP_FRACTION_RANGE"]
+
+#: Allowed least distances (E − min U)/E to steady rolling of a region table.
+DELTA_MIN_RANGE = (1e-3, 0.5)
+#: Allowed fractions of the tip covered along the critical line.
+TIP_FRACTION_RANGE = (0.1, 0.95)
+#: Nodes of the fit of the level set's sides, and the degree of the chart's c(x) and w(x).
+_PROFILE_NODES = CHART_TERMS
+_CHART_DEGREE = 8
+
+
+def boundary_distance(body: Body, E: ArrayLike, QR: ArrayLike, QJ: ArrayLike) -> NDArray[np.float64]:
+    """δ = (E − min_θ U(θ; Q_R, Q_J))/E: 0 at steady rolling, 1 at Q = 0, < 0 where no motion is possible."""
+    E = np.asarray(E, float)
+    return (E - np.asarray(solve_turning_points(E, QR, QJ, body.symmetric()).U_min)) / E
+
+
+def _check_energy(E: float) -> float:
+    E = float(E)
+    if not (math.isfinite(E) and 0.0 < E <= E_MAX):
+        raise ValueError(f"E must be a finite number in (0, {E_MAX:g}], got E={E!r}")
+    return E
+
+
+def region_frame(body: Body, E: float, *, nu: int = 48, nv: int = 24, delta_min: float = 0.05,
+                 tip_fraction: float = 0.8) -> SlowMapTable:
+    """The chart of the region tables of (body, E) (module docstring), as a SlowMapTable without coefficients.
+
+    Raises
+    ------
+    ValueError
+        E, delta_min or tip_fraction out of range (naming it and the range).
+    """
+    E = _check_energy(E)
+    check_grid(nu, nv)
+    for name, val, (lo, hi) in (("delta_min", delta_min, DELTA_MIN_RANGE), ("tip_fraction", tip_fraction,
+                                                                           TIP_FRACTION_RANGE)):
+        if not lo <= val <= hi:
+            raise ValueError(f"{name} must lie in [{lo:g}, {hi:g}], got {name}={val!r}")
+    sym = body.symmetric()
+    from rocknroller.analysis.criticality import QJ_crit_0  # imported here: it loads sympy
+
+    e = np.array([1.0, float(QJ_crit_0(1.0, sym))])
+    e /= np.linalg.norm(e)
+    n = np.array([-e[1], e[0]])
+    level = E * (1.0 - delta_min)
+
+    def excess(Q: NDArray[np.float64]) -> float:  # > 0 outside the chart's level set
+        return float(solve_turning_points(E, Q[0], Q[1], sym).U_min) - level
+
+    def edge(origin: NDArray[np.float64], direction: NDArray[np.float64]) -> float:
+        """Distance from ``origin`` (inside) along ``direction`` to the level set (bracketed by doubling)."""
+        hi = math.sqrt(E)
+        while excess(origin + hi * direction) <= 0.0:
+            hi *= 2.0
+            if hi > 1e6 * math.sqrt(E):  # pragma: no cover - the set is bounded: U ≥ |Q|²/(2 I_max) - ...
+                raise RuntimeError("the region of oscillation is unbounded")
+        return brentq(lambda r: excess(origin + r * direction), 0.0, hi, xtol=1e-14 * hi, rtol=1e-14)
+
+    tip = edge(np.zeros(2), e)
+    U = tip_fraction * tip
+    xs = _cheb_nodes(_PROFILE_NODES)
+    up = np.array([edge(x * U * e, n) for x in xs])
+    lo = np.array([-edge(x * U * e, -n) for x in xs])
+    c, w = 0.5 * (up + lo), 0.5 * (up - lo)
+    cheb = np.polynomial.chebyshev
+    # a low-degree chart: the tabulated functions of (x, τ) are resolved with few more nodes than the
+    # functions of Q themselves need (a chart of high degree would multiply their Chebyshev content)
+    c_coef, w_coef = np.zeros(CHART_TERMS), np.zeros(CHART_TERMS)
+    c_coef[:_CHART_DEGREE + 1] = cheb.chebfit(xs, 0.5 * (c - c[::-1]), _CHART_DEGREE)
+    w_coef[:_CHART_DEGREE + 1] = cheb.chebfit(xs, 0.5 * (w + w[::-1]), _CHART_DEGREE)
+    c_coef[0::2] = 0.0  # exactly odd
+    w_coef[1::2] = 0.0  # exactly even
+    cf, wf = cheb.chebval(xs, c_coef), cheb.chebval(xs, w_coef)
+    w_coef *= min(1.0, float(np.min(np.minimum(up - cf, cf - lo) / wf)))  # inside the level set at the nodes
+    cos_theta0 = 1.0 - E / (sym.g * sym.a)
+    theta0 = math.acos(cos_theta0) if -1.0 < cos_theta0 < 1.0 else math.nan
+    return SlowMapTable(a=sym.a, I1=sym.I1, I3=sym.I3, g=sym.g, theta0=theta0, E0=E, e=e, n=n, U=U,
+                        c_coef=c_coef, w_coef=w_coef, coef=np.zeros((len(TABLE_FUNCTIONS), nu, nv)),
+                        C0=kick_at_rest(sym, E), kappa=0.0, interp_error=0.0, delta_min=float(delta_min))
+
+
+def _orbit_data(sym: Body, E: float, QR: NDArray, QJ: NDArray, progress: bool = False):
+    """T, W mod 2π, Δφ mod π and the harmonics of the ε-responses at each Q, from three variational orbits."""
+    from tqdm.auto import tqdm
+
+    tp = solve_turning_points(E, QR, QJ, sym)
+    if np.any(np.asarray(tp.status) != 0):
+        raise AveragingRangeError(f"some nodes of the region tables of E={E!r} have no oscillation of theta")
+    thX = np.asarray(tp.theta_X, float)
+    shape = np.shape(QR)
+    T, W, dphi = np.empty(shape), np.empty(shape), np.empty(shape)
+    resp = np.empty((len(FIRST_ORDER_NAMES),) + shape + (3,))
+    for idx in tqdm(list(np.ndindex(shape)), desc="region tables", unit="node", disable=not progress):
+        steps = [first_order_step(sym, E, QR[idx], QJ[idx], psi, theta_X=thX[idx]) for psi in HARMONIC_PSI]
+        T[idx] = np.mean([s.T for s in steps])
+        W[idx] = float(wrap_angle(2.0 * steps[0].dpsi))
+        dphi[idx] = steps[0].dphi
+        for k, name in enumerate(FIRST_ORDER_NAMES):
+            resp[(k,) + idx] = _harmonics([s.d[name] for s in steps])
+    return T, W, dphi, resp
+
+
+#: Off-grid chart points (x, τ) at which a new region table is checked against direct orbits.
+_CHECK_POINTS = ((0.37, 0.3), (-0.81, -0.55), (0.93, 0.8), (0.05, -0.97))
+_INTERP_WARN = 1e-9
+
+
+def region_interpolation_error(table: SlowMapTable) -> float:
+    """Largest error of a region table against direct orbits at ``_CHECK_POINTS``: relative for T_θ, in
+    radians for W and Δφ, and relative to the largest harmonic for k_Q (ΔQ with its phase advanced by W/2)."""
+    sym, worst = table.body, 0.0
+    x, y = np.array(_CHECK_POINTS).T
+    QR, QJ = table.chart(x, y)
+    T, W, dphi, resp = _orbit_data(sym, table.E0, QR, QJ)
+    for k in range(len(x)):
+        vals = dict(zip(TABLE_FUNCTIONS, table.evaluate((QR[k], QJ[k]))))
+        errs = [abs(vals["T"] / T[k] - 1.0), abs(float(wrap_angle(vals["W"] - W[k]))),
+                abs(float(wrap_angle(vals["dphi"] - dphi[k], math.pi)))]
+        w = 0.5 * vals["W"]
+        for j, name in enumerate(("QR", "QJ")):
+            c0, c1, s1 = (vals[f"k{name}_{h}"] for h in ("c0", "c1", "s1"))
+            scale = float(np.max(np.abs(resp[j, k])))
+            back = (c0, c1 * math.cos(w) + s1 * math.sin(w), -c1 * math.sin(w) + s1 * math.cos(w))
+            errs += [abs(b - a) / scale for b, a in zip(back, resp[j, k])]
+        worst = max(worst, *errs)
+    return float(worst)
+
+
+def build_region_table(body: Body, E: float, *, nu: int = 48, nv: int = 24, delta_min: float = 0.05,
+                       tip_fraction: float = 0.8, progress: bool = False) -> SlowMapTable:
+    """Tabulate the reversible first-order slow map of (body, E) over the region of oscillation.
+
+    Parameters
+    ----------
+    body : Body
+        Its symmetric part is used (the tables do not depend on ε).
+    E : float
+        The energy, > 0 (exact, conserved: the energy of the asymmetric body's start).
+    nu, nv : int
+        Chebyshev nodes along and across the critical line (even, ≥ 4).
+    delta_min : float
+        Least distance (E − min U)/E to steady rolling covered, in ``DELTA_MIN_RANGE``.
+    tip_fraction : float
+        Part of the spindle's half-length covered along the critical line, in ``TIP_FRACTION_RANGE``.
+    progress : bool
+        A tqdm progress bar over the nodes (3 variational orbits each).
+    """
+    frame = region_frame(body, E, nu=nu, nv=nv, delta_min=delta_min, tip_fraction=tip_fraction)
+    QR, QJ = frame.chart(*np.meshgrid(_cheb_nodes(nu), _cheb_nodes(nv), indexing="ij"))
+    try:
+        T, W, dphi, resp = _orbit_data(body.symmetric(), frame.E0, QR, QJ, progress)
+    except NoMotionError as exc:  # pragma: no cover - the chart lies inside the level set δ = delta_min
+        raise AveragingRangeError(str(exc)) from None
+    table = fit_table(frame, T, W, dphi, resp)
+    err = region_interpolation_error(table)
+    if err > _INTERP_WARN:
+        warnings.warn(f"the region tables of E={E!r} interpolate the coefficients only to {err:.1e}; use more "
+                      f"nodes (nu={nu}, nv={nv}) or a smaller tip_fraction", AveragingValidityWarning, stacklevel=2)
+    return dataclasses.replace(table, interp_error=err)
+
+
+def load_or_build_region_table(body: Body, E: float, *, build: bool = True, use_cache: bool = True,
+                               **grid) -> SlowMapTable:
+    """The region tables of (body, E): from memory, from the disk cache, or built (and cached), as
+    :func:`rocknroller.analysis.averaging.load_or_build_table` does for a release; ``grid``: the options of
+    :func:`build_region_table`."""
+    E = _check_energy(E)
+    return cached_table(build_region_table, body, E, f"E={E!r}", build=build, use_cache=use_cache, **grid)
