@@ -3,8 +3,9 @@
  *
  * The step of analysis.averaging.iterate_slow_map, in C so that it costs ~1 us instead of the ~15 us
  * of interpreter overhead of a Python loop.  It evaluates the run-time tables built by
- * analysis.averaging._FastTable (values on a fine uniform grid in x = u/U, 6-point Lagrange interpolation
- * between them, Chebyshev series in tau = (v - c(x))/w(x), the table's chart) and solves the implicit midpoint kick m = a + (eps/2) k(m) by
+ * analysis.averaging._FastTable (values on a fine uniform grid in xi, 6-point Lagrange interpolation
+ * between them, Chebyshev series in eta; the table's chart is u = U x with x = sinh(alpha xi)/sinh(alpha)
+ * and v = c(x) + tau w(x) with tau = sinh(beta eta)/sinh(beta), the identity for alpha, beta = 0) and solves the implicit midpoint kick m = a + (eps/2) k(m) by
  * simplified Newton: the explicit kick as first iterate, the Jacobian I - (eps/2) dk/dm once at that
  * iterate, and a stop when the change of the end point 2m - a is within 1e-13 of the kick (+ 4 ulp) or
  * the observed contraction eta puts the remaining error eta/(1 - eta) x change below 1e-3 of that
@@ -13,10 +14,10 @@
  * from the tables.  tests/test_averaging.py::_reference_map evaluates the same map plainly in NumPy
  * (fixed-point kick) and the tests compare the two.
  *
- * iterate(rows, rows_jac, geom, out, U, dx, nv, eps, u, v, Th, t, phi, t_end)
- *     rows      C-contiguous float64 buffer (Nf, 18 * nv): the 18 run-time functions (Chebyshev in tau)
- *     rows_jac  C-contiguous float64 buffer (Nf, 48 * nv): those, their x-derivatives at fixed tau divided
- *               by U, and their tau-derivatives, for the kick functions 0-14
+ * iterate(rows, rows_jac, geom, out, U, alpha, beta, dx, nv, eps, u, v, Th, t, phi, t_end)
+ *     rows      C-contiguous float64 buffer (Nf, 18 * nv): the 18 run-time functions (Chebyshev in eta)
+ *     rows_jac  C-contiguous float64 buffer (Nf, 48 * nv): those, their xi-derivatives at fixed eta divided
+ *               by U, and their eta-derivatives, for the kick functions 0-14
  *     geom      C-contiguous float64 buffer (Nf, 4): the chart c(x), w(x) > 0, c'(x)/U, w'(x)/U
  *     out       writable C-contiguous float64 buffer (n_max, 5): rows (t, u, v, Theta, phi)
  *     the state (u, v, Theta, t, phi) at a maximum, and t_end
@@ -24,7 +25,7 @@
  *     1 = out is full, 2 = the orbit left the table at (u_bad, v_bad), 3 = the implicit kick did not
  *     converge; the numbers of table evaluations with and without the Jacobian rows.
  *
- * evaluate(rows, geom, width, nv, U, dx, u, v)
+ * evaluate(rows, geom, width, nv, U, alpha, beta, dx, u, v)
  *     the `width` (18 or 48) functions of rows at (u, v), or None outside the table; with width 48 the
  *     derivatives are d/du and d/dv at (u, v).
  */
@@ -45,9 +46,23 @@ enum { DONE = 0, FULL = 1, LEFT_TABLE = 2, NO_CONVERGENCE = 3 };
 typedef struct {
     const double *rows, *rows_jac, *geom;
     Py_ssize_t n_fine;
-    double U, dx;
+    double U, alpha, beta, sinh_alpha, sinh_beta, dx;
     int nv;
 } table_t;
+
+#define N_GEOM 4
+
+/* the stretched coordinate s of z = sinh(a s)/sinh(a) (s = z for a = 0), and ds/dz there */
+static double unstretch(double z, double a, double sinh_a, double *ds_dz)
+{
+    if (a == 0.0) {
+        *ds_dz = 1.0;
+        return z;
+    }
+    double s = asinh(z * sinh_a) / a;
+    *ds_dz = sinh_a / (a * cosh(a * s));
+    return s;
+}
 
 /* 1/prod_{j != k}(k - j) for the stencil offsets k, j = -2 .. 3, set when the module is loaded */
 static double LAGRANGE_INV[6];
@@ -59,15 +74,17 @@ static double ulp(double x)
 }
 
 /* the `width` functions of `rows` (stride width * nv) at (u, v); 0 if inside the table.  With width N_JAC
-   the tabulated (d/dx at fixed tau)/U and d/dtau become d/du and d/dv by the chain rule through the chart
-   v = c(x) + tau w(x): d/dv = (d/dtau)/w, d/du = (d/dx)/U - (c'/U + tau w'/U) d/dv. */
+   the tabulated (d/dxi at fixed eta)/U and d/deta become d/du and d/dv by the chain rule through the chart:
+   d/du = (d/dxi)(dxi/dx)/U + (d/deta) deta/du, d/dv = (d/deta) deta/dv, with deta/dv = (deta/dtau)/w and
+   deta/du = -(c'/U + tau w'/U) deta/dv (v = c(x) + tau w(x)). */
 static int evaluate(const table_t *tb, const double *rows, int width, double u, double v,
                     double *val)
 {
-    double x = u / tb->U;
+    double x = u / tb->U, dxi_dx, deta_dy;
     if (!(x >= -1.0 && x <= 1.0))
         return 1;
-    double s = (x + 1.0) / tb->dx;
+    double xi = unstretch(x, tb->alpha, tb->sinh_alpha, &dxi_dx);
+    double s = (xi + 1.0) / tb->dx;
     Py_ssize_t i = (Py_ssize_t)s;
     if (i < 2)
         i = 2;
@@ -80,14 +97,16 @@ static int evaluate(const table_t *tb, const double *rows, int width, double u, 
     double l4 = l3 * d3, r1 = r2 * d2;
     double w[6] = {r1 * d1 * LAGRANGE_INV[0], d0 * r1 * LAGRANGE_INV[1], l2 * r2 * LAGRANGE_INV[2],
                    l3 * r3 * LAGRANGE_INV[3], l4 * d5 * LAGRANGE_INV[4], l4 * d4 * LAGRANGE_INV[5]};
-    double g[4];
-    const double *gb = tb->geom + (i - 2) * 4;
-    for (int k = 0; k < 4; k++)
-        g[k] = w[0] * gb[k] + w[1] * gb[4 + k] + w[2] * gb[8 + k] + w[3] * gb[12 + k] + w[4] * gb[16 + k]
-               + w[5] * gb[20 + k];
-    double y = (v - g[0]) / g[1];
-    if (!(y >= -1.0 && y <= 1.0))
+    double g[N_GEOM];
+    const double *gb = tb->geom + (i - 2) * N_GEOM;
+    for (int k = 0; k < N_GEOM; k++)
+        g[k] = w[0] * gb[k] + w[1] * gb[N_GEOM + k] + w[2] * gb[2 * N_GEOM + k] + w[3] * gb[3 * N_GEOM + k]
+               + w[4] * gb[4 * N_GEOM + k] + w[5] * gb[5 * N_GEOM + k];
+    double tau = (v - g[0]) / g[1];
+    if (!(tau >= -1.0 && tau <= 1.0))
         return 1;
+    double y = unstretch(tau, tb->beta, tb->sinh_beta, &deta_dy);
+    double deta_dv = deta_dy / g[1], deta_du = -(g[2] + tau * g[3]) * deta_dv;
     double T[MAX_NV];
     int nv = tb->nv;
     T[0] = 1.0;
@@ -108,9 +127,9 @@ static int evaluate(const table_t *tb, const double *rows, int width, double u, 
     }
     if (width == N_JAC)
         for (int f = 0; f < N_KICK; f++) {
-            double dv = val[N_FUN + N_KICK + f] / g[1];
-            val[N_FUN + N_KICK + f] = dv;
-            val[N_FUN + f] -= (g[2] + y * g[3]) * dv;
+            double f_eta = val[N_FUN + N_KICK + f];
+            val[N_FUN + N_KICK + f] = f_eta * deta_dv;
+            val[N_FUN + f] = val[N_FUN + f] * dxi_dx + f_eta * deta_du;
         }
     return 0;
 }
@@ -205,10 +224,10 @@ static int get_buffer(PyObject *obj, Py_buffer *view, int writable, const char *
 static PyObject *iterate(PyObject *self, PyObject *args)
 {
     PyObject *o_rows, *o_jac, *o_geom, *o_out;
-    double U, dx, eps, u, v, Th, t, phi, t_end;
+    double U, alpha, beta, dx, eps, u, v, Th, t, phi, t_end;
     int nv;
-    if (!PyArg_ParseTuple(args, "OOOOddiddddddd", &o_rows, &o_jac, &o_geom, &o_out, &U, &dx, &nv, &eps, &u, &v,
-                          &Th, &t, &phi, &t_end))
+    if (!PyArg_ParseTuple(args, "OOOOddddiddddddd", &o_rows, &o_jac, &o_geom, &o_out, &U, &alpha, &beta, &dx, &nv,
+                          &eps, &u, &v, &Th, &t, &phi, &t_end))
         return NULL;
     if (nv < 2 || nv > MAX_NV) {
         PyErr_Format(PyExc_ValueError, "nv must be in [2, %d], got %d", MAX_NV, nv);
@@ -233,10 +252,10 @@ static PyObject *iterate(PyObject *self, PyObject *args)
         return NULL;
     }
     table_t tb = {(const double *)b_rows.buf, (const double *)b_jac.buf, (const double *)b_geom.buf,
-                  b_rows.len / (8 * N_FUN * nv), U, dx, nv};
+                  b_rows.len / (8 * N_FUN * nv), U, alpha, beta, sinh(alpha), sinh(beta), dx, nv};
     Py_ssize_t n_max = b_out.len / (8 * 5);
     if (tb.n_fine < 6 || b_rows.len != tb.n_fine * 8 * N_FUN * nv || b_jac.len != tb.n_fine * 8 * N_JAC * nv
-        || b_geom.len != tb.n_fine * 8 * 4) {
+        || b_geom.len != tb.n_fine * 8 * N_GEOM) {
         PyBuffer_Release(&b_rows);
         PyBuffer_Release(&b_jac);
         PyBuffer_Release(&b_geom);
@@ -297,9 +316,9 @@ static PyObject *iterate(PyObject *self, PyObject *args)
 static PyObject *evaluate_py(PyObject *self, PyObject *args)
 {
     PyObject *o_rows, *o_geom;
-    double U, dx, u, v;
+    double U, alpha, beta, dx, u, v;
     int width, nv;
-    if (!PyArg_ParseTuple(args, "OOiidddd", &o_rows, &o_geom, &width, &nv, &U, &dx, &u, &v))
+    if (!PyArg_ParseTuple(args, "OOiidddddd", &o_rows, &o_geom, &width, &nv, &U, &alpha, &beta, &dx, &u, &v))
         return NULL;
     if (nv < 2 || nv > MAX_NV || (width != N_FUN && width != N_JAC)) {
         PyErr_Format(PyExc_ValueError, "nv must be in [2, %d] and width %d or %d", MAX_NV, N_FUN, N_JAC);
@@ -312,10 +331,10 @@ static PyObject *evaluate_py(PyObject *self, PyObject *args)
         PyBuffer_Release(&b);
         return NULL;
     }
-    table_t tb = {(const double *)b.buf, NULL, (const double *)bg.buf, b.len / (8 * (Py_ssize_t)width * nv), U, dx,
-                  nv};
+    table_t tb = {(const double *)b.buf, NULL, (const double *)bg.buf, b.len / (8 * (Py_ssize_t)width * nv), U, alpha,
+                  beta, sinh(alpha), sinh(beta), dx, nv};
     double val[N_JAC];
-    int out = (tb.n_fine < 6 || bg.len != tb.n_fine * 8 * 4) ? -1 : evaluate(&tb, tb.rows, width, u, v, val);
+    int out = (tb.n_fine < 6 || bg.len != tb.n_fine * 8 * N_GEOM) ? -1 : evaluate(&tb, tb.rows, width, u, v, val);
     PyBuffer_Release(&b);
     PyBuffer_Release(&bg);
     if (out < 0) {
@@ -340,11 +359,12 @@ static PyObject *evaluate_py(PyObject *self, PyObject *args)
 
 static PyMethodDef methods[] = {
     {"iterate", iterate, METH_VARARGS,
-     "iterate(rows, rows_jac, geom, out, U, dx, nv, eps, u, v, Theta, t, phi, t_end)\n"
+     "iterate(rows, rows_jac, geom, out, U, alpha, beta, dx, nv, eps, u, v, Theta, t, phi, t_end)\n"
      "    -> (n, status, u_bad, v_bad, n_jacobian, n_plain)\n\n"
      "Step the slow map from a maximum until t_end; see analysis/_slow_map_kernel.c."},
     {"evaluate", evaluate_py, METH_VARARGS,
-     "evaluate(rows, geom, width, nv, U, dx, u, v) -> list of width values, or None outside the table"},
+     "evaluate(rows, geom, width, nv, U, alpha, beta, dx, u, v) -> list of width values, or None outside "
+     "the table"},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_slow_map_kernel",

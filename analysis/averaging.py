@@ -155,7 +155,9 @@ class SlowMapTable:
     """Tabulated first-order slow map of one (body, E): Chebyshev series in the chart coordinates (x, τ).
 
     Q = u e + v n with u = x U and v = c(x) + τ w(x), |x| ≤ 1, |τ| ≤ 1: e and n ⟂ e are unit vectors in
-    the (Q_R, Q_J) plane, c(x) (odd) and w(x) > 0 (even) Chebyshev series in x.  The tables of a release
+    the (Q_R, Q_J) plane, c(x) (odd) and w(x) > 0 (even) Chebyshev series in x.  The functions are Chebyshev
+    series in (ξ, η) with x = :func:`stretch` (ξ, α) and τ = :func:`stretch` (η, β), which put more nodes near
+    Q = 0, where W varies on the scale 1/|∇W(0)| (α = β = 0: no stretch).  The tables of a release
     from rest (:func:`build_table`) use the kick direction at Q = 0 for e, c = 0 and w = V (a rectangle);
     those of a whole region (:func:`rocknroller.analysis.slow_region.build_region_table`) follow the critical
     line Q_J,0^crit and the region's width.
@@ -167,12 +169,13 @@ class SlowMapTable:
     e, n : unit vectors in the (Q_R, Q_J) plane.
     U : half-length of the chart along e.
     c_coef, w_coef : Chebyshev coefficients (``CHART_TERMS``) of c(x) and w(x).
-    coef : ndarray (len(TABLE_FUNCTIONS), Nu, Nv), Chebyshev coefficients in (x, τ).
+    coef : ndarray (len(TABLE_FUNCTIONS), Nu, Nv), Chebyshev coefficients in (ξ, η).
     kappa : ∇W·C0 at Q = 0 (the standard-map constant, K = ε κ), from the table.
     C0 : the kick ΔQ(0, Θ) = C0 sin Θ, from the variational orbits at Q = 0.
     interp_error : largest relative error of the table against direct coefficients at three
         off-grid points, measured when the table was built.
     delta_min : the region tables' least distance (E − min U)/E to steady rolling (0 for release tables).
+    alpha, beta : the stretches of x and τ.
     """
 
     a: float
@@ -191,32 +194,54 @@ class SlowMapTable:
     kappa: float
     interp_error: float
     delta_min: float = 0.0
+    alpha: float = 0.0
+    beta: float = 0.0
 
     @property
     def body(self) -> Body:
         """The symmetric body the table was built for."""
         return Body(a=self.a, I1=self.I1, I2=self.I1, I3=self.I3, g=self.g)
 
-    def chart(self, x: ArrayLike, tau: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """(Q_R, Q_J) at the chart coordinates (x, τ)."""
-        x, tau = np.asarray(x, float), np.asarray(tau, float)
+    def _sides(self, x: ArrayLike) -> tuple[NDArray[np.float64], ...]:
+        """c(x), w(x) and their x-derivatives over U."""
+        cheb = np.polynomial.chebyshev
+        x = np.clip(x, -1.0, 1.0)  # the series are the chart's only on [−1, 1]; beyond it Q is outside anyway
+        return (cheb.chebval(x, self.c_coef), cheb.chebval(x, self.w_coef),
+                cheb.chebval(x, cheb.chebder(self.c_coef)) / self.U, cheb.chebval(x, cheb.chebder(self.w_coef)) / self.U)
+
+    def chart(self, xi: ArrayLike, eta: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """(Q_R, Q_J) at the chart coordinates (ξ, η) ∈ [−1, 1]² (those of the Chebyshev series)."""
+        xi, eta = np.asarray(xi, float), np.asarray(eta, float)
+        x = stretch(xi, self.alpha)
         u = x * self.U
-        v = np.polynomial.chebyshev.chebval(x, self.c_coef) + tau * np.polynomial.chebyshev.chebval(x, self.w_coef)
+        c, w = self._sides(x)[:2]
+        v = c + stretch(eta, self.beta) * w
         return u * self.e[0] + v * self.n[0], u * self.e[1] + v * self.n[1]
 
     def coordinates(self, Q: ArrayLike) -> tuple[float, float]:
-        """The chart coordinates (x, τ) of Q = (Q_R, Q_J)."""
+        """The chart coordinates (ξ, η) of Q = (Q_R, Q_J) (outside [−1, 1]² if Q is outside the table)."""
         Q = np.asarray(Q, float)
-        x = float(self.e @ Q) / self.U
-        xc = min(max(x, -1.0), 1.0)  # c, w are only defined on [−1, 1]; |x| > 1 is outside anyway
-        c, w = (float(np.polynomial.chebyshev.chebval(xc, k)) for k in (self.c_coef, self.w_coef))
-        return x, (float(self.n @ Q) - c) / w
+        u, v = float(self.e @ Q), float(self.n @ Q)
+        x = u / self.U
+        xi = float(unstretch(x, self.alpha))
+        c, w = (float(s) for s in self._sides(x)[:2])
+        return xi, float(unstretch((v - c) / w, self.beta))
+
+    def inverse_jacobian(self, xi: ArrayLike, eta: ArrayLike) -> tuple[NDArray[np.float64], ...]:
+        """(∂ξ/∂u, ∂η/∂u, ∂η/∂v) at (ξ, η), for the chain rule ∂F/∂u = F_ξ ∂ξ/∂u + F_η ∂η/∂u, ∂F/∂v = F_η ∂η/∂v."""
+        xi, eta = np.asarray(xi, float), np.asarray(eta, float)
+        x = stretch(xi, self.alpha)
+        dxi_du = 1.0 / (self.U * stretch_slope(xi, self.alpha))
+        c, w, dc, dw = self._sides(x)
+        tau = stretch(eta, self.beta)
+        deta_dv = 1.0 / (stretch_slope(eta, self.beta) * w)
+        return dxi_du, -(dc + tau * dw) * deta_dv, deta_dv
 
     def evaluate(self, Q: ArrayLike) -> NDArray[np.float64]:
         """All ``TABLE_FUNCTIONS`` at Q = (Q_R, Q_J); raises AveragingRangeError outside the table."""
         Q = np.asarray(Q, float)
-        x, y = self.coordinates(Q)
-        if not (abs(x) <= 1.0 and abs(y) <= 1.0):
+        xi, eta = self.coordinates(Q)
+        if not (abs(xi) <= 1.0 and abs(eta) <= 1.0):
             if self.delta_min > 0.0:
                 from rocknroller.analysis.slow_region import boundary_distance
 
@@ -232,18 +257,41 @@ class SlowMapTable:
                 f"|v| <= {self.w_coef[0]:.3g} across it; the averaging is valid for K = eps*kappa < "
                 f"{K_PERIOD_DOUBLING:g} (eps < {eps_period_doubling(self.kappa):.4g}) and orbits near pure rocking")
         nu, nv = self.coef.shape[1:]
-        return (self.coef @ _cheb_basis(y, nv)) @ _cheb_basis(x, nu)
+        return (self.coef @ _cheb_basis(eta, nv)) @ _cheb_basis(xi, nu)
 
     def gradient(self, name: str, Q: ArrayLike) -> NDArray[np.float64]:
         """(∂F/∂u, ∂F/∂v) of the table function ``name`` at Q (Q = u e + v n), by the chain rule through the chart."""
-        x, y = self.coordinates(Q)
         self.evaluate(Q)  # the range check
+        xi, eta = self.coordinates(Q)
         cheb = np.polynomial.chebyshev
         c = self.coef[TABLE_FUNCTIONS.index(name)]
-        gx = cheb.chebval2d(x, y, cheb.chebder(c, axis=0)) / self.U
-        gt = cheb.chebval2d(x, y, cheb.chebder(c, axis=1)) / cheb.chebval(x, self.w_coef)
-        slope = (cheb.chebval(x, cheb.chebder(self.c_coef)) + y * cheb.chebval(x, cheb.chebder(self.w_coef))) / self.U
-        return np.array([gx - slope * gt, gt])
+        f_xi, f_eta = (cheb.chebval2d(xi, eta, cheb.chebder(c, axis=k)) for k in (0, 1))
+        dxi_du, deta_du, deta_dv = self.inverse_jacobian(xi, eta)
+        return np.array([f_xi * dxi_du + f_eta * deta_du, f_eta * deta_dv])
+
+    def nodes(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """(Q_R, Q_J) at the table's Chebyshev nodes (ξ_i, η_j), arrays (Nu, Nv)."""
+        nu, nv = self.coef.shape[1:]
+        return self.chart(*np.meshgrid(_cheb_nodes(nu), _cheb_nodes(nv), indexing="ij"))
+
+
+def stretch(s: ArrayLike, a: float) -> NDArray[np.float64]:
+    """z = sinh(a s)/sinh(a) on [−1, 1] (z = s for a = 0): nodes uniform in s crowd near z = 0 at the scale
+    1/sinh(a) (Tee & Trefethen's sinh map for an interior layer, SIAM J. Sci. Comput. 28, 2006)."""
+    s = np.asarray(s, float)
+    return s if a == 0.0 else np.sinh(a * s) / math.sinh(a)
+
+
+def unstretch(z: ArrayLike, a: float) -> NDArray[np.float64]:
+    """The inverse of :func:`stretch`."""
+    z = np.asarray(z, float)
+    return z if a == 0.0 else np.arcsinh(z * math.sinh(a)) / a
+
+
+def stretch_slope(s: ArrayLike, a: float) -> NDArray[np.float64]:
+    """dz/ds of :func:`stretch`."""
+    s = np.asarray(s, float)
+    return np.ones_like(s) if a == 0.0 else a * np.cosh(a * s) / math.sinh(a)
 
 
 def _table_key(builder: str, sym: Body, where: float, opts: dict[str, Any]) -> str:
@@ -301,7 +349,7 @@ def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_fact
     frame = SlowMapTable(a=sym.a, I1=sym.I1, I3=sym.I3, g=sym.g, theta0=theta0, E0=E0, e=e, n=nvec, U=U,
                          c_coef=c_coef, w_coef=w_coef, coef=np.zeros((len(TABLE_FUNCTIONS), nu, nv)), C0=C0,
                          kappa=0.0, interp_error=0.0)
-    QRg, QJg = frame.chart(*np.meshgrid(_cheb_nodes(nu), _cheb_nodes(nv), indexing="ij"))
+    QRg, QJg = frame.nodes()
     try:
         T, W, dphi, thX = symmetric_data(sym, E0, QRg, QJg)
     except ValueError as exc:
@@ -346,14 +394,12 @@ def fit_table(frame: SlowMapTable, T: NDArray, W: NDArray, dphi: NDArray, resp: 
     ``frame`` supplies everything but ``coef`` and ``kappa``.
     """
     nu, nv = T.shape
-    xu, xv = _cheb_nodes(nu), _cheb_nodes(nv)
+    xu, xv = _cheb_nodes(nu), _cheb_nodes(nv)  # ξ, η
     W, dphi = _lift(W, 2.0 * math.pi), _lift(dphi, math.pi)
     Au, Av = _cheb_fit_matrix(nu), _cheb_fit_matrix(nv)
     cheb = np.polynomial.chebyshev
-    e, nvec, U = frame.e, frame.n, frame.U
-    w_x = cheb.chebval(xu, frame.w_coef)[:, None]
-    slope = (cheb.chebval(xu, cheb.chebder(frame.c_coef))[:, None]
-             + xv[None, :] * cheb.chebval(xu, cheb.chebder(frame.w_coef))[:, None]) / U  # (c' + τ w')/U
+    e, nvec = frame.e, frame.n
+    dxi_du, deta_du, deta_dv = frame.inverse_jacobian(*np.meshgrid(xu, xv, indexing="ij"))
 
     def parity(F: NDArray, kind: str) -> NDArray:
         flipped = F[::-1, ::-1]
@@ -374,9 +420,8 @@ def fit_table(frame: SlowMapTable, T: NDArray, W: NDArray, dphi: NDArray, resp: 
     def gradient(F: NDArray, kind: str) -> tuple[NDArray, NDArray]:
         """(∂F/∂u, ∂F/∂v) at the nodes, F a symmetric-orbit function fitted on the grid."""
         c = fit(parity(F, kind))
-        gx = cheb.chebgrid2d(xu, xv, cheb.chebder(c, axis=0)) / U
-        gt = cheb.chebgrid2d(xu, xv, cheb.chebder(c, axis=1)) / w_x
-        return gx - slope * gt, gt
+        f_xi, f_eta = (cheb.chebgrid2d(xu, xv, cheb.chebder(c, axis=k)) for k in (0, 1))
+        return f_xi * dxi_du + f_eta * deta_du, f_eta * deta_dv
 
     def half_grad_dot_kQ(F: NDArray, kind: str) -> NDArray:
         """½ ∇F·k_Q at the nodes (harmonics)."""
@@ -456,6 +501,10 @@ def load_or_build_table(body: Body, theta0: float, *, build: bool = True, use_ca
     return cached_table(build_table, body, theta0, f"theta0={theta0!r}", build=build, use_cache=use_cache, **grid)
 
 
+#: Options of a table builder that change how it runs, not the table (not part of the cache key).
+_RUN_OPTIONS = ("progress", "workers")
+
+
 def cached_table(builder: Callable[..., SlowMapTable], body: Body, where: float, what: str, *, build: bool = True,
                  use_cache: bool = True, **grid: Any) -> SlowMapTable:
     """``builder(body.symmetric(), where, **grid)`` from memory, from the disk cache, or built (and cached).
@@ -464,12 +513,12 @@ def cached_table(builder: Callable[..., SlowMapTable], body: Body, where: float,
     keyword-only option of the builder (defaults filled in); see :func:`load_or_build_table`.
     """
     sym = body.symmetric()
-    opts = {name: p.default for name, p in inspect.signature(builder).parameters.items()
-            if p.kind is p.KEYWORD_ONLY and name != "progress"}
-    unknown = set(grid) - set(opts) - {"progress"}
+    params = inspect.signature(builder).parameters
+    opts = {name: p.default for name, p in params.items() if p.kind is p.KEYWORD_ONLY and name not in _RUN_OPTIONS}
+    unknown = set(grid) - set(opts) - set(_RUN_OPTIONS)
     if unknown:
         raise ValueError(f"unknown table options {sorted(unknown)}; allowed: {sorted(opts)}")
-    progress = bool(grid.pop("progress", False))
+    run = {name: grid.pop(name) for name in _RUN_OPTIONS if name in grid and name in params}
     opts.update(grid)
     key = _table_key(builder.__name__, sym, where, opts)
     if key in _TABLES:
@@ -490,7 +539,7 @@ def cached_table(builder: Callable[..., SlowMapTable], body: Body, where: float,
             raise ValueError(
                 f"no averaging tables for {what} and this body ({sym.describe()}); they are built "
                 "on first use: call without build=False / --cached-only")
-        table = builder(sym, where, **opts, **({"progress": progress} if progress else {}))
+        table = builder(sym, where, **opts, **run)
         if use_cache:
             try:
                 save_arrays(path, key, {k: getattr(table, k) for k in spec})
@@ -571,14 +620,11 @@ class _FastTable:
         drift = [c[_IDX[name]] for name in ("T", "W", "dphi")]
         self.U, self.nv = float(table.U), c.shape[2]
         self.e, self.n = e, n
-        x = np.linspace(-1.0, 1.0, _FINE_POINTS)
-        self.dx = float(x[1] - x[0])
-        cheb = np.polynomial.chebyshev
-        self.geom = np.ascontiguousarray(np.stack(
-            [cheb.chebval(x, table.c_coef), cheb.chebval(x, table.w_coef),
-             cheb.chebval(x, cheb.chebder(table.c_coef)) / self.U, cheb.chebval(x, cheb.chebder(table.w_coef)) / self.U],
-            axis=1))
-        Bu = _cheb_basis(x, c.shape[1])                                   # (nu, Nf)
+        xi = np.linspace(-1.0, 1.0, _FINE_POINTS)
+        self.dx = float(xi[1] - xi[0])
+        self.alpha, self.beta = float(table.alpha), float(table.beta)
+        self.geom = np.ascontiguousarray(np.stack(table._sides(stretch(xi, self.alpha)), axis=1))
+        Bu = _cheb_basis(xi, c.shape[1])                                  # (nu, Nf)
         fine = np.concatenate([np.einsum("fkj,ki->ifj", np.array(kick), Bu),
                                np.einsum("fkj,ki->ifj", np.array(drift), Bu)], axis=1)  # (Nf, 18, nv)
         kick = np.array(kick)
@@ -592,7 +638,8 @@ class _FastTable:
         self.table = table
 
     def _evaluate(self, rows: NDArray[np.float64], u: float, v: float) -> list[float]:
-        out = _kernel.evaluate(rows, self.geom, rows.shape[1] // self.nv, self.nv, self.U, self.dx, u, v)
+        out = _kernel.evaluate(rows, self.geom, rows.shape[1] // self.nv, self.nv, self.U, self.alpha, self.beta,
+                               self.dx, u, v)
         if out is None:
             self.table.evaluate(u * self.e + v * self.n)  # raises AveragingRangeError with the explanation
         return out
@@ -616,7 +663,8 @@ class _FastTable:
         while True:
             out = np.empty((max(cap, 1), 5))
             n, status, ub, vb, n_jac, n_plain = _kernel.iterate(self.rows, self.rows_jac, self.geom, out, self.U,
-                                                                 self.dx, self.nv, eps, u, v, Th, t, phi, t_end)
+                                                                 self.alpha, self.beta, self.dx, self.nv, eps, u, v,
+                                                                 Th, t, phi, t_end)
             counts[0] += n_jac
             counts[1] += n_plain
             chunks.append(out[:n])

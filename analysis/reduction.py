@@ -60,6 +60,7 @@ __all__ = [
     "effective_potential",
     "F",
     "solve_turning_points",
+    "min_potential",
     "turning_points",
     "invariants_from_euler",
     "state_from_turning_point",
@@ -432,6 +433,14 @@ def _minimize_U(QR, QJ, body: Body):
         w1, w2 = new_w1, new_w2
     w = 0.5 * (lo + hi)
     return w, _U_xy(*_xy_from_w(w), QR, QJ, body)
+
+
+def min_potential(QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]:
+    """min over θ of U(θ; Q_R, Q_J), vectorised (the golden-section search of :func:`solve_turning_points`):
+    the least energy with which θ can oscillate at these invariants (steady rolling, paper §2.3)."""
+    body.require_symmetric("the effective potential U")
+    QR, QJ = np.broadcast_arrays(*check_invariants(QR=QR, QJ=QJ))
+    return _minimize_U(QR, QJ, body)[1]
 
 
 def _bisect_root(lo, hi, E, QR, QJ, body: Body, rising: bool):

@@ -28,15 +28,14 @@ import warnings
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.optimize import brentq
 
 from rocknroller.analysis.averaging import (CHART_TERMS, TABLE_FUNCTIONS, AveragingRangeError,
                                             AveragingValidityWarning, SlowMapTable, _cheb_nodes, cached_table,
                                             check_grid, fit_table, kick_at_rest)
 from rocknroller.analysis.body import Body
 from rocknroller.analysis.quadrature import wrap_angle
-from rocknroller.analysis.reduction import E_MAX, NoMotionError, solve_turning_points
-from rocknroller.analysis.slow_orbit import FIRST_ORDER_NAMES, HARMONIC_PSI, _harmonics, first_order_step
+from rocknroller.analysis.reduction import E_MAX, NoMotionError, min_potential, solve_turning_points
+from rocknroller.analysis.slow_orbit import FIRST_ORDER_NAMES, HARMONIC_PSI, _harmonics, first_order_step, symmetric_data
 
 __all__ = ["boundary_distance", "region_frame", "build_region_table", "region_interpolation_error",
            "load_or_build_region_table", "DELTA_MIN_RANGE", "TIP_FRACTION_RANGE"]
@@ -48,12 +47,15 @@ TIP_FRACTION_RANGE = (0.1, 0.95)
 #: Nodes of the fit of the level set's sides, and the degree of the chart's c(x) and w(x).
 _PROFILE_NODES = CHART_TERMS
 _CHART_DEGREE = 8
+#: Doublings that bracket the region's edge on a ray, and bisections that then resolve it (2^-60 of the bracket).
+_BRACKET_DOUBLINGS = 64
+_BISECTIONS = 60
 
 
 def boundary_distance(body: Body, E: ArrayLike, QR: ArrayLike, QJ: ArrayLike) -> NDArray[np.float64]:
     """δ = (E − min_θ U(θ; Q_R, Q_J))/E: 0 at steady rolling, 1 at Q = 0, < 0 where no motion is possible."""
     E = np.asarray(E, float)
-    return (E - np.asarray(solve_turning_points(E, QR, QJ, body.symmetric()).U_min)) / E
+    return (E - min_potential(QR, QJ, body.symmetric())) / E
 
 
 def _check_energy(E: float) -> float:
@@ -61,6 +63,12 @@ def _check_energy(E: float) -> float:
     if not (math.isfinite(E) and 0.0 < E <= E_MAX):
         raise ValueError(f"E must be a finite number in (0, {E_MAX:g}], got E={E!r}")
     return E
+
+
+def _check_workers(workers: int) -> int:
+    if int(workers) != workers or not 1 <= workers <= MAX_WORKERS:
+        raise ValueError(f"workers must be an integer in [1, {MAX_WORKERS}], got workers={workers!r}")
+    return int(workers)
 
 
 def region_frame(body: Body, E: float, *, nu: int = 48, nv: int = 24, delta_min: float = 0.05,
@@ -86,23 +94,34 @@ def region_frame(body: Body, E: float, *, nu: int = 48, nv: int = 24, delta_min:
     n = np.array([-e[1], e[0]])
     level = E * (1.0 - delta_min)
 
-    def excess(Q: NDArray[np.float64]) -> float:  # > 0 outside the chart's level set
-        return float(solve_turning_points(E, Q[0], Q[1], sym).U_min) - level
+    def edge(origins: NDArray[np.float64], directions: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Distances r from each origin (inside) along each direction to the level set min U = level:
+        bracketed by doubling, then bisected to the resolution of r (min U increases along each ray from Q = 0,
+        and the chart's rays start on the line through it)."""
+        def inside(r: NDArray[np.float64]) -> NDArray[np.bool_]:
+            Q = origins + r[:, None] * directions
+            return min_potential(Q[:, 0], Q[:, 1], sym) <= level
 
-    def edge(origin: NDArray[np.float64], direction: NDArray[np.float64]) -> float:
-        """Distance from ``origin`` (inside) along ``direction`` to the level set (bracketed by doubling)."""
-        hi = math.sqrt(E)
-        while excess(origin + hi * direction) <= 0.0:
-            hi *= 2.0
-            if hi > 1e6 * math.sqrt(E):  # pragma: no cover - the set is bounded: U ≥ |Q|²/(2 I_max) - ...
-                raise RuntimeError("the region of oscillation is unbounded")
-        return brentq(lambda r: excess(origin + r * direction), 0.0, hi, xtol=1e-14 * hi, rtol=1e-14)
+        lo, hi = np.zeros(len(origins)), np.full(len(origins), math.sqrt(E))
+        for _ in range(_BRACKET_DOUBLINGS):
+            out = ~inside(hi)
+            if out.all():
+                break
+            lo, hi = np.where(out, lo, hi), np.where(out, hi, 2.0 * hi)
+        else:  # pragma: no cover - min U grows like |Q|²: the set is bounded
+            raise RuntimeError("the region of oscillation is unbounded")
+        for _ in range(_BISECTIONS):
+            mid = 0.5 * (lo + hi)
+            ok = inside(mid)
+            lo, hi = np.where(ok, mid, lo), np.where(ok, hi, mid)
+        return lo
 
-    tip = edge(np.zeros(2), e)
+    tip = float(edge(np.zeros((1, 2)), e[None, :])[0])
     U = tip_fraction * tip
     xs = _cheb_nodes(_PROFILE_NODES)
-    up = np.array([edge(x * U * e, n) for x in xs])
-    lo = np.array([-edge(x * U * e, -n) for x in xs])
+    on_line = xs[:, None] * U * e[None, :]
+    up = edge(on_line, np.tile(n, (len(xs), 1)))
+    lo = -edge(on_line, np.tile(-n, (len(xs), 1)))
     c, w = 0.5 * (up + lo), 0.5 * (up - lo)
     cheb = np.polynomial.chebyshev
     # a low-degree chart: the tabulated functions of (x, τ) are resolved with few more nodes than the
@@ -114,32 +133,63 @@ def region_frame(body: Body, E: float, *, nu: int = 48, nv: int = 24, delta_min:
     w_coef[1::2] = 0.0  # exactly even
     cf, wf = cheb.chebval(xs, c_coef), cheb.chebval(xs, w_coef)
     w_coef *= min(1.0, float(np.min(np.minimum(up - cf, cf - lo) / wf)))  # inside the level set at the nodes
+    # the sinh stretches: near Q = 0, W ≈ ∇W(0)·Q turns by O(1) over 1/|∂W/∂u| along e and 1/|∂W/∂v| across
+    hq = 1e-7
+    W = symmetric_data(sym, E, hq * np.array([e[0], -e[0], n[0], -n[0]]), hq * np.array([e[1], -e[1], n[1], -n[1]]))[1]
+    scales = (abs(W[0] - W[1]) / (2.0 * hq) * U, abs(W[2] - W[3]) / (2.0 * hq) * float(np.polynomial.chebyshev.chebval(
+        0.0, w_coef)))
+    alpha, beta = (math.asinh(s) if s > 1.0 else 0.0 for s in scales)
     cos_theta0 = 1.0 - E / (sym.g * sym.a)
     theta0 = math.acos(cos_theta0) if -1.0 < cos_theta0 < 1.0 else math.nan
     return SlowMapTable(a=sym.a, I1=sym.I1, I3=sym.I3, g=sym.g, theta0=theta0, E0=E, e=e, n=n, U=U,
                         c_coef=c_coef, w_coef=w_coef, coef=np.zeros((len(TABLE_FUNCTIONS), nu, nv)),
-                        C0=kick_at_rest(sym, E), kappa=0.0, interp_error=0.0, delta_min=float(delta_min))
+                        C0=kick_at_rest(sym, E), kappa=0.0, interp_error=0.0, delta_min=float(delta_min), alpha=alpha,
+                        beta=beta)
 
 
-def _orbit_data(sym: Body, E: float, QR: NDArray, QJ: NDArray, progress: bool = False):
-    """T, W mod 2π, Δφ mod π and the harmonics of the ε-responses at each Q, from three variational orbits."""
+def _node_block(sym: Body, E: float, nodes: list[tuple[float, float, float]]) -> NDArray[np.float64]:
+    """Rows (T, W mod 2π, Δφ mod π, the harmonics of the ε-responses) at nodes (Q_R, Q_J, θ_X)."""
+    out = np.empty((len(nodes), 3 + 3 * len(FIRST_ORDER_NAMES)))
+    for r, (QR, QJ, thX) in enumerate(nodes):
+        steps = [first_order_step(sym, E, QR, QJ, psi, theta_X=thX) for psi in HARMONIC_PSI]
+        out[r, :3] = (np.mean([s.T for s in steps]), float(wrap_angle(2.0 * steps[0].dpsi)), steps[0].dphi)
+        out[r, 3:] = np.concatenate([_harmonics([s.d[name] for s in steps]) for name in FIRST_ORDER_NAMES])
+    return out
+
+
+#: Nodes per task of a parallel table build, and the most worker processes used.
+_BLOCK_NODES = 64
+MAX_WORKERS = 64
+
+
+def _orbit_data(sym: Body, E: float, QR: NDArray, QJ: NDArray, progress: bool = False, workers: int = 1):
+    """T, W mod 2π, Δφ mod π and the harmonics of the ε-responses at each Q, from three variational orbits
+    per node; ``workers`` processes share the nodes (each node's numbers do not depend on how many)."""
     from tqdm.auto import tqdm
 
     tp = solve_turning_points(E, QR, QJ, sym)
     if np.any(np.asarray(tp.status) != 0):
         raise AveragingRangeError(f"some nodes of the region tables of E={E!r} have no oscillation of theta")
-    thX = np.asarray(tp.theta_X, float)
-    shape = np.shape(QR)
-    T, W, dphi = np.empty(shape), np.empty(shape), np.empty(shape)
-    resp = np.empty((len(FIRST_ORDER_NAMES),) + shape + (3,))
-    for idx in tqdm(list(np.ndindex(shape)), desc="region tables", unit="node", disable=not progress):
-        steps = [first_order_step(sym, E, QR[idx], QJ[idx], psi, theta_X=thX[idx]) for psi in HARMONIC_PSI]
-        T[idx] = np.mean([s.T for s in steps])
-        W[idx] = float(wrap_angle(2.0 * steps[0].dpsi))
-        dphi[idx] = steps[0].dphi
-        for k, name in enumerate(FIRST_ORDER_NAMES):
-            resp[(k,) + idx] = _harmonics([s.d[name] for s in steps])
-    return T, W, dphi, resp
+    nodes = list(zip(np.ravel(QR).tolist(), np.ravel(QJ).tolist(), np.ravel(tp.theta_X).tolist()))
+    blocks = [nodes[i:i + _BLOCK_NODES] for i in range(0, len(nodes), _BLOCK_NODES)]
+    with tqdm(total=len(nodes), desc="region tables", unit="node", disable=not progress) as bar:
+        if workers == 1:
+            rows = []
+            for block in blocks:
+                rows.append(_node_block(sym, E, block))
+                bar.update(len(block))
+        else:
+            import multiprocessing
+            from concurrent.futures import ProcessPoolExecutor
+
+            with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn")) as pool:
+                futures = [pool.submit(_node_block, sym, E, block) for block in blocks]
+                for fut, block in zip(futures, blocks):
+                    fut.add_done_callback(lambda _, n=len(block): bar.update(n))
+                rows = [fut.result() for fut in futures]
+    data = np.concatenate(rows).reshape(np.shape(QR) + (-1,))
+    resp = np.moveaxis(data[..., 3:].reshape(np.shape(QR) + (len(FIRST_ORDER_NAMES), 3)), -2, 0)
+    return data[..., 0], data[..., 1], data[..., 2], resp
 
 
 #: Off-grid chart points (x, τ) at which a new region table is checked against direct orbits.
@@ -168,8 +218,8 @@ def region_interpolation_error(table: SlowMapTable) -> float:
     return float(worst)
 
 
-def build_region_table(body: Body, E: float, *, nu: int = 48, nv: int = 24, delta_min: float = 0.05,
-                       tip_fraction: float = 0.8, progress: bool = False) -> SlowMapTable:
+def build_region_table(body: Body, E: float, *, nu: int = 128, nv: int = 32, delta_min: float = 0.05,
+                       tip_fraction: float = 0.8, progress: bool = False, workers: int = 1) -> SlowMapTable:
     """Tabulate the reversible first-order slow map of (body, E) over the region of oscillation.
 
     Parameters
@@ -186,11 +236,16 @@ def build_region_table(body: Body, E: float, *, nu: int = 48, nv: int = 24, delt
         Part of the spindle's half-length covered along the critical line, in ``TIP_FRACTION_RANGE``.
     progress : bool
         A tqdm progress bar over the nodes (3 variational orbits each).
+    workers : int
+        Processes that share the nodes, 1 ≤ workers ≤ ``MAX_WORKERS``; the table does not depend on it.  More
+        than one starts a pool of "spawn" processes, which import the calling script: a script that asks for
+        workers must guard its top level with ``if __name__ == "__main__":`` (the ``rocknroller`` command does).
     """
+    workers = _check_workers(workers)
     frame = region_frame(body, E, nu=nu, nv=nv, delta_min=delta_min, tip_fraction=tip_fraction)
-    QR, QJ = frame.chart(*np.meshgrid(_cheb_nodes(nu), _cheb_nodes(nv), indexing="ij"))
+    QR, QJ = frame.nodes()
     try:
-        T, W, dphi, resp = _orbit_data(body.symmetric(), frame.E0, QR, QJ, progress)
+        T, W, dphi, resp = _orbit_data(body.symmetric(), frame.E0, QR, QJ, progress, workers)
     except NoMotionError as exc:  # pragma: no cover - the chart lies inside the level set δ = delta_min
         raise AveragingRangeError(str(exc)) from None
     table = fit_table(frame, T, W, dphi, resp)

@@ -18,6 +18,7 @@ from rocknroller.analysis import averaging as av
 from rocknroller.analysis.body import Body
 from rocknroller.analysis.quadrature import wrap_angle
 from rocknroller.analysis.slow_pendulum import PendulumConstants, pendulum_prediction
+from rocknroller.numerics.equations import EulerState
 
 __all__ = ["OBSERVABLES", "OdeSlowSummary", "ode_slow_summary", "relative_errors", "sample_errors",
            "loglog_slope", "Comparison", "compare_with_ode"]
@@ -43,12 +44,13 @@ class OdeSlowSummary:
     region_runs: list[tuple[str, int, float]]
 
 
-def ode_slow_summary(body: Body, theta0: float, psi0: float, t_end: float) -> OdeSlowSummary:
-    """Run the direct ODE (heyoka) from rest at (θ0, ψ0) and summarise its θ-maxima."""
-    from rocknroller.numerics.equations import EulerState
+def ode_slow_summary(body: Body, theta0: float | EulerState, psi0: float | None, t_end: float) -> OdeSlowSummary:
+    """Run the direct ODE (heyoka) from rest at (θ0, ψ0), or from an initial state (then psi0 is None), and
+    summarise its θ-maxima (as :func:`rocknroller.analysis.averaging.predict_slow_motion` takes its start)."""
     from rocknroller.numerics.integrate import simulate
 
-    tr = simulate(body, EulerState(theta0, 0.0, psi0), t_end, dt=t_end / 10)
+    start = theta0 if isinstance(theta0, EulerState) else EulerState(theta0, 0.0, psi0)
+    tr = simulate(body, start, t_end, dt=t_end / 10)
     m = tr.maxima
     return OdeSlowSummary(t=m.t, QR=m.QR, QJ=m.QJ, Theta=2.0 * m.psi, phi=m.phi, slow_period=tr.slow_period,
                           QR_extent=tr.QR_extent, QJ_extent=tr.QJ_extent, Phi=tr.Phi,

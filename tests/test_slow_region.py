@@ -1,0 +1,139 @@
+"""The averaged map over the whole region of an energy (``analysis.slow_region``) and predictions from any start.
+
+Fast checks use a small table (16 × 8 nodes, ~2 s): its geometry, reversibility and range errors do not depend on
+the grid.  The comparison with the direct ODE needs the default grid (~50 s a table) and is marked slow.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from rocknroller.analysis import averaging as av
+from rocknroller.analysis import slow_region as sr
+from rocknroller.analysis.body import Body
+from rocknroller.analysis.criticality import QJ_crit_0
+from rocknroller.analysis.reduction import min_potential, solve_turning_points
+from rocknroller.analysis.slow_orbit import first_maximum, rest_energy
+from rocknroller.numerics.equations import EulerState
+from rocknroller.papers.averaging_check import loglog_slope, ode_slow_summary, sample_errors
+
+SYM = Body.paper(0.0)
+E06 = rest_energy(SYM, 0.6 * math.pi)
+SMALL = {"nu": 16, "nv": 8}
+
+
+@pytest.fixture(scope="module")
+def small_table():
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", "the region tables .* interpolate", av.AveragingValidityWarning)
+        return sr.build_region_table(SYM, E06, **SMALL)
+
+
+def test_boundary_distance_is_one_at_rest_and_zero_at_steady_rolling():
+    assert float(sr.boundary_distance(SYM, E06, 0.0, 0.0)) == 1.0  # min U = U(0; 0, 0) = 0
+    Q = np.array([0.3, 0.2])
+    E_steady = float(min_potential(*Q, SYM))
+    assert int(solve_turning_points(E_steady * (1 + 1e-6), *Q, SYM).status) == 0  # just above: it oscillates
+    assert abs(float(sr.boundary_distance(SYM, E_steady, *Q))) <= 1e-15
+
+
+def test_chart_is_inside_the_level_set_and_odd(small_table):
+    t = small_table
+    x, tau = np.meshgrid(np.linspace(-1, 1, 41), np.linspace(-1, 1, 21), indexing="ij")
+    QR, QJ = t.chart(x, tau)
+    # the chart's sides interpolate the level set delta = delta_min at the profile nodes and are scaled inside it
+    # there; between nodes a degree-8 fit of a smooth curve may stray by its fitting error, far below delta_min
+    assert np.min(sr.boundary_distance(SYM, E06, QR, QJ)) >= 0.9 * t.delta_min
+    mR, mJ = t.chart(-x, -tau)
+    assert np.array_equal(mR, -QR) and np.array_equal(mJ, -QJ)  # Q → −Q is (x, τ) → (−x, −τ): exact parities
+    assert np.allclose(t.coordinates((QR[7, 3], QJ[7, 3])), (x[7, 3], tau[7, 3]), rtol=0, atol=1e-14)
+    assert t.e[1] / t.e[0] == pytest.approx(float(QJ_crit_0(1.0, SYM)), rel=1e-15)  # along Q_J,0^crit
+
+
+def test_workers_do_not_change_the_table(small_table):
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", "the region tables .* interpolate", av.AveragingValidityWarning)
+        two = sr.build_region_table(SYM, E06, **SMALL, workers=2)
+    for name in small_table.__dataclass_fields__:
+        assert np.array_equal(np.asarray(getattr(two, name)), np.asarray(getattr(small_table, name))), name
+
+
+def test_region_map_is_reversible(small_table):
+    """N steps forward, Q → −Q, N steps back: the start again.  Not a round-off bound (tests/test_averaging.py
+    derives that one for the release tables): the threshold 1e-10 |Q0| separates a reversible construction (its
+    only defect is the rounding of 2N = 40 steps amplified by the twist, ≲ 40 · 10³ · 1.1e-16 ≈ 4e-12 relative)
+    from one whose kick lacks the parities (a defect ε |k_Q| ≈ 3e-3 · 1e-2 |Q0|-scale per step)."""
+    t = small_table
+    Q0 = np.array(t.chart(0.3, -0.4))
+    fwd = av.iterate_slow_map(t, 3e-3, 0.7, 1e9, Q0=Q0, n_steps=20)
+    back = av.iterate_slow_map(t, 3e-3, 0.5 * fwd.Theta[-1], 1e9, Q0=(-fwd.QR[-1], -fwd.QJ[-1]), n_steps=20)
+    end = np.array([-back.QR[-2], -back.QJ[-2]])
+    assert np.allclose(end, [fwd.QR[0], fwd.QJ[0]], rtol=0, atol=1e-10 * np.abs(Q0).max())
+
+
+def test_bad_options_name_the_parameter():
+    for kw, name in (({"delta_min": 0.0}, "delta_min"), ({"tip_fraction": 1.0}, "tip_fraction"),
+                     ({"workers": 0}, "workers"), ({"nv": 65}, "nv")):
+        with pytest.raises(ValueError, match=name):
+            sr.build_region_table(SYM, E06, **{**SMALL, **kw})
+    with pytest.raises(ValueError, match="E must"):
+        sr.build_region_table(SYM, -1.0, **SMALL)
+
+
+def test_predict_from_state_checks_its_inputs(small_table):
+    body = Body.paper(1e-3)
+    start = EulerState(theta=0.6 * math.pi, psi=0.3, phi_dot=0.05)
+    with pytest.raises(ValueError, match="psi0"):
+        av.predict_slow_motion(body, start, 0.3)
+    with pytest.raises(ValueError, match="region table of this start's energy"):
+        av.predict_slow_motion(body, start, t_end=100.0, table=small_table)  # another energy
+    moving = EulerState(theta=0.6 * math.pi, theta_dot=0.4, psi=0.3, phi_dot=0.05)
+    with pytest.raises(ValueError, match="before the first maximum"):
+        av.predict_slow_motion(body, moving, t_end=1e-3)
+
+
+def test_a_start_outside_the_tables_names_its_distance_to_steady_rolling(small_table):
+    """A start at the energy of the table but nearer steady rolling than delta_min."""
+    t = small_table
+    Q = np.array(t.chart(0.0, 1.0)) * 1.0
+    # push Q outward along n until delta < delta_min / 2
+    while float(sr.boundary_distance(SYM, E06, *Q)) > 0.5 * t.delta_min:
+        Q = Q + 1e-3 * t.n
+    with pytest.raises(av.AveragingRangeError, match=r"distance to steady rolling is \(E - min U\)/E = "):
+        av.iterate_slow_map(t, 1e-3, 0.0, 100.0, Q0=Q)
+
+
+# ----------------------------------------------------------------------------- against the direct ODE
+#: Starts with ω2 = 0 in the body frame: their energy does not depend on I2, so one table serves every ε.
+ODE_STARTS = {
+    "0.6pi, spin": (0.6 * math.pi, 0.3, (0.0, 0.0, 0.05)),
+    "0.45pi, tilting": (0.45 * math.pi, 1.1, (0.3, 0.0, -0.08)),
+}
+EPS = (1e-2, 1e-3, 1e-4)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ODE_STARTS)
+def test_map_from_a_start_with_velocity_converges_to_the_ode(name):
+    """Maximum-by-maximum errors of the map against the direct ODE over 1000 time units fall at least linearly
+    in ε (issue 12: log-log slope ≥ 0.9) for Q, Θ = 2ψ, t and φ; the table (default grid) is built once."""
+    theta0, psi0, omega = ODE_STARTS[name]
+    start = EulerState.from_omega(theta0, 0.0, psi0, omega)
+    errors = {k: [] for k in ("Q", "Theta", "t", "phi")}
+    table = None
+    for eps in EPS:
+        body = Body.paper(eps)
+        if table is None:
+            table = sr.load_or_build_region_table(body, first_maximum(body, start).E, workers=2)
+            assert table.interp_error < 1e-7
+        pred = av.predict_slow_motion(body, start, t_end=1000.0, table=table)
+        ode = ode_slow_summary(body, start, None, 1000.0)
+        assert abs(ode.t.size - pred.series.t.size) <= 1 and ode.t.size > 50
+        for k, err in sample_errors(pred.series, ode).items():
+            errors[k].append(err)
+    for k, errs in errors.items():
+        assert loglog_slope(EPS, errs) >= 0.9, (k, errs)
