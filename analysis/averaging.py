@@ -886,11 +886,7 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
     elif table.body != body.symmetric():
         raise ValueError(f"the table is for the body {table.body.describe()}, not {body.symmetric().describe()}")
     K = eps * table.kappa
-    if abs(K) > K_PERIOD_DOUBLING:
-        warnings.warn(
-            f"K = eps*kappa = {K:.3g} > {K_PERIOD_DOUBLING:g}: pure rocking about the stable principal axis is "
-            f"unstable (period doubling at eps = {eps_period_doubling(table.kappa):.4g}); the first-order "
-            f"averaging is expected to hold for K < {K_PERIOD_DOUBLING:g}", AveragingValidityWarning, stacklevel=2)
+    _warn_validity(eps, table)
     if eps == 0.0:  # Routh's sphere from rest: rocking in a fixed vertical plane, Q ≡ 0, ψ and φ mod π fixed
         from rocknroller.analysis.criticality import ON_BOTH
 
@@ -903,6 +899,27 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
             series=SlowSeries(t=t, QR=zero, QJ=zero.copy(), Theta=np.full_like(t, 2.0 * psi0), phi=zero.copy()),
             regions=np.full(t.size, ON_BOTH, dtype=object), region_runs=[], crossings=[], pure_rocking=True)
     return _prediction(eps, theta0, psi0, t_end, K, iterate_slow_map(table, eps, psi0, t_end), table.body)
+
+
+#: Largest interpolation error of a region table for which its predictions are given without a warning: the
+#: map's own error is O(ε) of the slow motion, and a table error δ adds ~N δ over N rocks (N ≲ 10³ in 10⁴ t.u.).
+REGION_TABLE_ACCURACY = 1e-6
+
+
+def _warn_validity(eps: float, table: SlowMapTable) -> None:
+    """AveragingValidityWarning if K = ε κ exceeds 4 or a region table interpolates worse than its accuracy."""
+    K = eps * table.kappa
+    if abs(K) > K_PERIOD_DOUBLING:
+        warnings.warn(
+            f"K = eps*kappa = {K:.3g} > {K_PERIOD_DOUBLING:g}: pure rocking about the stable principal axis is "
+            f"unstable (period doubling at eps = {eps_period_doubling(table.kappa):.4g}); the first-order "
+            f"averaging is expected to hold for K < {K_PERIOD_DOUBLING:g}", AveragingValidityWarning, stacklevel=3)
+    if table.delta_min > 0.0 and table.interp_error > REGION_TABLE_ACCURACY:
+        warnings.warn(
+            f"the region tables of E={table.E0:.6g} interpolate the map's coefficients only to {table.interp_error:.1e} "
+            f"(> {REGION_TABLE_ACCURACY:g}): near Q = 0, W turns by ~2 pi over 1/|grad W(0)|, which their Chebyshev "
+            "grid resolves up to the energy of a release from about 0.7 pi (docs/averaging.md, 'Starts with "
+            "velocity'); the prediction carries that error", AveragingValidityWarning, stacklevel=3)
 
 
 def _prediction(eps: float, theta0: float, psi0: float, t_end: float, K: float, series: SlowSeries,
@@ -930,11 +947,12 @@ def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: S
         raise ValueError(f"t_end={t_end!r} ends before the first maximum of theta (t = {fm.t:.6g})")
     if table is None:
         table = load_or_build_region_table(body, fm.E, build=build)
-    elif table.E0 != fm.E or table.delta_min == 0.0:
+    elif abs(table.E0 - fm.E) > 8.0 * math.ulp(fm.E) or table.delta_min == 0.0:  # E from two formulas: rounding
         raise ValueError(f"the table is not the region table of this start's energy E={fm.E!r}")
     elif table.body != body.symmetric():
         raise ValueError(f"the table is for the body {table.body.describe()}, not {body.symmetric().describe()}")
     eps = body.epsilon
+    _warn_validity(eps, table)
     rest = iterate_slow_map(table, eps, fm.psi, t_end - fm.t, Q0=(fm.QR, fm.QJ), phi0=fm.phi)
     first = [fm.t > 0.0]  # a start that is itself a maximum is not a sample (the ODE reports none at t = 0)
     series = SlowSeries(t=np.concatenate([[fm.t][: sum(first)], fm.t + rest.t]),

@@ -50,6 +50,7 @@ HARMONIC_PSI = (0.0, math.pi / 3.0, 2.0 * math.pi / 3.0)
 #: First-order responses per step: ε-derivatives of Q_R, Q_J, Θ = 2ψ, the event time and φ.
 FIRST_ORDER_NAMES = ("QR", "QJ", "Theta", "t", "phi")
 _INTEGRATOR: dict[str, Any] = {}
+_U = float(np.finfo(float).eps) / 2.0
 
 
 def rest_energy(body: Body, theta0: float) -> float:
@@ -348,7 +349,9 @@ def first_maximum(body: Body, initial: EulerState) -> FirstMaximum:
     QR0, QJ0 = float(routh(body, y0[0:3], y0[3:6])), float(jellett(body, y0[0:3], y0[3:6]))
     h0 = float(turning_point_function(y0))
     dh0 = directional_derivative(turning_point_function, y0, np.array(body_frame_rhs(y0, body.params)))
-    if h0 == 0.0 and dh0 > 0.0:  # θ̇ = 0 and θ about to fall: the start is a maximum
+    # θ̇ = 0 to rounding (h = γ1 ω2 − γ2 ω1 within 8 ulps of its terms, as a start built from ω gives) and θ about
+    # to fall: the start is a maximum
+    if abs(h0) <= 8.0 * _U * (abs(y0[0] * y0[4]) + abs(y0[1] * y0[3])) and dh0 > 0.0:
         return FirstMaximum(t=0.0, E=E, theta=float(initial.theta), QR=QR0, QJ=QJ0, psi=float(initial.psi),
                             phi=float(initial.phi))
     sym = body.symmetric()

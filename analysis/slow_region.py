@@ -29,7 +29,7 @@ import warnings
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from rocknroller.analysis.averaging import (CHART_TERMS, TABLE_FUNCTIONS, AveragingRangeError,
+from rocknroller.analysis.averaging import (CHART_TERMS, REGION_TABLE_ACCURACY, TABLE_FUNCTIONS, AveragingRangeError,
                                             AveragingValidityWarning, SlowMapTable, _cheb_nodes, cached_table,
                                             check_grid, fit_table, kick_at_rest)
 from rocknroller.analysis.body import Body
@@ -194,7 +194,6 @@ def _orbit_data(sym: Body, E: float, QR: NDArray, QJ: NDArray, progress: bool = 
 
 #: Off-grid chart points (x, τ) at which a new region table is checked against direct orbits.
 _CHECK_POINTS = ((0.37, 0.3), (-0.81, -0.55), (0.93, 0.8), (0.05, -0.97))
-_INTERP_WARN = 1e-9
 
 
 def region_interpolation_error(table: SlowMapTable) -> float:
@@ -250,7 +249,7 @@ def build_region_table(body: Body, E: float, *, nu: int = 128, nv: int = 32, del
         raise AveragingRangeError(str(exc)) from None
     table = fit_table(frame, T, W, dphi, resp)
     err = region_interpolation_error(table)
-    if err > _INTERP_WARN:
+    if err > REGION_TABLE_ACCURACY:
         warnings.warn(f"the region tables of E={E!r} interpolate the coefficients only to {err:.1e}; use more "
                       f"nodes (nu={nu}, nv={nv}) or a smaller tip_fraction", AveragingValidityWarning, stacklevel=2)
     return dataclasses.replace(table, interp_error=err)

@@ -23,6 +23,8 @@ __all__ = [
     "add_initial_state_options",
     "initial_state_from_args",
     "rates_given",
+    "add_critical_line_options",
+    "critical_line_state",
     "add_force_option",
     "prepare_output_dir",
     "prepare_output_file",
@@ -111,7 +113,7 @@ def body_from_args(args: argparse.Namespace) -> Body:
 
 
 def add_initial_state_options(parser: argparse.ArgumentParser, theta0_default: str = "0.95pi",
-                              rates_note: str = "") -> None:
+                              rates_note: str = "", psi0_default: str = "0") -> None:
     """--theta0 --phi0 --psi0 --theta-dot0 --phi-dot0 --psi-dot0, or --omega W1 W2 W3 (body frame).
 
     The rates default to None ("not given", read as 0) so that a command can tell an explicit 0 from
@@ -122,7 +124,7 @@ def add_initial_state_options(parser: argparse.ArgumentParser, theta0_default: s
         "The Euler rates default to 0" + (f"; {rates_note}" if rates_note else "") + ".")
     grp.add_argument("--theta0", type=str, default=theta0_default, help=f"tilt in [0, pi] (default {theta0_default})")
     grp.add_argument("--phi0", type=str, default="0", help="azimuth (default 0)")
-    grp.add_argument("--psi0", type=str, default="0", help="spin angle (default 0)")
+    grp.add_argument("--psi0", type=str, default=psi0_default, help=f"spin angle (default {psi0_default})")
     grp.add_argument("--theta-dot0", type=float, default=None, help="tilt rate (default 0)")
     grp.add_argument("--phi-dot0", type=float, default=None, help="azimuth rate (default 0)")
     grp.add_argument("--psi-dot0", type=float, default=None, help="spin rate (default 0)")
@@ -144,6 +146,34 @@ def initial_state_from_args(args: argparse.Namespace) -> EulerState:
         return EulerState.from_omega(theta, phi, psi, args.omega)
     rates = (0.0 if v is None else v for v in (args.theta_dot0, args.phi_dot0, args.psi_dot0))
     return EulerState(theta, phi, psi, *rates)
+
+
+def add_critical_line_options(group: Any) -> None:
+    """--critical-line {pi,0}, --QR, --offset: a turning-point start on a critical line (paper figs. 8, 9)."""
+    group.add_argument("--critical-line", choices=("pi", "0"), default=None,
+                       help="start on Q_J,pi^crit or Q_J,0^crit (paper figs. 8, 9): phi_dot0 is computed from "
+                            "--theta0 and either --QR or --psi-dot0; theta_dot0 = 0")
+    group.add_argument("--QR", type=float, default=None, help="with --critical-line: Routh's quantity of the start")
+    group.add_argument("--offset", type=float, default=0.0,
+                       help="with --critical-line: signed distance Q_J - Q_J^crit(Q_R) of the start (default 0)")
+
+
+def critical_line_state(args: argparse.Namespace, body: Body) -> tuple[EulerState, Any]:
+    """The initial state of :func:`add_initial_state_options` and :func:`add_critical_line_options`, and the
+    ``criticality.CriticalStart`` of a --critical-line start (else None)."""
+    from rocknroller.analysis.criticality import critical_start
+
+    if args.critical_line is None:
+        if args.QR is not None:
+            raise ValueError("--QR needs --critical-line")
+        return initial_state_from_args(args), None
+    if args.omega is not None or args.phi_dot0 is not None or args.theta_dot0 is not None:
+        raise ValueError("--critical-line computes phi_dot0 (theta_dot0 = 0): do not give --omega, --phi-dot0 "
+                         "or --theta-dot0")
+    theta0, phi0, psi0 = parse_angle(args.theta0), parse_angle(args.phi0), parse_angle(args.psi0)
+    kw = {"QR": args.QR} if args.QR is not None else {"psi_dot0": 0.0 if args.psi_dot0 is None else args.psi_dot0}
+    start = critical_start(body, theta0, psi0, args.critical_line, offset=args.offset, **kw)
+    return EulerState.from_omega(theta0, phi0, psi0, start.omega), start
 
 
 # ----------------------------------------------------------------------------- outputs

@@ -225,3 +225,40 @@ def test_plot_directory_is_checked_before_computing(tmp_path, capsys):
     blocker.write_text("")
     assert main(["slow", "--plot", str(blocker / "sub")]) == 2
     assert "cannot write" in capsys.readouterr().err
+
+
+# ----------------------------------------------------------------------------- starts with velocity
+#: Coarse region tables (16 × 8 nodes, ~2 s): these tests check the command's plumbing, not the map's accuracy
+#: (tests/test_slow_region.py compares the default tables with the direct ODE); the command says they are coarse.
+COARSE = ["--nodes", "16", "8", "--workers", "1"]
+
+
+def test_start_with_velocity(fresh_cache, tmp_path, capsys):
+    argv = ["slow", "--eps", "1e-3", "--theta0", "0.6pi", "--psi0", "0.3", "--phi-dot0", "0.05", "--t-end", "200",
+            "--json", "--check", "--plot", str(tmp_path / "fig"), *COARSE]
+    assert main(argv) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["start"]["phi_dot"] == 0.05 and out["pendulum"] is None
+    assert out["n_maxima"] > 10
+    assert any("interpolate the map's coefficients only" in w for w in out["warnings"])  # coarse tables: said so
+    assert out["rocks_per_region"] == out["ode"]["rocks_per_region"]
+    assert (tmp_path / "fig" / "slow_orbit.png").stat().st_size > 1000
+
+
+def test_start_on_a_critical_line(fresh_cache, capsys):
+    """The paper's fig. 8 start (on Q_J,pi^crit, psi_dot0 = 0.002) through the command."""
+    assert main(["slow", "--critical-line", "pi", "--psi-dot0", "0.002", "--t-end", "100", "--json", *COARSE]) == 0
+    out = json.loads(capsys.readouterr().out)
+    # the start is built from omega (EulerState.from_omega): its rates carry the conversion's few roundings
+    assert out["start"]["psi_dot"] == pytest.approx(0.002, rel=1e-14)
+    assert abs(out["start"]["theta_dot"]) < 1e-18
+    assert out["first_maximum"]["t"] == 0.0  # a turning-point start at which theta falls: its own first maximum
+
+
+def test_start_options_are_checked(fresh_cache, capsys):
+    assert main(["slow", "--QR", "0.1"]) == 2
+    assert "--QR needs --critical-line" in capsys.readouterr().err
+    assert main(["slow", "--phi-dot0", "0.05", "--workers", "0", "--nodes", "16", "8"]) == 2
+    assert "--workers" in capsys.readouterr().err
+    assert main(["slow", "--phi-dot0", "0.05", "--nodes", "16", "7"]) == 2
+    assert "--nodes" in capsys.readouterr().err

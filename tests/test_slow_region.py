@@ -96,6 +96,14 @@ def test_predict_from_state_checks_its_inputs(small_table):
         av.predict_slow_motion(body, moving, t_end=1e-3)
 
 
+def test_an_inaccurate_table_is_reported(small_table):
+    """16 × 8 nodes interpolate to O(1): a prediction from them warns and says where the tables are accurate."""
+    assert small_table.interp_error > av.REGION_TABLE_ACCURACY
+    start = EulerState(theta=0.6 * math.pi, psi=0.3)  # from rest: the table's energy
+    with pytest.warns(av.AveragingValidityWarning, match="interpolate the map's coefficients only to"):
+        av.predict_slow_motion(Body.paper(1e-3), start, t_end=50.0, table=small_table)
+
+
 def test_a_start_outside_the_tables_names_its_distance_to_steady_rolling(small_table):
     """A start at the energy of the table but nearer steady rolling than delta_min."""
     t = small_table

@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
-from rocknroller.options import (add_body_options, add_force_option, add_initial_state_options, body_from_args,
-                                 initial_state_from_args, parse_angle, prepare_output_dir, print_json)
+from rocknroller.options import (add_body_options, add_critical_line_options, add_force_option,
+                                 add_initial_state_options, body_from_args, critical_line_state, prepare_output_dir,
+                                 print_json)
 
 #: Defaults of the paper's critical-line runs (§numerics "Recession and Criticality"): ε = 1e-3, θ0 = 0.95π, ψ0 = π/4, 200 time units.
 SIM_EPS, SIM_PSI0, SIM_T_END = 1e-3, "pi/4", 200.0
@@ -36,33 +36,15 @@ def register(sub: argparse._SubParsersAction) -> None:
                      help=f"integrate the direct ODE and overlay its orbit (eps defaults to {SIM_EPS:g} then)")
     sim.add_argument("--t-end", type=float, default=SIM_T_END, help=f"final time (default {SIM_T_END:g})")
     sim.add_argument("--method", choices=("heyoka", "scipy"), default="heyoka", help="integrator (default heyoka)")
-    sim.add_argument("--critical-line", choices=("pi", "0"), default=None,
-                     help="start on Q_J,pi^crit or Q_J,0^crit (paper figs. 8, 9): phi_dot0 is computed from "
-                          "--theta0 and either --QR or --psi-dot0; theta_dot0 = 0")
-    sim.add_argument("--QR", type=float, default=None, help="with --critical-line: Routh's quantity of the start")
-    sim.add_argument("--offset", type=float, default=0.0,
-                     help="with --critical-line: signed distance Q_J - Q_J^crit(Q_R) of the start (default 0)")
+    add_critical_line_options(sim)
     add_initial_state_options(p)
     p.set_defaults(run=run, psi0=None)
 
 
 def _initial_state(args, body):
-    from rocknroller.analysis.criticality import critical_start
-    from rocknroller.numerics.equations import EulerState
-
     if args.psi0 is None:
         args.psi0 = SIM_PSI0
-    if args.critical_line is None:
-        if args.QR is not None:
-            raise ValueError("--QR needs --critical-line")
-        return initial_state_from_args(args), None
-    if args.omega is not None or args.phi_dot0 is not None or args.theta_dot0 is not None:
-        raise ValueError("--critical-line computes phi_dot0 (theta_dot0 = 0): do not give --omega, --phi-dot0 "
-                         "or --theta-dot0")
-    theta0, phi0, psi0 = parse_angle(args.theta0), parse_angle(args.phi0), parse_angle(args.psi0)
-    kw = {"QR": args.QR} if args.QR is not None else {"psi_dot0": 0.0 if args.psi_dot0 is None else args.psi_dot0}
-    start = critical_start(body, theta0, psi0, args.critical_line, offset=args.offset, **kw)
-    return EulerState.from_omega(theta0, phi0, psi0, start.omega), start
+    return critical_line_state(args, body)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -1,4 +1,8 @@
-"""``rocknroller slow``: the ε-averaged slow (Q_R, Q_J) motion of a body released from rest.
+"""``rocknroller slow``: the ε-averaged slow (Q_R, Q_J) motion of a body released from rest, or from any start.
+
+Without a rate option (or ``--critical-line``) the body is released from rest at (θ0, ψ0): the release tables
+and the closed form near pure rocking.  With one, the start is carried to its first θ-maximum by the direct ODE
+and the map runs on the region tables of its energy (``rocknroller.analysis.slow_region``).
 
 The body, the angles and ``--t-end`` are checked before any table is built, and errors name the option
 given (``--eps``, ``--I2``, ``--theta0``, ``--t-end``).  ``--json`` prints strict JSON (no NaN or Infinity); a quantity that is
@@ -18,8 +22,9 @@ from pathlib import Path
 from typing import Any
 
 from rocknroller.analysis import averaging as av
-from rocknroller.options import (add_body_options, add_force_option, body_from_args, parse_angle,
-                                 prepare_output_dir, print_json)
+from rocknroller.options import (add_body_options, add_critical_line_options, add_force_option,
+                                 add_initial_state_options, body_from_args, critical_line_state, parse_angle,
+                                 prepare_output_dir, print_json, rates_given)
 
 _QUANTITIES = ("slow_period", "QR_extent", "QJ_extent", "Phi")
 #: Body options (attribute, flag), for error messages that name what the user gave.
@@ -38,18 +43,27 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="predict the slow (Q_R, Q_J) oscillation by first-order eps-averaging",
         description="First-order eps-averaged slow dynamics of the asymmetric rock'n'roller released from rest "
         "at (theta0, psi0): the reversible slow map sampled at the maxima of theta (tables built once per body "
-        "and theta0, cached) and its closed form near pure rocking (standard map / pendulum). Prints the slow "
+        "and theta0, cached) and its closed form near pure rocking (standard map / pendulum); or, with any rate "
+        "option or --critical-line, from that start (carried to its first maximum of theta by the direct ODE; "
+        "the map on the tables of its energy over the whole (Q_R, Q_J) region, built once per body and energy, "
+        "about a minute on 2 cores, and cached). Prints the slow "
         "period of Theta = 2 psi, the extents of Q_R and Q_J, the azimuth span Phi of phi mod pi, the rocks "
         "spent in each critical region, and the period-doubling eps. Valid for 0 <= eps with K = eps*kappa < 4 "
         f"and {_LO:g}pi <= theta0 <= {_HI:g}pi. eps defaults to 1e-3 here; eps = 0 (Routh's sphere) is pure "
         "rocking on both critical lines. In --json, undefined quantities are null (never NaN or Infinity).",
     )
     add_body_options(p, eps_default=1e-3)
-    p.add_argument("--theta0", type=str, default="0.95pi",
-                   help=f"release tilt in [{_LO:g}pi, {_HI:g}pi] (default 0.95pi): below {_LO:g}pi the averaging "
-                   "tables reach states the release energy does not allow (other amplitudes are not covered yet), "
-                   "above it they lose accuracy near the upright equilibrium")
-    p.add_argument("--psi0", type=str, default="pi/4", help="release spin angle (default pi/4)")
+    add_initial_state_options(p, psi0_default="pi/4", rates_note=(
+        f"with none of them (and no --critical-line) the body is released from rest, theta0 in [{_LO:g}pi, "
+        f"{_HI:g}pi]; with any, the region tables of the start's energy are used (accurate to 1e-6 up to the "
+        "energy of a release from about 0.7pi; beyond, a warning says how far)"))
+    add_critical_line_options(p.add_argument_group("start on a critical line"))
+    p.add_argument("--workers", type=int, default=2,
+                   help="processes that build the region tables of a start with velocity (default 2)")
+    p.add_argument("--nodes", type=int, nargs=2, default=(128, 32), metavar=("NU", "NV"),
+                   help="Chebyshev nodes of the region tables along and across Q_J,0^crit (default 128 32: "
+                        "interpolation error ~1e-8 up to the energy of a release from 0.6pi; fewer are faster and "
+                        "coarser, and the prediction then warns)")
     p.add_argument("--t-end", type=float, default=1000.0,
                    help=f"time span, 0 < T <= {av.MAX_MAXIMA:.0e} * T_theta/2 with T_theta the time between maxima "
                    f"of pure rocking (6.6e6 at theta0 = 0.95pi): at most {av.MAX_MAXIMA:.0e} maxima, ~0.4 GB "
@@ -108,6 +122,24 @@ def _parse(args: argparse.Namespace, option: str) -> float:
         raise ValueError(f"--{option}: {exc}") from None
 
 
+def _from_state(args: argparse.Namespace, body: Any, start: Any) -> tuple[Any, dict[str, Any], list[str]]:
+    """The prediction from a start with velocity, its extra summary entries and its warnings."""
+    from rocknroller.analysis.slow_orbit import first_maximum
+    from rocknroller.analysis.slow_region import load_or_build_region_table
+
+    fm = first_maximum(body, start)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", av.AveragingValidityWarning)
+        table = load_or_build_region_table(body, fm.E, build=not args.cached_only, workers=args.workers,
+                                           progress=not args.json, nu=args.nodes[0], nv=args.nodes[1])
+        pred = av.predict_slow_motion(body, start, t_end=args.t_end, table=table)
+    messages = list(dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, av.AveragingValidityWarning)))
+    extra = {"start": {k: getattr(start, k) for k in ("theta", "phi", "psi", "theta_dot", "phi_dot", "psi_dot")},
+             "E": fm.E, "first_maximum": {"t": fm.t, "theta": fm.theta, "QR": fm.QR, "QJ": fm.QJ},
+             "table_interp_error": table.interp_error}
+    return pred, extra, messages
+
+
 def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller slow`` with the parsed ``args``; returns the exit status."""
     from rocknroller.analysis.slow_pendulum import pendulum_constants, pendulum_prediction
@@ -116,6 +148,19 @@ def run(args: argparse.Namespace) -> int:
         prepare_output_dir(args.plot, "--plot", args.force, ["slow_orbit.png", "slow_orbit.pdf"])
     given = _given(args)
     body = _body(args, given)
+    if rates_given(args) or args.critical_line is not None or _parse(args, "phi0") != 0.0:
+        start, _ = critical_line_state(args, body)
+        pred, extra, messages = _from_state(args, body, start)
+        summary: dict[str, Any] = {q: getattr(pred, q) for q in _QUANTITIES}
+        summary.update({"K": pred.K, "line_slope": pred.line_slope, "pure_rocking": False,
+                        "rocks_per_region": pred.rocks_per_region,
+                        "region_runs": [list(r) for r in pred.region_runs or []],
+                        "crossings": [list(c) for c in pred.crossings or []], "n_maxima": int(pred.series.t.size),
+                        "eps": body.epsilon, "theta0": start.theta, "psi0": start.psi, "t_end": args.t_end,
+                        "pendulum": None, **extra})
+        return _finish(args, body, pred, None, start, summary, messages)
+    if args.QR is not None:
+        raise ValueError("--QR needs --critical-line")
     theta0 = av.check_map_theta0(_parse(args, "theta0"), "--theta0")
     psi0 = _parse(args, "psi0")
     unresolved = f"cannot be computed for --theta0 {args.theta0} and the body options {given} ({body.describe()})"
@@ -156,11 +201,19 @@ def run(args: argparse.Namespace) -> int:
         "stable_psi": consts.stable_psi}
     if pend is not None and pred.pure_rocking:
         summary["pendulum"]["slow_period"] = None  # K = 0: no libration (the closed form's period is infinite)
+    return _finish(args, body, pred, pend, None, summary, messages)
+
+
+def _finish(args: argparse.Namespace, body: Any, pred: Any, pend: Any, start: Any, summary: dict[str, Any],
+            messages: list[str]) -> int:
+    """The direct ODE (--check, --plot), the outputs and the exit status, for either kind of start."""
+    theta0, psi0 = summary["theta0"], summary["psi0"]
     ode = None
     if args.check or args.plot is not None:
         from rocknroller.papers.averaging_check import ode_slow_summary, relative_errors
 
-        ode = ode_slow_summary(body, theta0, psi0, args.t_end)
+        ode = ode_slow_summary(body, start if start is not None else theta0, None if start is not None else psi0,
+                               args.t_end)
         summary["ode"] = {q: getattr(ode, q) for q in _QUANTITIES}
         if pred.pure_rocking:  # the ODE's Q, Θ are round-off about constants: no regions, period or relative errors
             summary["ode"].update(slow_period=None, region_runs=[], rocks_per_region={})
@@ -179,15 +232,22 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print_json(summary)
     else:
-        _print_table(summary, body, theta0, psi0, args.t_end)
+        _print_table(summary, body, theta0, psi0, args.t_end, start)
     for path in written:
         print(f"wrote {path}", file=sys.stderr)
     return 0
 
 
-def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: float) -> None:
+def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: float, start: Any = None) -> None:
     print(f"body: {body.describe()}")
-    print(f"released from rest at theta0={theta0:.6g}, psi0={psi0:.6g}; t_end={t_end:g}; K = eps*kappa = {s['K']:.4g}")
+    if start is None:
+        print(f"released from rest at theta0={theta0:.6g}, psi0={psi0:.6g}; t_end={t_end:g}; "
+              f"K = eps*kappa = {s['K']:.4g}")
+    else:
+        fm = s["first_maximum"]
+        print(f"start: {start}; first maximum of theta at t={fm['t']:.6g} (theta={fm['theta']:.6g}, "
+              f"Q_R={fm['QR']:.6g}, Q_J={fm['QJ']:.6g}); E={s['E']:.8g}; region tables interpolate to "
+              f"{s['table_interp_error']:.1e}; t_end={t_end:g}; K = eps*kappa = {s['K']:.4g}")
     cols = ["quantity", "averaged map", "closed form"] + (["direct ODE", "map rel.err", "closed rel.err"]
                                                          if "ode" in s else [])
     rows = []
@@ -218,11 +278,17 @@ def _plot(pred, ode, body, theta0: float, psi0: float, out: Path) -> list[Path]:
     import numpy as np
 
     from rocknroller.papers.output import new_figure, save_figure
+    from rocknroller.papers.plotting import draw_critical_lines
 
     fig = new_figure(figsize=(11, 4.2))
     ax1, ax2 = fig.subplots(1, 2)
     ax1.plot(ode.QR, ode.QJ, "o", ms=5, mfc="none", color="tab:red", label="direct ODE (maxima)")
     ax1.plot(pred.series.QR, pred.series.QJ, ".", ms=3, color="k", label="averaged map")
+    lo, hi = min(ode.QR.min(), pred.series.QR.min()), max(ode.QR.max(), pred.series.QR.max())
+    pad = 0.15 * max(hi - lo, 1e-12)
+    ylim = ax1.get_ylim()
+    draw_critical_lines(ax1, body, lo - pad, hi + pad)
+    ax1.set_ylim(ylim)
     ax1.set_xlabel("$Q_R$ at the maxima of $\\theta$")
     ax1.set_ylabel("$Q_J$")
     ax1.ticklabel_format(style="sci", scilimits=(-2, 2))
