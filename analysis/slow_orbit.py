@@ -141,11 +141,16 @@ class FirstOrderStep:
 
     Attributes
     ----------
-    QR, QJ, psi : the starting point (Q_R, Q_J, ψ_n) at the maximum θ_X.
-    theta_X : the symmetric body's maximum for (E, Q_R, Q_J).
-    T : time to the next maximum (symmetric orbit, event on dγ3/dt located to round-off).
-    dpsi, dphi : the symmetric increments of ψ and φ, wrapped to (−π/2, π/2] (mod π).
-    d : ε-derivatives at fixed (E, Q_n, ψ_n) of Q_R, Q_J, Θ = 2ψ, the event time and φ at the
+    QR, QJ, psi : float
+        The starting point (Q_R, Q_J, ψ_n) at the maximum θ_X.
+    theta_X : float
+        The symmetric body's maximum for (E, Q_R, Q_J).
+    T : float
+        Time to the next maximum (symmetric orbit, event on dγ3/dt located to round-off).
+    dpsi, dphi : float
+        The symmetric increments of ψ and φ, wrapped to (−π/2, π/2] (mod π).
+    d : dict
+        ε-derivatives at fixed (E, Q_n, ψ_n) of Q_R, Q_J, Θ = 2ψ, the event time and φ at the
         next maximum (keys of ``FIRST_ORDER_NAMES``).
     """
 
@@ -311,9 +316,12 @@ class FirstMaximum:
 
     Attributes
     ----------
-    t : time of the maximum (0 if the start is itself a maximum, as a release from rest is).
-    E : the body's energy (exact for the asymmetric body too; paper eq. energy).
-    theta, QR, QJ, psi, phi : θ_X, Routh's and Jellett's quantities, and the Euler angles ψ, φ there.
+    t : float
+        Time of the maximum (0 if the start is itself a maximum, as a release from rest is).
+    E : float
+        The body's energy (exact for the asymmetric body too; paper eq. energy).
+    theta, QR, QJ, psi, phi : float
+        θ_X, Routh's and Jellett's quantities, and the Euler angles ψ, φ there.
     """
 
     t: float
