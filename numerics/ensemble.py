@@ -37,12 +37,11 @@ from dataclasses import dataclass
 from typing import Any, Sequence, cast
 
 import numpy as np
-from numpy.typing import NDArray
 
 from rocknroller.analysis.body import Body
 from rocknroller.numerics.equations import EulerState
 from rocknroller.numerics.integrate import check_run, heyoka_integrator, simulate
-from rocknroller.numerics.trajectory import TurningPointRun
+from rocknroller.numerics.trajectory import TurningPointRun, TurningPoints
 
 __all__ = ["Job", "RunSummary", "run_job", "run_ensemble", "check_cluster", "MAX_JOBS", "MAX_WORKERS", "MAX_THREADS",
            "DISTRIBUTED_HINT"]
@@ -94,12 +93,14 @@ class RunSummary:
     """A direct-ODE run reduced to what the slow-map comparison needs: its θ-maxima and its slow diagnostics.
 
     The diagnostics are those of :class:`rocknroller.numerics.trajectory.TurningPointRun` (and of
-    :class:`rocknroller.analysis.averaging.SlowPrediction`), computed where the job ran.
+    :class:`rocknroller.analysis.averaging.SlowPrediction`), computed where the job ran.  A worker's warnings
+    (an :class:`rocknroller.numerics.integrate.AccuracyWarning`) stay on the worker: ``energy_rel_error`` and
+    ``n_steps`` let the caller check the accuracy (:func:`rocknroller.numerics.trajectory.energy_error_bound`).
 
     Attributes
     ----------
-    t, theta, phi, psi, QR, QJ : ndarray (n_maxima,)
-        Time, Euler angles (φ and ψ unwrapped) and Routh's and Jellett's quantities at each θ-maximum.
+    maxima : TurningPoints
+        Time, Euler angles (φ and ψ unwrapped), Q_R, Q_J and body-frame state at each θ-maximum.
     slow_period : float or None
         Period of Θ = 2ψ at the maxima; None if not measurable within the run.
     Phi : float
@@ -112,12 +113,7 @@ class RunSummary:
         Integration steps taken.
     """
 
-    t: NDArray[np.float64]
-    theta: NDArray[np.float64]
-    phi: NDArray[np.float64]
-    psi: NDArray[np.float64]
-    QR: NDArray[np.float64]
-    QJ: NDArray[np.float64]
+    maxima: TurningPoints
     slow_period: float | None
     Phi: float
     QR_extent: float
@@ -128,20 +124,13 @@ class RunSummary:
     @classmethod
     def from_run(cls, run: TurningPointRun) -> "RunSummary":
         """The summary of a run of ``simulate(..., samples=False)``."""
-        m = run.maxima
-        return cls(t=m.t, theta=m.theta, phi=m.phi, psi=m.psi, QR=m.QR, QJ=m.QJ, slow_period=run.slow_period,
-                   Phi=run.Phi, QR_extent=run.QR_extent, QJ_extent=run.QJ_extent,
-                   energy_rel_error=run.energy_rel_error, n_steps=run.n_steps)
+        return cls(maxima=run.maxima, slow_period=run.slow_period, Phi=run.Phi, QR_extent=run.QR_extent,
+                   QJ_extent=run.QJ_extent, energy_rel_error=run.energy_rel_error, n_steps=run.n_steps)
 
     @property
     def n_maxima(self) -> int:
         """Number of θ-maxima in the run."""
-        return int(self.t.size)
-
-    @property
-    def Theta(self) -> NDArray[np.float64]:
-        """Θ = 2ψ at the maxima, the slow angle of the averaged map."""
-        return 2.0 * self.psi
+        return len(self.maxima)
 
 
 def run_job(job: Job) -> RunSummary:
@@ -301,9 +290,9 @@ def _run_on_cluster(jobs: list[Job], scheduler: str | None, workers: int | None,
     what = f"scheduler={scheduler!r}" if scheduler is not None else f"workers={workers}"
     distributed = _import_distributed(what)
     heyoka_integrator()  # fills heyoka's disk cache (if empty) before any worker needs the integrator
-    if workers is not None:
+    if workers is not None:  # the scheduler's HTTP server on a free port: never a clash with another cluster's
         with distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                      dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+                                      dashboard_address=":0") as cluster, distributed.Client(cluster) as client:
             return _submit(client, jobs, what, progress)
     try:
         client = distributed.Client(scheduler)
