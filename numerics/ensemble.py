@@ -46,7 +46,7 @@ from rocknroller.numerics.trajectory import TurningPointRun, TurningPoints
 __all__ = ["Job", "RunSummary", "run_job", "run_ensemble", "check_cluster", "MAX_JOBS", "MAX_WORKERS", "MAX_THREADS",
            "DISTRIBUTED_HINT"]
 
-#: Most jobs in one call (each summary holds its θ-maxima, ≈ 50 bytes per maximum).
+#: Most jobs in one call (each summary holds its θ-maxima: 17 floats, 136 bytes, per maximum).
 MAX_JOBS = 100_000
 #: Most worker processes of a local cluster started by :func:`run_ensemble` (``workers=``).
 MAX_WORKERS = 256
@@ -159,7 +159,6 @@ def check_cluster(scheduler: Any = None, workers: Any = None, threads: Any = Non
         Number of worker processes of a local cluster, in [1, ``MAX_WORKERS``].
     threads : int, optional
         Number of threads of the in-process path, in [1, ``MAX_THREADS``]; not with a cluster.
-
     prefix : str
         Put before the parameter names in error messages (``"--"`` for command-line options).
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import math
+import os
 import pickle
 import sys
 
@@ -70,6 +71,30 @@ def test_a_two_worker_local_cluster_gives_the_in_process_results_bit_for_bit(job
     """The acceptance test of the cluster path: a dask LocalCluster of two worker processes, same bits."""
     pytest.importorskip("distributed")
     assert_bit_identical(run_ensemble(jobs, workers=2, progress=False), in_process)
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    """A running dask cluster of two single-threaded worker processes, as `dask scheduler` / `dask worker` make."""
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as c:
+        yield c
+
+
+def test_an_existing_cluster_gives_the_in_process_results_bit_for_bit(jobs, in_process, cluster):
+    assert_bit_identical(run_ensemble(jobs, scheduler=cluster.scheduler_address, progress=False), in_process)
+
+
+def test_workers_with_other_versions_are_refused(cluster, monkeypatch):
+    """This process claims another rocknroller version than its workers report: refused before any job runs."""
+    real, here = ens._versions, os.getpid()
+
+    def claimed() -> tuple[str, ...]:  # sent to the workers too, where it reports the real versions
+        return ("0.0.0-other",) + real()[1:] if os.getpid() == here else real()
+
+    monkeypatch.setattr(ens, "_versions", claimed)
+    with pytest.raises(ValueError, match=r"workers run other versions of \(rocknroller, heyoka, numpy\)"):
+        run_ensemble(_jobs()[:1], scheduler=cluster.scheduler_address, progress=False)
 
 
 def test_an_unreachable_scheduler_is_named():
