@@ -71,7 +71,8 @@ class Job:
     initial : EulerState
         Initial Euler angles and rates (or body-frame ω, :meth:`EulerState.from_omega`).
     t_end : float
-        Final time, > 0, within :data:`rocknroller.numerics.integrate.MAX_RADIANS` radians of the run's rate bound.
+        Final time, > 0, within ``MAX_RADIANS`` radians of the run's rate bound and with at most ``MAX_GRID_POINTS``
+        points of the default unwrapping grid (:mod:`rocknroller.numerics.integrate`).
 
     Raises
     ------
@@ -84,8 +85,7 @@ class Job:
     t_end: float
 
     def __post_init__(self) -> None:
-        t_end, _, _ = check_run(self.body, self.initial, self.t_end, samples=False)
-        object.__setattr__(self, "t_end", t_end)
+        object.__setattr__(self, "t_end", check_run(self.body, self.initial, self.t_end, samples=False).t_end)
 
 
 @dataclass(frozen=True)
@@ -99,7 +99,7 @@ class RunSummary:
 
     Attributes
     ----------
-    maxima : TurningPoints
+    maxima : rocknroller.numerics.trajectory.TurningPoints
         Time, Euler angles (φ and ψ unwrapped), Q_R, Q_J and body-frame state at each θ-maximum.
     slow_period : float or None
         Period of Θ = 2ψ at the maxima; None if not measurable within the run.

@@ -49,7 +49,7 @@ import math
 import sys
 import threading
 import warnings
-from typing import Any, Callable
+from typing import Any, Callable, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -61,7 +61,7 @@ from rocknroller.numerics.equations import STATE_SIZE, EulerState, body_frame_rh
 from rocknroller.numerics.trajectory import (DenseOutput, Trajectory, TurningPointRun, TurningPoints, _Samples,
                                  energy_scale)
 
-__all__ = ["simulate", "check_run", "heyoka_integrator", "default_dt", "cache_dir", "rate_bound", "AccuracyWarning",
+__all__ = ["simulate", "check_run", "RunPlan", "heyoka_integrator", "default_dt", "cache_dir", "rate_bound", "AccuracyWarning",
            "AccuracyError", "CacheWarning", "MAX_SAMPLES", "MAX_DENSE_RADIANS", "MAX_DENSE_STEPS", "MAX_RADIANS", "MAX_GRID_POINTS",
            "MOMENT_RANGE", "G_RANGE", "MAX_ENERGY_OVER_G"]
 
@@ -340,19 +340,34 @@ def _check_energy(run: Trajectory | TurningPointRun, strict: bool) -> None:
         warnings.warn(msg, AccuracyWarning, stacklevel=3)
 
 
-def check_run(body: Body, initial: EulerState, t_end: float, *,
-              samples: bool = True) -> tuple[float, NDArray[np.float64], float]:
-    """Check a run of :func:`simulate` against its limits before any work (the checks ``simulate`` itself makes on
-    the body, the initial state and ``t_end``).
+class RunPlan(NamedTuple):
+    """A run of :func:`simulate` checked by :func:`check_run`."""
+
+    t_end: float
+    """Final time."""
+    dt: float
+    """Spacing of the output grid (with ``samples=False``, of the grid on which the angles are unwrapped)."""
+    n_grid: int
+    """Points of that grid, both ends included."""
+    y0: NDArray[np.float64]
+    """Initial body-frame state."""
+    rate: float
+    """The rate bound Λ (:func:`rate_bound`)."""
+
+
+def check_run(body: Body, initial: EulerState, t_end: float, *, dt: float | None = None,
+              samples: bool = True) -> RunPlan:
+    """Check a run of :func:`simulate` against its limits before any work: every check ``simulate`` makes on the
+    body, the initial state, ``t_end`` and ``dt``.
 
     Parameters
     ----------
-    body, initial, t_end, samples : as for :func:`simulate`.
+    body, initial, t_end, dt, samples : as for :func:`simulate`.
 
     Returns
     -------
-    (t_end, y0, rate)
-        ``t_end`` as a float, the initial body-frame state and the rate bound Λ (:func:`rate_bound`).
+    RunPlan
+        ``t_end`` and ``dt`` (default :func:`default_dt`) as floats, the grid size, the initial body-frame state and Λ.
 
     Raises
     ------
@@ -370,7 +385,18 @@ def check_run(body: Body, initial: EulerState, t_end: float, *,
         hint = "; use samples=False (turning points only) or a shorter t_end" if samples else ""
         raise ValueError(f"t_end={t_end!r} is too long: the run spans Λ t_end = {radians:.3g} radians of its rate bound "
                          f"Λ = {rate:.3g} (about as many integration steps), over the limit {limit_name} = {limit:g}{hint}")
-    return t_end, y0, rate
+    if dt is None:
+        dt = default_dt(t_end, rate)
+    dt = float(dt)
+    if not math.isfinite(dt) or dt <= 0.0:
+        raise ValueError(f"dt must be a finite number > 0, got dt={dt!r}")
+    intervals = t_end / dt  # inf for a subnormal dt: refused below, never converted to an integer
+    n_grid = max(2, int(math.ceil(intervals - 1e-9)) + 1) if intervals < 1e18 else math.inf  # both ends
+    if n_grid > (MAX_SAMPLES if samples else MAX_GRID_POINTS):
+        what = (f"MAX_SAMPLES = {MAX_SAMPLES} (≈ 0.5 kB each); give a larger dt or samples=False" if samples else
+                f"MAX_GRID_POINTS = {MAX_GRID_POINTS:g} (≈ 1 µs each); give a larger dt")
+        raise ValueError(f"dt={dt!r} gives {n_grid:.3g} samples over t_end={t_end!r}, over the limit {what}")
+    return RunPlan(t_end, dt, int(n_grid), y0, rate)
 
 
 def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "heyoka", dt: float | None = None,
@@ -424,18 +450,7 @@ def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "he
         raise ValueError("precision='extended' is available with method='heyoka' only")
     if method == "scipy" and not (0.0 < rtol < 1.0 and math.isfinite(atol) and atol > 0.0):
         raise ValueError(f"rtol must lie in (0, 1) and atol be > 0, got rtol={rtol!r}, atol={atol!r}")
-    t_end, y0, rate = check_run(body, initial, t_end, samples=samples)
-    if dt is None:
-        dt = default_dt(t_end, rate)
-    dt = float(dt)
-    if not math.isfinite(dt) or dt <= 0.0:
-        raise ValueError(f"dt must be a finite number > 0, got dt={dt!r}")
-    intervals = t_end / dt  # inf for a subnormal dt: refused below, never converted to an integer
-    n_grid = max(2, int(math.ceil(intervals - 1e-9)) + 1) if intervals < 1e18 else math.inf  # both ends
-    if n_grid > (MAX_SAMPLES if samples else MAX_GRID_POINTS):
-        what = (f"MAX_SAMPLES = {MAX_SAMPLES} (≈ 0.5 kB each); give a larger dt or samples=False" if samples else
-                f"MAX_GRID_POINTS = {MAX_GRID_POINTS:g} (≈ 1 µs each); give a larger dt")
-        raise ValueError(f"dt={dt!r} gives {n_grid:.3g} samples over t_end={t_end!r}, over the limit {what}")
+    t_end, dt, n_grid, y0, rate = check_run(body, initial, t_end, dt=dt, samples=samples)
     if on_turning_points is not None and samples:
         raise ValueError("on_turning_points streams the turning points of a run with samples=False")
     with _progress(t_end, progress) as bar:

@@ -125,6 +125,7 @@ def test_jobs_are_plain_picklable_descriptions():
     ({"t_end": -1.0}, r"t_end must be a finite number > 0"),
     ({"t_end": "long"}, r"t_end must be a finite number > 0"),
     ({"t_end": 1e12}, r"t_end=1000000000000.0 is too long.*MAX_RADIANS"),
+    ({"t_end": 2e7}, r"gives 3.87e\+08 samples over t_end=20000000.0.*MAX_GRID_POINTS"),  # Λ t_end = 5.8e7 radians
     ({"initial": rr.EulerState(math.pi)}, r"no motion"),
 ])
 def test_a_job_is_checked_against_simulates_limits(kwargs, match):
