@@ -61,8 +61,8 @@ from rocknroller.numerics.equations import STATE_SIZE, EulerState, body_frame_rh
 from rocknroller.numerics.trajectory import (DenseOutput, Trajectory, TurningPointRun, TurningPoints, _Samples,
                                  energy_scale)
 
-__all__ = ["simulate", "check_run", "RunPlan", "heyoka_integrator", "default_dt", "cache_dir", "rate_bound", "AccuracyWarning",
-           "AccuracyError", "CacheWarning", "MAX_SAMPLES", "MAX_DENSE_RADIANS", "MAX_DENSE_STEPS", "MAX_RADIANS", "MAX_GRID_POINTS",
+__all__ = ["simulate", "check_run", "RunPlan", "heyoka_integrator", "default_dt", "cache_dir", "rate_bound",
+           "AccuracyWarning", "AccuracyError", "CacheWarning", "MAX_SAMPLES", "MAX_DENSE_RADIANS", "MAX_DENSE_STEPS", "MAX_RADIANS", "MAX_GRID_POINTS",
            "MOMENT_RANGE", "G_RANGE", "MAX_ENERGY_OVER_G"]
 
 _METHODS = ("heyoka", "scipy")
