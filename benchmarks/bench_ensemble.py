@@ -17,6 +17,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import math
+import os
 import time
 from typing import Callable
 
@@ -54,6 +55,7 @@ def main() -> None:
     jobs = [Job(body, EulerState(0.95 * math.pi, psi=0.5 * math.pi * k / args.jobs), args.t_end)
             for k in range(args.jobs)]
     heyoka_integrator()  # compiled or loaded from the disk cache once, outside the timings
+    load = os.getloadavg()[0]  # the parallel paths gain only on idle cores: say how busy the machine was
 
     def one_at_a_time() -> list[RunSummary]:
         return [RunSummary.from_run(simulate(j.body, j.initial, j.t_end, samples=False)) for j in jobs]
@@ -78,7 +80,7 @@ def main() -> None:
             rows.append(("run_ensemble, scheduler= (running 2-worker cluster)", t, identical(out, ref)))
     n_max = sum(s.n_maxima for s in ref) / len(ref)
     print(f"{len(jobs)} jobs of {args.t_end:g} time units ({n_max:.0f} maxima, {ref[0].n_steps} steps each), "
-          f"best of 3 (cluster start: 1 run)")
+          f"best of 3 (cluster start: 1 run); {os.cpu_count()} cores, load average {load:.2f} at the start")
     print(f"{'path':56s} {'ms/trajectory':>14s} {'ratio':>7s}  bit-identical")
     for label, t, same in rows:
         print(f"{label:56s} {t / len(jobs) * 1e3:14.2f} {t_ref / t:6.2f}x  {same}")

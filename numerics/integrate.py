@@ -270,9 +270,14 @@ class _HeyokaRun:
             self.n_steps += 1
             return self.max_steps is None or self.n_steps <= self.max_steps
 
+        # without a bar to move or a step cap, no callback: heyoka then keeps the GIL released for the whole
+        # stretch (threads run in parallel) and saves a Python call per step; the steps themselves are the same
+        watched = not self.bar.disable or self.max_steps is not None
         self.log.events.clear()
-        result = ta.propagate_until(fp(t_b), c_output=True, callback=step_callback)
+        result = ta.propagate_until(fp(t_b), c_output=True, callback=step_callback if watched else None)
         outcome, c_out = result[0], result[4]
+        if not watched:
+            self.n_steps += int(result[3])
         if outcome.name == "cb_stop":
             raise ValueError(f"t_end: the run needs more than MAX_DENSE_STEPS = {MAX_DENSE_STEPS} integration steps "
                              f"to keep its samples (stopped at t = {float(ta.time):.6g} after "

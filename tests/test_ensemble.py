@@ -59,6 +59,9 @@ def test_summary_is_simulates_own(jobs, in_process):
         assert_bit_identical([s], [RunSummary.from_run(run)])
         assert (s.slow_period, s.Phi, s.QR_extent, s.QJ_extent, s.energy_rel_error, s.n_steps) == \
             (run.slow_period, run.Phi, run.QR_extent, run.QJ_extent, run.energy_rel_error, run.n_steps)
+    # a run watched step by step (a progress bar: a Python callback per step) takes the same steps to the same bits
+    watched = rr.simulate(jobs[-1].body, jobs[-1].initial, jobs[-1].t_end, samples=False, progress=True)
+    assert_bit_identical([in_process[-1]], [RunSummary.from_run(watched)])
 
 
 def test_threads_give_the_loops_results_bit_for_bit(jobs, in_process):
