@@ -4,7 +4,8 @@ Backends
 --------
 ``heyoka`` (default)
     heyoka's adaptive Taylor integrator at tolerance = machine epsilon.  The body parameters are
-    runtime parameters, so one compiled integrator serves every body.  It is built once per process;
+    runtime parameters, so one compiled integrator serves every body.  It is built once per process and
+    copied once per thread (the same machine code, so every thread gives the same results bit for bit);
     heyoka's own on-disk JIT cache (heyoka ≥ 7.10, ``HEYOKA_CACHE_DIR``, process-safe) makes a build
     after the first one on a machine take a fraction of a second instead of ~6 s.  Nothing is
     unpickled from disk.  Turning points are non-terminal events on dγ3/dt = 0, located by heyoka on
@@ -43,10 +44,12 @@ Every run's energy error is checked against the tolerance asked for
 
 from __future__ import annotations
 
+import copy
 import math
 import sys
+import threading
 import warnings
-from typing import Any, Callable
+from typing import Any, Callable, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -58,13 +61,17 @@ from rocknroller.numerics.equations import STATE_SIZE, EulerState, body_frame_rh
 from rocknroller.numerics.trajectory import (DenseOutput, Trajectory, TurningPointRun, TurningPoints, _Samples,
                                  energy_scale)
 
-__all__ = ["simulate", "heyoka_integrator", "default_dt", "cache_dir", "rate_bound", "AccuracyWarning",
-           "AccuracyError", "CacheWarning", "MAX_SAMPLES", "MAX_DENSE_RADIANS", "MAX_DENSE_STEPS", "MAX_RADIANS", "MAX_GRID_POINTS",
+__all__ = ["simulate", "check_run", "RunPlan", "heyoka_integrator", "default_dt", "cache_dir", "rate_bound",
+           "AccuracyWarning", "AccuracyError", "CacheWarning", "MAX_SAMPLES", "MAX_DENSE_RADIANS", "MAX_DENSE_STEPS", "MAX_RADIANS", "MAX_GRID_POINTS",
            "MOMENT_RANGE", "G_RANGE", "MAX_ENERGY_OVER_G"]
 
 _METHODS = ("heyoka", "scipy")
 _PRECISIONS = ("double", "extended")
-_INTEGRATORS: dict[str, Any] = {}
+#: The integrator compiled once per process, per precision; never propagated itself, only copied.
+_TEMPLATES: dict[str, Any] = {}
+_TEMPLATE_LOCK = threading.Lock()
+#: Each thread's own copies of the templates (a heyoka integrator must not be propagated by two threads at once).
+_PER_THREAD = threading.local()
 
 MAX_SAMPLES = 2_000_000
 MAX_DENSE_RADIANS = 3.0e5
@@ -112,17 +119,29 @@ def _build_heyoka(fp_type: Any) -> Any:
 
 
 def heyoka_integrator(precision: str = "double") -> Any:
-    """The compiled heyoka integrator of form (i), built once per process.
+    """The compiled heyoka integrator of form (i): compiled once per process, one copy per thread.
 
-    heyoka's on-disk JIT cache (``HEYOKA_CACHE_DIR``; default under the user cache directory) keeps
-    the compiled code between processes; it holds machine code, so it must be as trusted as the
-    installed packages.  An unwritable cache directory gives one :class:`CacheWarning` (each
-    process then compiles for ~6 s).
+    Every thread that calls this gets its own copy (made in about a millisecond), so :func:`simulate` may run in
+    several threads at once; a copy runs the same machine code as the original, so a run gives the same result bit
+    for bit in whichever thread it runs.  heyoka's on-disk JIT cache (``HEYOKA_CACHE_DIR``; default under the user
+    cache directory) keeps the compiled code between processes; it holds machine code, so it must be as trusted as
+    the installed packages.  An unwritable cache directory gives one :class:`CacheWarning` (each process then
+    compiles for ~6 s).
     """
     if precision not in _PRECISIONS:
         raise ValueError(f"precision must be one of {_PRECISIONS}, got {precision!r}")
-    if precision in _INTEGRATORS:
-        return _INTEGRATORS[precision]
+    mine = _PER_THREAD.__dict__.setdefault("integrators", {})
+    if precision not in mine:
+        with _TEMPLATE_LOCK:  # one compilation per process; copies are made from a template no thread propagates
+            if precision not in _TEMPLATES:
+                _TEMPLATES[precision] = _compile(precision)
+            mine[precision] = copy.deepcopy(_TEMPLATES[precision])
+    return mine[precision]
+
+
+def _compile(precision: str) -> Any:
+    """Build the integrator of ``precision`` (from heyoka's disk cache when it holds it), after checking that the
+    cache can be written."""
     import heyoka as hy
 
     if hy.llvm_state.get_diskcache_enabled():
@@ -131,9 +150,7 @@ def heyoka_integrator(precision: str = "double") -> Any:
         if error is not None:
             warn_unwritable(path, error, "every process compiles the integrator (~6 s)",
                             fix="point HEYOKA_CACHE_DIR at a writable folder to keep heyoka's compilation cache")
-    ta = _build_heyoka(float if precision == "double" else np.longdouble)
-    _INTEGRATORS[precision] = ta
-    return ta
+    return _build_heyoka(float if precision == "double" else np.longdouble)
 
 
 def rate_bound(body: Body, y0: NDArray[np.float64]) -> float:
@@ -253,9 +270,14 @@ class _HeyokaRun:
             self.n_steps += 1
             return self.max_steps is None or self.n_steps <= self.max_steps
 
+        # without a bar to move or a step cap, no callback: heyoka then keeps the GIL released for the whole
+        # stretch (threads run in parallel) and saves a Python call per step; the steps themselves are the same
+        watched = not self.bar.disable or self.max_steps is not None
         self.log.events.clear()
-        result = ta.propagate_until(fp(t_b), c_output=True, callback=step_callback)
+        result = ta.propagate_until(fp(t_b), c_output=True, callback=step_callback if watched else None)
         outcome, c_out = result[0], result[4]
+        if not watched:
+            self.n_steps += int(result[3])
         if outcome.name == "cb_stop":
             raise ValueError(f"t_end: the run needs more than MAX_DENSE_STEPS = {MAX_DENSE_STEPS} integration steps "
                              f"to keep its samples (stopped at t = {float(ta.time):.6g} after "
@@ -323,6 +345,65 @@ def _check_energy(run: Trajectory | TurningPointRun, strict: bool) -> None:
         warnings.warn(msg, AccuracyWarning, stacklevel=3)
 
 
+class RunPlan(NamedTuple):
+    """A run of :func:`simulate` checked by :func:`check_run`."""
+
+    t_end: float
+    """Final time."""
+    dt: float
+    """Spacing of the output grid (with ``samples=False``, of the grid on which the angles are unwrapped)."""
+    n_grid: int
+    """Points of that grid, both ends included."""
+    y0: NDArray[np.float64]
+    """Initial body-frame state."""
+    rate: float
+    """The rate bound Λ (:func:`rate_bound`)."""
+
+
+def check_run(body: Body, initial: EulerState, t_end: float, *, dt: float | None = None,
+              samples: bool = True) -> RunPlan:
+    """Check a run of :func:`simulate` against its limits before any work: every check ``simulate`` makes on the
+    body, the initial state, ``t_end`` and ``dt``.
+
+    Parameters
+    ----------
+    body, initial, t_end, dt, samples : as for :func:`simulate`.
+
+    Returns
+    -------
+    RunPlan
+        ``t_end`` and ``dt`` (default :func:`default_dt`) as floats, the grid size, the initial body-frame state and Λ.
+
+    Raises
+    ------
+    ValueError
+        Naming the parameter and the limit it exceeds (see the module docstring).
+    """
+    try:
+        t_end = float(t_end)
+    except (TypeError, ValueError):
+        raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}") from None
+    y0, rate = _validate(body, initial, t_end)
+    radians = rate * t_end
+    limit, limit_name = (MAX_DENSE_RADIANS, "MAX_DENSE_RADIANS") if samples else (MAX_RADIANS, "MAX_RADIANS")
+    if radians > limit:
+        hint = "; use samples=False (turning points only) or a shorter t_end" if samples else ""
+        raise ValueError(f"t_end={t_end!r} is too long: the run spans Λ t_end = {radians:.3g} radians of its rate bound "
+                         f"Λ = {rate:.3g} (about as many integration steps), over the limit {limit_name} = {limit:g}{hint}")
+    if dt is None:
+        dt = default_dt(t_end, rate)
+    dt = float(dt)
+    if not math.isfinite(dt) or dt <= 0.0:
+        raise ValueError(f"dt must be a finite number > 0, got dt={dt!r}")
+    intervals = t_end / dt  # inf for a subnormal dt: refused below, never converted to an integer
+    n_grid = max(2, int(math.ceil(intervals - 1e-9)) + 1) if intervals < 1e18 else math.inf  # both ends
+    if n_grid > (MAX_SAMPLES if samples else MAX_GRID_POINTS):
+        what = (f"MAX_SAMPLES = {MAX_SAMPLES} (≈ 0.5 kB each); give a larger dt or samples=False" if samples else
+                f"MAX_GRID_POINTS = {MAX_GRID_POINTS:g} (≈ 1 µs each); give a larger dt")
+        raise ValueError(f"dt={dt!r} gives {n_grid:.3g} samples over t_end={t_end!r}, over the limit {what}")
+    return RunPlan(t_end, dt, int(n_grid), y0, rate)
+
+
 def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "heyoka", dt: float | None = None,
              precision: str = "double", rtol: float = 3e-14, atol: float = 1e-15,
              progress: bool | None = False, samples: bool = True,
@@ -366,10 +447,6 @@ def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "he
     Trajectory or TurningPointRun
         Turning points: maxima (dγ3/dt rising through 0) and minima (falling), none reported at t = 0.
     """
-    try:
-        t_end = float(t_end)
-    except (TypeError, ValueError):
-        raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}") from None
     if method not in _METHODS:
         raise ValueError(f"method must be one of {_METHODS}, got {method!r}")
     if precision not in _PRECISIONS:
@@ -378,24 +455,7 @@ def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "he
         raise ValueError("precision='extended' is available with method='heyoka' only")
     if method == "scipy" and not (0.0 < rtol < 1.0 and math.isfinite(atol) and atol > 0.0):
         raise ValueError(f"rtol must lie in (0, 1) and atol be > 0, got rtol={rtol!r}, atol={atol!r}")
-    y0, rate = _validate(body, initial, t_end)
-    radians = rate * t_end
-    limit, limit_name = (MAX_DENSE_RADIANS, "MAX_DENSE_RADIANS") if samples else (MAX_RADIANS, "MAX_RADIANS")
-    if radians > limit:
-        hint = "; use samples=False (turning points only) or a shorter t_end" if samples else ""
-        raise ValueError(f"t_end={t_end!r} is too long: the run spans Λ t_end = {radians:.3g} radians of its rate bound "
-                         f"Λ = {rate:.3g} (about as many integration steps), over the limit {limit_name} = {limit:g}{hint}")
-    if dt is None:
-        dt = default_dt(t_end, rate)
-    dt = float(dt)
-    if not math.isfinite(dt) or dt <= 0.0:
-        raise ValueError(f"dt must be a finite number > 0, got dt={dt!r}")
-    intervals = t_end / dt  # inf for a subnormal dt: refused below, never converted to an integer
-    n_grid = max(2, int(math.ceil(intervals - 1e-9)) + 1) if intervals < 1e18 else math.inf  # both ends
-    if n_grid > (MAX_SAMPLES if samples else MAX_GRID_POINTS):
-        what = (f"MAX_SAMPLES = {MAX_SAMPLES} (≈ 0.5 kB each); give a larger dt or samples=False" if samples else
-                f"MAX_GRID_POINTS = {MAX_GRID_POINTS:g} (≈ 1 µs each); give a larger dt")
-        raise ValueError(f"dt={dt!r} gives {n_grid:.3g} samples over t_end={t_end!r}, over the limit {what}")
+    t_end, dt, n_grid, y0, rate = check_run(body, initial, t_end, dt=dt, samples=samples)
     if on_turning_points is not None and samples:
         raise ValueError("on_turning_points streams the turning points of a run with samples=False")
     with _progress(t_end, progress) as bar:

@@ -26,6 +26,7 @@ from rocknroller.analysis.reduction import (F, NoMotionError, SteadyRollingError
 from rocknroller.analysis.slow_diagnostics import azimuth_span
 from rocknroller.analysis.slow_pendulum import PendulumConstants, pendulum_constants, pendulum_prediction
 from rocknroller.citation import cite
+from rocknroller.numerics.ensemble import Job, RunSummary, run_ensemble
 from rocknroller.numerics.equations import EulerState
 from rocknroller.numerics.integrate import AccuracyError, AccuracyWarning, simulate
 from rocknroller.numerics.trajectory import Trajectory, TurningPointRun, TurningPoints
@@ -35,6 +36,8 @@ __all__ = [
     # the body and the direct ODE
     "Body", "EulerState", "simulate", "Trajectory", "TurningPointRun", "TurningPoints", "AccuracyError",
     "AccuracyWarning",
+    # many direct runs: in this process or on a dask.distributed cluster
+    "Job", "RunSummary", "run_ensemble",
     # Routh's sphere: the reduction and the precession quadratures
     "F", "effective_potential", "turning_points", "solve_turning_points", "invariants_from_euler", "state_from_turning_point",
     "V_phi", "V_psi", "precession", "precession_from_turning_point", "precession_mp", "Precession",

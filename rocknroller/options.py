@@ -1,5 +1,6 @@
 """Command-line options shared by the subcommands: the body, the initial state, angles like ``0.95pi``,
-output paths (checked before any computation, never overwritten unasked) and strict JSON output."""
+where direct runs execute (this process or a dask cluster), output paths (checked before any computation, never
+overwritten unasked) and strict JSON output."""
 
 from __future__ import annotations
 
@@ -25,6 +26,8 @@ __all__ = [
     "rates_given",
     "add_critical_line_options",
     "critical_line_state",
+    "add_cluster_options",
+    "cluster_from_args",
     "add_force_option",
     "prepare_output_dir",
     "prepare_output_file",
@@ -174,6 +177,31 @@ def critical_line_state(args: argparse.Namespace, body: Body) -> tuple[EulerStat
     kw = {"QR": args.QR} if args.QR is not None else {"psi_dot0": 0.0 if args.psi_dot0 is None else args.psi_dot0}
     start = critical_start(body, theta0, psi0, args.critical_line, offset=args.offset, **kw)
     return EulerState.from_omega(theta0, phi0, psi0, start.omega), start
+
+
+# ----------------------------------------------------------------------------- where direct runs execute
+def add_cluster_options(parser: argparse.ArgumentParser) -> None:
+    """--scheduler ADDRESS | --workers N: run the direct ODE runs on a dask.distributed cluster (an existing one, or a
+    local one of N worker processes started for the command); without either they run in this process."""
+    from rocknroller.numerics.ensemble import DISTRIBUTED_HINT, MAX_WORKERS
+
+    grp = parser.add_argument_group(
+        "where the direct runs execute (default: in this process)",
+        f"Both need the optional extra: {DISTRIBUTED_HINT}. Results are identical bit for bit wherever they run.")
+    where = grp.add_mutually_exclusive_group()
+    where.add_argument("--scheduler", type=str, default=None, metavar="ADDRESS",
+                       help="address of an existing dask scheduler, e.g. tcp://10.0.0.5:8786 (start one with "
+                            "'dask scheduler', and workers with 'dask worker ADDRESS')")
+    where.add_argument("--workers", type=int, default=None, metavar="N",
+                       help=f"start a local dask cluster of N single-threaded worker processes, 1 <= N <= {MAX_WORKERS}")
+
+
+def cluster_from_args(args: argparse.Namespace) -> tuple[str | None, int | None]:
+    """(scheduler, workers) from the options of :func:`add_cluster_options`, checked (errors name the option); both
+    None for the in-process path.  Pass them on to :func:`rocknroller.numerics.ensemble.run_ensemble`."""
+    from rocknroller.numerics.ensemble import check_cluster
+
+    return check_cluster(args.scheduler, args.workers, prefix="--")
 
 
 # ----------------------------------------------------------------------------- outputs

@@ -1,0 +1,318 @@
+"""Many direct-ODE runs at once: in this process (a loop, or threads), or on a dask.distributed cluster.
+
+Each :class:`Job` (a body, an initial state, a final time; nothing else) is run by the package's own
+:func:`rocknroller.numerics.integrate.simulate` with ``samples=False`` (turning points only) and boiled down to a
+:class:`RunSummary` of plain arrays and floats: the θ-maxima and the slow diagnostics that the averaged map is
+compared with.  Every job runs the same scalar heyoka integrator at tolerance = machine epsilon, whose steps depend
+only on the job, so a job's summary is the same bit for bit in whichever process, thread or machine it runs
+(provided every worker has the same versions of rocknroller, heyoka and numpy, which :func:`run_ensemble` checks).
+
+Where the jobs run
+------------------
+* ``run_ensemble(jobs)``: one after another in this process.
+* ``threads=N``: N threads of this process, each with its own copy of the compiled integrator
+  (:func:`rocknroller.numerics.integrate.heyoka_integrator`); heyoka releases the GIL while it integrates.
+* ``workers=N``: a ``distributed.LocalCluster`` of N single-threaded worker processes on this machine, started for
+  the call and closed after it.
+* ``scheduler="tcp://host:port"``: the workers of an existing dask.distributed cluster (``dask scheduler``, then
+  ``dask worker tcp://host:port`` on each machine); the cluster is left running.
+
+dask and distributed are an optional extra: ``pip install "rocknroller[distributed]"``.
+
+Worker environment
+------------------
+A worker builds the integrator once per process, from heyoka's on-disk compilation cache (``HEYOKA_CACHE_DIR``)
+in about 0.1 s when the cache holds it, else by compiling it (≈ 7 s, once per machine).  Before a local cluster
+starts, the integrator is built in the calling process, so the cache is filled and the workers, which inherit the
+environment (``HEYOKA_CACHE_DIR``, ``ROCKNROLLER_CACHE``), load it instead of each compiling it.  The workers of an
+existing cluster use the cache of their own machine: start them with the same ``HEYOKA_CACHE_DIR`` (a shared
+directory lets one machine's compilation serve all).
+"""
+
+from __future__ import annotations
+
+import sys
+from concurrent.futures import ThreadPoolExecutor, as_completed
+from dataclasses import dataclass
+from typing import Any, Sequence, cast
+
+import numpy as np
+
+from rocknroller.analysis.body import Body
+from rocknroller.numerics.equations import EulerState
+from rocknroller.numerics.integrate import check_run, heyoka_integrator, simulate
+from rocknroller.numerics.trajectory import TurningPointRun, TurningPoints
+
+__all__ = ["Job", "RunSummary", "run_job", "run_ensemble", "check_cluster", "MAX_JOBS", "MAX_WORKERS", "MAX_THREADS",
+           "DISTRIBUTED_HINT"]
+
+#: Most jobs in one call (each summary holds its θ-maxima: 17 floats, 136 bytes, per maximum).
+MAX_JOBS = 100_000
+#: Most worker processes of a local cluster started by :func:`run_ensemble` (``workers=``).
+MAX_WORKERS = 256
+#: Most threads of the in-process path (``threads=``).
+MAX_THREADS = 256
+#: How to install the optional dependencies of the cluster path.
+DISTRIBUTED_HINT = 'pip install "rocknroller[distributed]"'
+
+
+@dataclass(frozen=True)
+class Job:
+    """One direct-ODE run to make: the body, the initial state and the final time (nothing else).
+
+    A plain frozen dataclass of floats, picklable and sent as is to the workers of a cluster.  It is checked on
+    construction against the limits of :func:`rocknroller.numerics.integrate.simulate` with ``samples=False``, so
+    an ensemble fails before any work, not on a worker.
+
+    Parameters
+    ----------
+    body : Body
+        The body (moments, offset, gravity).
+    initial : EulerState
+        Initial Euler angles and rates (or body-frame ω, :meth:`EulerState.from_omega`).
+    t_end : float
+        Final time, > 0, within ``MAX_RADIANS`` radians of the run's rate bound and with at most ``MAX_GRID_POINTS``
+        points of the default unwrapping grid (:mod:`rocknroller.numerics.integrate`).
+
+    Raises
+    ------
+    ValueError
+        Naming the parameter and its range.
+    """
+
+    body: Body
+    initial: EulerState
+    t_end: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "t_end", check_run(self.body, self.initial, self.t_end, samples=False).t_end)
+
+
+@dataclass(frozen=True)
+class RunSummary:
+    """A direct-ODE run reduced to what the slow-map comparison needs: its θ-maxima and its slow diagnostics.
+
+    The diagnostics are those of :class:`rocknroller.numerics.trajectory.TurningPointRun` (and of
+    :class:`rocknroller.analysis.averaging.SlowPrediction`), computed where the job ran.  A worker's warnings
+    (an :class:`rocknroller.numerics.integrate.AccuracyWarning`) stay on the worker: ``energy_rel_error`` and
+    ``n_steps`` let the caller check the accuracy (:func:`rocknroller.numerics.trajectory.energy_error_bound`).
+
+    Attributes
+    ----------
+    maxima : rocknroller.numerics.trajectory.TurningPoints
+        Time, Euler angles (φ and ψ unwrapped), Q_R, Q_J and body-frame state at each θ-maximum.
+    slow_period : float or None
+        Period of Θ = 2ψ at the maxima; None if not measurable within the run.
+    Phi : float
+        Azimuth span of φ mod π at the maxima.
+    QR_extent, QJ_extent : float
+        max − min of Q_R and Q_J at the maxima.
+    energy_rel_error : float
+        Largest relative energy error of the run.
+    n_steps : int
+        Integration steps taken.
+    """
+
+    maxima: TurningPoints
+    slow_period: float | None
+    Phi: float
+    QR_extent: float
+    QJ_extent: float
+    energy_rel_error: float
+    n_steps: int
+
+    @classmethod
+    def from_run(cls, run: TurningPointRun) -> "RunSummary":
+        """The summary of a run of ``simulate(..., samples=False)``."""
+        return cls(maxima=run.maxima, slow_period=run.slow_period, Phi=run.Phi, QR_extent=run.QR_extent,
+                   QJ_extent=run.QJ_extent, energy_rel_error=run.energy_rel_error, n_steps=run.n_steps)
+
+    @property
+    def n_maxima(self) -> int:
+        """Number of θ-maxima in the run."""
+        return len(self.maxima)
+
+
+def run_job(job: Job) -> RunSummary:
+    """Run one job: :func:`rocknroller.numerics.integrate.simulate` with ``samples=False``, then its summary."""
+    run = cast(TurningPointRun, simulate(job.body, job.initial, job.t_end, samples=False))
+    return RunSummary.from_run(run)
+
+
+def _check_count(value: Any, name: str, limit: int) -> int | None:
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 1 <= value <= limit:
+        raise ValueError(f"{name} must be a whole number in [1, {limit}], got {name} {value!r}")
+    return int(value)
+
+
+def check_cluster(scheduler: Any = None, workers: Any = None, threads: Any = None, *,
+                  prefix: str = "") -> tuple[str | None, int | None]:
+    """Check where an ensemble is to run, before any work.
+
+    Parameters
+    ----------
+    scheduler : str, optional
+        Address of an existing dask scheduler, such as ``"tcp://10.0.0.5:8786"``.
+    workers : int, optional
+        Number of worker processes of a local cluster, in [1, ``MAX_WORKERS``].
+    threads : int, optional
+        Number of threads of the in-process path, in [1, ``MAX_THREADS``]; not with a cluster.
+    prefix : str
+        Put before the parameter names in error messages (``"--"`` for command-line options).
+
+    Returns
+    -------
+    (scheduler, workers)
+        As given (``scheduler`` stripped, ``workers`` an int); both None for the in-process path.
+
+    Raises
+    ------
+    ValueError
+        Naming the parameter: an empty or non-string scheduler, a count out of range, or two of them given.
+    """
+    s_name, w_name, t_name = (prefix + name for name in ("scheduler", "workers", "threads"))
+    if scheduler is not None:
+        if not isinstance(scheduler, str) or not scheduler.strip():
+            raise ValueError(f"{s_name} must be the address of a dask scheduler such as 'tcp://host:8786', "
+                             f"got {s_name} {scheduler!r}")
+        scheduler = scheduler.strip()
+    workers = _check_count(workers, w_name, MAX_WORKERS)
+    threads = _check_count(threads, t_name, MAX_THREADS)
+    if scheduler is not None and workers is not None:
+        raise ValueError(f"give either {s_name} (an existing cluster) or {w_name} (a local cluster), not both")
+    if threads is not None and (scheduler is not None or workers is not None):
+        raise ValueError(f"{t_name} sets the in-process path (a cluster runs one job per single-threaded worker): "
+                         f"give {t_name} without {s_name} or {w_name}")
+    return scheduler, workers
+
+
+def run_ensemble(jobs: Sequence[Job], *, scheduler: str | None = None, workers: int | None = None,
+                 threads: int | None = None, progress: bool | None = True) -> list[RunSummary]:
+    """Run every job (:func:`run_job`) and return their summaries in job order.
+
+    The result is the same bit for bit whichever way the jobs run (see the module docstring).
+
+    Parameters
+    ----------
+    jobs : sequence of Job
+        At most ``MAX_JOBS``; each already checked against the limits of ``simulate``.
+    scheduler : str, optional
+        Address of an existing dask.distributed scheduler (``"tcp://host:port"``) to run the jobs on its workers.
+    workers : int, optional
+        Start a local dask.distributed cluster of this many single-threaded worker processes for the call, in
+        [1, ``MAX_WORKERS``].  Not with ``scheduler``.
+    threads : int, optional
+        Without a cluster: run the jobs in this many threads of this process, in [1, ``MAX_THREADS``] (default 1,
+        a plain loop).
+    progress : bool or None
+        A tqdm bar over the completed jobs on stderr (None: only if stderr is a terminal).
+
+    Returns
+    -------
+    list of RunSummary
+        One per job, in the order of ``jobs``.
+
+    Raises
+    ------
+    ValueError
+        Naming the parameter: too many jobs, an element that is not a :class:`Job`, a bad ``scheduler``,
+        ``workers`` or ``threads`` (:func:`check_cluster`); a cluster requested without dask.distributed installed
+        (``pip install "rocknroller[distributed]"``), a scheduler that cannot be reached, or workers whose versions
+        of rocknroller, heyoka or numpy differ from this process's.
+    """
+    scheduler, workers = check_cluster(scheduler, workers, threads)
+    if isinstance(jobs, (str, bytes)) or not isinstance(jobs, Sequence):
+        raise ValueError(f"jobs must be a sequence (list or tuple) of Job, got {type(jobs).__name__}")
+    if len(jobs) > MAX_JOBS:
+        raise ValueError(f"jobs: at most MAX_JOBS = {MAX_JOBS} jobs per call, got {len(jobs)}; split the ensemble")
+    for i, job in enumerate(jobs):
+        if not isinstance(job, Job):
+            raise ValueError(f"jobs[{i}] must be a rocknroller.numerics.ensemble.Job, got {type(job).__name__}")
+    jobs = list(jobs)
+    if not jobs:
+        return []
+    if scheduler is None and workers is None:
+        return _run_in_process(jobs, threads or 1, progress)
+    return _run_on_cluster(jobs, scheduler, workers, progress)
+
+
+def _bar(total: int, enabled: bool | None) -> Any:
+    from tqdm import tqdm
+
+    if enabled is None:
+        enabled = sys.stderr.isatty()
+    return tqdm(total=total, disable=not enabled, unit="run", leave=False, file=sys.stderr)
+
+
+def _run_in_process(jobs: list[Job], threads: int, progress: bool | None) -> list[RunSummary]:
+    with _bar(len(jobs), progress) as bar:
+        if threads == 1:
+            results = []
+            for job in jobs:
+                results.append(run_job(job))
+                bar.update(1)
+            return results
+        with ThreadPoolExecutor(max_workers=min(threads, len(jobs))) as pool:
+            futures = [pool.submit(run_job, job) for job in jobs]
+            try:
+                for future in as_completed(futures):
+                    future.result()  # the first failure stops the call: the jobs not yet started are dropped
+                    bar.update(1)
+            except BaseException:
+                pool.shutdown(cancel_futures=True)
+                raise
+        return [future.result() for future in futures]
+
+
+def _versions() -> tuple[str, str, str]:
+    """The versions that decide a job's result: rocknroller, heyoka, numpy."""
+    import heyoka
+
+    from rocknroller._version import __version__
+
+    return __version__, heyoka.__version__, np.__version__
+
+
+def _import_distributed(what: str) -> Any:
+    try:
+        import distributed
+    except ImportError:
+        raise ValueError(f"{what} runs the jobs on dask.distributed, which is not installed: "
+                         f"{DISTRIBUTED_HINT}") from None
+    return distributed
+
+
+def _run_on_cluster(jobs: list[Job], scheduler: str | None, workers: int | None,
+                    progress: bool | None) -> list[RunSummary]:
+    what = f"scheduler={scheduler!r}" if scheduler is not None else f"workers={workers}"
+    distributed = _import_distributed(what)
+    heyoka_integrator()  # fills heyoka's disk cache (if empty) before any worker needs the integrator
+    if workers is not None:  # the scheduler's HTTP server on a free port: never a clash with another cluster's
+        with distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                      dashboard_address=":0") as cluster, distributed.Client(cluster) as client:
+            return _submit(client, jobs, what, progress)
+    try:
+        client = distributed.Client(scheduler)
+    except (OSError, TimeoutError) as exc:
+        raise ValueError(f"scheduler={scheduler!r}: cannot connect to the dask scheduler ({exc})") from None
+    with client:
+        return _submit(client, jobs, what, progress)
+
+
+def _submit(client: Any, jobs: list[Job], what: str, progress: bool | None) -> list[RunSummary]:
+    import distributed
+
+    here = _versions()
+    odd = {addr: v for addr, v in client.run(_versions).items() if v != here}
+    if odd:
+        raise ValueError(f"{what}: workers run other versions of (rocknroller, heyoka, numpy) than {here}, so their "
+                         f"results could differ: {odd}")
+    futures = client.map(run_job, jobs, pure=False)
+    with _bar(len(jobs), progress) as bar:
+        for future in distributed.as_completed(futures):
+            if future.status == "error":
+                future.result()  # re-raises the job's exception here; leaving the client drops the other jobs
+            bar.update(1)
+    return client.gather(futures)
