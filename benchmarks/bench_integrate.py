@@ -3,8 +3,9 @@
 The paper's figure-5 run: ε = 1e-3, 1500 time units, 113 maxima and 114 minima of θ.
 
 Run:  python benchmarks/bench_integrate.py
-The CyRK rows need the optional extra ``bench`` (CyRK and numba):  pip install -e ".[bench]".  Without it the
-benchmark prints why and skips those rows; the heyoka and scipy rows still run.
+The CyRK rows need the optional extra ``bench`` (CyRK, numba and Cython):  pip install -e ".[bench]"; the compiled
+row with events also needs a C++ compiler and the Python headers (as the package's own build does).  Without them
+the benchmark prints why and skips those rows; the heyoka and scipy rows always run.
 
 Part 1, ``simulate()`` (integration + events + Trajectory), each backend at its default accuracy: heyoka at
 tol = machine ε against scipy DOP853 at rtol 3e-14.
@@ -14,27 +15,30 @@ Part 2, integration + turning points only, at equal energy error.  Every backend
 dγ3/dt, :func:`~rocknroller.numerics.equations.turning_point_function`):
 
 - heyoka: taylor_adaptive with a non-terminal event.  Its tolerance only selects the Taylor order, so its energy
-  error comes in discrete levels; two levels are compared (tol 1e-11 and 1e-9);
+  error comes in discrete levels; two levels are compared (tol 1e-11 and 1e-9), and tol = ε is shown alone;
 - scipy DOP853: ``solve_ivp`` with ``events=``, the library's numpy right-hand side called from Python;
-- CyRK DOP853, compiled, **without events**: ``nbsolve2_ivp``, CyRK's C++ DOP853 calling a numba ``cfunc``
-  right-hand side, no Python in the loop.  That entry point has no events, so the turning points are located after
-  the run, inside the same compiled function: sign changes of dγ3/dt between steps, refined on CyRK's dense output
-  (Illinois regula falsi to 4 ulp of t);
-- CyRK DOP853 **with events**: ``pysolve_ivp``, the same C++ DOP853 with CyRK's event location, but its right-hand
-  side and event function (numba-compiled) are called back through Python.
+- CyRK DOP853 compiled + events: ``cysolve_ivp``, CyRK's C++ DOP853 with its event location, right-hand side and
+  event function compiled (a Cython module generated here, built once and kept in the rocknroller cache,
+  ``$ROCKNROLLER_CACHE/bench``);
+- CyRK DOP853 numba, **without events**: ``nbsolve2_ivp``, the same C++ DOP853 calling a numba ``cfunc``
+  right-hand side.  That entry point has no events, so the turning points are located after the run, inside the
+  same compiled function: sign changes of dγ3/dt between steps, refined on CyRK's dense output (Illinois regula
+  falsi to 4 ulp of t);
+- CyRK DOP853 py + events: ``pysolve_ivp``, the same C++ DOP853 with CyRK's events, but its right-hand side and
+  event function (numba-compiled) are called back through Python.
 
-DOP853's rtol (atol 1e-20, far below every component) is scanned with the compiled CyRK run and, for each heyoka
+DOP853's rtol (atol 1e-20, far below every component) is scanned with the CyRK numba run and, for each heyoka
 level, set to the value whose energy error is nearest heyoka's; scipy uses the same rtol (same method: CyRK's DOP853
 is scipy's, ported to C++).  Rows whose energy error is off heyoka's by more than 2x are flagged.
 
-The compiled right-hand side is generated, not retyped: body_frame_rhs is traced (it uses only + − × ÷) into
-straight-line source with the same operations in the same order, which numba compiles; before anything is timed it
-must agree with body_frame_rhs at 1000 random states to 1e-14 relative (bitwise agreement is expected).
+The compiled right-hand sides are generated, not retyped: body_frame_rhs is traced (it uses only + − × ÷) into
+straight-line code with the same operations in the same order, compiled by numba and by Cython; before anything is
+timed each must agree with body_frame_rhs at 1000 random states to 1e-14 relative (bitwise agreement is expected).
 
 Energy error, every backend alike: max |E(t) − E(0)| / (E(0) + g a) on a 3001-point grid of the run's dense output,
 measured in an untimed rerun.  Times: best of 3 (scipy, seconds) or of 10 (the others, milliseconds); the one-off
-costs (heyoka's LLVM compilation and its disk-cache build, numba's JIT) are reported separately.  Each backend's
-turning points are compared with heyoka's at tol = ε: count and largest time difference.
+costs (heyoka's LLVM compilation and its disk-cache build, numba's JIT, the Cython build) are reported separately.
+Each backend's turning points are compared with heyoka's at tol = ε: count and largest time difference.
 """
 
 from __future__ import annotations
@@ -110,18 +114,150 @@ class _Traced:
         return self._emit(f"-{self.name}")
 
 
-def traced_source():
-    """Python source of ``rhs(dy, t, y, p)`` (writes dy) and ``tp(t, y, p)`` (dγ3/dt), traced from the library."""
+def _trace():
+    """Straight-line statements of body_frame_rhs and of turning_point_function on y[0..10], p[0..4]:
+    ((statements, output names) of the right-hand side, (statements, output name) of dγ3/dt)."""
     lines = []
     y = [_Traced(f"y[{i}]", lines) for i in range(STATE_SIZE)]
     p = [_Traced(f"p[{i}]", lines) for i in range(5)]
     out = body_frame_rhs(y, p)
-    rhs = "\n".join(["def rhs(dy, t, y, p):", *lines, *(f"    dy[{i}] = {v.name}" for i, v in enumerate(out))])
+    rhs = (lines, [v.name for v in out])
     lines = []
     y = [_Traced(f"y[{i}]", lines) for i in range(STATE_SIZE)]
-    root = turning_point_function(y)
-    tp = "\n".join(["def tp(t, y, p):", *lines, f"    return {root.name}"])
-    return rhs + "\n\n\n" + tp + "\n"
+    tp = (lines, turning_point_function(y).name)
+    return rhs, tp
+
+
+def traced_source():
+    """Python source of ``rhs(dy, t, y, p)`` (writes dy) and ``tp(t, y, p)`` (dγ3/dt), for numba."""
+    (rhs, out), (tp, root) = _trace()
+    return "\n".join(["def rhs(dy, t, y, p):", *rhs, *(f"    dy[{i}] = {v}" for i, v in enumerate(out)), "", "",
+                      "def tp(t, y, p):", *tp, f"    return {root}", ""])
+
+
+def cython_source():
+    """Cython source of a module calling CyRK's C++ DOP853 (cysolve_ivp) with the traced right-hand side and dγ3/dt
+    as a compiled event: ``run(y0, p, t_end, rtol, atol, grid) -> (event times, steps, dense output on grid)``."""
+    (rhs, out), (tp, root) = _trace()
+    rhs = [line.replace("    t", "    cdef double t", 1) for line in rhs]
+    tp = [line.replace("    t", "    cdef double t", 1) for line in tp]
+    return "\n".join([
+        "# distutils: language = c++",
+        "# cython: boundscheck=False, wraparound=False, cdivision=True, initializedcheck=False, language_level=3",
+        "# Generated by benchmarks/bench_integrate.py from rocknroller.numerics.equations; do not edit.",
+        "from libcpp.vector cimport vector",
+        "from libcpp.limits cimport numeric_limits",
+        "from CyRK.cy.common cimport PreEvalFunc",
+        "from CyRK.cy.events cimport Event",
+        "from CyRK.cy.cysolver_api cimport cysolve_ivp_noreturn, WrapCySolverResult, ODEMethod, CySolverResult",
+        "import numpy as np",
+        "",
+        "cdef void rhs(double* dy, double t, double* y, char* args, PreEvalFunc pre_eval) noexcept nogil:",
+        "    cdef double* p = <double*>args",
+        *rhs, *(f"    dy[{i}] = {v}" for i, v in enumerate(out)),
+        "",
+        "cdef double tp(double t, double* y, char* args) noexcept nogil:",
+        *tp, f"    return {root}",
+        "",
+        "def rhs_eval(double[::1] y, double[::1] p):",
+        "    out = np.empty(y.shape[0])",
+        "    cdef double[::1] dy = out",
+        "    rhs(&dy[0], 0.0, &y[0], <char*>&p[0], NULL)",
+        "    return out",
+        "",
+        "def tp_eval(double[::1] y, double[::1] p):",
+        "    return tp(0.0, &y[0], <char*>&p[0])",
+        "",
+        "def run(double[::1] y0, double[::1] p, double t_end, double rtol, double atol, double[::1] grid):",
+        "    cdef size_t i",
+        "    cdef vector[double] y0_vec = vector[double](y0.shape[0])",
+        "    for i in range(<size_t>y0.shape[0]):",
+        "        y0_vec[i] = y0[i]",
+        "    cdef vector[char] args_vec = vector[char](p.shape[0] * sizeof(double))",
+        "    cdef double* args_ptr = <double*>args_vec.data()",
+        "    for i in range(<size_t>p.shape[0]):",
+        "        args_ptr[i] = p[i]",
+        "    cdef vector[Event] events_vec = vector[Event]()",
+        "    events_vec.emplace_back(tp, numeric_limits[size_t].max(), 0)  # every root, either direction",
+        "    cdef WrapCySolverResult solution = WrapCySolverResult()",
+        "    solution.build_cyresult(ODEMethod.DOP853)",
+        "    cdef CySolverResult* ptr = solution.cyresult_uptr.get()",
+        "    cdef vector[double] no_t_eval = vector[double]()",
+        "    # (solution, diffeq, t0, t1, y0, rtol, atol, args, num_extra, max_num_steps, max_ram_MB, dense_output,",
+        "    #  t_eval, pre_eval_func, events)",
+        "    cysolve_ivp_noreturn(ptr, rhs, 0.0, t_end, y0_vec, rtol, atol, args_vec, 0, 0, 2000, grid.shape[0] > 0,",
+        "                         no_t_eval, NULL, events_vec)",
+        "    solution.finalize()",
+        "    if not ptr.success:",
+        "        raise RuntimeError('CyRK cysolve_ivp DOP853 failed: ' + solution.message)",
+        "    roots = np.array([ptr.event_times[0][i] for i in range(ptr.event_times[0].size())])",
+        "    dense = solution.call_vectorize(grid).T if grid.shape[0] > 0 else None",
+        "    return roots, ptr.steps_taken, dense",
+        ""])
+
+
+def build_cysolve(body):
+    """Build (or load from the rocknroller cache) the Cython module of :func:`cython_source`.
+
+    Returns (run, seconds spent building or loading, True if built now) or (None, why not, None)."""
+    import hashlib
+    import importlib.util
+    import sys
+    import sysconfig
+
+    try:
+        import CyRK
+        from Cython.Build import cythonize
+        from setuptools import Distribution, Extension
+    except ImportError as exc:
+        return None, f"CyRK cysolve_ivp row skipped: {exc} (it needs CyRK, Cython and a C++ compiler)", None
+    from rocknroller.numerics.cache import cache_dir
+
+    t0 = time.perf_counter()
+    source = cython_source()
+    key = hashlib.sha256("\0".join([source, CyRK.__version__, np.__version__, sys.version,
+                                     sysconfig.get_platform()]).encode()).hexdigest()[:16]
+    name = f"fig5_cysolve_{key}"
+    folder = cache_dir() / "bench" / name
+    built = sorted(folder.glob(f"{name}*{sysconfig.get_config_var('EXT_SUFFIX')}"))
+    fresh = not built
+    if fresh:
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+            (folder / f"{name}.pyx").write_text(source)
+            ext = Extension(name, [str(folder / f"{name}.pyx")], include_dirs=[*CyRK.get_include(), np.get_include()],
+                            language="c++", extra_compile_args=["-O2", "-std=c++20", "-w"])
+            dist = Distribution({"ext_modules": cythonize([ext], quiet=True, build_dir=str(folder))})
+            cmd = dist.get_command_obj("build_ext")
+            cmd.build_lib, cmd.build_temp = str(folder), str(folder / "build")
+            cmd.ensure_finalized()
+            cmd.run()
+        except Exception as exc:  # no compiler, no headers, an incompatible CyRK: skip the row, say why
+            return None, f"CyRK cysolve_ivp row skipped: building its module failed ({type(exc).__name__}: {exc})", None
+        built = sorted(folder.glob(f"{name}*{sysconfig.get_config_var('EXT_SUFFIX')}"))
+    spec = importlib.util.spec_from_file_location(name, built[0])
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    worst = check_generated(body, module.rhs_eval, module.tp_eval)
+    return (module.run, worst), time.perf_counter() - t0, fresh
+
+
+def check_generated(body, rhs, tp):
+    """Largest relative difference between a generated right-hand side ``rhs(y, p) -> dy`` and body_frame_rhs at
+    1000 random states; raises if it exceeds 1e-14 or if ``tp(y, p)`` differs from turning_point_function."""
+    rng = np.random.default_rng(2024)
+    p = np.asarray(body.params, float)
+    worst = 0.0
+    for _ in range(1000):
+        yy = rng.normal(size=STATE_SIZE)
+        yy[0:3] /= np.linalg.norm(yy[0:3])
+        ref = np.array(body_frame_rhs(yy, p))
+        worst = max(worst, float(np.max(np.abs(rhs(yy, p) - ref) / np.maximum(np.abs(ref), 1e-300))))
+        if tp(yy, p) != turning_point_function(yy):
+            raise RuntimeError("generated dγ3/dt differs from turning_point_function")
+    if not worst <= 1e-14:
+        raise RuntimeError(f"generated right-hand side differs from body_frame_rhs by {worst:.1e} (relative)")
+    return worst
 
 
 def build_cyrk(body):
@@ -142,19 +278,14 @@ def build_cyrk(body):
     address = rhs_c.address
 
     # The generated right-hand side must agree with the library's before anything is timed.
-    rng = np.random.default_rng(2024)
     p = np.asarray(body.params, float)
-    worst = 0.0
-    for _ in range(1000):
-        yy = rng.normal(size=STATE_SIZE)
-        yy[0:3] /= np.linalg.norm(yy[0:3])
-        ref = np.array(body_frame_rhs(yy, p))
+
+    def rhs_eval(yy, pp):
         dy = np.empty(STATE_SIZE)
-        rhs_nj(dy, 0.0, yy, p)
-        worst = max(worst, float(np.max(np.abs(dy - ref) / np.maximum(np.abs(ref), 1e-300))))
-        assert tp_nj(0.0, yy, p) == turning_point_function(yy)
-    if not worst <= 1e-14:
-        raise RuntimeError(f"generated right-hand side differs from body_frame_rhs by {worst:.1e} (relative)")
+        rhs_nj(dy, 0.0, yy, pp)
+        return dy
+
+    worst = check_generated(body, rhs_eval, lambda yy, pp: tp_nj(0.0, yy, pp))
 
     @nb.njit
     def compiled_run(y0, p, t_end, rtol, atol, dense_check):
@@ -306,7 +437,7 @@ def main() -> None:
     cyrk, why_not = build_cyrk(body)
     if cyrk is None:
         print(why_not)
-        run = None
+        run = cysolve = None
         dop853_error = sc_error
         rtols = DOP853_RTOLS[::4]  # scipy is slow: a coarser scan
     else:
@@ -322,6 +453,14 @@ def main() -> None:
         tp_nj.direction = 0  # pysolve_ivp reads an event's direction and terminal flag from its attributes
         tp_nj.terminal = False
 
+        cysolve, t_cysolve, cysolve_fresh = build_cysolve(body)
+        if cysolve is None:
+            print(t_cysolve)
+        else:
+            cysolve, worst = cysolve
+            print(f"CyRK cysolve_ivp module {'built' if cysolve_fresh else 'loaded from the cache'} in "
+                  f"{t_cysolve:.1f} s; its right-hand side agrees with body_frame_rhs to {worst:.1e} (relative)")
+
         def py_core(rtol, dense=False):
             sol = cyrk["pysolve_ivp"](rhs_nj, (0.0, T_END), y0, method="DOP853", rtol=rtol, atol=DOP853_ATOL,
                                       args=(p,), pass_dy_as_arg=True, events=[tp_nj], dense_output=dense)
@@ -330,7 +469,7 @@ def main() -> None:
 
     # DOP853's energy error against rtol (CyRK's and scipy's DOP853 are the same method: scipy's, ported to C++).
     dop_scan = [(rtol, dop853_error(rtol)) for rtol in rtols]
-    print(f"DOP853 rtol scan (atol {DOP853_ATOL:.0e}, {'CyRK compiled' if run else 'scipy'}): "
+    print(f"DOP853 rtol scan (atol {DOP853_ATOL:.0e}, {'CyRK numba' if run else 'scipy'}): "
           + ", ".join(f"{r:.1e} -> {e:.1e}" for r, e in dop_scan))
 
     rows = []
@@ -344,15 +483,19 @@ def main() -> None:
         level.append((f"scipy DOP853, rtol {rtol:.1e}", "yes: solve_ivp events", t_sc_core, sc_error(rtol),
                       sol.t_events[0]))
         if run is not None:
+            if cysolve is not None:
+                t_cs, out = best_of(lambda: cysolve(y0, p, T_END, rtol, DOP853_ATOL, np.empty(0)), REPEATS_FAST)
+                level.append((f"CyRK DOP853 compiled + events, rtol {rtol:.1e}", "yes: CyRK events, compiled", t_cs,
+                              energy_error(body, cysolve(y0, p, T_END, rtol, DOP853_ATOL, grid)[2]), out[0]))
             t_cy, out = best_of(lambda: run(y0, p, T_END, rtol, DOP853_ATOL, np.empty(0)), REPEATS_FAST)
-            level.append((f"CyRK DOP853 compiled, rtol {rtol:.1e}", "no: sign changes refined after the run", t_cy,
+            level.append((f"CyRK DOP853 numba, rtol {rtol:.1e}", "no: sign changes refined after the run", t_cy,
                           dop853_error(rtol), out[0]))
             t_py, sol = best_of(lambda: py_core(rtol), REPEATS_FAST)
-            level.append((f"CyRK DOP853 + events, rtol {rtol:.1e}", "yes: CyRK events (Python callbacks)", t_py,
+            level.append((f"CyRK DOP853 py + events, rtol {rtol:.1e}", "yes: CyRK events, Python callbacks", t_py,
                           energy_error(body, py_core(rtol, dense=True).call_vectorize(grid).T), sol.t_events[0]))
         rows.append(level)
 
-    print(f"\n{'backend':36s} {'events':40s} {'time [s]':>9s} {'energy err':>10s} {'err/hy':>6s} {'t/t_hy':>7s} "
+    print(f"\n{'backend':44s} {'turning points':38s} {'time [s]':>9s} {'energy err':>10s} {'err/hy':>6s} {'t/t_hy':>7s} "
           f"{'count':>5s} {'max |dt|':>8s}")
     for level in rows:
         _, _, t_ref, err_ref, _ = level[0]
@@ -362,14 +505,19 @@ def main() -> None:
             roots = roots[roots > 0.0]
             dt = float(np.max(np.abs(roots - reference))) if len(roots) == len(reference) else math.nan
             flag = "" if 0.5 <= err / err_ref <= 2.0 else "  <- energy errors differ by more than 2x"
-            print(f"{name:36s} {events:40s} {t:9.4f} {err:10.2e} {err / err_ref:6.2f} {t / t_ref:7.1f} "
+            print(f"{name:44s} {events:38s} {t:9.4f} {err:10.2e} {err / err_ref:6.2f} {t / t_ref:7.1f} "
                   f"{len(roots):5d} {dt:8.1e}{flag}")
         print()
+    ta = heyoka_ta(np.finfo(float).eps)
+    t_eps, _ = best_of(lambda: heyoka_core(ta, y0, T_END), REPEATS_FAST)
+    print(f"heyoka at tol = eps: {t_eps:.4f} s, energy error {heyoka_error(ta):.2e}; DOP853 cannot get there: its "
+          f"rtol stops at 100 eps ({dop_scan[0][0]:.1e} -> {dop_scan[0][1]:.2e})\n")
     print(f"times: best of {REPEATS} (scipy) or {REPEATS_FAST} (the others); count and max |dt|: turning points "
           f"against heyoka at tol = eps ({len(reference)} after t = 0)")
     print(f"one-off: heyoka compile {t_compile:.2f} s (once per machine), build from its disk cache "
           f"{1e3 * t_load:.0f} ms" + ("" if cyrk is None else f"; numba JIT of the CyRK runners {cyrk['t_jit']:.2f} s"
-                                      " (once per process)"))
+                                      " (once per process)")
+          + ("" if cysolve is None else f"; CyRK cysolve_ivp module {'built (once per machine)' if cysolve_fresh else 'loaded from the cache'} {t_cysolve:.1f} s"))
 
 
 if __name__ == "__main__":
