@@ -98,20 +98,40 @@ class _Traced:
         self.lines.append(f"    {name} = {expr}")
         return _Traced(name, self.lines)
 
+    def _bin(self, a, op, b):
+        return self._emit(f"{_operand(a)} {op} {_operand(b)}")
+
     def __add__(self, other):
-        return self._emit(f"{self.name} + {other.name}")
+        return self._bin(self, "+", other)
+
+    def __radd__(self, other):
+        return self._bin(other, "+", self)
 
     def __sub__(self, other):
-        return self._emit(f"{self.name} - {other.name}")
+        return self._bin(self, "-", other)
+
+    def __rsub__(self, other):
+        return self._bin(other, "-", self)
 
     def __mul__(self, other):
-        return self._emit(f"{self.name} * {other.name}")
+        return self._bin(self, "*", other)
+
+    def __rmul__(self, other):
+        return self._bin(other, "*", self)
 
     def __truediv__(self, other):
-        return self._emit(f"{self.name} / {other.name}")
+        return self._bin(self, "/", other)
+
+    def __rtruediv__(self, other):
+        return self._bin(other, "/", self)
 
     def __neg__(self):
         return self._emit(f"-{self.name}")
+
+
+def _operand(v):
+    """A traced value's name, or a number constant written exactly."""
+    return v.name if isinstance(v, _Traced) else f"({float(v)!r})"
 
 
 def _trace():
@@ -459,7 +479,7 @@ def main() -> None:
         else:
             cysolve, worst = cysolve
             print(f"CyRK cysolve_ivp module {'built' if cysolve_fresh else 'loaded from the cache'} in "
-                  f"{t_cysolve:.1f} s; its right-hand side agrees with body_frame_rhs to {worst:.1e} (relative)")
+                  f"{t_cysolve:.2f} s; its right-hand side agrees with body_frame_rhs to {worst:.1e} (relative)")
 
         def py_core(rtol, dense=False):
             sol = cyrk["pysolve_ivp"](rhs_nj, (0.0, T_END), y0, method="DOP853", rtol=rtol, atol=DOP853_ATOL,
@@ -517,7 +537,7 @@ def main() -> None:
     print(f"one-off: heyoka compile {t_compile:.2f} s (once per machine), build from its disk cache "
           f"{1e3 * t_load:.0f} ms" + ("" if cyrk is None else f"; numba JIT of the CyRK runners {cyrk['t_jit']:.2f} s"
                                       " (once per process)")
-          + ("" if cysolve is None else f"; CyRK cysolve_ivp module {'built (once per machine)' if cysolve_fresh else 'loaded from the cache'} {t_cysolve:.1f} s"))
+          + ("" if cysolve is None else f"; CyRK cysolve_ivp module {'built (once per machine)' if cysolve_fresh else 'loaded from the cache'} {t_cysolve:.2f} s"))
 
 
 if __name__ == "__main__":
