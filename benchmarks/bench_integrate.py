@@ -537,7 +537,8 @@ def main() -> None:
     print(f"one-off: heyoka compile {t_compile:.2f} s (once per machine), build from its disk cache "
           f"{1e3 * t_load:.0f} ms" + ("" if cyrk is None else f"; numba JIT of the CyRK runners {cyrk['t_jit']:.2f} s"
                                       " (once per process)")
-          + ("" if cysolve is None else f"; CyRK cysolve_ivp module {'built (once per machine)' if cysolve_fresh else 'loaded from the cache'} {t_cysolve:.2f} s"))
+          + ("" if cysolve is None else "; CyRK cysolve_ivp module "
+             + ("built (once per machine)" if cysolve_fresh else "loaded from the cache") + f" {t_cysolve:.2f} s"))
 
 
 if __name__ == "__main__":
