@@ -79,6 +79,8 @@ __all__ = [
     "K_PERIOD_DOUBLING",
     "eps_period_doubling",
     "rocks_per_region",
+    "releases_on_region_tables",
+    "REGION_TABLE_ACCURACY",
 ]
 
 #: Bump when the table construction or its file format changes (part of the cache key).
@@ -836,8 +838,9 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
     body : Body
         The asymmetric body (ε = body.epsilon ≥ 0).
     theta0 : float or EulerState
-        Release tilt in ``THETA0_RANGE`` = [0.75π, 0.999π], where the tables can be built and the map is
-        validated against the direct ODE (docs/averaging.md); other amplitudes are refused (ValueError).
+        Release tilt, 0 < θ0 ≤ 0.999π: in ``THETA0_RANGE`` = [0.75π, 0.999π] the release tables (validated
+        against the direct ODE, docs/averaging.md); below, the region tables of the release's energy (as for an
+        EulerState from rest); other values are refused (ValueError).
         Or an initial state (the one ``simulate`` takes): it is carried to its first θ-maximum by a short
         direct integration (:func:`rocknroller.analysis.slow_orbit.first_maximum`) and the map is iterated from
         there on the region tables of its energy (:mod:`rocknroller.analysis.slow_region`); then ``psi0`` is
@@ -872,9 +875,11 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
         if psi0 is not None:
             raise ValueError("psi0 is part of the initial state: give either (theta0, psi0) or an EulerState")
         return _predict_from_state(body, theta0, t_end, table=table, build=build)
-    theta0 = check_map_theta0(theta0)
     if psi0 is None:
         raise ValueError("psi0 must be given with a release angle theta0")
+    if table is None and releases_on_region_tables(theta0):
+        return _predict_from_state(body, EulerState(float(theta0), 0.0, float(psi0)), t_end, table=None, build=build)
+    theta0 = check_map_theta0(theta0)
     eps, psi0 = body.epsilon, float(psi0)
     if not math.isfinite(psi0):
         raise ValueError(f"psi0 must be finite, got psi0={psi0!r}")
@@ -920,6 +925,12 @@ def _warn_validity(eps: float, table: SlowMapTable) -> None:
             f"(> {REGION_TABLE_ACCURACY:g}): near Q = 0, W turns by ~2 pi over 1/|grad W(0)|, which their Chebyshev "
             "grid resolves up to the energy of a release from about 0.7 pi (docs/averaging.md, 'Starts with "
             "velocity'); the prediction carries that error", AveragingValidityWarning, stacklevel=3)
+
+
+def releases_on_region_tables(theta0: float) -> bool:
+    """True for release angles 0 < θ0 < ``THETA0_RANGE[0]``, which the region tables serve (the release tables'
+    rectangle would leave the region of motion there)."""
+    return isinstance(theta0, (int, float)) and 0.0 < float(theta0) < THETA0_RANGE[0]
 
 
 def _prediction(eps: float, theta0: float, psi0: float, t_end: float, K: float, series: SlowSeries,

@@ -31,9 +31,9 @@ def check_map_theta0(theta0: float, name: str = "theta0") -> float:
         raise ValueError(
             f"{name} must lie in [{lo / math.pi:g}pi, {hi / math.pi:g}pi] = [{lo:.6g}, {hi:.6g}] for the averaged "
             f"slow map, got {name}={theta0!r} = {theta0 / math.pi:.6g}pi: below {lo / math.pi:g}pi the averaging "
-            "tables reach states that the energy of the release does not allow (they cannot be built; smaller "
-            f"amplitudes are not covered yet), above {hi / math.pi:g}pi they lose accuracy near the upright "
-            "equilibrium")
+            "tables reach states that the energy of the release does not allow (they cannot be built; "
+            "predict_slow_motion and rocknroller slow use the region tables there), above "
+            f"{hi / math.pi:g}pi they lose accuracy near the upright equilibrium")
     return theta0
 
 

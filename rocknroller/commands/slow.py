@@ -148,7 +148,8 @@ def run(args: argparse.Namespace) -> int:
         prepare_output_dir(args.plot, "--plot", args.force, ["slow_orbit.png", "slow_orbit.pdf"])
     given = _given(args)
     body = _body(args, given)
-    if rates_given(args) or args.critical_line is not None or _parse(args, "phi0") != 0.0:
+    if (rates_given(args) or args.critical_line is not None or _parse(args, "phi0") != 0.0
+            or av.releases_on_region_tables(_parse(args, "theta0"))):
         start, _ = critical_line_state(args, body)
         pred, extra, messages = _from_state(args, body, start)
         summary: dict[str, Any] = {q: getattr(pred, q) for q in _QUANTITIES}
