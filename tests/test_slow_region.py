@@ -120,6 +120,8 @@ def test_a_start_outside_the_tables_names_its_distance_to_steady_rolling(small_t
 ODE_STARTS = {
     "0.6pi, spin": (0.6 * math.pi, 0.3, (0.0, 0.0, 0.05)),
     "0.45pi, tilting": (0.45 * math.pi, 1.1, (0.3, 0.0, -0.08)),
+    "0.2pi, from rest": (0.2 * math.pi, 0.6, (0.0, 0.0, 0.0)),
+    "0.4pi, from rest": (0.4 * math.pi, 1.0, (0.0, 0.0, 0.0)),
 }
 EPS = (1e-2, 1e-3, 1e-4)
 
