@@ -18,7 +18,7 @@ import sys
 from rocknroller._version import __version__
 from rocknroller.options import accept_negative_values
 
-COMMANDS = ("reproduce", "simulate", "table", "diagram", "slow", "verify", "cite")
+COMMANDS = ("reproduce", "simulate", "table", "diagram", "slow", "atlas", "verify", "cite")
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -362,6 +362,16 @@ def test_cli_slow(theta0, psi0, eps, t_end, json_out, capsys):
 
 
 @FEW
+@given(theta0=TEXT, psi0=TEXT, t_end=TEXT, every=TEXT, json_out=st.booleans())
+def test_cli_atlas(theta0, psi0, t_end, every, json_out, capsys, outputs):
+    # --cached-only: a grid without cached tables is a clean error, never a build per example
+    argv = ["atlas", "--theta0", theta0, "--psi0", psi0, "--t-end", t_end, "--confirm-every", every, "--out",
+            outputs(), "--cached-only", "--quiet"] + ["--json"] * json_out
+    code, out, _ = run_cli(argv, capsys)
+    check_exit(code, argv, out)
+
+
+@FEW
 @given(only=st.lists(st.sampled_from(["table_polar_cap", "table_small_amplitude", "nope", ""]), min_size=1,
                      max_size=2), listing=st.booleans())
 def test_cli_reproduce(only, listing, capsys, outputs):
