@@ -18,7 +18,7 @@ import sys
 from rocknroller._version import __version__
 from rocknroller.options import accept_negative_values
 
-COMMANDS = ("reproduce", "simulate", "table", "diagram", "slow", "atlas", "verify", "cite")
+COMMANDS = ("reproduce", "simulate", "animate", "table", "diagram", "slow", "atlas", "verify", "cite")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -42,7 +42,8 @@ def build_parser() -> argparse.ArgumentParser:
 _OPTION_OF = {"t_end": "--t-end", "dt": "--dt", "theta0": "--theta0", "phi0": "--phi0", "psi0": "--psi0",
               "theta_dot": "--theta-dot0", "phi_dot": "--phi-dot0", "psi_dot": "--psi-dot0", "omega": "--omega",
               "epsilon": "--eps", "a": "--a", "I1": "--I1", "I2": "--I2", "I3": "--I3", "g": "--g",
-              "QR_max": "--QR-max", "workers": "--workers", "nu": "--nodes", "nv": "--nodes"}
+              "QR_max": "--QR-max", "workers": "--workers", "nu": "--nodes", "nv": "--nodes", "fps": "--fps",
+              "duration": "--duration"}
 _PARAMETER = re.compile(r"(?<![-\w])(" + "|".join(_OPTION_OF) + r")\b(?=( must|=))")  # not inside an option
 
 

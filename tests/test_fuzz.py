@@ -362,6 +362,18 @@ def test_cli_slow(theta0, psi0, eps, t_end, json_out, capsys):
 
 
 @FEW
+@given(opts=st.lists(st.sampled_from(["--theta0", "--psi0", "--phi-dot0", "--omega", "--t-end", "--fps"]), max_size=3),
+       values=st.lists(TEXT, min_size=3, max_size=3), duration=st.sampled_from(["1", "0", "-1", "nan", "abc"]))
+def test_cli_animate(opts, values, duration, capsys, outputs):
+    # --duration of at most 1 s: at most 60 frames (fps ≤ 60), a few seconds to draw
+    argv = ["animate", "--duration", duration, "--out", f"{outputs()}/a.gif", "--quiet"]
+    for opt, val in zip(opts, values):
+        argv += [opt, val] + ([val, val] if opt == "--omega" else [])
+    code, out, _ = run_cli(argv, capsys)
+    check_exit(code, argv, out)
+
+
+@FEW
 @given(theta0=TEXT, psi0=TEXT, t_end=TEXT, every=TEXT, json_out=st.booleans())
 def test_cli_atlas(theta0, psi0, t_end, every, json_out, capsys, outputs):
     # --cached-only: a grid without cached tables is a clean error, never a build per example
