@@ -1,7 +1,8 @@
 """Cost of a recession atlas: 100 × 100 releases from rest over (ψ0, θ0), from cached tables.
 
 Run:  python benchmarks/bench_atlas.py [N]      (N × N points, default 100)
-Builds (once, cached) the release tables of N values of θ0 in [0.75π, 0.95π] (~7 s each), then times the atlas
+Builds (once, cached) the release tables of N values of θ0 in [0.75π, 0.95π] (~7 s each), ψ0 in [0.01π, 0.49π],
+then times the atlas
 from the cached tables in a fresh process state (tables read from disk, their run-time form built) and a sample of
 its ODE confirmation (1 point in 50) in this process, one at a time, against the map's cost per point.
 """
@@ -23,7 +24,7 @@ def main() -> None:
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 100
     body = Body.paper(1e-3)
     theta0 = np.linspace(0.75, 0.95, n) * math.pi
-    psi0 = np.linspace(0.0, 0.5, n) * math.pi
+    psi0 = np.linspace(0.01, 0.49, n) * math.pi  # not the equilibria ψ0 = 0, π/2 themselves (see below)
     t0 = time.perf_counter()
     for th in theta0:
         av.load_or_build_table(body, th)
@@ -40,10 +41,13 @@ def main() -> None:
     k = len(check.index)
     print(f"ODE confirmation of {k} points (1 in 50), in process: {t_ode:.1f} s ({1e3 * t_ode / k:.0f} ms a point, "
           f"{t_ode / k / (t_map / n**2):.0f}x the map's cost)")
+    # near the separatrix of the slow pendulum (ψ0 → 0, the unstable rocking) the slow period diverges and the
+    # runs depend sensitively on their start: the largest errors sit there; the percentiles say how typical they are
     for name in at.ATLAS_OBSERVABLES:
-        err = np.ma.abs(check.rel_error[name])
-        print(f"  largest map-ODE {'difference' if name.endswith('reversals') else 'relative error'} of {name}: "
-              f"{np.ma.max(err):.3g} (median {np.ma.median(err):.3g})")
+        err = np.ma.abs(check.rel_error[name]).compressed()
+        what = "difference" if name.endswith("reversals") else "relative error"
+        print(f"  map-ODE {what} of {name}: median {np.median(err):.3g}, 95th percentile "
+              f"{np.percentile(err, 95):.3g}, largest {err.max():.3g}")
 
 
 if __name__ == "__main__":

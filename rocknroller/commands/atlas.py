@@ -32,9 +32,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--theta0", type=str, default="0.8pi:0.95pi:16", metavar="LO:HI:N",
                    help="release tilts, an inclusive grid of N values (angles like 0.95pi), or one value; "
                         "0 < theta0 <= 0.999pi (default 0.8pi:0.95pi:16)")
-    p.add_argument("--psi0", type=str, default="0:0.5pi:16", metavar="LO:HI:N",
-                   help="release spin angles, as --theta0 (default 0:0.5pi:16; psi0 and psi0 + pi/2 are mirror "
-                        "images)")
+    p.add_argument("--psi0", type=str, default="0.02pi:0.48pi:16", metavar="LO:HI:N",
+                   help="release spin angles, as --theta0 (default 0.02pi:0.48pi:16: psi0 = 0 and pi/2 are the "
+                        "unstable and stable rocking, where a run is the equilibrium and its round-off)")
     p.add_argument("--t-end", type=float, default=1000.0, help="time span of each run (default 1000)")
     p.add_argument("--confirm-every", type=int, default=50, metavar="K",
                    help="run the direct ODE at 1 point in K, row by row from the first (default 50; 0: none)")
