@@ -24,7 +24,7 @@ from numpy.typing import ArrayLike, NDArray
 from rocknroller.analysis import averaging as av
 from rocknroller.analysis.body import Body
 
-__all__ = ["ATLAS_OBSERVABLES", "MAX_ATLAS_POINTS", "Atlas", "AtlasCheck", "reversal_counts", "atlas_from_rest",
+__all__ = ["ATLAS_OBSERVABLES", "MAX_ATLAS_POINTS", "MAX_ATLAS_WORKERS", "Atlas", "AtlasCheck", "reversal_counts", "atlas_from_rest",
            "confirm_atlas"]
 
 #: What the atlas maps, per point: the map's diagnostics and the reversals per 1000 time units.
@@ -74,8 +74,30 @@ def _check_grid(name: str, values: ArrayLike, lo: float, hi: float) -> NDArray[n
     return a
 
 
+def _rows(body: Body, theta0: NDArray[np.float64], psi0: NDArray[np.float64], t_end: float,
+          build: bool) -> tuple[NDArray[np.float64], NDArray[np.bool_], list[str]]:
+    """The observables (len(ATLAS_OBSERVABLES), len(theta0), len(psi0)), where they are undefined, and the validity
+    warnings, for some rows of the atlas (in this process)."""
+    out = np.zeros((len(ATLAS_OBSERVABLES), theta0.size, psi0.size))
+    mask = np.zeros_like(out, dtype=bool)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", av.AveragingValidityWarning)
+        for i, t0 in enumerate(theta0):
+            table = None if av.releases_on_region_tables(t0) else av.load_or_build_table(body, t0, build=build)
+            for j, p0 in enumerate(psi0):
+                pred = av.predict_slow_motion(body, float(t0), float(p0), t_end, table=table, build=build)
+                for k, v in enumerate(_values(pred, t_end)):
+                    mask[k, i, j] = v is None
+                    out[k, i, j] = 0.0 if v is None else v
+    return out, mask, [str(w.message) for w in caught if issubclass(w.category, av.AveragingValidityWarning)]
+
+
+#: Most processes :func:`atlas_from_rest` shares the rows among.
+MAX_ATLAS_WORKERS = 64
+
+
 def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float = 1000.0, *,
-                    progress: bool | None = None, build: bool = True) -> Atlas:
+                    progress: bool | None = None, build: bool = True, workers: int = 1) -> Atlas:
     """Map the slow motion over the releases from rest at every (θ0, ψ0) of the grid (module docstring).
 
     Parameters
@@ -92,6 +114,10 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
         A tqdm bar over the rows (None: only on a terminal).
     build : bool
         Build the tables that are not cached (else ValueError).
+    workers : int
+        Processes that share the rows, 1 ≤ workers ≤ ``MAX_ATLAS_WORKERS`` (each point is computed the same way
+        wherever it runs; more than one starts "spawn" processes, which import the calling script: guard a script's
+        top level with ``if __name__ == "__main__":``).
 
     Raises
     ------
@@ -105,19 +131,27 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
     if th.size * ps.size > MAX_ATLAS_POINTS:
         raise ValueError(f"the atlas has {th.size} x {ps.size} = {th.size * ps.size} points, more than "
                          f"MAX_ATLAS_POINTS = {MAX_ATLAS_POINTS}")
-    out = np.zeros((len(ATLAS_OBSERVABLES), th.size, ps.size))
-    mask = np.zeros_like(out, dtype=bool)
-    caught_all: list[str] = []
-    for i, t0 in enumerate(tqdm(th, desc="atlas rows", unit="theta0", disable=None if progress is None else not progress)):
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always", av.AveragingValidityWarning)
-            table = None if av.releases_on_region_tables(t0) else av.load_or_build_table(body, t0, build=build)
-            for j, p0 in enumerate(ps):
-                pred = av.predict_slow_motion(body, float(t0), float(p0), t_end, table=table, build=build)
-                for k, v in enumerate(_values(pred, t_end)):
-                    mask[k, i, j] = v is None
-                    out[k, i, j] = 0.0 if v is None else v
-        caught_all += [str(w.message) for w in caught if issubclass(w.category, av.AveragingValidityWarning)]
+    if int(workers) != workers or not 1 <= workers <= MAX_ATLAS_WORKERS:
+        raise ValueError(f"workers must be an integer in [1, {MAX_ATLAS_WORKERS}], got workers={workers!r}")
+    blocks = np.array_split(np.arange(th.size), min(int(workers), th.size) if workers > 1 else th.size)
+    parts: list[Any] = []
+    with tqdm(total=th.size, desc="atlas rows", unit="theta0", disable=None if progress is None else not progress) as bar:
+        if workers == 1:
+            for rows in blocks:
+                parts.append(_rows(body, th[rows], ps, t_end, build))
+                bar.update(rows.size)
+        else:
+            import multiprocessing
+            from concurrent.futures import ProcessPoolExecutor
+
+            with ProcessPoolExecutor(len(blocks), mp_context=multiprocessing.get_context("spawn")) as pool:
+                futures = [pool.submit(_rows, body, th[rows], ps, float(t_end), build) for rows in blocks]
+                for fut, rows in zip(futures, blocks):
+                    fut.add_done_callback(lambda _, n=rows.size: bar.update(n))
+                parts = [fut.result() for fut in futures]
+    out = np.concatenate([p[0] for p in parts], axis=1)
+    mask = np.concatenate([p[1] for p in parts], axis=1)
+    caught_all = [msg for p in parts for msg in p[2]]
     return Atlas(eps=body.epsilon, t_end=float(t_end), theta0=th, psi0=ps,
                  values={name: np.ma.MaskedArray(out[k], mask[k]) for k, name in enumerate(ATLAS_OBSERVABLES)},
                  warnings=tuple(dict.fromkeys(caught_all)))

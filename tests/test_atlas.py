@@ -33,6 +33,15 @@ def test_atlas_values_are_the_maps(small_atlas):
     assert small_atlas.values["full_reversals"][1, 2] == full
 
 
+def test_processes_do_not_change_the_atlas(small_atlas):
+    two = at.atlas_from_rest(BODY, THETA0, PSI0, 400.0, progress=False, workers=2)
+    for name in at.ATLAS_OBSERVABLES:
+        assert np.array_equal(two.values[name].filled(np.nan), small_atlas.values[name].filled(np.nan),
+                              equal_nan=True), name
+    with pytest.raises(ValueError, match="workers must be"):
+        at.atlas_from_rest(BODY, THETA0, PSI0, 400.0, workers=0)
+
+
 def test_confirmation_agrees_with_the_ode(small_atlas):
     """At ε = 1e-3 the first-order map's slow period, Φ and Q_R extent are within 5e-3 of the ODE (docs/averaging.md,
     releases 0.75π–0.95π: ≤ 3.7e-4 measured) and it counts the same reversals; the ODE's values are
@@ -71,7 +80,7 @@ def test_bad_grids_and_points_are_refused(small_atlas):
 def test_atlas_command(tmp_path, capsys):
     out = tmp_path / "atlas"
     argv = ["atlas", "--theta0", "0.9pi:0.95pi:2", "--psi0", "0.15pi:0.4pi:3", "--t-end", "400", "--confirm-every",
-            "4", "--confirm", "0.9pi,0.4pi", "--out", str(out), "--json", "--quiet"]
+            "4", "--confirm", "0.9pi,0.4pi", "--out", str(out), "--json", "--quiet", "--processes", "1"]
     assert main(argv) == 0
     summary = json.loads(capsys.readouterr().out)
     assert summary["n_points"] == 6 and summary["n_confirmed"] == 3  # flat points 0 and 4, and the named (0, 2)

@@ -40,6 +40,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="run the direct ODE at 1 point in K, row by row from the first (default 50; 0: none)")
     p.add_argument("--confirm", action="append", default=[], metavar="THETA0,PSI0",
                    help="also confirm the grid point nearest to THETA0,PSI0 (repeatable)")
+    p.add_argument("--processes", type=int, default=2, metavar="N",
+                   help="processes that share the map's rows (default 2; the numbers do not depend on it)")
     add_cluster_options(p)
     p.add_argument("--out", type=Path, default=Path("atlas"), metavar="DIR",
                    help="write atlas.csv and the figures to DIR (default ./atlas; created if missing; existing files "
@@ -89,7 +91,8 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError(f"--confirm-every must be an integer >= 0, got {args.confirm_every!r}")
     prepare_output_dir(args.out, "--out", args.force, OUTPUTS)
     progress = False if args.quiet else None
-    atlas = atlas_from_rest(body, theta0, psi0, args.t_end, progress=progress, build=not args.cached_only)
+    atlas = atlas_from_rest(body, theta0, psi0, args.t_end, progress=progress, build=not args.cached_only,
+                            workers=args.processes)
     named = [_nearest(atlas, s) for s in args.confirm]
     check = None
     if args.confirm_every > 0 or named:
