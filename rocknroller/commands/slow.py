@@ -46,10 +46,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         "and theta0, cached) and its closed form near pure rocking (standard map / pendulum); or, with any rate "
         "option or --critical-line, from that start (carried to its first maximum of theta by the direct ODE; "
         "the map on the tables of its energy over the whole (Q_R, Q_J) region, built once per body and energy, "
-        "about a minute on 2 cores, and cached). Prints the slow "
+        "15-20 s on 2 cores, and cached). Prints the slow "
         "period of Theta = 2 psi, the extents of Q_R and Q_J, the azimuth span Phi of phi mod pi, the rocks "
         "spent in each critical region, and the period-doubling eps. Valid for 0 <= eps with K = eps*kappa < 4 "
-        f"and {_LO:g}pi <= theta0 <= {_HI:g}pi. eps defaults to 1e-3 here; eps = 0 (Routh's sphere) is pure "
+        f"and, for releases from rest, 0 < theta0 <= {_HI:g}pi: the release tables in [{_LO:g}pi, {_HI:g}pi], the "
+        "region tables below (accurate to 1e-6 up to the energy of a release from 0.7pi; beyond, a warning). "
+        "eps defaults to 1e-3 here; eps = 0 (Routh's sphere) is pure "
         "rocking on both critical lines. In --json, undefined quantities are null (never NaN or Infinity).",
     )
     add_body_options(p, eps_default=1e-3)
