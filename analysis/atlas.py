@@ -1,4 +1,8 @@
-"""Recession atlas: the averaged slow map over a plane of releases from rest, (ψ0, θ0), and its ODE confirmation.
+"""Recession atlas: the slow motion over a plane of starts, by the averaged map or the direct ODE.
+
+Two planes: releases from rest over (ψ0, θ0) (:func:`atlas_from_rest`, by the map, or by the ODE), and initial rates
+(φ̇0, ψ̇0) at fixed θ0, ψ0 (:func:`atlas_of_rates`, the plane of the paper's reversal starts, by the ODE: each
+of its starts has its own energy, and the map's tables are per energy).
 
 For each release angle θ0 the map runs on one table (``averaging.load_or_build_table`` in ``THETA0_RANGE``, the
 region tables of the release's energy below it, :mod:`rocknroller.analysis.slow_region`), so a row of ψ0 costs
@@ -7,7 +11,7 @@ span Φ, the Q_R and Q_J extents and the numbers of full-angle (Q_J,0^crit) and 
 reversals per 1000 time units: crossings of the critical lines by the maxima's (Q_R, Q_J), as
 ``averaging.critical_regions`` counts them for the map and the ODE alike.
 
-A sample of the points (and any the caller names) is run by the direct ODE as an ensemble
+A sample of a map-made atlas's points (and any the caller names) is run by the direct ODE as an ensemble
 (:func:`rocknroller.numerics.ensemble.run_ensemble`: in process, threads, or a dask cluster, the same numbers bit for
 bit), and the map's relative errors there are returned beside the atlas.
 """
@@ -15,7 +19,7 @@ bit), and the map's relative errors there are returned beside the atlas.
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, Sequence
 
 import numpy as np
@@ -23,9 +27,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis import averaging as av
 from rocknroller.analysis.body import Body
+from rocknroller.numerics.equations import RATE_MAX, EulerState
 
-__all__ = ["ATLAS_OBSERVABLES", "MAX_ATLAS_POINTS", "MAX_ATLAS_WORKERS", "Atlas", "AtlasCheck", "reversal_counts", "atlas_from_rest",
-           "confirm_atlas"]
+__all__ = ["ATLAS_OBSERVABLES", "PLANES", "METHODS", "MAX_ATLAS_POINTS", "MAX_ODE_ATLAS_POINTS", "MAX_ATLAS_WORKERS",
+           "Atlas", "AtlasCheck", "reversal_counts", "atlas_from_rest", "atlas_of_rates", "confirm_atlas"]
 
 #: What the atlas maps, per point: the map's diagnostics and the reversals per 1000 time units.
 ATLAS_OBSERVABLES = ("slow_period", "Phi", "QR_extent", "QJ_extent", "full_reversals", "visible_reversals")
@@ -45,26 +50,56 @@ def _values(pred: Any, t_end: float) -> list[float | None]:
     return [pred.slow_period, pred.Phi, pred.QR_extent, pred.QJ_extent, full, visible]
 
 
+#: The planes of starts an atlas covers: the initial values along its rows and its columns.
+PLANES = {"release": ("theta0", "psi0"), "rates": ("psi_dot0", "phi_dot0")}
+#: How an atlas computes each point: the averaged map, or the direct ODE.
+METHODS = ("map", "ode")
+
+
 @dataclass(frozen=True)
 class Atlas:
-    """The averaged map's diagnostics over a grid of releases from rest.
+    """The slow-motion diagnostics over a plane of starts.
 
     Attributes
     ----------
-    eps, t_end : the body's asymmetry and the time span of each prediction.
-    theta0, psi0 : the grid's release angles (rows) and spin angles (columns).
+    eps, t_end : the body's asymmetry and the time span of each run.
+    plane : ``"release"`` (rows θ0, columns ψ0, released from rest) or ``"rates"`` (rows ψ̇0, columns φ̇0, at the
+        fixed tilt and spin angle ``at`` with θ̇0 = 0, φ0 = 0).
+    rows, cols : the grid's values along the rows and the columns (``PLANES[plane]`` names them).
+    at : (θ0, ψ0) of a ``"rates"`` plane; None for ``"release"``.
+    method : ``"map"`` (the averaged map) or ``"ode"`` (the direct ODE at every point).
     values : dict
-        For each of ``ATLAS_OBSERVABLES``, a masked array (len(theta0), len(psi0)); masked where the quantity is
+        For each of ``ATLAS_OBSERVABLES``, a masked array (len(rows), len(cols)); masked where the quantity is
         undefined (the slow period of a run with fewer than two crossings of its mean).
     warnings : the distinct validity warnings of the predictions (e.g. K = ε κ > 4, coarse region tables).
     """
 
     eps: float
     t_end: float
-    theta0: NDArray[np.float64]
-    psi0: NDArray[np.float64]
+    plane: str
+    rows: NDArray[np.float64]
+    cols: NDArray[np.float64]
     values: dict[str, np.ma.MaskedArray] = field(repr=False)
+    at: tuple[float, float] | None = None
+    method: str = "map"
     warnings: tuple[str, ...] = ()
+
+    @property
+    def row_name(self) -> str:
+        """The initial value along the rows: ``"theta0"`` or ``"psi_dot0"``."""
+        return PLANES[self.plane][0]
+
+    @property
+    def col_name(self) -> str:
+        """The initial value along the columns: ``"psi0"`` or ``"phi_dot0"``."""
+        return PLANES[self.plane][1]
+
+    def state(self, i: int, j: int) -> EulerState:
+        """The initial state of grid point (row i, column j)."""
+        if self.plane == "release":
+            return EulerState(float(self.rows[i]), 0.0, float(self.cols[j]))
+        assert self.at is not None
+        return EulerState(self.at[0], 0.0, self.at[1], 0.0, float(self.cols[j]), float(self.rows[i]))
 
 
 def _check_grid(name: str, values: ArrayLike, lo: float, hi: float) -> NDArray[np.float64]:
@@ -76,8 +111,8 @@ def _check_grid(name: str, values: ArrayLike, lo: float, hi: float) -> NDArray[n
 
 def _rows(body: Body, theta0: NDArray[np.float64], psi0: NDArray[np.float64], t_end: float,
           build: bool) -> tuple[NDArray[np.float64], NDArray[np.bool_], list[str]]:
-    """The observables (len(ATLAS_OBSERVABLES), len(theta0), len(psi0)), where they are undefined, and the validity
-    warnings, for some rows of the atlas (in this process)."""
+    """The map's observables (len(ATLAS_OBSERVABLES), len(theta0), len(psi0)), where they are undefined, and the
+    validity warnings, for some rows of a release atlas (in this process)."""
     out = np.zeros((len(ATLAS_OBSERVABLES), theta0.size, psi0.size))
     mask = np.zeros_like(out, dtype=bool)
     with warnings.catch_warnings(record=True) as caught:
@@ -92,12 +127,63 @@ def _rows(body: Body, theta0: NDArray[np.float64], psi0: NDArray[np.float64], t_
     return out, mask, [str(w.message) for w in caught if issubclass(w.category, av.AveragingValidityWarning)]
 
 
+def _ode_values(body: Body, states: Sequence[EulerState], t_end: float, scheduler: str | None, workers: int | None,
+                threads: int | None, progress: bool | None) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """The direct ODE's observables (len(ATLAS_OBSERVABLES), len(states)) and where they are undefined, the runs
+    made as one ensemble (:func:`rocknroller.numerics.ensemble.run_ensemble`); the reversals are the crossings of the
+    critical lines by the maxima's (Q_R, Q_J), counted as for the map."""
+    from rocknroller.numerics.ensemble import Job, run_ensemble
+
+    runs = run_ensemble([Job(body, s, t_end) for s in states], scheduler=scheduler, workers=workers,
+                        threads=threads, progress=progress)
+    out = np.zeros((len(ATLAS_OBSERVABLES), len(runs)))
+    mask = np.zeros_like(out, dtype=bool)
+    sym = body.symmetric()
+    for r, run in enumerate(runs):
+        m = run.maxima
+        full, visible = reversal_counts(av.critical_regions(m.QR, m.QJ, m.t, sym)[2], t_end)
+        for k, v in enumerate((run.slow_period, run.Phi, run.QR_extent, run.QJ_extent, full, visible)):
+            mask[k, r] = v is None
+            out[k, r] = 0.0 if v is None else v
+    return out, mask
+
+
+def _check_size(n_rows: int, n_cols: int, limit: int, what: str) -> None:
+    if n_rows * n_cols > limit:
+        raise ValueError(f"the atlas has {n_rows} x {n_cols} = {n_rows * n_cols} points, more than {what} = {limit}")
+
+
+def _ode_atlas(body: Body, plane: str, rows: NDArray[np.float64], cols: NDArray[np.float64],
+               at: tuple[float, float] | None, t_end: float, scheduler: str | None, workers: int | None,
+               threads: int | None, progress: bool | None) -> Atlas:
+    """Every point of the grid by the direct ODE (the states are checked, by ``Job``, before any run)."""
+    _check_size(rows.size, cols.size, MAX_ODE_ATLAS_POINTS, "MAX_ODE_ATLAS_POINTS")
+    grid = Atlas(eps=body.epsilon, t_end=float(t_end), plane=plane, rows=rows, cols=cols, values={}, at=at,
+                 method="ode")
+    states = [grid.state(i, j) for i in range(rows.size) for j in range(cols.size)]
+    out, mask = _ode_values(body, states, float(t_end), scheduler, workers, threads, progress)
+    shape = (rows.size, cols.size)
+    return replace(grid, values={name: np.ma.MaskedArray(out[k].reshape(shape), mask[k].reshape(shape))
+                                 for k, name in enumerate(ATLAS_OBSERVABLES)})
+
+
 #: Most processes :func:`atlas_from_rest` shares the rows among.
 MAX_ATLAS_WORKERS = 64
+#: Most points of an atlas made by the direct ODE (≈ 16 ms a run of 1000 time units at θ0 = 0.95π, ≈ 0.2 s at
+#: small amplitude; its maxima, 136 bytes each, are held until the run's diagnostics are taken).
+MAX_ODE_ATLAS_POINTS = 20_000
+
+
+def _check_method(method: str) -> str:
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {METHODS}, got method={method!r}")
+    return method
 
 
 def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float = 1000.0, *,
-                    progress: bool | None = None, build: bool = True, workers: int = 1) -> Atlas:
+                    method: str = "map", progress: bool | None = None, build: bool = True, processes: int = 1,
+                    scheduler: str | None = None, workers: int | None = None,
+                    threads: int | None = None) -> Atlas:
     """Map the slow motion over the releases from rest at every (θ0, ψ0) of the grid (module docstring).
 
     Parameters
@@ -109,34 +195,39 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
     psi0 : array_like
         Spin angles (any finite values; ψ0 and ψ0 + π give the same motion).
     t_end : float
-        Time span of each prediction (``predict_slow_motion``'s limits).
+        Time span of each run (``predict_slow_motion``'s limits, or ``simulate``'s for the ODE).
+    method : {"map", "ode"}
+        The averaged map at every point (at most ``MAX_ATLAS_POINTS``), or the direct ODE at every point as one
+        ensemble (at most ``MAX_ODE_ATLAS_POINTS``).
     progress : bool or None
-        A tqdm bar over the rows (None: only on a terminal).
+        A tqdm bar over the rows, or over the ODE runs (None: only on a terminal).
     build : bool
-        Build the tables that are not cached (else ValueError).
-    workers : int
-        Processes that share the rows, 1 ≤ workers ≤ ``MAX_ATLAS_WORKERS`` (each point is computed the same way
-        wherever it runs; more than one starts "spawn" processes, which import the calling script: guard a script's
-        top level with ``if __name__ == "__main__":``).
+        Build the tables that are not cached (else ValueError); the map only.
+    processes : int
+        Processes that share the map's rows, 1 ≤ processes ≤ ``MAX_ATLAS_WORKERS`` (each point is computed the same
+        way wherever it runs; more than one starts "spawn" processes, which import the calling script: guard a
+        script's top level with ``if __name__ == "__main__":``).
+    scheduler, workers, threads
+        Where the ODE's runs go (method "ode"), as for :func:`rocknroller.numerics.ensemble.run_ensemble`.
 
     Raises
     ------
     ValueError
-        A grid out of range or larger than ``MAX_ATLAS_POINTS`` (before anything is built), naming it.
+        A grid out of range or larger than its method's limit (before anything is built or run), naming it.
     """
     from tqdm.auto import tqdm
 
     th = _check_grid("theta0", theta0, np.nextafter(0.0, 1.0), av.THETA0_RANGE[1])
     ps = _check_grid("psi0", psi0, -1e6, 1e6)
-    if th.size * ps.size > MAX_ATLAS_POINTS:
-        raise ValueError(f"the atlas has {th.size} x {ps.size} = {th.size * ps.size} points, more than "
-                         f"MAX_ATLAS_POINTS = {MAX_ATLAS_POINTS}")
-    if int(workers) != workers or not 1 <= workers <= MAX_ATLAS_WORKERS:
-        raise ValueError(f"workers must be an integer in [1, {MAX_ATLAS_WORKERS}], got workers={workers!r}")
-    blocks = np.array_split(np.arange(th.size), min(int(workers), th.size) if workers > 1 else th.size)
+    if _check_method(method) == "ode":
+        return _ode_atlas(body, "release", th, ps, None, t_end, scheduler, workers, threads, progress)
+    _check_size(th.size, ps.size, MAX_ATLAS_POINTS, "MAX_ATLAS_POINTS")
+    if int(processes) != processes or not 1 <= processes <= MAX_ATLAS_WORKERS:
+        raise ValueError(f"processes must be an integer in [1, {MAX_ATLAS_WORKERS}], got processes={processes!r}")
+    blocks = np.array_split(np.arange(th.size), min(int(processes), th.size) if processes > 1 else th.size)
     parts: list[Any] = []
     with tqdm(total=th.size, desc="atlas rows", unit="theta0", disable=None if progress is None else not progress) as bar:
-        if workers == 1:
+        if processes == 1:
             for rows in blocks:
                 parts.append(_rows(body, th[rows], ps, t_end, build))
                 bar.update(rows.size)
@@ -152,9 +243,46 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
     out = np.concatenate([p[0] for p in parts], axis=1)
     mask = np.concatenate([p[1] for p in parts], axis=1)
     caught_all = [msg for p in parts for msg in p[2]]
-    return Atlas(eps=body.epsilon, t_end=float(t_end), theta0=th, psi0=ps,
+    return Atlas(eps=body.epsilon, t_end=float(t_end), plane="release", rows=th, cols=ps,
                  values={name: np.ma.MaskedArray(out[k], mask[k]) for k, name in enumerate(ATLAS_OBSERVABLES)},
                  warnings=tuple(dict.fromkeys(caught_all)))
+
+
+def atlas_of_rates(body: Body, theta0: float, psi0: float, phi_dot0: ArrayLike, psi_dot0: ArrayLike,
+                   t_end: float = 1000.0, *, method: str = "ode", progress: bool | None = None,
+                   scheduler: str | None = None, workers: int | None = None, threads: int | None = None) -> Atlas:
+    """The slow motion over a plane of initial rates (φ̇0, ψ̇0) at fixed θ0, ψ0 (θ̇0 = 0, φ0 = 0): the plane of
+    the paper's reversal starts (figs. 7–11: θ0 = 0.95π, ψ0 = π/4), by the direct ODE at every point.
+
+    Each start of the plane has its own energy, and the averaged map's tables are per (body, energy): the map
+    would need a table for every point (≈ 15 s each), and at the paper's θ0 = 0.95π its tables do not yet reach
+    the accuracy an atlas needs near Q_J,π^crit (docs/averaging.md), so ``method`` accepts "ode" only, and says so.
+
+    Parameters
+    ----------
+    body : Body
+        The body.
+    theta0, psi0 : float
+        The fixed tilt, 0 < θ0 < π, and spin angle (finite).
+    phi_dot0, psi_dot0 : array_like
+        The grid's columns and rows: finite rates within ``EulerState``'s bound.
+    t_end, progress, scheduler, workers, threads
+        As for :func:`atlas_from_rest` with method "ode".
+
+    Raises
+    ------
+    ValueError
+        A method other than "ode", a grid out of range or larger than ``MAX_ODE_ATLAS_POINTS``, or a start with no
+        motion (before any run), naming it.
+    """
+    if _check_method(method) != "ode":
+        raise ValueError("method must be 'ode' for a plane of rates: each start has its own energy and the map's "
+                         "tables are per (body, energy) (atlas_from_rest maps releases from rest with the map)")
+    th = float(_check_grid("theta0", [theta0], np.nextafter(0.0, 1.0), np.nextafter(np.pi, 0.0))[0])
+    ps = float(_check_grid("psi0", [psi0], -1e6, 1e6)[0])
+    pd = _check_grid("phi_dot0", phi_dot0, -RATE_MAX, RATE_MAX)
+    sd = _check_grid("psi_dot0", psi_dot0, -RATE_MAX, RATE_MAX)
+    return _ode_atlas(body, "rates", sd, pd, (th, ps), t_end, scheduler, workers, threads, progress)
 
 
 @dataclass(frozen=True)
@@ -178,18 +306,19 @@ def confirm_atlas(atlas: Atlas, body: Body, *, every: int | None = 50, points: S
                   scheduler: str | None = None, workers: int | None = None, threads: int | None = None,
                   progress: bool | None = None) -> AtlasCheck:
     """Run the direct ODE at 1 point in ``every`` (row-major, starting at the first; None: none) and at ``points``
-    (row, column),
-    as an ensemble (:func:`rocknroller.numerics.ensemble.run_ensemble`; where it runs does not change the numbers).
+    (row, column) of a map-made atlas, as an ensemble (:func:`rocknroller.numerics.ensemble.run_ensemble`; where it
+    runs does not change the numbers).
 
     Raises
     ------
     ValueError
-        ``every`` not an integer ≥ 1, a point outside the grid, or the ensemble's own limits, naming them.
+        An atlas made by the ODE (there is nothing to confirm), ``every`` not an integer ≥ 1, a point outside the
+        grid, or the ensemble's own limits, naming them.
     """
-    from rocknroller.numerics.ensemble import Job, run_ensemble
-    from rocknroller.numerics.equations import EulerState
-
-    n_t, n_p = atlas.theta0.size, atlas.psi0.size
+    if atlas.method != "map":
+        raise ValueError(f"atlas.method must be 'map' to be confirmed by the ODE, got {atlas.method!r} (an atlas made "
+                         "by the ODE is its own confirmation)")
+    n_t, n_p = atlas.rows.size, atlas.cols.size
     if every is not None and (int(every) != every or every < 1):
         raise ValueError(f"every must be an integer >= 1 or None, got every={every!r}")
     chosen = [] if every is None else list(range(0, n_t * n_p, int(every)))
@@ -201,26 +330,15 @@ def confirm_atlas(atlas: Atlas, body: Body, *, every: int | None = 50, points: S
     if not flat:
         raise ValueError("nothing to confirm: give every or points")
     index = np.array([divmod(f, n_p) for f in flat], dtype=np.int64).reshape(-1, 2)
-    jobs = [Job(body, EulerState(float(atlas.theta0[i]), 0.0, float(atlas.psi0[j])), atlas.t_end) for i, j in index]
-    runs = run_ensemble(jobs, scheduler=scheduler, workers=workers, threads=threads, progress=progress)
-    ode = {name: np.zeros(len(runs)) for name in ATLAS_OBSERVABLES}
-    undefined = {name: np.zeros(len(runs), bool) for name in ATLAS_OBSERVABLES}
-    sym = body.symmetric()
-    for r, run in enumerate(runs):
-        m = run.maxima
-        crossings = av.critical_regions(m.QR, m.QJ, m.t, sym)[2]
-        full, visible = reversal_counts(crossings, atlas.t_end)
-        for name, v in zip(ATLAS_OBSERVABLES, (run.slow_period, run.Phi, run.QR_extent, run.QJ_extent, full, visible)):
-            undefined[name][r] = v is None
-            ode[name][r] = 0.0 if v is None else v
+    out, mask = _ode_values(body, [atlas.state(i, j) for i, j in index], atlas.t_end, scheduler, workers, threads,
+                            progress)
+    ode = {name: np.ma.MaskedArray(out[k], mask[k]) for k, name in enumerate(ATLAS_OBSERVABLES)}
     rel: dict[str, np.ma.MaskedArray] = {}
     for name in ATLAS_OBSERVABLES:
         mv = atlas.values[name][index[:, 0], index[:, 1]]
-        ov = np.ma.MaskedArray(ode[name], undefined[name])
         if name.endswith("reversals"):
-            rel[name] = mv - ov
+            rel[name] = mv - ode[name]
         else:
             with np.errstate(divide="ignore", invalid="ignore"):
-                rel[name] = np.ma.masked_invalid(mv / np.ma.masked_equal(ov, 0.0) - 1.0)
-    return AtlasCheck(index=index, ode={k: np.ma.MaskedArray(ode[k], undefined[k]) for k in ATLAS_OBSERVABLES},
-                      rel_error=rel)
+                rel[name] = np.ma.masked_invalid(mv / np.ma.masked_equal(ode[name], 0.0) - 1.0)
+    return AtlasCheck(index=index, ode=ode, rel_error=rel)

@@ -1,6 +1,8 @@
-"""Cost of a recession atlas: 100 × 100 releases from rest over (ψ0, θ0), from cached tables.
+"""Cost of a recession atlas: 100 × 100 releases from rest over (ψ0, θ0), from cached tables; and the plane of
+rates (φ̇0, ψ̇0) of the paper's reversal starts by the direct ODE.
 
-Run:  python benchmarks/bench_atlas.py [N]      (N × N points, default 100)
+Run:  python benchmarks/bench_atlas.py [N]          (N × N releases, default 100)
+      python benchmarks/bench_atlas.py rates [N]    (N × N rates at θ0 = 0.95π, ψ0 = π/4, default 26)
 Builds (once, cached) the release tables of N values of θ0 in [0.75π, 0.95π] (~7 s each), ψ0 in [0.01π, 0.49π],
 then times the atlas
 from the cached tables in a fresh process state (tables read from disk, their run-time form built) and a sample of
@@ -20,7 +22,37 @@ from rocknroller.analysis import averaging as av
 from rocknroller.analysis.body import Body
 
 
+def rates(n: int) -> None:
+    """The default rates plane of ``rocknroller atlas --plane rates`` by the ODE: one run after another, in two
+    threads, and on a local dask cluster of two workers (startup included) when distributed is installed; the
+    atlases must be identical."""
+    body = Body.paper(1e-3)
+    grid = np.linspace(-0.05, 0.45, n)
+    where: list[tuple[str, dict]] = [("one at a time", {}), ("2 threads", {"threads": 2})]
+    try:
+        import distributed  # noqa: F401
+
+        where.append(("local dask cluster, 2 workers (startup included)", {"workers": 2}))
+    except ImportError:
+        pass
+    at.atlas_of_rates(body, 0.95 * math.pi, math.pi / 4, grid[:2], grid[:1], 10.0, progress=False)  # compile/load
+    first, t_first = None, 0.0
+    for label, kw in where:
+        t0 = time.perf_counter()
+        atlas = at.atlas_of_rates(body, 0.95 * math.pi, math.pi / 4, grid, grid, 1000.0, progress=False, **kw)
+        dt = time.perf_counter() - t0
+        if first is None:
+            first, t_first = atlas, dt
+        same = all(np.array_equal(atlas.values[k].filled(np.nan), first.values[k].filled(np.nan), equal_nan=True)
+                   for k in at.ATLAS_OBSERVABLES)
+        print(f"{n} x {n} rates plane by the ODE, {label}: {dt:.1f} s ({1e3 * dt / n**2:.1f} ms a run; "
+              f"throughput {t_first / dt:.2f}x one at a time; identical: {same})")
+
+
 def main() -> None:
+    if len(sys.argv) > 1 and sys.argv[1] == "rates":
+        rates(int(sys.argv[2]) if len(sys.argv) > 2 else 26)
+        return
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 100
     body = Body.paper(1e-3)
     theta0 = np.linspace(0.75, 0.95, n) * math.pi
@@ -33,7 +65,7 @@ def main() -> None:
         av._TABLES.clear()
         av._FAST.clear()
         t0 = time.perf_counter()
-        atlas = at.atlas_from_rest(body, theta0, psi0, 1000.0, progress=False, workers=workers)
+        atlas = at.atlas_from_rest(body, theta0, psi0, 1000.0, progress=False, processes=workers)
         t_map = time.perf_counter() - t0
         print(f"{n} x {n} atlas from cached tables, {workers} process(es): {t_map:.1f} s "
               f"({1e3 * t_map / n**2:.2f} ms a point)")

@@ -1,5 +1,6 @@
-"""Figures of a recession atlas (:mod:`rocknroller.analysis.atlas`): heat maps over (ψ0, θ0), the paper's starts
-marked, and the map's errors at the points the direct ODE confirmed."""
+"""Figures of a recession atlas (:mod:`rocknroller.analysis.atlas`): heat maps over (ψ0, θ0) or (φ̇0, ψ̇0), the
+paper's starts marked (and, over the rates, the starts on the critical lines drawn), and the map's errors at the
+points the direct ODE confirmed."""
 
 from __future__ import annotations
 
@@ -10,9 +11,10 @@ from typing import Any
 import numpy as np
 
 from rocknroller.analysis.atlas import ATLAS_OBSERVABLES, Atlas, AtlasCheck
+from rocknroller.analysis.body import Body
 from rocknroller.papers.output import new_figure, save_figure
 
-__all__ = ["PAPER_RELEASES", "LABELS", "plot_atlas", "plot_atlas_check"]
+__all__ = ["PAPER_RELEASES", "LABELS", "AXIS_LABELS", "paper_rate_starts", "plot_atlas", "plot_atlas_check"]
 
 #: The paper's releases from rest (θ0, ψ0) (§numerics: figs. 6 and 7, θ0 = 0.95π; the four ψ0 of its slow runs).
 PAPER_RELEASES = tuple((0.95 * math.pi, psi) for psi in (math.pi / 8, math.pi / 4, 3 * math.pi / 8, 3.9 * math.pi / 8))
@@ -20,6 +22,13 @@ PAPER_RELEASES = tuple((0.95 * math.pi, psi) for psi in (math.pi / 8, math.pi / 
 LABELS = {"slow_period": "slow period of $\\Theta = 2\\psi$", "Phi": "azimuth span $\\Phi$ (rad)",
           "QR_extent": "$Q_R$ extent", "QJ_extent": "$Q_J$ extent",
           "full_reversals": "full-angle reversals / 1000 t.u.", "visible_reversals": "visible reversals / 1000 t.u."}
+#: Axis labels of the initial values (angles in units of π).
+AXIS_LABELS = {"theta0": "$\\theta_0/\\pi$", "psi0": "$\\psi_0/\\pi$", "phi_dot0": "$\\dot\\phi_0$",
+               "psi_dot0": "$\\dot\\psi_0$"}
+
+
+def _scale(name: str) -> float:
+    return math.pi if name in ("theta0", "psi0") else 1.0
 
 
 def _edges(x: np.ndarray) -> np.ndarray:
@@ -31,25 +40,74 @@ def _edges(x: np.ndarray) -> np.ndarray:
     return np.concatenate([[2 * x[0] - mid[0]], mid, [2 * x[-1] - mid[-1]]])
 
 
-def _mark_paper(ax: Any, atlas: Atlas) -> None:
-    th, ps = atlas.theta0, atlas.psi0
-    for t0, p0 in PAPER_RELEASES:
-        if th.min() <= t0 <= th.max() and ps.min() <= p0 <= ps.max():
-            ax.plot(p0 / math.pi, t0 / math.pi, marker="*", ms=9, mfc="white", mec="k", ls="none")
+def paper_rate_starts() -> dict[str, tuple[float, float]]:
+    """The paper's reversal starts at θ0 = 0.95π, ψ0 = π/4 as (φ̇0, ψ̇0), computed on their lines: fig. 7 (rest),
+    fig. 8 (on Q_J,π^crit, ψ̇0 = 0.002), fig. 9 (on Q_J,0^crit, ψ̇0 = 0.378) and fig. 11 (on Q_J,π^crit at
+    Q_R = 0.1; its run starts 2.5–3.5 % of the line's value above it, :mod:`fig11_high_QR`)."""
+    from rocknroller.analysis.criticality import critical_start
+    from rocknroller.numerics.equations import EulerState
+    from rocknroller.papers.lynch_bustamante import fig8_visible_reversal, fig9_full_reversal, fig11_high_QR, reversals
+
+    on_line = {"fig. 8": reversals.start_on_line("pi", fig8_visible_reversal.PSI_DOT0),
+               "fig. 9": reversals.start_on_line("0", fig9_full_reversal.PSI_DOT0)}
+    cs = critical_start(reversals.body(), reversals.THETA0, reversals.PSI0, "pi", QR=fig11_high_QR.QR0)
+    on_line["fig. 11"] = EulerState.from_omega(reversals.THETA0, 0.0, reversals.PSI0,
+                                               np.asarray(cs.omega, float).reshape(3))
+    return {"fig. 7": (0.0, 0.0), **{k: (s.phi_dot, s.psi_dot) for k, s in on_line.items()}}
 
 
-def plot_atlas(atlas: Atlas, out: Path, title: str) -> list[Path]:
-    """Six heat maps of ``ATLAS_OBSERVABLES`` over (ψ0/π, θ0/π), the paper's releases starred; PNG and PDF."""
+def _paper_points(atlas: Atlas) -> list[tuple[float, float]]:
+    """The paper's starts inside the atlas's window, as (column, row) values."""
+    if atlas.plane == "release":
+        pts = [(p0, t0) for t0, p0 in PAPER_RELEASES]
+    else:
+        from rocknroller.papers.lynch_bustamante import reversals
+
+        assert atlas.at is not None
+        if not np.allclose(atlas.at, (reversals.THETA0, reversals.PSI0), rtol=0.0, atol=1e-12):
+            return []
+        pts = list(paper_rate_starts().values())
+    c, r = atlas.cols, atlas.rows
+    return [(x, y) for x, y in pts if c.min() <= x <= c.max() and r.min() <= y <= r.max()]
+
+
+def _decorate(ax: Any, atlas: Atlas, body: Body | None) -> None:
+    """Axis labels, the paper's starts (white stars), and over a plane of rates the starts on the two critical lines
+    (the lines' styles of paper fig. 4)."""
+    xs, ys = _scale(atlas.col_name), _scale(atlas.row_name)
+    for x, y in _paper_points(atlas):
+        ax.plot(x / xs, y / ys, marker="*", ms=9, mfc="white", mec="k", ls="none")
+    if atlas.plane == "rates" and body is not None:
+        from rocknroller.analysis.criticality import QJ_crit
+        from rocknroller.analysis.reduction import invariants_from_euler
+        from rocknroller.papers.plotting import LINE_STYLE
+
+        assert atlas.at is not None
+        pd = np.linspace(atlas.cols.min(), atlas.cols.max(), 201)
+        sd = np.linspace(atlas.rows.min(), atlas.rows.max(), 201)
+        PD, SD = np.meshgrid(pd, sd)
+        _, QR, QJ = invariants_from_euler(body, atlas.at[0], 0.0, PD, SD, atlas.at[1])
+        for line in ("pi", "0"):
+            style = {k: v for k, v in LINE_STYLE[line].items() if k in ("color", "lw")}
+            ax.contour(PD, SD, QJ - QJ_crit(line, QR, body.symmetric()), levels=[0.0], colors=style["color"],
+                       linewidths=style["lw"], linestyles=LINE_STYLE[line]["ls"])
+    ax.set_xlabel(AXIS_LABELS[atlas.col_name])
+    ax.set_ylabel(AXIS_LABELS[atlas.row_name])
+
+
+def plot_atlas(atlas: Atlas, out: Path, title: str, body: Body | None = None) -> list[Path]:
+    """Six heat maps of ``ATLAS_OBSERVABLES`` over the atlas's plane, the paper's starts starred (and over a plane of
+    rates, given the ``body``, the critical lines: red solid Q_J,π^crit, blue dashed Q_J,0^crit); PNG and PDF."""
     fig = new_figure(figsize=(13, 7.5))
     axes = fig.subplots(2, 3).ravel()
-    xe, ye = _edges(atlas.psi0 / math.pi), _edges(atlas.theta0 / math.pi)
+    xe, ye = _edges(atlas.cols / _scale(atlas.col_name)), _edges(atlas.rows / _scale(atlas.row_name))
     for ax, name in zip(axes, ATLAS_OBSERVABLES):
         mesh = ax.pcolormesh(xe, ye, atlas.values[name], shading="flat", cmap="viridis")
         fig.colorbar(mesh, ax=ax)
-        _mark_paper(ax, atlas)
+        _decorate(ax, atlas, body)
+        ax.set_xlim(xe[0], xe[-1])
+        ax.set_ylim(ye[0], ye[-1])
         ax.set_title(LABELS[name], fontsize=10)
-        ax.set_xlabel("$\\psi_0/\\pi$")
-        ax.set_ylabel("$\\theta_0/\\pi$")
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     return save_figure(fig, out, "atlas")
@@ -64,7 +122,8 @@ def plot_atlas_check(atlas: Atlas, check: AtlasCheck, out: Path, title: str) -> 
     ax = fig.subplots()
     cont = [np.ma.abs(check.rel_error[n]) for n in ("slow_period", "Phi", "QR_extent", "QJ_extent")]
     worst = np.ma.max(np.ma.vstack(cont), axis=0).filled(np.nan)
-    x, y = atlas.psi0[check.index[:, 1]] / math.pi, atlas.theta0[check.index[:, 0]] / math.pi
+    xs, ys = _scale(atlas.col_name), _scale(atlas.row_name)
+    x, y = atlas.cols[check.index[:, 1]] / xs, atlas.rows[check.index[:, 0]] / ys
     ok = np.isfinite(worst) & (worst > 0)
     if ok.any():
         sc = ax.scatter(x[ok], y[ok], c=worst[ok], cmap="magma_r", s=40, norm=LogNorm(vmin=max(worst[ok].min(), 1e-12),
@@ -72,11 +131,9 @@ def plot_atlas_check(atlas: Atlas, check: AtlasCheck, out: Path, title: str) -> 
         fig.colorbar(sc, ax=ax, label="largest |map/ODE - 1| (slow period, $\\Phi$, extents)")
     diff = (np.ma.abs(check.rel_error["full_reversals"]) + np.ma.abs(check.rel_error["visible_reversals"])).filled(0) > 0
     ax.plot(x[diff], y[diff], "o", ms=12, mfc="none", mec="tab:red", label="reversal counts differ")
-    ax.set_xlim(*_edges(atlas.psi0 / math.pi)[[0, -1]])
-    ax.set_ylim(*_edges(atlas.theta0 / math.pi)[[0, -1]])
-    _mark_paper(ax, atlas)
-    ax.set_xlabel("$\\psi_0/\\pi$")
-    ax.set_ylabel("$\\theta_0/\\pi$")
+    ax.set_xlim(*_edges(atlas.cols / xs)[[0, -1]])
+    ax.set_ylim(*_edges(atlas.rows / ys)[[0, -1]])
+    _decorate(ax, atlas, None)
     if diff.any():
         ax.legend(fontsize=8, loc="best")
     ax.set_title(title, fontsize=9)

@@ -12,7 +12,7 @@ keyword-only::
 """
 
 from rocknroller._version import __version__
-from rocknroller.analysis.atlas import Atlas, AtlasCheck, atlas_from_rest, confirm_atlas
+from rocknroller.analysis.atlas import Atlas, AtlasCheck, atlas_from_rest, atlas_of_rates, confirm_atlas
 from rocknroller.analysis.averaging import SlowPrediction, predict_slow_motion
 from rocknroller.analysis.body import Body
 from rocknroller.analysis.criticality import (CriticalStart, QJ_crit, QJ_crit_0, QJ_crit_pi, cos_theta_z,
@@ -49,5 +49,5 @@ __all__ = [
     "laurent_coefficients", "laurent_series", "laurent_function",
     # the slow motion of the rock'n'roller
     "predict_slow_motion", "SlowPrediction", "pendulum_constants", "pendulum_prediction", "PendulumConstants",
-    "azimuth_span", "atlas_from_rest", "confirm_atlas", "Atlas", "AtlasCheck",
+    "azimuth_span", "atlas_from_rest", "atlas_of_rates", "confirm_atlas", "Atlas", "AtlasCheck",
 ]

@@ -34,12 +34,12 @@ def test_atlas_values_are_the_maps(small_atlas):
 
 
 def test_processes_do_not_change_the_atlas(small_atlas):
-    two = at.atlas_from_rest(BODY, THETA0, PSI0, 400.0, progress=False, workers=2)
+    two = at.atlas_from_rest(BODY, THETA0, PSI0, 400.0, progress=False, processes=2)
     for name in at.ATLAS_OBSERVABLES:
         assert np.array_equal(two.values[name].filled(np.nan), small_atlas.values[name].filled(np.nan),
                               equal_nan=True), name
-    with pytest.raises(ValueError, match="workers must be"):
-        at.atlas_from_rest(BODY, THETA0, PSI0, 400.0, workers=0)
+    with pytest.raises(ValueError, match="processes must be"):
+        at.atlas_from_rest(BODY, THETA0, PSI0, 400.0, processes=0)
 
 
 def test_confirmation_agrees_with_the_ode(small_atlas):
@@ -99,3 +99,85 @@ def test_atlas_command(tmp_path, capsys):
     assert "--force" in capsys.readouterr().err
     assert main(["atlas", "--theta0", "0.9pi:0.95pi:0", "--out", str(tmp_path / "x")]) == 2
     assert "--theta0 must be" in capsys.readouterr().err
+
+
+RATES_AT = (0.95 * math.pi, 0.25 * math.pi)
+PHI_DOT0 = (-0.002, 0.1, 0.3)
+PSI_DOT0 = (0.002, 0.2)
+
+
+@pytest.fixture(scope="module")
+def rates_atlas():
+    return at.atlas_of_rates(BODY, *RATES_AT, PHI_DOT0, PSI_DOT0, 200.0, progress=False)
+
+
+def test_rates_atlas_points_are_their_own_runs(rates_atlas):
+    """Rows ψ̇0, columns φ̇0: every point is simulate's run from (θ0, ψ0) with those rates, its diagnostics and its
+    crossings of the critical lines counted as for the map (a 2 × 3 grid, so a transposed grid cannot pass)."""
+    from rocknroller.analysis.averaging import critical_regions
+    from rocknroller.numerics.equations import EulerState
+    from rocknroller.numerics.integrate import simulate
+
+    assert rates_atlas.values["Phi"].shape == (2, 3) and (rates_atlas.row_name, rates_atlas.col_name) == (
+        "psi_dot0", "phi_dot0")
+    for i, sd in enumerate(PSI_DOT0):
+        for j, pd in enumerate(PHI_DOT0):
+            run = simulate(BODY, EulerState(RATES_AT[0], 0.0, RATES_AT[1], 0.0, pd, sd), 200.0, samples=False)
+            m = run.maxima
+            full, visible = at.reversal_counts(critical_regions(m.QR, m.QJ, m.t, BODY.symmetric())[2], 200.0)
+            assert rates_atlas.values["Phi"][i, j] == run.Phi and rates_atlas.values["QJ_extent"][i, j] == run.QJ_extent
+            assert (rates_atlas.values["full_reversals"][i, j], rates_atlas.values["visible_reversals"][i, j]) == (
+                full, visible)
+
+
+def test_a_start_near_the_visible_line_reverses(rates_atlas):
+    """The paper's fig. 8 start (φ̇0 ≈ −0.002, ψ̇0 = 0.002, on Q_J,π^crit) makes visible-angle reversals; the start at
+    (0.1, 0.2), far from both lines, makes none of either kind (paper §Recession: reversals are crossings)."""
+    assert rates_atlas.values["visible_reversals"][0, 0] > 0
+    assert rates_atlas.values["visible_reversals"][1, 1] == 0 and rates_atlas.values["full_reversals"][1, 1] == 0
+
+
+def test_ode_release_atlas_is_the_confirmation(small_atlas):
+    """The release plane by the ODE gives, at every point, what confirm_atlas's ODE gives there (bit for bit)."""
+    ode = at.atlas_from_rest(BODY, THETA0, PSI0, 400.0, method="ode", progress=False, threads=2)
+    check = at.confirm_atlas(small_atlas, BODY, every=1, progress=False)
+    for name in at.ATLAS_OBSERVABLES:
+        assert np.array_equal(ode.values[name].filled(np.nan).ravel(), check.ode[name].filled(np.nan),
+                              equal_nan=True), name
+    with pytest.raises(ValueError, match="atlas.method must be 'map'"):
+        at.confirm_atlas(ode, BODY, every=1)
+
+
+def test_rates_plane_refusals():
+    with pytest.raises(ValueError, match="method must be 'ode'"):
+        at.atlas_of_rates(BODY, *RATES_AT, PHI_DOT0, PSI_DOT0, method="map")
+    with pytest.raises(ValueError, match="method must be one of"):
+        at.atlas_from_rest(BODY, THETA0, PSI0, method="quad")
+    with pytest.raises(ValueError, match="theta0 must be"):
+        at.atlas_of_rates(BODY, math.pi, 0.0, PHI_DOT0, PSI_DOT0)
+    with pytest.raises(ValueError, match="phi_dot0 must be"):
+        at.atlas_of_rates(BODY, *RATES_AT, [np.nan], PSI_DOT0)
+    with pytest.raises(ValueError, match="MAX_ODE_ATLAS_POINTS"):
+        at.atlas_of_rates(BODY, *RATES_AT, np.linspace(0, 1, 200), np.linspace(0, 1, 101))
+
+
+def test_atlas_command_rates_plane(tmp_path, capsys):
+    out = tmp_path / "rates"
+    argv = ["atlas", "--plane", "rates", "--phi-dot0", "-0.002:0.3:3", "--psi-dot0", "0.002:0.2:2", "--t-end", "200",
+            "--out", str(out), "--json", "--quiet"]
+    assert main(argv) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert (summary["plane"], summary["method"], summary["n_points"], summary["n_confirmed"]) == ("rates", "ode", 6, 0)
+    lines = (out / "atlas.csv").read_text().splitlines()
+    assert any("plane rates (theta0=0.95pi, psi0=0.25pi" in ln for ln in lines if ln.startswith("#"))
+    cols = [ln for ln in lines if not ln.startswith("#")][0].split(",")
+    assert cols[:2] == ["psi_dot0", "phi_dot0"] and "ode_Phi" not in cols
+    for ext in ("png", "pdf"):
+        assert (out / f"atlas.{ext}").stat().st_size > 1000
+    for bad, msg in ((["--method", "map"], "--method map covers the release plane only"),
+                     (["--theta0", "0.9pi:0.95pi:2"], "--theta0 must be one value"),
+                     (["--confirm-every", "3"], "apply to --method map")):
+        assert main(argv[:-4] + bad + ["--out", str(tmp_path / "x"), "--quiet"]) == 2
+        assert msg in capsys.readouterr().err
+    assert main(["atlas", "--phi-dot0", "0:0.1:2", "--out", str(tmp_path / "y")]) == 2
+    assert "give them with --plane rates" in capsys.readouterr().err
