@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["THETA0_RANGE", "MAX_MAXIMA", "check_map_theta0", "t_end_limit", "check_t_end"]
+__all__ = ["THETA0_RANGE", "MAX_MAXIMA", "K_PERIOD_DOUBLING", "eps_period_doubling", "AveragingRangeError", "AveragingValidityWarning", "check_map_theta0",
+           "t_end_limit", "check_t_end"]
 
 #: Release angles (θ0_min, θ0_max) for which the tables are built and the map is validated against the direct
 #: ODE (docs/averaging.md, "Range of θ0").  Below ≈ 0.732π (paper body) the table rectangle, 2.5 times the
@@ -21,6 +22,23 @@ THETA0_RANGE = (0.75 * math.pi, 0.999 * math.pi)
 #: 10⁶ maxima (t_end up to 5·10⁵ T_θ(0), 6.6·10⁶ time units at θ0 = 0.95π) is far beyond the first-order
 #: averaging's horizon, yet bounded for a laptop.
 MAX_MAXIMA = 10**6
+
+#: Chirikov's standard map I' = I + K sin Θ, Θ' = Θ + I' (the slow map near pure rocking, K = ε κ): the
+#: Jacobian at its stable fixed point has trace 2 − K, which reaches −2 (period doubling) at K = 4.
+K_PERIOD_DOUBLING = 4.0
+
+
+def eps_period_doubling(kappa: float) -> float:
+    """ε at which K = ε κ reaches K_PERIOD_DOUBLING (rocking about the stable axis period-doubles)."""
+    return K_PERIOD_DOUBLING / abs(kappa)
+
+
+class AveragingRangeError(ValueError):
+    """The slow orbit leaves the region where the averaging tables were built."""
+
+
+class AveragingValidityWarning(UserWarning):
+    """The prediction is outside the regime where the first-order theory is expected to hold."""
 
 
 def check_map_theta0(theta0: float, name: str = "theta0") -> float:

@@ -16,22 +16,20 @@ the map reversible hold on the grid.
 
 Data.  T_θ, W = 2(Δψ − π) mod 2π and Δφ mod π come from the same variational orbits as the ε-responses
 (``slow_orbit.first_order_step``), not from the quadratures: those lose their double-precision accuracy
-near steady rolling and at small amplitude, where these tables reach.  ``averaging.fit_table`` lifts W and
+near steady rolling and at small amplitude, where these tables reach.  ``slow_table.fit_table`` lifts W and
 Δφ to continuous branches and builds the drift–kick–drift form.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import math
-import warnings
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from rocknroller.analysis.averaging import (CHART_TERMS, REGION_TABLE_ACCURACY, TABLE_FUNCTIONS, AveragingRangeError,
-                                            AveragingValidityWarning, SlowMapTable, _cheb_nodes, cached_table,
-                                            check_grid, fit_table, kick_at_rest)
+from rocknroller.analysis.averaging_limits import AveragingRangeError
+from rocknroller.analysis.slow_table import (CHART_TERMS, REGION_TABLE_ACCURACY, TABLE_FUNCTIONS, SlowMapTable,
+                                             _cheb_nodes, cached_table, check_grid, fit_and_check, kick_at_rest)
 from rocknroller.analysis.body import Body
 from rocknroller.analysis.quadrature import wrap_angle
 from rocknroller.analysis.reduction import E_MAX, NoMotionError, min_potential, solve_turning_points
@@ -247,12 +245,9 @@ def build_region_table(body: Body, E: float, *, nu: int = 128, nv: int = 32, del
         T, W, dphi, resp = _orbit_data(body.symmetric(), frame.E0, QR, QJ, progress, workers)
     except NoMotionError as exc:  # pragma: no cover - the chart lies inside the level set δ = delta_min
         raise AveragingRangeError(str(exc)) from None
-    table = fit_table(frame, T, W, dphi, resp)
-    err = region_interpolation_error(table)
-    if err > REGION_TABLE_ACCURACY:
-        warnings.warn(f"the region tables of E={E!r} interpolate the coefficients only to {err:.1e}; use more "
-                      f"nodes (nu={nu}, nv={nv}) or a smaller tip_fraction", AveragingValidityWarning, stacklevel=2)
-    return dataclasses.replace(table, interp_error=err)
+    return fit_and_check(frame, T, W, dphi, resp, region_interpolation_error, REGION_TABLE_ACCURACY,
+                         f"the region tables of E={E!r} interpolate the coefficients only to {{err:.1e}}; use more "
+                         f"nodes (nu={nu}, nv={nv}) or a smaller tip_fraction")
 
 
 def load_or_build_region_table(body: Body, E: float, *, build: bool = True, use_cache: bool = True,

@@ -19,6 +19,7 @@ import numpy as np
 
 from rocknroller.analysis import atlas as at
 from rocknroller.analysis import averaging as av
+from rocknroller.analysis import slow_map, slow_table
 from rocknroller.analysis.body import Body
 
 
@@ -62,8 +63,8 @@ def main() -> None:
         av.load_or_build_table(body, th)
     print(f"tables of {n} release angles ready in {time.perf_counter() - t0:.0f} s (built or read from the cache)")
     for workers in (1, 2):
-        av._TABLES.clear()
-        av._FAST.clear()
+        slow_table._TABLES.clear()
+        slow_map._FAST.clear()
         t0 = time.perf_counter()
         atlas = at.atlas_from_rest(body, theta0, psi0, 1000.0, progress=False, processes=workers)
         t_map = time.perf_counter() - t0

@@ -15,6 +15,7 @@ import pytest
 from scipy.optimize import brentq
 
 from rocknroller.analysis import averaging as av
+from rocknroller.analysis import slow_map, slow_table
 from rocknroller.analysis import slow_orbit as so
 from rocknroller.analysis.body import Body
 from rocknroller.analysis.invariants import energy
@@ -221,7 +222,7 @@ def test_map_is_reversible(table):
     fwd = av.iterate_slow_map(table, eps, 0.7, 1e9, Q0=Q0, n_steps=N)
     Q_rev = (-fwd.QR[-1], -fwd.QJ[-1])
     back = av.iterate_slow_map(table, eps, 0.5 * fwd.Theta[-1], 1e9, Q0=Q_rev, n_steps=N)
-    ft = av._fast(table)
+    ft = slow_map._fast(table)
 
     def run(Q, Th):  # the kernel's rows (u, v, Θ, t, φ) from the start onwards, as iterate_slow_map computes them
         u, v = float(ft.e @ np.asarray(Q)), float(ft.n @ np.asarray(Q))
@@ -253,7 +254,7 @@ def _reference_map(table: av.SlowMapTable, eps: float, psi0: float, t_end: float
     """The drift–kick–drift map evaluated plainly: 6-point Lagrange weights Π (r − j)/(k − j) on the
     fine grid, T_j(y) = cos(j arccos y), and the implicit midpoint kick by fixed-point iteration until
     the change is within 1e-13 of the kick (+ 4 ulp).  Rows (t, u, v, Θ, φ) at the maxima."""
-    ft = av._fast(table)
+    ft = slow_map._fast(table)
     off = np.arange(-2, 4)
 
     def ev(u, v):
@@ -261,7 +262,7 @@ def _reference_map(table: av.SlowMapTable, eps: float, psi0: float, t_end: float
         y = (v - np.polynomial.chebyshev.chebval(x, table.c_coef)) / np.polynomial.chebyshev.chebval(x, table.w_coef)
         assert abs(x) <= 1.0 and abs(y) <= 1.0
         s = (x + 1.0) / ft.dx
-        i = min(max(int(s), 2), av._FINE_POINTS - 4)
+        i = min(max(int(s), 2), slow_map._FINE_POINTS - 4)
         w = np.array([np.prod([(s - i - j) / (k - j) for j in off if j != k]) for k in off])
         return (w @ ft.rows[i - 2:i + 4]).reshape(-1, ft.nv) @ np.cos(np.arange(ft.nv) * np.arccos(y))
 
@@ -317,7 +318,7 @@ def _condition_sums(ft, u: float, v: float) -> np.ndarray:
     """Σ_k Σ_j |w_k| |c_kj| for each of the 18 run-time functions at (u, v): the sum of the absolute values of
     the terms of its 6 × nv stencil (|T_j| ≤ 1), which multiplies γ_n in the rounding error of its value."""
     s = (u / ft.U + 1.0) / ft.dx
-    i = min(max(int(s), 2), av._FINE_POINTS - 4)
+    i = min(max(int(s), 2), slow_map._FINE_POINTS - 4)
     off = np.arange(-2, 4)
     w = np.array([np.prod([(s - i - j) / (k - j) for j in off if j != k]) for k in off])
     return np.abs(w) @ np.abs(ft.rows[i - 2:i + 4]).reshape(6, -1, ft.nv).sum(axis=2)
@@ -339,7 +340,7 @@ def _kick_derivatives(ft, m) -> tuple[np.ndarray, np.ndarray]:
 
 
 #: Parity in Q of the 18 run-time functions (k_u, k_v harmonics even, k_Θ odd, k_t even, k_φ odd, T even, W and
-#: Δφ odd): the parities that make the map reversible (``rocknroller.analysis.averaging._ODD``, ``_EVEN``).
+#: Δφ odd): the parities that make the map reversible (``rocknroller.analysis.slow_table._ODD``, ``_EVEN``).
 _RUN_TIME_PARITY = np.array([1.0] * 6 + [-1.0] * 3 + [1.0] * 3 + [-1.0] * 3 + [1.0, -1.0, -1.0])
 
 
@@ -443,7 +444,7 @@ def test_fast_map_equals_plain_evaluation(table, eps, psi0, Q0):
     fast = av.iterate_slow_map(table, eps, psi0, 1000.0, Q0=Q0)
     ref = _reference_map(table, eps, psi0, 1000.0, Q0=Q0)
     assert ref.shape == (fast.t.size, 5) and fast.t.size > 50
-    ft = av._fast(table)
+    ft = slow_map._fast(table)
     u0, v0 = float(ft.e @ np.asarray(Q0)), float(ft.n @ np.asarray(Q0))
     X = np.vstack([[u0, v0, 2.0 * psi0, 0.0, 0.0], ref[:, [1, 2, 3, 0, 4]]])  # (u, v, Θ, t, φ), the start first
     local = np.array([_map_local_errors(ft, eps, X[n], X[n + 1]) for n in range(len(ref))])
@@ -477,7 +478,7 @@ def test_fast_map_equals_plain_evaluation(table, eps, psi0, Q0):
 def test_kernel_output_in_chunks(table, monkeypatch):
     """A run longer than one output chunk continues from the last maximum: identical rows."""
     whole = av.iterate_slow_map(table, 1e-3, 0.4, 1000.0)
-    monkeypatch.setattr(av, "_CHUNK", 7)
+    monkeypatch.setattr(slow_map, "_CHUNK", 7)
     chunked = av.iterate_slow_map(table, 1e-3, 0.4, 1000.0)
     assert whole.t.size > 3 * 7
     for name in ("t", "QR", "QJ", "Theta", "phi"):  # exact: the kernel resumes from the stored row, same operations
@@ -488,7 +489,7 @@ def test_kernel_output_in_chunks(table, monkeypatch):
 
 def test_run_time_jacobian(table):
     """The derivative rows of the run-time table equal central differences of its values."""
-    ft = av._fast(table)
+    ft = slow_map._fast(table)
     for x, y in ((0.1, 0.2), (-0.5, -0.3), (0.8, 0.6)):
         u, v = x * table.U, y * table.w_coef[0]  # the release tables' rectangle: c = 0, w = V
         out = np.array(ft.values_and_jacobian(u, v))
@@ -502,13 +503,13 @@ def test_run_time_jacobian(table):
 
 def test_table_cache_round_trip(tmp_path, monkeypatch):
     monkeypatch.setenv("ROCKNROLLER_CACHE", str(tmp_path))
-    monkeypatch.setattr(av, "_TABLES", {})
+    monkeypatch.setattr(slow_table, "_TABLES", {})
     with pytest.raises(ValueError, match="no averaging tables"):
         av.load_or_build_table(SYM, 0.9 * math.pi, build=False, nu=8, nv=4)
     with pytest.warns(av.AveragingValidityWarning, match="interpolate"):  # 8 nodes are too few: it says so
         t1 = av.load_or_build_table(SYM, 0.9 * math.pi, nu=8, nv=4)
     assert list((tmp_path / "averaging").glob("slowmap-*.npz"))
-    monkeypatch.setattr(av, "_TABLES", {})
+    monkeypatch.setattr(slow_table, "_TABLES", {})
     t2 = av.load_or_build_table(SYM, 0.9 * math.pi, build=False, nu=8, nv=4)
     assert np.array_equal(t1.coef, t2.coef) and t1.U == t2.U and t1.kappa == t2.kappa  # exact: binary storage
     assert t2.interp_error == t1.interp_error > 1e-7

@@ -19,13 +19,14 @@ import numpy as np
 import pytest
 
 from rocknroller.analysis import averaging as av
+from rocknroller.analysis import slow_table
 from rocknroller.analysis.body import Body
 from rocknroller.numerics import cache
 
 SYM = Body.paper(0.0)
 THETA0 = 0.9 * math.pi
 GRID = {"nu": 8, "nv": 4}
-KEY = av._table_key("build_table", SYM, THETA0, {"nu": 8, "nv": 4, "u_factor": 2.5, "v_ratio": 0.002})
+KEY = slow_table._table_key("build_table", SYM, THETA0, {"nu": 8, "nv": 4, "u_factor": 2.5, "v_ratio": 0.002})
 
 
 def _load(**kw) -> av.SlowMapTable:
@@ -51,7 +52,7 @@ def fresh(tmp_path_factory):
     root = tmp_path_factory.mktemp("cache")
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv("ROCKNROLLER_CACHE", str(root))
-        mp.setattr(av, "_TABLES", {})
+        mp.setattr(slow_table, "_TABLES", {})
         table = _load()
     files = list((root / "averaging").glob("slowmap-*.npz"))
     assert len(files) == 1
@@ -63,7 +64,7 @@ def cache_env(tmp_path, monkeypatch, fresh):
     """An empty cache directory and an empty in-memory table cache; build_table returns the fresh table and
     counts its calls (the build is deterministic; test_pickle_payload_never_runs rebuilds for real)."""
     monkeypatch.setenv("ROCKNROLLER_CACHE", str(tmp_path / "cache"))
-    monkeypatch.setattr(av, "_TABLES", {})
+    monkeypatch.setattr(slow_table, "_TABLES", {})
     monkeypatch.setattr(cache, "_WARNED_DIRS", set())
     calls = []
 
@@ -72,7 +73,7 @@ def cache_env(tmp_path, monkeypatch, fresh):
         calls.append(kw)
         return fresh[0]
 
-    monkeypatch.setattr(av, "build_table", build)
+    monkeypatch.setattr(slow_table, "build_table", build)
     path = tmp_path / "cache" / "averaging" / fresh[1].name
     path.parent.mkdir(parents=True)
     return path, calls
@@ -138,7 +139,7 @@ def test_pickle_payload_never_runs(tmp_path, monkeypatch, fresh):
     """A pickled object array planted at the exact cache path: nothing runs, a CacheWarning, a real rebuild
     equal to the fresh table, and the file replaced by a good one."""
     monkeypatch.setenv("ROCKNROLLER_CACHE", str(tmp_path / "cache"))
-    monkeypatch.setattr(av, "_TABLES", {})
+    monkeypatch.setattr(slow_table, "_TABLES", {})
     path, marker = tmp_path / "cache" / "averaging" / fresh[1].name, tmp_path / "marker"
     path.parent.mkdir(parents=True)
     _pickled_npz(path, fresh[1], marker)
@@ -146,7 +147,7 @@ def test_pickle_payload_never_runs(tmp_path, monkeypatch, fresh):
         table = _load()
     assert not marker.exists()
     _assert_same(table, fresh[0])
-    arrays, reason = cache.load_arrays(path, KEY, av._table_spec(8, 4))
+    arrays, reason = cache.load_arrays(path, KEY, slow_table._table_spec(8, 4))
     assert reason == "" and np.array_equal(arrays["coef"], fresh[0].coef)
     assert not marker.exists()
 
@@ -218,8 +219,8 @@ def test_bad_file_is_refused_rebuilt_and_replaced(cache_env, fresh, kind):
     assert len(calls) == 1
     _assert_same(table, fresh[0])
     # replaced by a good file: the next process loads it silently, without building
-    assert cache.load_arrays(path, KEY, av._table_spec(8, 4))[1] == ""
-    av._TABLES.clear()
+    assert cache.load_arrays(path, KEY, slow_table._table_spec(8, 4))[1] == ""
+    slow_table._TABLES.clear()
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         _assert_same(_load(build=False), fresh[0])
@@ -244,7 +245,7 @@ def test_unwritable_cache_warns_once(cache_env, tmp_path, monkeypatch):
     with warnings.catch_warnings(record=True) as rec:
         warnings.simplefilter("always")
         t1 = _load()
-        av._TABLES.clear()
+        slow_table._TABLES.clear()
         t2 = _load()
     msgs = [str(w.message) for w in rec if issubclass(w.category, cache.CacheWarning)]
     assert len(msgs) == 1, msgs

@@ -8,6 +8,7 @@ import math
 import pytest
 
 from rocknroller.analysis import averaging as av
+from rocknroller.analysis import slow_table
 from rocknroller.analysis.body import Body
 from rocknroller.analysis.slow_pendulum import pendulum_constants
 from rocknroller.cli import main
@@ -19,7 +20,7 @@ def fresh_cache(tmp_path_factory):
     path = tmp_path_factory.mktemp("cache")
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv("ROCKNROLLER_CACHE", str(path))
-        mp.setattr(av, "_TABLES", {})
+        mp.setattr(slow_table, "_TABLES", {})
         yield path
 
 

@@ -1,0 +1,488 @@
+"""Tables of the averaged slow map's coefficient functions: their chart, Chebyshev fit, build and disk cache.
+
+The coefficient functions of one step of the first-order map (``rocknroller.analysis.averaging``: T_θ, W, Δφ and the
+harmonics 0 and 1 in Θ of the kicks) are tabulated once per (body, energy) on a Chebyshev grid in a chart of the
+(Q_R, Q_J) plane, Q = x U e + (c(x) + τ w(x)) n, and cached on disk (``rocknroller.numerics.cache.cache_dir()/averaging``,
+plain arrays with their key and checksum, checked on load); they depend on neither ε nor ψ0.  Release tables
+(:func:`build_table`) cover a strip along the kick direction at Q = 0 for a release from rest at θ0 in
+``THETA0_RANGE``; region tables (:mod:`rocknroller.analysis.slow_region`) the whole region of an energy.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import inspect
+import math
+import os
+import warnings
+from dataclasses import dataclass
+from typing import Any, Callable
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from rocknroller.analysis.averaging_limits import (K_PERIOD_DOUBLING, AveragingRangeError, AveragingValidityWarning,
+                                                   check_map_theta0, eps_period_doubling)
+from rocknroller.analysis.body import Body
+from rocknroller.numerics.cache import CacheWarning, cache_dir, load_arrays, save_arrays, warn_unwritable
+from rocknroller.analysis.slow_orbit import (FIRST_ORDER_NAMES, HARMONIC_PSI, _harmonics, first_order_step,
+                                             rest_energy, step_coefficients, symmetric_data)
+from rocknroller.analysis.quadrature import wrap_angle
+
+__all__ = ["TABLE_FUNCTIONS", "CHART_TERMS", "REGION_TABLE_ACCURACY", "SlowMapTable", "stretch", "unstretch",
+           "stretch_slope", "build_table", "check_grid", "kick_at_rest", "fit_table", "fit_and_check", "load_or_build_table",
+           "cached_table"]
+
+#: Bump when the table construction or its file format changes (part of the cache key).
+_TABLE_VERSION = "5"
+_TABLES: dict[str, "SlowMapTable"] = {}
+
+#: Largest interpolation error of a region table for which its predictions are given without a warning: the
+#: map's own error is O(ε) of the slow motion, and a table error δ adds ~N δ over N rocks (N ≲ 10³ in 10⁴ t.u.).
+REGION_TABLE_ACCURACY = 1e-6
+
+#: Functions of the table, in order: symmetric data, then the harmonics (c0, c1, s1) of
+#: k_Q (Q_R, Q_J) and k_Θ in the drift–kick–drift form, then of the time and φ responses.
+TABLE_FUNCTIONS = ("T", "W", "dphi",
+                   "kQR_c0", "kQR_c1", "kQR_s1", "kQJ_c0", "kQJ_c1", "kQJ_s1", "kTh_c0", "kTh_c1", "kTh_s1",
+                   "dt_c0", "dt_c1", "dt_s1", "dphi1_c0", "dphi1_c1", "dphi1_s1")
+#: Parities in Q of a reversible map (time reversal: Q → −Q, Θ kept, t and φ steps reversed in order/sign).
+_ODD = {"W", "dphi", "kTh_c0", "kTh_c1", "kTh_s1", "dphi1_c0", "dphi1_c1", "dphi1_s1"}
+_EVEN = {"T", "kQR_c0", "kQR_c1", "kQR_s1", "kQJ_c0", "kQJ_c1", "kQJ_s1", "dt_c0", "dt_c1", "dt_s1"}
+
+
+def _cheb_nodes(n: int) -> NDArray[np.float64]:
+    return np.cos(math.pi * (np.arange(n) + 0.5) / n)
+
+
+def _cheb_basis(x: ArrayLike, n: int) -> NDArray[np.float64]:
+    """T_0..T_{n−1} at x ∈ [−1, 1], shape (n, ...), by the three-term recurrence T_k = 2x T_{k−1} − T_{k−2}
+    (stable on [−1, 1]: each T_k is within ~k ulps of cos(k arccos x); 10× faster than the cosines)."""
+    x = np.clip(np.asarray(x, float), -1.0, 1.0)
+    T = np.empty((n,) + x.shape)
+    T[0] = 1.0
+    if n > 1:
+        T[1] = x
+    for k in range(2, n):
+        T[k] = 2.0 * x * T[k - 1] - T[k - 2]
+    return T
+
+
+def _cheb_fit_matrix(n: int) -> NDArray[np.float64]:
+    """A with c = A f for the interpolant at the first-kind nodes."""
+    A = (2.0 / n) * _cheb_basis(_cheb_nodes(n), n)
+    A[0] *= 0.5
+    return A
+
+
+#: Chebyshev coefficients of the chart's c(x) and w(x) (:class:`SlowMapTable`), zero-padded.
+CHART_TERMS = 48
+
+
+@dataclass(frozen=True)
+class SlowMapTable:
+    """Tabulated first-order slow map of one (body, E): Chebyshev series in the chart coordinates (x, τ).
+
+    Q = u e + v n with u = x U and v = c(x) + τ w(x), |x| ≤ 1, |τ| ≤ 1: e and n ⟂ e are unit vectors in
+    the (Q_R, Q_J) plane, c(x) (odd) and w(x) > 0 (even) Chebyshev series in x.  The functions are Chebyshev
+    series in (ξ, η) with x = :func:`stretch` (ξ, α) and τ = :func:`stretch` (η, β), which put more nodes near
+    Q = 0, where W varies on the scale 1/|∇W(0)| (α = β = 0: no stretch).  The tables of a release
+    from rest (:func:`build_table`) use the kick direction at Q = 0 for e, c = 0 and w = V (a rectangle);
+    those of a whole region (:func:`rocknroller.analysis.slow_region.build_region_table`) follow the critical
+    line Q_J,0^crit and the region's width.
+
+    Attributes
+    ----------
+    a, I1, I3, g, theta0, E0 : the symmetric body, the release angle (NaN for a region table whose energy is
+        not that of a release from rest in (0, π)) and the energy.
+    e, n : unit vectors in the (Q_R, Q_J) plane.
+    U : half-length of the chart along e.
+    c_coef, w_coef : Chebyshev coefficients (``CHART_TERMS``) of c(x) and w(x).
+    coef : ndarray (len(TABLE_FUNCTIONS), Nu, Nv), Chebyshev coefficients in (ξ, η).
+    kappa : ∇W·C0 at Q = 0 (the standard-map constant, K = ε κ), from the table.
+    C0 : the kick ΔQ(0, Θ) = C0 sin Θ, from the variational orbits at Q = 0.
+    interp_error : largest relative error of the table against direct coefficients at three
+        off-grid points, measured when the table was built.
+    delta_min : the region tables' least distance (E − min U)/E to steady rolling (0 for release tables).
+    alpha, beta : the stretches of x and τ.
+    """
+
+    a: float
+    I1: float
+    I3: float
+    g: float
+    theta0: float
+    E0: float
+    e: NDArray[np.float64]
+    n: NDArray[np.float64]
+    U: float
+    c_coef: NDArray[np.float64]
+    w_coef: NDArray[np.float64]
+    coef: NDArray[np.float64]
+    C0: NDArray[np.float64]
+    kappa: float
+    interp_error: float
+    delta_min: float = 0.0
+    alpha: float = 0.0
+    beta: float = 0.0
+
+    @property
+    def body(self) -> Body:
+        """The symmetric body the table was built for."""
+        return Body(a=self.a, I1=self.I1, I2=self.I1, I3=self.I3, g=self.g)
+
+    def _sides(self, x: ArrayLike) -> tuple[NDArray[np.float64], ...]:
+        """c(x), w(x) and their x-derivatives over U."""
+        cheb = np.polynomial.chebyshev
+        x = np.clip(x, -1.0, 1.0)  # the series are the chart's only on [−1, 1]; beyond it Q is outside anyway
+        return (cheb.chebval(x, self.c_coef), cheb.chebval(x, self.w_coef),
+                cheb.chebval(x, cheb.chebder(self.c_coef)) / self.U, cheb.chebval(x, cheb.chebder(self.w_coef)) / self.U)
+
+    def chart(self, xi: ArrayLike, eta: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """(Q_R, Q_J) at the chart coordinates (ξ, η) ∈ [−1, 1]² (those of the Chebyshev series)."""
+        xi, eta = np.asarray(xi, float), np.asarray(eta, float)
+        x = stretch(xi, self.alpha)
+        u = x * self.U
+        c, w = self._sides(x)[:2]
+        v = c + stretch(eta, self.beta) * w
+        return u * self.e[0] + v * self.n[0], u * self.e[1] + v * self.n[1]
+
+    def coordinates(self, Q: ArrayLike) -> tuple[float, float]:
+        """The chart coordinates (ξ, η) of Q = (Q_R, Q_J) (outside [−1, 1]² if Q is outside the table)."""
+        Q = np.asarray(Q, float)
+        u, v = float(self.e @ Q), float(self.n @ Q)
+        x = u / self.U
+        xi = float(unstretch(x, self.alpha))
+        c, w = (float(s) for s in self._sides(x)[:2])
+        return xi, float(unstretch((v - c) / w, self.beta))
+
+    def inverse_jacobian(self, xi: ArrayLike, eta: ArrayLike) -> tuple[NDArray[np.float64], ...]:
+        """(∂ξ/∂u, ∂η/∂u, ∂η/∂v) at (ξ, η), for the chain rule ∂F/∂u = F_ξ ∂ξ/∂u + F_η ∂η/∂u, ∂F/∂v = F_η ∂η/∂v."""
+        xi, eta = np.asarray(xi, float), np.asarray(eta, float)
+        x = stretch(xi, self.alpha)
+        dxi_du = 1.0 / (self.U * stretch_slope(xi, self.alpha))
+        c, w, dc, dw = self._sides(x)
+        tau = stretch(eta, self.beta)
+        deta_dv = 1.0 / (stretch_slope(eta, self.beta) * w)
+        return dxi_du, -(dc + tau * dw) * deta_dv, deta_dv
+
+    def evaluate(self, Q: ArrayLike) -> NDArray[np.float64]:
+        """All ``TABLE_FUNCTIONS`` at Q = (Q_R, Q_J); raises AveragingRangeError outside the table."""
+        Q = np.asarray(Q, float)
+        xi, eta = self.coordinates(Q)
+        if not (abs(xi) <= 1.0 and abs(eta) <= 1.0):
+            if self.delta_min > 0.0:
+                from rocknroller.analysis.slow_region import boundary_distance
+
+                delta = float(boundary_distance(self.body, self.E0, Q[0], Q[1]))
+                raise AveragingRangeError(
+                    f"the slow orbit left the tabulated region at Q=({Q[0]:.4g}, {Q[1]:.4g}), whose distance to "
+                    f"steady rolling is (E - min U)/E = {delta:.3g}: the tables of E={self.E0:.6g} cover "
+                    f"|u| <= {self.U:.4g} along the critical line Q_J,0^crit and distances >= "
+                    f"{self.delta_min:g}; nearer steady rolling the oscillation of theta is too small to average")
+            raise AveragingRangeError(
+                f"the slow orbit left the tabulated region at Q=({Q[0]:.4g}, {Q[1]:.4g}): the tables cover "
+                f"|u| <= {self.U:.4g} along the kick direction e=({self.e[0]:.4f}, {self.e[1]:.4f}) and "
+                f"|v| <= {self.w_coef[0]:.3g} across it; the averaging is valid for K = eps*kappa < "
+                f"{K_PERIOD_DOUBLING:g} (eps < {eps_period_doubling(self.kappa):.4g}) and orbits near pure rocking")
+        nu, nv = self.coef.shape[1:]
+        return (self.coef @ _cheb_basis(eta, nv)) @ _cheb_basis(xi, nu)
+
+    def gradient(self, name: str, Q: ArrayLike) -> NDArray[np.float64]:
+        """(∂F/∂u, ∂F/∂v) of the table function ``name`` at Q (Q = u e + v n), by the chain rule through the chart."""
+        self.evaluate(Q)  # the range check
+        xi, eta = self.coordinates(Q)
+        cheb = np.polynomial.chebyshev
+        c = self.coef[TABLE_FUNCTIONS.index(name)]
+        f_xi, f_eta = (cheb.chebval2d(xi, eta, cheb.chebder(c, axis=k)) for k in (0, 1))
+        dxi_du, deta_du, deta_dv = self.inverse_jacobian(xi, eta)
+        return np.array([f_xi * dxi_du + f_eta * deta_du, f_eta * deta_dv])
+
+    def nodes(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """(Q_R, Q_J) at the table's Chebyshev nodes (ξ_i, η_j), arrays (Nu, Nv)."""
+        nu, nv = self.coef.shape[1:]
+        return self.chart(*np.meshgrid(_cheb_nodes(nu), _cheb_nodes(nv), indexing="ij"))
+
+
+def stretch(s: ArrayLike, a: float) -> NDArray[np.float64]:
+    """z = sinh(a s)/sinh(a) on [−1, 1] (z = s for a = 0): nodes uniform in s crowd near z = 0 at the scale
+    1/sinh(a) (Tee & Trefethen's sinh map for an interior layer, SIAM J. Sci. Comput. 28, 2006)."""
+    s = np.asarray(s, float)
+    return s if a == 0.0 else np.sinh(a * s) / math.sinh(a)
+
+
+def unstretch(z: ArrayLike, a: float) -> NDArray[np.float64]:
+    """The inverse of :func:`stretch`."""
+    z = np.asarray(z, float)
+    return z if a == 0.0 else np.arcsinh(z * math.sinh(a)) / a
+
+
+def stretch_slope(s: ArrayLike, a: float) -> NDArray[np.float64]:
+    """dz/ds of :func:`stretch`."""
+    s = np.asarray(s, float)
+    return np.ones_like(s) if a == 0.0 else a * np.cosh(a * s) / math.sinh(a)
+
+
+def _table_key(builder: str, sym: Body, where: float, opts: dict[str, Any]) -> str:
+    """The cache key of a table: version, builder, body, θ0 or E, and grid options (stored in the file; its SHA-256
+    names it)."""
+    return f"slowmap|{_TABLE_VERSION}|{builder}|{sym.params!r}|{where!r}|" + "|".join(
+        f"{k}={opts[k]!r}" for k in sorted(opts))
+
+
+def _table_spec(nu: int, nv: int) -> dict[str, tuple[int, ...]]:
+    """Fields of a SlowMapTable file in checksum order, each float64 with this shape."""
+    shapes = {"e": (2,), "n": (2,), "C0": (2,), "c_coef": (CHART_TERMS,), "w_coef": (CHART_TERMS,),
+              "coef": (len(TABLE_FUNCTIONS), nu, nv)}
+    return {name: shapes.get(name, ()) for name in SlowMapTable.__dataclass_fields__}
+
+
+def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_factor: float = 2.5,
+                v_ratio: float = 0.002) -> SlowMapTable:
+    """Tabulate the reversible first-order slow map of (body, θ0).
+
+    Parameters
+    ----------
+    body : Body
+        Its symmetric part is used (the tables do not depend on ε).
+    theta0 : float
+        Release angle in ``THETA0_RANGE``; E = U(θ0; 0, 0).
+    nu, nv : int
+        Chebyshev nodes along and across the kick direction (even, ≥ 4).
+    u_factor : float
+        U = u_factor · 4/|∂W/∂u|(0): the libration amplitude of the standard map at K = 4, times u_factor.
+    v_ratio : float
+        V = v_ratio · U.
+
+    Raises
+    ------
+    ValueError
+        θ0 outside ``THETA0_RANGE`` or bad grid options; AveragingRangeError if the energy of the release
+        admits no motion somewhere on the table rectangle (possible for bodies other than the paper's).
+    """
+    theta0 = check_map_theta0(theta0)
+    check_grid(nu, nv)
+    if not (u_factor > 0 and 0 < v_ratio <= 1):
+        raise ValueError(f"u_factor must be > 0 and v_ratio in (0, 1], got {u_factor!r}, {v_ratio!r}")
+    sym = body.symmetric()
+    E0 = rest_energy(sym, theta0)
+    C0 = kick_at_rest(sym, E0)
+    e = C0 / np.linalg.norm(C0)
+    nvec = np.array([-e[1], e[0]])
+    hq = 1e-7
+    Wp = symmetric_data(sym, E0, np.array([hq * e[0], -hq * e[0]]), np.array([hq * e[1], -hq * e[1]]))[1]
+    dW_du = (Wp[0] - Wp[1]) / (2 * hq)
+    U = u_factor * K_PERIOD_DOUBLING / abs(dW_du)
+    c_coef, w_coef = np.zeros(CHART_TERMS), np.zeros(CHART_TERMS)
+    w_coef[0] = v_ratio * U
+    frame = SlowMapTable(a=sym.a, I1=sym.I1, I3=sym.I3, g=sym.g, theta0=theta0, E0=E0, e=e, n=nvec, U=U,
+                         c_coef=c_coef, w_coef=w_coef, coef=np.zeros((len(TABLE_FUNCTIONS), nu, nv)), C0=C0,
+                         kappa=0.0, interp_error=0.0)
+    QRg, QJg = frame.nodes()
+    try:
+        T, W, dphi, thX = symmetric_data(sym, E0, QRg, QJg)
+    except ValueError as exc:
+        raise AveragingRangeError(
+            f"the averaging tables of theta0={theta0!r} cannot be built for this body ({sym.describe()}): on their "
+            f"rectangle |u| <= {U:.4g} (2.5 times the libration amplitude at K = 4) {exc}") from None
+    resp = np.empty((len(FIRST_ORDER_NAMES), nu, nv, 3))
+    for i in range(nu):
+        for j in range(nv):
+            steps = [first_order_step(sym, E0, QRg[i, j], QJg[i, j], psi, theta_X=thX[i, j])
+                     for psi in HARMONIC_PSI]
+            for k, name in enumerate(FIRST_ORDER_NAMES):
+                resp[k, i, j] = _harmonics([s.d[name] for s in steps])
+    return fit_and_check(frame, T, W, dphi, resp, _interpolation_error, _INTERP_WARN,
+                         f"the averaging tables for theta0={theta0!r} interpolate the coefficients only to {{err:.1e}} "
+                         f"(relative); use more nodes (nu={nu}, nv={nv})")
+
+
+def check_grid(nu: int, nv: int) -> None:
+    """ValueError unless nu and nv are even integers ≥ 4 (and nv ≤ 64, the compiled kernel's limit)."""
+    for name, val, top in (("nu", nu, 4096), ("nv", nv, 64)):
+        if int(val) != val or not 4 <= val <= top or val % 2:
+            raise ValueError(f"{name} must be an even integer in [4, {top}], got {name}={val!r}")
+
+
+def kick_at_rest(sym: Body, E: float) -> NDArray[np.float64]:
+    """C0 with ΔQ(0, Θ) = C0 sin Θ: the kick at Q = 0 from the three variational orbits at energy E."""
+    at0 = [first_order_step(sym, E, 0.0, 0.0, psi) for psi in HARMONIC_PSI]
+    return np.array([_harmonics([s.d[k] for s in at0])[2] for k in ("QR", "QJ")])
+
+
+def fit_table(frame: SlowMapTable, T: NDArray, W: NDArray, dphi: NDArray, resp: NDArray) -> SlowMapTable:
+    """The table on ``frame``'s chart from the data at its Chebyshev nodes (x_i, τ_j).
+
+    T, W, Δφ (mod π) of the symmetric orbit and ``resp`` (len(FIRST_ORDER_NAMES), nu, nv, 3), the harmonics of
+    the ε-responses.  W and Δφ are lifted to continuous branches (along τ, then along x through the middle of
+    the chart, odd in Q); the kick is put in drift–kick–drift form (module docstring) with ∇F by the chain
+    rule through the chart; each function gets its parity in Q ((x, τ) → (−x, −τ)) and its Chebyshev series.
+    ``frame`` supplies everything but ``coef`` and ``kappa``.
+    """
+    nu, nv = T.shape
+    xu, xv = _cheb_nodes(nu), _cheb_nodes(nv)  # ξ, η
+    W, dphi = _lift(W, 2.0 * math.pi), _lift(dphi, math.pi)
+    Au, Av = _cheb_fit_matrix(nu), _cheb_fit_matrix(nv)
+    cheb = np.polynomial.chebyshev
+    e, nvec = frame.e, frame.n
+    dxi_du, deta_du, deta_dv = frame.inverse_jacobian(*np.meshgrid(xu, xv, indexing="ij"))
+
+    def parity(F: NDArray, kind: str) -> NDArray:
+        flipped = F[::-1, ::-1]
+        return 0.5 * (F + flipped) if kind == "even" else 0.5 * (F - flipped) if kind == "odd" else F
+
+    def fit(F: NDArray) -> NDArray:
+        return Au @ F @ Av.T
+
+    half = 0.5 * parity(W, "odd")
+    cw, sw = np.cos(half), np.sin(half)
+
+    def rotate(h: NDArray) -> NDArray:  # harmonics of F(Θ' − W/2) from those of F(Θ)
+        c0, c1, s1 = h[..., 0], h[..., 1], h[..., 2]
+        return np.stack([c0, c1 * cw - s1 * sw, c1 * sw + s1 * cw], axis=-1)
+
+    kQR, kQJ = rotate(resp[0]), rotate(resp[1])
+
+    def gradient(F: NDArray, kind: str) -> tuple[NDArray, NDArray]:
+        """(∂F/∂u, ∂F/∂v) at the nodes, F a symmetric-orbit function fitted on the grid."""
+        c = fit(parity(F, kind))
+        f_xi, f_eta = (cheb.chebgrid2d(xu, xv, cheb.chebder(c, axis=k)) for k in (0, 1))
+        return f_xi * dxi_du + f_eta * deta_du, f_eta * deta_dv
+
+    def half_grad_dot_kQ(F: NDArray, kind: str) -> NDArray:
+        """½ ∇F·k_Q at the nodes (harmonics)."""
+        gu, gv = gradient(F, kind)
+        return 0.5 * (gu[..., None] * (e[0] * kQR + e[1] * kQJ) + gv[..., None] * (nvec[0] * kQR + nvec[1] * kQJ))
+
+    # the part of each response received after the kick is carried by the second half-drift
+    kTh = rotate(resp[2]) - half_grad_dot_kQ(W, "odd")
+    kT = rotate(resp[3]) - half_grad_dot_kQ(T, "even")
+    kP = rotate(resp[4]) - half_grad_dot_kQ(dphi, "odd")
+    data = {"T": T, "W": W, "dphi": dphi}
+    for pre, arr in (("kQR", kQR), ("kQJ", kQJ), ("kTh", kTh), ("dt", kT), ("dphi1", kP)):
+        for m, suf in enumerate(("c0", "c1", "s1")):
+            data[f"{pre}_{suf}"] = arr[..., m]
+    coef = np.empty((len(TABLE_FUNCTIONS), nu, nv))
+    for k, name in enumerate(TABLE_FUNCTIONS):
+        kind = "odd" if name in _ODD else "even" if name in _EVEN else "none"
+        coef[k] = fit(parity(np.asarray(data[name], float), kind))
+    table = dataclasses.replace(frame, coef=coef)
+    gu, gv = (float(g) for g in table.gradient("W", (0.0, 0.0)))
+    return dataclasses.replace(table, kappa=gu * frame.C0 @ e + gv * frame.C0 @ nvec)
+
+
+def fit_and_check(frame: SlowMapTable, T: NDArray, W: NDArray, dphi: NDArray, resp: NDArray,
+                  error_of: Callable[[SlowMapTable], float], limit: float, message: str) -> SlowMapTable:
+    """:func:`fit_table`, then its interpolation error ``error_of(table)`` recorded in the table; above ``limit`` an
+    :class:`AveragingValidityWarning` with ``message`` (``{err:.1e}`` in it replaced by the error)."""
+    table = fit_table(frame, T, W, dphi, resp)
+    err = error_of(table)
+    if err > limit:
+        warnings.warn(message.format(err=err), AveragingValidityWarning, stacklevel=3)
+    return dataclasses.replace(table, interp_error=err)
+
+
+def _lift(F: NDArray, period: float) -> NDArray:
+    """F (given modulo ``period`` on the nodes) on a continuous branch: along τ (axis 1), then the middle
+    column along x, and the multiple of ``period`` that makes F odd under (x, τ) → (−x, −τ)."""
+    F = np.unwrap(F, axis=1, period=period)
+    mid = F[:, F.shape[1] // 2]
+    F = F + (np.unwrap(mid, period=period) - mid)[:, None]
+    return F - period * np.round(np.mean(F + F[::-1, ::-1]) / (2.0 * period))
+
+
+#: Off-grid points (u/U, v/V) at which a new table is checked against direct coefficients.
+_CHECK_POINTS = ((0.37, 0.3), (-0.81, -0.55), (0.93, 0.8))
+_INTERP_WARN = 1e-7
+
+
+def _interpolation_error(table: SlowMapTable) -> float:
+    """Largest relative error of the table against :func:`step_coefficients` at ``_CHECK_POINTS``."""
+    sym, worst = table.body, 0.0
+    for x, y in _CHECK_POINTS:
+        Q = np.array(table.chart(x, y))
+        sc = step_coefficients(sym, table.E0, float(Q[0]), float(Q[1]))
+        vals = dict(zip(TABLE_FUNCTIONS, table.evaluate(Q)))
+        w = 0.5 * vals["W"]
+        errs = [abs(vals["T"] / sc.T - 1.0), abs(float(wrap_angle(vals["W"] - sc.W))) / max(abs(sc.W), 1e-300)]
+        for name in ("QR", "QJ"):  # k_Q is ΔQ with its phase advanced by W/2; relative to the largest harmonic
+            c0, c1, s1 = (vals[f"k{name}_{h}"] for h in ("c0", "c1", "s1"))
+            scale = max(abs(v) for v in sc.harmonics[name])
+            back = (c0, c1 * math.cos(w) + s1 * math.sin(w), -c1 * math.sin(w) + s1 * math.cos(w))
+            errs += [abs(b - a) / scale for b, a in zip(back, sc.harmonics[name])]
+        worst = max(worst, *errs)
+    return float(worst)
+
+
+def load_or_build_table(body: Body, theta0: float, *, build: bool = True, use_cache: bool = True,
+                        **grid: Any) -> SlowMapTable:
+    """The tables of (body, θ0): from memory, from the disk cache, or built (and cached).
+
+    The cache file holds plain float64 arrays, the key and a SHA-256 checksum (``rocknroller.numerics.cache``; read with
+    ``allow_pickle=False``).  A file that fails any check is never used: it is rebuilt and replaced, with a
+    ``CacheWarning``; an unwritable cache directory gives one ``CacheWarning`` per process (docs/averaging.md).
+
+    Parameters
+    ----------
+    body : Body
+        Its symmetric part is used.
+    theta0 : float
+        Release angle in ``THETA0_RANGE``.
+    build : bool
+        If False and no valid cached table exists, raise ValueError instead of building.
+    use_cache : bool
+        Read and write the disk cache (``rocknroller.numerics.cache.cache_dir()/averaging``).
+    grid : keyword arguments of :func:`build_table`.
+    """
+    theta0 = check_map_theta0(theta0)
+    return cached_table(build_table, body, theta0, f"theta0={theta0!r}", build=build, use_cache=use_cache, **grid)
+
+
+#: Options of a table builder that change how it runs, not the table (not part of the cache key).
+_RUN_OPTIONS = ("progress", "workers")
+
+
+def cached_table(builder: Callable[..., SlowMapTable], body: Body, where: float, what: str, *, build: bool = True,
+                 use_cache: bool = True, **grid: Any) -> SlowMapTable:
+    """``builder(body.symmetric(), where, **grid)`` from memory, from the disk cache, or built (and cached).
+
+    ``what`` names ``where`` in messages.  The key holds the table version, the builder, the body, ``where`` and every
+    keyword-only option of the builder (defaults filled in); see :func:`load_or_build_table`.
+    """
+    sym = body.symmetric()
+    params = inspect.signature(builder).parameters
+    opts = {name: p.default for name, p in params.items() if p.kind is p.KEYWORD_ONLY and name not in _RUN_OPTIONS}
+    unknown = set(grid) - set(opts) - set(_RUN_OPTIONS)
+    if unknown:
+        raise ValueError(f"unknown table options {sorted(unknown)}; allowed: {sorted(opts)}")
+    run = {name: grid.pop(name) for name in _RUN_OPTIONS if name in grid and name in params}
+    opts.update(grid)
+    key = _table_key(builder.__name__, sym, where, opts)
+    if key in _TABLES:
+        return _TABLES[key]
+    directory = os.path.join(str(cache_dir()), "averaging")
+    path = os.path.join(directory, f"slowmap-{hashlib.sha256(key.encode()).hexdigest()[:20]}.npz")
+    spec = _table_spec(opts["nu"], opts["nv"])
+    table = None
+    if use_cache and os.path.lexists(path):
+        arrays, reason = load_arrays(path, key, spec)
+        if arrays is None:
+            warnings.warn(f"the cached averaging table {path} is not used ({reason}); it is rebuilt", CacheWarning,
+                          stacklevel=3)
+        else:
+            table = SlowMapTable(**{k: (a if a.ndim else float(a)) for k, a in arrays.items()})
+    if table is None:
+        if not build:
+            raise ValueError(
+                f"no averaging tables for {what} and this body ({sym.describe()}); they are built "
+                "on first use: call without build=False / --cached-only")
+        table = builder(sym, where, **opts, **run)
+        if use_cache:
+            try:
+                save_arrays(path, key, {k: getattr(table, k) for k in spec})
+            except OSError as exc:
+                warn_unwritable(directory, exc, f"the averaging tables are rebuilt in every process (for each body "
+                                f"and {what.split('=')[0]})")
+    _TABLES[key] = table
+    return table
