@@ -42,12 +42,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from rocknroller.analysis.averaging_limits import (K_PERIOD_DOUBLING, MAX_MAXIMA, THETA0_RANGE, AveragingRangeError,
-                                                   AveragingValidityWarning, check_map_theta0, check_t_end,
-                                                   eps_period_doubling, t_end_limit)
+# The stages' public names are re-exported (``averaging.load_or_build_table`` etc., module docstring); pyflakes
+# reports those this module does not use itself as unused.
+from rocknroller.analysis.averaging_limits import (K_PERIOD_DOUBLING, MAX_MAXIMA, THETA0_RANGE,  # noqa: F401
+                                                   AveragingRangeError, AveragingValidityWarning, check_map_theta0,
+                                                   check_t_end, eps_period_doubling, t_end_limit)
 from rocknroller.analysis.slow_map import _N_KICK, SlowSeries, _fast, iterate_slow_map
-from rocknroller.analysis.slow_table import (REGION_TABLE_ACCURACY, TABLE_FUNCTIONS, SlowMapTable, build_table,
-                                             load_or_build_table)
+from rocknroller.analysis.slow_table import (REGION_TABLE_ACCURACY, TABLE_FUNCTIONS, SlowMapTable,  # noqa: F401
+                                             build_table, load_or_build_table)
 from rocknroller.analysis.body import Body
 from rocknroller.analysis.reduction import u_ends
 from rocknroller.analysis.slow_diagnostics import azimuth_span, slow_period, span, unwrap_phase

@@ -25,6 +25,7 @@ from rocknroller.analysis.reduction import (F, NoMotionError, SteadyRollingError
                                             invariants_from_euler, solve_turning_points, state_from_turning_point,
                                             turning_points)
 from rocknroller.analysis.slow_diagnostics import azimuth_span
+from rocknroller.analysis.period_doubling import PeriodDoubling, period_doubling
 from rocknroller.analysis.slow_pendulum import PendulumConstants, pendulum_constants, pendulum_prediction
 from rocknroller.citation import cite
 from rocknroller.numerics.ensemble import Job, RunSummary, run_ensemble
@@ -49,5 +50,6 @@ __all__ = [
     "laurent_coefficients", "laurent_series", "laurent_function",
     # the slow motion of the rock'n'roller
     "predict_slow_motion", "SlowPrediction", "pendulum_constants", "pendulum_prediction", "PendulumConstants",
+    "period_doubling", "PeriodDoubling",
     "azimuth_span", "atlas_from_rest", "atlas_of_rates", "confirm_atlas", "Atlas", "AtlasCheck",
 ]

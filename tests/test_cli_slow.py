@@ -271,3 +271,18 @@ def test_start_options_are_checked(fresh_cache, capsys):
     assert "--workers" in capsys.readouterr().err
     assert main(["slow", "--phi-dot0", "0.05", "--nodes", "16", "7"]) == 2
     assert "--nodes" in capsys.readouterr().err
+
+
+def test_slow_period_doubling_option(capsys):
+    """--period-doubling adds the exact one-step map's ε_pd (what rr.period_doubling computes) beside 4/κ; a start
+    with velocity is refused, naming the option."""
+    from rocknroller.analysis.period_doubling import period_doubling
+
+    assert main(["slow", "--theta0", "0.95pi", "--period-doubling", "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)["period_doubling"]
+    ref = period_doubling(Body.paper(1e-3), 0.95 * math.pi)
+    assert got["eps_exact"] == ref.eps_exact and got["eps_first_order"] == ref.eps_first_order
+    assert main(["slow", "--theta0", "0.95pi", "--period-doubling"]) == 0
+    assert "exact one-step map: period doubling at eps = " in capsys.readouterr().out
+    assert main(["slow", "--theta0", "0.5pi", "--phi-dot0", "0.1", "--period-doubling"]) == 2
+    assert "--period-doubling applies to releases from rest" in capsys.readouterr().err

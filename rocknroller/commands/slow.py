@@ -74,6 +74,10 @@ def register(sub: argparse._SubParsersAction) -> None:
                    "undefined quantities are null)")
     p.add_argument("--check", action="store_true",
                    help="also run the direct ODE and print both, with relative errors")
+    p.add_argument("--period-doubling", action="store_true",
+                   help="releases from rest: also compute the eps at which rocking about the stable axis "
+                        "period-doubles from the exact one-step map (all orders in eps; 1-7 s), beside the first-order "
+                        "4/kappa")
     p.add_argument("--plot", type=Path, default=None, metavar="DIR",
                    help="draw the predicted slow orbit over the direct ODE's turning points (slow_orbit.png and .pdf "
                         "in DIR, created if missing; existing files are not overwritten without --force)")
@@ -152,6 +156,9 @@ def run(args: argparse.Namespace) -> int:
     body = _body(args, given)
     if (rates_given(args) or args.critical_line is not None or _parse(args, "phi0") != 0.0
             or av.releases_on_region_tables(_parse(args, "theta0"))):
+        if args.period_doubling:
+            raise ValueError("--period-doubling applies to releases from rest (the rocking it follows is that of the "
+                             "release's energy): give --theta0 and --psi0 only")
         start, _ = critical_line_state(args, body)
         pred, extra, messages = _from_state(args, body, start)
         summary: dict[str, Any] = {q: getattr(pred, q) for q in _QUANTITIES}
@@ -204,6 +211,13 @@ def run(args: argparse.Namespace) -> int:
         "stable_psi": consts.stable_psi}
     if pend is not None and pred.pure_rocking:
         summary["pendulum"]["slow_period"] = None  # K = 0: no libration (the closed form's period is infinite)
+    if args.period_doubling:
+        from rocknroller.analysis.period_doubling import period_doubling
+
+        pd = period_doubling(body, theta0)
+        summary["period_doubling"] = {"eps_first_order": pd.eps_first_order, "eps_exact": pd.eps_exact,
+                                      "K_exact": pd.K_exact, "correction": pd.correction,
+                                      "stable_psi": pd.stable_psi}
     return _finish(args, body, pred, pend, None, summary, messages)
 
 
@@ -266,6 +280,11 @@ def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: flo
     if pend:
         print(f"kappa = {pend['kappa']:.6g}; period doubling of rocking about the stable axis "
               f"(psi = {pend['stable_psi']:.4g}) at eps = {pend['eps_period_doubling']:.6g}")
+    if "period_doubling" in s:
+        pd = s["period_doubling"]
+        print(f"exact one-step map: period doubling at eps = {pd['eps_exact']:.8g} (first order 4/kappa = "
+              f"{pd['eps_first_order']:.8g}; K = eps*kappa = {pd['K_exact']:.8g} = 4 {'-' if pd['correction'] < 0 else '+'} "
+              f"{abs(pd['correction']):.4g} eps)")
     if s["pure_rocking"]:
         print(_PURE_ROCKING)
         return
