@@ -14,13 +14,15 @@
  * from the tables.  tests/test_averaging.py::_reference_map evaluates the same map plainly in NumPy
  * (fixed-point kick) and the tests compare the two.
  *
- * iterate(rows, rows_jac, geom, out, U, alpha, beta, dx, nv, eps, u, v, Th, t, phi, t_end)
+ * iterate(rows, rows_jac, geom, out, U, alpha, beta, dx, nv, eps, u, v, Th, t, phi, t_end[, rows2])
  *     rows      C-contiguous float64 buffer (Nf, 18 * nv): the 18 run-time functions (Chebyshev in eta)
  *     rows_jac  C-contiguous float64 buffer (Nf, 48 * nv): those, their xi-derivatives at fixed eta divided
  *               by U, and their eta-derivatives, for the kick functions 0-14
  *     geom      C-contiguous float64 buffer (Nf, 4): the chart c(x), w(x) > 0, c'(x)/U, w'(x)/U
  *     out       writable C-contiguous float64 buffer (n_max, 5): rows (t, u, v, Theta, phi)
  *     the state (u, v, Theta, t, phi) at a maximum, and t_end
+ *     rows2     optional C-contiguous float64 buffer (Nf, 25 * nv): the second-order kick k2 (harmonics c0, c1, s1,
+ *               c2, s2 in Theta of its u, v, Theta, t and phi components); the kick function is then k1 + eps k2
  * returns (n, status, u_bad, v_bad, n_jacobian, n_plain): n rows written; status 0 = t_end reached,
  *     1 = out is full, 2 = the orbit left the table at (u_bad, v_bad), 3 = the implicit kick did not
  *     converge; the numbers of table evaluations with and without the Jacobian rows.
@@ -36,6 +38,7 @@
 #define N_FUN 18    /* run-time functions: 0-14 kick harmonics, 15-17 drifts T, W, dphi */
 #define N_KICK 15
 #define N_JAC 48    /* N_FUN + 2 * N_KICK */
+#define N_K2 25     /* second order: the harmonics (c0, c1, s1, c2, s2) of k2_u, k2_v, k2_Theta, k2_t, k2_phi */
 #define MAX_NV 64
 #define MAX_ITER 60
 #define KICK_RTOL 1e-13
@@ -44,7 +47,7 @@
 enum { DONE = 0, FULL = 1, LEFT_TABLE = 2, NO_CONVERGENCE = 3 };
 
 typedef struct {
-    const double *rows, *rows_jac, *geom;
+    const double *rows, *rows_jac, *geom, *rows2; /* rows2: NULL (first order) or the N_K2 second-order rows */
     Py_ssize_t n_fine;
     double U, alpha, beta, sinh_alpha, sinh_beta, dx;
     int nv;
@@ -134,7 +137,15 @@ static int evaluate(const table_t *tb, const double *rows, int width, double u, 
     return 0;
 }
 
-/* the implicit midpoint kick (see the top); res = (u', v', Theta', eps k_t, eps k_phi) */
+/* sum of the harmonics c0 + c1 cos + s1 sin + c2 cos 2 + s2 sin 2 (cs = cos, sin, cos 2, sin 2 of Theta) */
+static double harmonics5(const double *k, const double *cs)
+{
+    return k[0] + k[1] * cs[0] + k[2] * cs[1] + k[3] * cs[2] + k[4] * cs[3];
+}
+
+/* the implicit midpoint kick (see the top); res = (u', v', Theta', eps k_t, eps k_phi).  With second-order rows the
+   kick function is k1 + eps k2 (k2 left out of the simplified Newton's Jacobian: it sets the speed of convergence,
+   not the converged value) */
 static int implicit_kick(const table_t *tb, double eps, double u, double v, double th, const double *k0,
                          double *res, double *bad, Py_ssize_t *counts)
 {
@@ -143,7 +154,7 @@ static int implicit_kick(const table_t *tb, double eps, double u, double v, doub
     double mu = u + h * (k0[0] + k0[1] * c + k0[2] * s);
     double mv = v + h * (k0[3] + k0[4] * c + k0[5] * s);
     double mt = th + h * (k0[6] + k0[7] * c + k0[8] * s);
-    double k[N_JAC], ji[9], prev = 0.0;
+    double k[N_JAC], ji[9], prev = 0.0, k2[N_K2], cs[4];
     const double *kdu = k + N_FUN, *kdv = k + N_FUN + N_KICK;
     int have_jac = 0;
     for (int it = 0; it < MAX_ITER; it++) {
@@ -158,6 +169,20 @@ static int implicit_kick(const table_t *tb, double eps, double u, double v, doub
         double ku = k[0] + k[1] * c + k[2] * s;
         double kv = k[3] + k[4] * c + k[5] * s;
         double kth = k[6] + k[7] * c + k[8] * s;
+        if (tb->rows2 != NULL) {
+            if (evaluate(tb, tb->rows2, N_K2, mu, mv, k2)) {
+                bad[0] = mu;
+                bad[1] = mv;
+                return LEFT_TABLE;
+            }
+            cs[0] = c;
+            cs[1] = s;
+            cs[2] = c * c - s * s;
+            cs[3] = 2.0 * s * c;
+            ku += eps * harmonics5(k2, cs);
+            kv += eps * harmonics5(k2 + 5, cs);
+            kth += eps * harmonics5(k2 + 10, cs);
+        }
         if (!have_jac) { /* J = I - h dk/dm at this iterate, inverted by cofactors */
             double a0 = 1.0 - h * (kdu[0] + kdu[1] * c + kdu[2] * s), a1 = -h * (kdv[0] + kdv[1] * c + kdv[2] * s),
                    a2 = -h * (k[2] * c - k[1] * s);
@@ -196,6 +221,10 @@ static int implicit_kick(const table_t *tb, double eps, double u, double v, doub
                         + (kdv[9] + kdv[10] * c + kdv[11] * s) * dv + (k[11] * c - k[10] * s) * dth;
             double kp = k[12] + k[13] * c + k[14] * s + (kdu[12] + kdu[13] * c + kdu[14] * s) * du
                         + (kdv[12] + kdv[13] * c + kdv[14] * s) * dv + (k[14] * c - k[13] * s) * dth;
+            if (tb->rows2 != NULL) {
+                kt += eps * harmonics5(k2 + 15, cs);
+                kp += eps * harmonics5(k2 + 20, cs);
+            }
             res[0] = u1;
             res[1] = v1;
             res[2] = th1;
@@ -223,11 +252,11 @@ static int get_buffer(PyObject *obj, Py_buffer *view, int writable, const char *
 
 static PyObject *iterate(PyObject *self, PyObject *args)
 {
-    PyObject *o_rows, *o_jac, *o_geom, *o_out;
+    PyObject *o_rows, *o_jac, *o_geom, *o_out, *o_rows2 = Py_None;
     double U, alpha, beta, dx, eps, u, v, Th, t, phi, t_end;
     int nv;
-    if (!PyArg_ParseTuple(args, "OOOOddddiddddddd", &o_rows, &o_jac, &o_geom, &o_out, &U, &alpha, &beta, &dx, &nv,
-                          &eps, &u, &v, &Th, &t, &phi, &t_end))
+    if (!PyArg_ParseTuple(args, "OOOOddddiddddddd|O", &o_rows, &o_jac, &o_geom, &o_out, &U, &alpha, &beta, &dx, &nv,
+                          &eps, &u, &v, &Th, &t, &phi, &t_end, &o_rows2))
         return NULL;
     if (nv < 2 || nv > MAX_NV) {
         PyErr_Format(PyExc_ValueError, "nv must be in [2, %d], got %d", MAX_NV, nv);
@@ -251,17 +280,29 @@ static PyObject *iterate(PyObject *self, PyObject *args)
         PyBuffer_Release(&b_geom);
         return NULL;
     }
-    table_t tb = {(const double *)b_rows.buf, (const double *)b_jac.buf, (const double *)b_geom.buf,
-                  b_rows.len / (8 * N_FUN * nv), U, alpha, beta, sinh(alpha), sinh(beta), dx, nv};
-    Py_ssize_t n_max = b_out.len / (8 * 5);
-    if (tb.n_fine < 6 || b_rows.len != tb.n_fine * 8 * N_FUN * nv || b_jac.len != tb.n_fine * 8 * N_JAC * nv
-        || b_geom.len != tb.n_fine * 8 * N_GEOM) {
+    Py_buffer b_rows2;
+    int second = o_rows2 != Py_None;
+    if (second && get_buffer(o_rows2, &b_rows2, 0, "rows2") < 0) {
         PyBuffer_Release(&b_rows);
         PyBuffer_Release(&b_jac);
         PyBuffer_Release(&b_geom);
         PyBuffer_Release(&b_out);
-        PyErr_SetString(PyExc_ValueError,
-                        "rows, rows_jac, geom must hold (Nf >= 6) x 18 x nv, Nf x 48 x nv and Nf x 4 values");
+        return NULL;
+    }
+    table_t tb = {(const double *)b_rows.buf, (const double *)b_jac.buf, (const double *)b_geom.buf,
+                  second ? (const double *)b_rows2.buf : NULL, b_rows.len / (8 * N_FUN * nv), U, alpha, beta,
+                  sinh(alpha), sinh(beta), dx, nv};
+    Py_ssize_t n_max = b_out.len / (8 * 5);
+    if (tb.n_fine < 6 || b_rows.len != tb.n_fine * 8 * N_FUN * nv || b_jac.len != tb.n_fine * 8 * N_JAC * nv
+        || b_geom.len != tb.n_fine * 8 * N_GEOM || (second && b_rows2.len != tb.n_fine * 8 * N_K2 * nv)) {
+        PyBuffer_Release(&b_rows);
+        PyBuffer_Release(&b_jac);
+        PyBuffer_Release(&b_geom);
+        PyBuffer_Release(&b_out);
+        if (second)
+            PyBuffer_Release(&b_rows2);
+        PyErr_SetString(PyExc_ValueError, "rows, rows_jac, geom (and rows2) must hold (Nf >= 6) x 18 x nv, "
+                                          "Nf x 48 x nv and Nf x 4 (and Nf x 25 x nv) values");
         return NULL;
     }
     double *out = (double *)b_out.buf, f[N_FUN], f1[N_FUN], res[5], bad[2] = {NAN, NAN};
@@ -310,6 +351,8 @@ static PyObject *iterate(PyObject *self, PyObject *args)
     PyBuffer_Release(&b_jac);
     PyBuffer_Release(&b_geom);
     PyBuffer_Release(&b_out);
+    if (second)
+        PyBuffer_Release(&b_rows2);
     return Py_BuildValue("niddnn", n, status, bad[0], bad[1], counts[0], counts[1]);
 }
 
@@ -320,8 +363,8 @@ static PyObject *evaluate_py(PyObject *self, PyObject *args)
     int width, nv;
     if (!PyArg_ParseTuple(args, "OOiidddddd", &o_rows, &o_geom, &width, &nv, &U, &alpha, &beta, &dx, &u, &v))
         return NULL;
-    if (nv < 2 || nv > MAX_NV || (width != N_FUN && width != N_JAC)) {
-        PyErr_Format(PyExc_ValueError, "nv must be in [2, %d] and width %d or %d", MAX_NV, N_FUN, N_JAC);
+    if (nv < 2 || nv > MAX_NV || (width != N_FUN && width != N_JAC && width != N_K2)) {
+        PyErr_Format(PyExc_ValueError, "nv must be in [2, %d] and width %d, %d or %d", MAX_NV, N_FUN, N_JAC, N_K2);
         return NULL;
     }
     Py_buffer b, bg;
@@ -331,8 +374,8 @@ static PyObject *evaluate_py(PyObject *self, PyObject *args)
         PyBuffer_Release(&b);
         return NULL;
     }
-    table_t tb = {(const double *)b.buf, NULL, (const double *)bg.buf, b.len / (8 * (Py_ssize_t)width * nv), U, alpha,
-                  beta, sinh(alpha), sinh(beta), dx, nv};
+    table_t tb = {(const double *)b.buf, NULL, (const double *)bg.buf, NULL, b.len / (8 * (Py_ssize_t)width * nv), U,
+                  alpha, beta, sinh(alpha), sinh(beta), dx, nv};
     double val[N_JAC];
     int out = (tb.n_fine < 6 || bg.len != tb.n_fine * 8 * N_GEOM) ? -1 : evaluate(&tb, tb.rows, width, u, v, val);
     PyBuffer_Release(&b);
@@ -359,7 +402,7 @@ static PyObject *evaluate_py(PyObject *self, PyObject *args)
 
 static PyMethodDef methods[] = {
     {"iterate", iterate, METH_VARARGS,
-     "iterate(rows, rows_jac, geom, out, U, alpha, beta, dx, nv, eps, u, v, Theta, t, phi, t_end)\n"
+     "iterate(rows, rows_jac, geom, out, U, alpha, beta, dx, nv, eps, u, v, Theta, t, phi, t_end[, rows2])\n"
      "    -> (n, status, u_bad, v_bad, n_jacobian, n_plain)\n\n"
      "Step the slow map from a maximum until t_end; see analysis/_slow_map_kernel.c."},
     {"evaluate", evaluate_py, METH_VARARGS,

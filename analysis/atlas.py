@@ -27,10 +27,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis import averaging as av
 from rocknroller.analysis.body import Body
+from rocknroller.analysis.parallel import check_processes, map_blocks
 from rocknroller.numerics.equations import RATE_MAX, EulerState
 
-__all__ = ["ATLAS_OBSERVABLES", "PLANES", "METHODS", "MAX_ATLAS_POINTS", "MAX_ODE_ATLAS_POINTS", "MAX_ATLAS_WORKERS",
-           "Atlas", "AtlasCheck", "reversal_counts", "atlas_from_rest", "atlas_of_rates", "confirm_atlas"]
+__all__ = ["ATLAS_OBSERVABLES", "PLANES", "METHODS", "MAX_ATLAS_POINTS", "MAX_ODE_ATLAS_POINTS", "Atlas", "AtlasCheck", "reversal_counts", "atlas_from_rest", "atlas_of_rates", "confirm_atlas"]
 
 #: What the atlas maps, per point: the map's diagnostics and the reversals per 1000 time units.
 ATLAS_OBSERVABLES = ("slow_period", "Phi", "QR_extent", "QJ_extent", "full_reversals", "visible_reversals")
@@ -167,8 +167,6 @@ def _ode_atlas(body: Body, plane: str, rows: NDArray[np.float64], cols: NDArray[
                                  for k, name in enumerate(ATLAS_OBSERVABLES)})
 
 
-#: Most processes :func:`atlas_from_rest` shares the rows among.
-MAX_ATLAS_WORKERS = 64
 #: Most points of an atlas made by the direct ODE (≈ 16 ms a run of 1000 time units at θ0 = 0.95π, ≈ 0.2 s at
 #: small amplitude; its maxima, 136 bytes each, are held until the run's diagnostics are taken).
 MAX_ODE_ATLAS_POINTS = 20_000
@@ -204,7 +202,7 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
     build : bool
         Build the tables that are not cached (else ValueError); the map only.
     processes : int
-        Processes that share the map's rows, 1 ≤ processes ≤ ``MAX_ATLAS_WORKERS`` (each point is computed the same
+        Processes that share the map's rows, 1 ≤ processes ≤ ``parallel.MAX_PROCESSES`` (each point is computed the same
         way wherever it runs; more than one starts "spawn" processes, which import the calling script: guard a
         script's top level with ``if __name__ == "__main__":``).
     scheduler, workers, threads
@@ -215,31 +213,15 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
     ValueError
         A grid out of range or larger than its method's limit (before anything is built or run), naming it.
     """
-    from tqdm.auto import tqdm
-
     th = _check_grid("theta0", theta0, np.nextafter(0.0, 1.0), av.THETA0_RANGE[1])
     ps = _check_grid("psi0", psi0, -1e6, 1e6)
     if _check_method(method) == "ode":
         return _ode_atlas(body, "release", th, ps, None, t_end, scheduler, workers, threads, progress)
     _check_size(th.size, ps.size, MAX_ATLAS_POINTS, "MAX_ATLAS_POINTS")
-    if int(processes) != processes or not 1 <= processes <= MAX_ATLAS_WORKERS:
-        raise ValueError(f"processes must be an integer in [1, {MAX_ATLAS_WORKERS}], got processes={processes!r}")
-    blocks = np.array_split(np.arange(th.size), min(int(processes), th.size) if processes > 1 else th.size)
-    parts: list[Any] = []
-    with tqdm(total=th.size, desc="atlas rows", unit="theta0", disable=None if progress is None else not progress) as bar:
-        if processes == 1:
-            for rows in blocks:
-                parts.append(_rows(body, th[rows], ps, t_end, build))
-                bar.update(rows.size)
-        else:
-            import multiprocessing
-            from concurrent.futures import ProcessPoolExecutor
-
-            with ProcessPoolExecutor(len(blocks), mp_context=multiprocessing.get_context("spawn")) as pool:
-                futures = [pool.submit(_rows, body, th[rows], ps, float(t_end), build) for rows in blocks]
-                for fut, rows in zip(futures, blocks):
-                    fut.add_done_callback(lambda _, n=rows.size: bar.update(n))
-                parts = [fut.result() for fut in futures]
+    processes = check_processes(processes, "processes")
+    blocks = np.array_split(np.arange(th.size), min(processes, th.size) if processes > 1 else th.size)
+    parts = map_blocks(_rows, [(body, th[rows], ps, float(t_end), build) for rows in blocks], [b.size for b in blocks],
+                       processes=processes, desc="atlas rows", unit="theta0", progress=progress)
     out = np.concatenate([p[0] for p in parts], axis=1)
     mask = np.concatenate([p[1] for p in parts], axis=1)
     caught_all = [msg for p in parts for msg in p[2]]

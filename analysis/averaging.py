@@ -34,9 +34,10 @@ docs/averaging.md, "Range of θ0"), and one run produces at most ``MAX_MAXIMA`` 
 
 from __future__ import annotations
 
+import functools
 import math
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -85,7 +86,13 @@ def max_t_end(body: Body, theta0: float) -> float:
     """Largest t_end accepted by :func:`predict_slow_motion` for (body, θ0): ``MAX_MAXIMA`` · T_θ(0)/2, with T_θ(0)
     the time between maxima of pure rocking (quadrature)."""
     theta0 = check_map_theta0(theta0)
-    return t_end_limit(float(symmetric_data(body.symmetric(), rest_energy(body, theta0), 0.0, 0.0)[0]))
+    return t_end_limit(_rocking_period(body.symmetric(), theta0))
+
+
+@functools.lru_cache(maxsize=256)
+def _rocking_period(sym: Body, theta0: float) -> float:
+    """T_θ(0), the time between maxima of pure rocking released at θ0 (quadrature, ~10 ms; remembered)."""
+    return float(symmetric_data(sym, rest_energy(sym, theta0), 0.0, 0.0)[0])
 
 
 
@@ -127,6 +134,7 @@ class SlowPrediction:
         sample's region is ``criticality.ON_BOTH``, there are no region runs or crossings, the extents
         and Φ are 0 and the slow period and line slope are None.
     start : the initial state of a start with velocity (None for a release from rest).
+    order : the map's order in ε (1 or 2).
     """
 
     eps: float
@@ -145,6 +153,7 @@ class SlowPrediction:
     crossings: list[tuple[float, str, str, str]] | None = field(default=None, repr=False)
     pure_rocking: bool = False
     start: EulerState | None = field(default=None, repr=False)
+    order: int = 1
 
     @property
     def rocks_per_region(self) -> dict[str, int]:
@@ -173,7 +182,8 @@ class SlowPrediction:
 
 def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | None = None,
                         t_end: float = 1000.0, *,
-                        table: SlowMapTable | None = None, build: bool = True) -> SlowPrediction:
+                        table: SlowMapTable | None = None, build: bool = True, order: int = 1,
+                        second: Any = None) -> SlowPrediction:
     """Predict the slow (Q_R, Q_J) motion of ``body`` released from rest at θ0 with spin angle ψ0, or from any
     initial state.
 
@@ -198,6 +208,11 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
         Precomputed tables of (body, θ0); by default :func:`load_or_build_table`.
     build : bool
         Build the tables if they are not cached (else ValueError).
+    order : {1, 2}
+        The map's order in ε.  Order 2 adds the second-order kick k₂ (:mod:`rocknroller.analysis.second_order`,
+        tables built once per (body, θ0), ~60 s on 2 cores, and cached); releases in ``THETA0_RANGE`` only.
+    second : SecondOrderTable, optional
+        Precomputed second-order tables of (body, θ0) for order 2.
 
     Returns
     -------
@@ -208,13 +223,19 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
     Raises
     ------
     ValueError
-        θ0, ψ0 or t_end out of range (naming it), or a table for another (body, θ0).
+        θ0, ψ0, t_end or order out of range (naming it), or a table for another (body, θ0).
 
     Warns
     -----
     AveragingValidityWarning
         If K = ε κ > 4 (pure rocking about the stable axis has period-doubled).
     """
+    if order not in (1, 2) or isinstance(order, bool):
+        raise ValueError(f"order must be 1 or 2, got order={order!r}")
+    if order == 2 and (isinstance(theta0, EulerState) or releases_on_region_tables(theta0)):
+        raise ValueError(f"order=2 covers releases from rest with theta0 in [{THETA0_RANGE[0] / math.pi:.4g}pi, "
+                         f"{THETA0_RANGE[1] / math.pi:.4g}pi] (the release tables); starts with velocity and lower "
+                         "releases use the region tables, which are first order")
     if isinstance(theta0, EulerState):
         if psi0 is not None:
             raise ValueError("psi0 is part of the initial state: give either (theta0, psi0) or an EulerState")
@@ -228,7 +249,7 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
     if not math.isfinite(psi0):
         raise ValueError(f"psi0 must be finite, got psi0={psi0!r}")
     if table is None:
-        check_t_end(t_end, float(symmetric_data(body.symmetric(), rest_energy(body, theta0), 0.0, 0.0)[0]))
+        check_t_end(t_end, _rocking_period(body.symmetric(), theta0))
         table = load_or_build_table(body, theta0, build=build)
     elif abs(table.theta0 - theta0) > 1e-15:
         raise ValueError(f"the table is for theta0={table.theta0!r}, not {theta0!r}")
@@ -246,8 +267,17 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
             eps=eps, theta0=theta0, psi0=psi0, t_end=float(t_end), K=0.0, slow_period=None, QR_extent=0.0,
             QJ_extent=0.0, Phi=0.0, line_slope=None,
             series=SlowSeries(t=t, QR=zero, QJ=zero.copy(), Theta=np.full_like(t, 2.0 * psi0), phi=zero.copy()),
-            regions=np.full(t.size, ON_BOTH, dtype=object), region_runs=[], crossings=[], pure_rocking=True)
-    return _prediction(eps, theta0, psi0, t_end, K, iterate_slow_map(table, eps, psi0, t_end), table.body)
+            regions=np.full(t.size, ON_BOTH, dtype=object), region_runs=[], crossings=[], pure_rocking=True,
+            order=order)
+    if order == 2:
+        from rocknroller.analysis.second_order import load_or_build_second_order_table
+
+        if second is None:
+            second = load_or_build_second_order_table(body, theta0, build=build)
+        elif abs(second.theta0 - theta0) > 1e-15 or second.E0 != table.E0:
+            raise ValueError(f"the second-order table is for theta0={second.theta0!r}, not {theta0!r}")
+    series = iterate_slow_map(table, eps, psi0, t_end, second=second if order == 2 else None)
+    return replace(_prediction(eps, theta0, psi0, t_end, K, series, table.body), order=order)
 
 
 

@@ -142,13 +142,15 @@ class EpsDerivatives:
     h: float
 
 
-def eps_derivatives(sym: Body, E: float, QR: float, QJ: float, psi: float, h: float = 2e-3) -> EpsDerivatives:
+def eps_derivatives(sym: Body, E: float, QR: float, QJ: float, psi: float, h: float = 5e-4) -> EpsDerivatives:
     """∂/∂ε and ∂²/∂ε² of :func:`exact_step` at ε = 0, by central differences over ε ∈ {0, ±h/2, ±h, ±2h}
     (7 exact steps), extrapolated.
 
-    Each exact step is accurate to ~1e-13 (heyoka at the unit round-off over one rock), so round-off adds
-    ~1e-13/h to the first derivative and ~1e-13/h² to the second: h = 2e-3 keeps both below the truncation of
-    the step-h stencils, which the extrapolation removes.
+    Each exact step is accurate to ~1e-13 relative (heyoka at the unit round-off over one rock; the values are
+    ≤ ~60), so round-off adds ~1e-13·60/h to the first derivative and ~1e-13·60/h² to the second (2e-5 at
+    h = 5e-4).  Near Q = 0 the ε-series of one step has a radius of only ~1e-2 (the layer where W turns by 2π), so
+    the truncation of the stencils is (h/1e-2)⁴ relative before extrapolation: h = 2e-3 leaves 1e-3 of the second
+    derivative there (8e-4 at Q = 0.002 e, 0.95π, as its error estimate says), h = 5e-4 leaves 1e-5.
 
     Raises
     ------

@@ -8,6 +8,7 @@ along the chart, Chebyshev series across it) in the compiled kernel ``rocknrolle
 from __future__ import annotations
 
 import math
+from typing import Any
 from dataclasses import dataclass
 
 import numpy as np
@@ -58,7 +59,7 @@ _FINE_POINTS = 8193
 #: Run-time functions: 0-8 the harmonics (c0, c1, s1) of k_u = e·k_Q, k_v = n·k_Q and k_Θ (solved for
 #: implicitly), 9-14 those of the time and φ kicks, 15-17 the drifts T_θ, W, Δφ.
 _N_KICK = 15
-_FAST: dict[int, "_FastTable"] = {}
+_FAST: dict[tuple[int, int], "_FastTable"] = {}
 #: Kernel statuses (analysis/_slow_map_kernel.c).
 _DONE, _FULL, _LEFT_TABLE, _NO_CONVERGENCE = range(4)
 #: Largest number of output rows the kernel fills per call.
@@ -84,7 +85,7 @@ class _FastTable:
     compiled kernel ``rocknroller.analysis._slow_map_kernel`` (about 1 µs a step).
     """
 
-    def __init__(self, table: SlowMapTable) -> None:
+    def __init__(self, table: SlowMapTable, second: Any = None) -> None:
         c = table.coef
         e, n = table.e, table.n
         rows = []
@@ -112,6 +113,25 @@ class _FastTable:
         self.rows = np.ascontiguousarray(fine.reshape(_FINE_POINTS, -1))
         self.rows_jac = np.ascontiguousarray(np.concatenate([fine, fine_d], axis=1).reshape(_FINE_POINTS, -1))
         self.table = table
+        self.second = second
+        self.rows2 = None if second is None else self._second_order_rows(second)
+
+    def _second_order_rows(self, second: Any) -> NDArray[np.float64]:
+        """The run-time rows (Nf, 25 · nv) of a :class:`rocknroller.analysis.second_order.SecondOrderTable` on this
+        table's chart: k₂_u = e·k₂_Q, k₂_v = n·k₂_Q, k₂_Θ, k₂_t, k₂_φ, five harmonics each, Chebyshev in τ (its
+        series padded to this table's nv terms)."""
+        c2 = np.asarray(second.coef, float).reshape(5, 5, *second.coef.shape[1:])  # (component, harmonic, ξ, η)
+        nu2, nv2 = c2.shape[2:]
+        if nv2 > self.nv:
+            raise ValueError(f"the second-order table ({nu2} x {nv2} terms) does not fit the run-time form of this "
+                             f"table ({self.nv} terms across)")
+        e, n = self.e, self.n
+        comps = [e[0] * c2[0] + e[1] * c2[1], n[0] * c2[0] + n[1] * c2[1], c2[2], c2[3], c2[4]]
+        coef = np.zeros((25, nu2, self.nv))
+        coef[:, :, :nv2] = np.concatenate(comps).reshape(25, nu2, nv2)
+        xi = np.linspace(-1.0, 1.0, _FINE_POINTS)
+        fine = _at_points(coef, _cheb_basis(xi, nu2))  # (Nf, 25, nv)
+        return np.ascontiguousarray(fine.reshape(_FINE_POINTS, -1))
 
     def _evaluate(self, rows: NDArray[np.float64], u: float, v: float) -> list[float]:
         out = _kernel.evaluate(rows, self.geom, rows.shape[1] // self.nv, self.nv, self.U, self.alpha, self.beta,
@@ -140,7 +160,7 @@ class _FastTable:
             out = np.empty((max(cap, 1), 5))
             n, status, ub, vb, n_jac, n_plain = _kernel.iterate(self.rows, self.rows_jac, self.geom, out, self.U,
                                                                  self.alpha, self.beta, self.dx, self.nv, eps, u, v,
-                                                                 Th, t, phi, t_end)
+                                                                 Th, t, phi, t_end, self.rows2)
             counts[0] += n_jac
             counts[1] += n_plain
             chunks.append(out[:n])
@@ -160,16 +180,18 @@ class _FastTable:
         return np.concatenate(chunks), (counts[0], counts[1])
 
 
-def _fast(table: SlowMapTable) -> _FastTable:
-    ft = _FAST.get(id(table))
-    if ft is None or ft.table is not table:
-        ft = _FastTable(table)
-        _FAST[id(table)] = ft
+def _fast(table: SlowMapTable, second: Any = None) -> _FastTable:
+    key = (id(table), id(second))
+    ft = _FAST.get(key)
+    if ft is None or ft.table is not table or ft.second is not second:
+        ft = _FastTable(table, second)
+        _FAST[key] = ft
     return ft
 
 
 def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float, *,
-                     Q0: ArrayLike = (0.0, 0.0), phi0: float = 0.0, n_steps: int | None = None) -> SlowSeries:
+                     Q0: ArrayLike = (0.0, 0.0), phi0: float = 0.0, n_steps: int | None = None,
+                     second: Any = None) -> SlowSeries:
     """Iterate the reversible drift–kick–drift slow map from a maximum at t = 0.
 
     One step: Θ += W(Q)/2; (Q, Θ) += ε k(midpoint) (implicit midpoint, solved by simplified Newton
@@ -191,6 +213,9 @@ def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float,
     phi0 : φ at the start.
     n_steps : int, optional
         Stop after this many steps (even before t_end), 1 ≤ n_steps ≤ ``MAX_MAXIMA``.
+    second : SecondOrderTable, optional
+        The second-order kick k₂ on this table's chart (:mod:`rocknroller.analysis.second_order`): the kick function
+        becomes k₁ + ε k₂, the map second order in ε and still reversible.
 
     Raises
     ------
@@ -206,7 +231,7 @@ def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float,
         raise ValueError(f"psi0 must be finite, got psi0={psi0!r}")
     if n_steps is not None and (int(n_steps) != n_steps or not 1 <= n_steps <= MAX_MAXIMA):
         raise ValueError(f"n_steps must be an integer in [1, {MAX_MAXIMA}] (MAX_MAXIMA), got n_steps={n_steps!r}")
-    ft = _fast(table)
+    ft = _fast(table, second)
     if n_steps is None:
         check_t_end(t_end, ft.values(0.0, 0.0)[_N_KICK])
     elif not (math.isfinite(t_end) and t_end > 0.0):

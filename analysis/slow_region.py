@@ -31,6 +31,7 @@ from rocknroller.analysis.averaging_limits import AveragingRangeError
 from rocknroller.analysis.slow_table import (CHART_TERMS, REGION_TABLE_ACCURACY, TABLE_FUNCTIONS, SlowMapTable,
                                              _cheb_nodes, cached_table, check_grid, fit_and_check, kick_at_rest)
 from rocknroller.analysis.body import Body
+from rocknroller.analysis.parallel import check_processes, map_blocks
 from rocknroller.analysis.quadrature import wrap_angle
 from rocknroller.analysis.reduction import E_MAX, NoMotionError, min_potential, solve_turning_points
 from rocknroller.analysis.slow_orbit import FIRST_ORDER_NAMES, HARMONIC_PSI, _harmonics, first_order_step, symmetric_data
@@ -61,12 +62,6 @@ def _check_energy(E: float) -> float:
     if not (math.isfinite(E) and 0.0 < E <= E_MAX):
         raise ValueError(f"E must be a finite number in (0, {E_MAX:g}], got E={E!r}")
     return E
-
-
-def _check_workers(workers: int) -> int:
-    if int(workers) != workers or not 1 <= workers <= MAX_WORKERS:
-        raise ValueError(f"workers must be an integer in [1, {MAX_WORKERS}], got workers={workers!r}")
-    return int(workers)
 
 
 def region_frame(body: Body, E: float, *, nu: int = 48, nv: int = 24, delta_min: float = 0.05,
@@ -155,36 +150,20 @@ def _node_block(sym: Body, E: float, nodes: list[tuple[float, float, float]]) ->
     return out
 
 
-#: Nodes per task of a parallel table build, and the most worker processes used.
+#: Nodes per task of a parallel table build.
 _BLOCK_NODES = 64
-MAX_WORKERS = 64
 
 
 def _orbit_data(sym: Body, E: float, QR: NDArray, QJ: NDArray, progress: bool = False, workers: int = 1):
     """T, W mod 2π, Δφ mod π and the harmonics of the ε-responses at each Q, from three variational orbits
     per node; ``workers`` processes share the nodes (each node's numbers do not depend on how many)."""
-    from tqdm.auto import tqdm
-
     tp = solve_turning_points(E, QR, QJ, sym)
     if np.any(np.asarray(tp.status) != 0):
         raise AveragingRangeError(f"some nodes of the region tables of E={E!r} have no oscillation of theta")
     nodes = list(zip(np.ravel(QR).tolist(), np.ravel(QJ).tolist(), np.ravel(tp.theta_X).tolist()))
     blocks = [nodes[i:i + _BLOCK_NODES] for i in range(0, len(nodes), _BLOCK_NODES)]
-    with tqdm(total=len(nodes), desc="region tables", unit="node", disable=not progress) as bar:
-        if workers == 1:
-            rows = []
-            for block in blocks:
-                rows.append(_node_block(sym, E, block))
-                bar.update(len(block))
-        else:
-            import multiprocessing
-            from concurrent.futures import ProcessPoolExecutor
-
-            with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn")) as pool:
-                futures = [pool.submit(_node_block, sym, E, block) for block in blocks]
-                for fut, block in zip(futures, blocks):
-                    fut.add_done_callback(lambda _, n=len(block): bar.update(n))
-                rows = [fut.result() for fut in futures]
+    rows = map_blocks(_node_block, [(sym, E, block) for block in blocks], [len(b) for b in blocks],
+                      processes=workers, desc="region tables", unit="node", progress=progress)
     data = np.concatenate(rows).reshape(np.shape(QR) + (-1,))
     resp = np.moveaxis(data[..., 3:].reshape(np.shape(QR) + (len(FIRST_ORDER_NAMES), 3)), -2, 0)
     return data[..., 0], data[..., 1], data[..., 2], resp
@@ -234,11 +213,11 @@ def build_region_table(body: Body, E: float, *, nu: int = 128, nv: int = 32, del
     progress : bool
         A tqdm progress bar over the nodes (3 variational orbits each).
     workers : int
-        Processes that share the nodes, 1 ≤ workers ≤ ``MAX_WORKERS``; the table does not depend on it.  More
+        Processes that share the nodes, 1 ≤ workers ≤ ``parallel.MAX_PROCESSES``; the table does not depend on it.  More
         than one starts a pool of "spawn" processes, which import the calling script: a script that asks for
         workers must guard its top level with ``if __name__ == "__main__":`` (the ``rocknroller`` command does).
     """
-    workers = _check_workers(workers)
+    workers = check_processes(workers, "workers")
     frame = region_frame(body, E, nu=nu, nv=nv, delta_min=delta_min, tip_fraction=tip_fraction)
     QR, QJ = frame.nodes()
     try:

@@ -443,12 +443,14 @@ def load_or_build_table(body: Body, theta0: float, *, build: bool = True, use_ca
 _RUN_OPTIONS = ("progress", "workers")
 
 
-def cached_table(builder: Callable[..., SlowMapTable], body: Body, where: float, what: str, *, build: bool = True,
-                 use_cache: bool = True, **grid: Any) -> SlowMapTable:
+def cached_table(builder: Callable[..., Any], body: Body, where: float, what: str, *, build: bool = True,
+                 use_cache: bool = True, table_type: type = SlowMapTable,
+                 spec_of: Callable[[dict[str, Any]], dict[str, tuple[int, ...]]] | None = None, **grid: Any) -> Any:
     """``builder(body.symmetric(), where, **grid)`` from memory, from the disk cache, or built (and cached).
 
     ``what`` names ``where`` in messages.  The key holds the table version, the builder, the body, ``where`` and every
-    keyword-only option of the builder (defaults filled in); see :func:`load_or_build_table`.
+    keyword-only option of the builder (defaults filled in); see :func:`load_or_build_table`.  ``table_type`` is the
+    frozen dataclass built, whose fields ``spec_of(options)`` lists with their shapes (default: a SlowMapTable's).
     """
     sym = body.symmetric()
     params = inspect.signature(builder).parameters
@@ -463,7 +465,7 @@ def cached_table(builder: Callable[..., SlowMapTable], body: Body, where: float,
         return _TABLES[key]
     directory = os.path.join(str(cache_dir()), "averaging")
     path = os.path.join(directory, f"slowmap-{hashlib.sha256(key.encode()).hexdigest()[:20]}.npz")
-    spec = _table_spec(opts["nu"], opts["nv"])
+    spec = spec_of(opts) if spec_of is not None else _table_spec(opts["nu"], opts["nv"])
     table = None
     if use_cache and os.path.lexists(path):
         arrays, reason = load_arrays(path, key, spec)
@@ -471,7 +473,7 @@ def cached_table(builder: Callable[..., SlowMapTable], body: Body, where: float,
             warnings.warn(f"the cached averaging table {path} is not used ({reason}); it is rebuilt", CacheWarning,
                           stacklevel=3)
         else:
-            table = SlowMapTable(**{k: (a if a.ndim else float(a)) for k, a in arrays.items()})
+            table = table_type(**{k: (a if a.ndim else float(a)) for k, a in arrays.items()})
     if table is None:
         if not build:
             raise ValueError(

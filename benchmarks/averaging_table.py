@@ -38,12 +38,17 @@ def print_table(title: str, header: list[str], rows: list[list[str]]) -> None:
         print("| " + " | ".join(r) + " |")
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def theta0_and_t_end(doc: str) -> tuple[argparse.Namespace, float]:
+    """The --theta0 and --t-end options of a validation table script (its first doc line as the description)."""
+    ap = argparse.ArgumentParser(description=doc.splitlines()[0])
     ap.add_argument("--theta0", default="0.95pi")
     ap.add_argument("--t-end", type=float, default=1000.0)
     args = ap.parse_args()
-    theta0 = parse_angle(args.theta0)
+    return args, parse_angle(args.theta0)
+
+
+def main() -> None:
+    args, theta0 = theta0_and_t_end(__doc__)
     sym = Body.paper(0.0)
     table = load_or_build_table(sym, theta0)
     consts = pendulum_constants(sym, theta0)

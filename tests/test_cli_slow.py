@@ -25,7 +25,9 @@ def fresh_cache(tmp_path_factory):
 
 
 def test_json_and_check(fresh_cache, capsys):
-    assert main(["slow", "--eps", "1e-3", "--psi0", "3pi/8", "--t-end", "400", "--json", "--check"]) == 0
+    """The first-order map in a fresh cache (the tests here use --order 1 so that each builds only the first-order
+    tables; test_slow_order_option covers the default, order 2)."""
+    assert main(["slow", "--order", "1", "--eps", "1e-3", "--psi0", "3pi/8", "--t-end", "400", "--json", "--check"]) == 0
     out = json.loads(capsys.readouterr().out)
     for key in ("slow_period", "QR_extent", "QJ_extent", "Phi", "pendulum", "ode", "rel_error"):
         assert key in out
@@ -41,7 +43,7 @@ def test_json_and_check(fresh_cache, capsys):
 
 
 def test_plain_output_and_plot(fresh_cache, tmp_path, capsys):
-    assert main(["slow", "--t-end", "200", "--plot", str(tmp_path / "fig")]) == 0
+    assert main(["slow", "--order", "1", "--t-end", "200", "--plot", str(tmp_path / "fig")]) == 0
     captured = capsys.readouterr()
     assert "slow_period" in captured.out and "period doubling" in captured.out
     for ext in ("png", "pdf"):
@@ -56,7 +58,7 @@ def test_outside_valid_regime(fresh_cache, capsys):
     assert "theta0" in capsys.readouterr().err
     assert main(["slow", "--theta0", "0.9pi", "--cached-only"]) == 2
     assert "no averaging tables" in capsys.readouterr().err
-    assert main(["slow", "--eps", "1.1e-2", "--t-end", "100", "--json"]) == 0
+    assert main(["slow", "--order", "1", "--eps", "1.1e-2", "--t-end", "100", "--json"]) == 0
     captured = capsys.readouterr()
     eps_pd = pendulum_constants(Body.paper(1.1e-2), 0.95 * math.pi).eps_period_doubling
     assert "K = eps*kappa" in captured.err and f"eps < {eps_pd:.4g} " in captured.err
@@ -177,7 +179,7 @@ def test_json_is_strict_without_the_guard(fresh_cache, capsys, monkeypatch, argv
         return guard(x)
 
     monkeypatch.setattr(options, "finite_or_none", strict)
-    assert main(["slow", "--json", *argv]) == 0
+    assert main(["slow", "--json", "--order", "1", *argv]) == 0
     out = _strict_json(capsys.readouterr().out)
     if argv[:2] == ["--t-end", "20"]:
         assert out["n_maxima"] == 1 and out["line_slope"] is None and out["slow_period"] is None
@@ -278,11 +280,12 @@ def test_slow_period_doubling_option(capsys):
     with velocity is refused, naming the option."""
     from rocknroller.analysis.period_doubling import period_doubling
 
-    assert main(["slow", "--theta0", "0.95pi", "--period-doubling", "--json"]) == 0
+    assert main(["slow", "--theta0", "0.95pi", "--order", "1", "--period-doubling", "--json"]) == 0
     got = json.loads(capsys.readouterr().out)["period_doubling"]
     ref = period_doubling(Body.paper(1e-3), 0.95 * math.pi)
     assert got["eps_exact"] == ref.eps_exact and got["eps_first_order"] == ref.eps_first_order
-    assert main(["slow", "--theta0", "0.95pi", "--period-doubling"]) == 0
+    assert main(["slow", "--theta0", "0.95pi", "--order", "1", "--period-doubling"]) == 0
     assert "exact one-step map: period doubling at eps = " in capsys.readouterr().out
     assert main(["slow", "--theta0", "0.5pi", "--phi-dot0", "0.1", "--period-doubling"]) == 2
     assert "--period-doubling applies to releases from rest" in capsys.readouterr().err
+

@@ -40,8 +40,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``slow`` subcommand and its ``--help`` to ``sub``."""
     p = sub.add_parser(
         "slow",
-        help="predict the slow (Q_R, Q_J) oscillation by first-order eps-averaging",
-        description="First-order eps-averaged slow dynamics of the asymmetric rock'n'roller released from rest "
+        help="predict the slow (Q_R, Q_J) oscillation by eps-averaging (first or second order)",
+        description="eps-averaged slow dynamics (first order; second order with --order 2, the default for releases "
+        "from rest in the release tables' range) of the asymmetric rock'n'roller released from rest "
         "at (theta0, psi0): the reversible slow map sampled at the maxima of theta (tables built once per body "
         "and theta0, cached) and its closed form near pure rocking (standard map / pendulum); or, with any rate "
         "option or --critical-line, from that start (carried to its first maximum of theta by the direct ODE; "
@@ -61,7 +62,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         "energy of a release from about 0.7pi; beyond, a warning says how far)"))
     add_critical_line_options(p.add_argument_group("start on a critical line"))
     p.add_argument("--workers", type=int, default=2,
-                   help="processes that build the region tables of a start with velocity (default 2)")
+                   help="processes that build the region tables of a start with velocity, or the second-order "
+                        "tables of a release (default 2)")
     p.add_argument("--nodes", type=int, nargs=2, default=(128, 32), metavar=("NU", "NV"),
                    help="Chebyshev nodes of the region tables along and across Q_J,0^crit (default 128 32: "
                         "interpolation error ~1e-8 up to the energy of a release from 0.6pi; fewer are faster and "
@@ -74,6 +76,12 @@ def register(sub: argparse._SubParsersAction) -> None:
                    "undefined quantities are null)")
     p.add_argument("--check", action="store_true",
                    help="also run the direct ODE and print both, with relative errors")
+    p.add_argument("--order", type=int, choices=(1, 2), default=None,
+                   help="order of the map in eps: 2 adds the second-order kick (releases from rest in "
+                        f"[{_LO:g}pi, {_HI:g}pi]; its tables are built once per body and theta0, ~60 s on 2 cores, and "
+                        "cached; errors ~10-100x smaller than order 1 at eps <= 3e-3, docs/averaging.md); default: 2 "
+                        "for those releases, 1 for the others (starts with velocity and lower releases: region "
+                        "tables, first order)")
     p.add_argument("--period-doubling", action="store_true",
                    help="releases from rest: also compute the eps at which rocking about the stable axis "
                         "period-doubles from the exact one-step map (all orders in eps; 1-7 s), beside the first-order "
@@ -156,13 +164,16 @@ def run(args: argparse.Namespace) -> int:
     body = _body(args, given)
     if (rates_given(args) or args.critical_line is not None or _parse(args, "phi0") != 0.0
             or av.releases_on_region_tables(_parse(args, "theta0"))):
+        if args.order == 2:
+            raise ValueError(f"--order 2 covers releases from rest with --theta0 in [{_LO:g}pi, {_HI:g}pi]; starts "
+                             "with velocity and lower releases use the region tables, which are first order")
         if args.period_doubling:
             raise ValueError("--period-doubling applies to releases from rest (the rocking it follows is that of the "
                              "release's energy): give --theta0 and --psi0 only")
         start, _ = critical_line_state(args, body)
         pred, extra, messages = _from_state(args, body, start)
         summary: dict[str, Any] = {q: getattr(pred, q) for q in _QUANTITIES}
-        summary.update({"K": pred.K, "line_slope": pred.line_slope, "pure_rocking": False,
+        summary.update({"K": pred.K, "order": pred.order, "line_slope": pred.line_slope, "pure_rocking": False,
                         "rocks_per_region": pred.rocks_per_region,
                         "region_runs": [list(r) for r in pred.region_runs or []],
                         "crossings": [list(c) for c in pred.crossings or []], "n_maxima": int(pred.series.t.size),
@@ -193,14 +204,20 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError(f"the averaging tables {unresolved}: {exc}") from None
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", av.AveragingValidityWarning)
-        pred = av.predict_slow_motion(body, theta0, psi0, args.t_end, table=table)
+        order = 2 if args.order is None else args.order
+        second = None
+        if order == 2 and body.epsilon > 0.0:
+            from rocknroller.analysis.second_order import load_or_build_second_order_table
+
+            second = load_or_build_second_order_table(body, theta0, build=not args.cached_only, workers=args.workers)
+        pred = av.predict_slow_motion(body, theta0, psi0, args.t_end, table=table, order=order, second=second)
     pend = None
     try:
         pend = pendulum_prediction(body, theta0, psi0, args.t_end, constants=consts)
     except ValueError as exc:  # psi0 on the separatrix
         messages.append(f"closed form unavailable: {exc}")
     summary: dict[str, Any] = {q: getattr(pred, q) for q in _QUANTITIES}
-    summary.update({"K": K, "line_slope": pred.line_slope, "pure_rocking": pred.pure_rocking,
+    summary.update({"K": K, "order": pred.order, "line_slope": pred.line_slope, "pure_rocking": pred.pure_rocking,
                     "rocks_per_region": pred.rocks_per_region,
                     "region_runs": [list(r) for r in pred.region_runs or []],
                     "crossings": [list(c) for c in pred.crossings or []], "n_maxima": int(pred.series.t.size),
@@ -259,7 +276,7 @@ def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: flo
     print(f"body: {body.describe()}")
     if start is None:
         print(f"released from rest at theta0={theta0:.6g}, psi0={psi0:.6g}; t_end={t_end:g}; "
-              f"K = eps*kappa = {s['K']:.4g}")
+              f"K = eps*kappa = {s['K']:.4g}; map of order {s['order']} in eps")
     else:
         fm = s["first_maximum"]
         print(f"start: {start}; first maximum of theta at t={fm['t']:.6g} (theta={fm['theta']:.6g}, "

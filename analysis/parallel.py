@@ -1,0 +1,45 @@
+"""Blocks of independent work shared by "spawn" processes, with a progress bar: the table builds and the atlas.
+
+Each block's result depends only on the block, so the results do not depend on the number of processes.  Spawned
+processes import the calling script: guard a script's top level with ``if __name__ == "__main__":``.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Callable, Sequence
+
+__all__ = ["MAX_PROCESSES", "check_processes", "map_blocks"]
+
+#: Most processes one call may start.
+MAX_PROCESSES = 64
+
+
+def check_processes(value: Any, name: str = "workers") -> int:
+    """``value`` as an int in [1, ``MAX_PROCESSES``], else a ValueError naming ``name``."""
+    if isinstance(value, bool) or int(value) != value or not 1 <= value <= MAX_PROCESSES:
+        raise ValueError(f"{name} must be an integer in [1, {MAX_PROCESSES}], got {name}={value!r}")
+    return int(value)
+
+
+def map_blocks(fn: Callable[..., Any], blocks: Sequence[tuple[Any, ...]], sizes: Sequence[int], *, processes: int = 1,
+               desc: str = "", unit: str = "item", progress: bool | None = False) -> list[Any]:
+    """``[fn(*b) for b in blocks]``, in this process or in ``processes`` spawned ones; a tqdm bar advances by
+    ``sizes[i]`` as block i completes (``progress`` None: only on a terminal)."""
+    from tqdm.auto import tqdm
+
+    processes = check_processes(processes, "processes")
+    with tqdm(total=sum(sizes), desc=desc, unit=unit, disable=None if progress is None else not progress) as bar:
+        if processes == 1:
+            out = []
+            for b, n in zip(blocks, sizes):
+                out.append(fn(*b))
+                bar.update(n)
+            return out
+        import multiprocessing
+        from concurrent.futures import ProcessPoolExecutor
+
+        with ProcessPoolExecutor(processes, mp_context=multiprocessing.get_context("spawn")) as pool:
+            futures = [pool.submit(fn, *b) for b in blocks]
+            for fut, n in zip(futures, sizes):
+                fut.add_done_callback(lambda _, n=n: bar.update(n))
+            return [fut.result() for fut in futures]
