@@ -7,7 +7,9 @@ gives, near p*, Chirikov's standard map with K = ε κ, whose pair reaches −1 
 (``averaging_limits.eps_period_doubling``).  Here J(ε) is computed from the exact step
 (:func:`rocknroller.analysis.exact_step.exact_step`: direct ODE, no expansion in ε) by fourth-order central
 differences at p*, and ε_pd is the root of det(J(ε) + 1) = 0 (Brent), to all orders in ε.  Its departure from the
-first-order value is the O(ε²) correction: K_pd = ε_pd κ = 4 + c ε_pd + O(ε_pd²).
+first-order value is the O(ε²) correction: K_pd = ε_pd κ = 4 + c ε_pd + O(ε_pd²).  The averaged maps' own thresholds
+(:func:`map_period_doubling`: 4/κ for order 1; order 2 adds its part of the correction) are found the same way
+on one map step.
 
 Checked against direct runs (``tests/test_period_doubling.py``): a deviation of 1e-4 from ψ_s stays 1e-4 over
 3000 time units below ε_pd and grows above it.
@@ -17,6 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -27,7 +30,7 @@ from rocknroller.analysis.exact_step import exact_step
 from rocknroller.analysis.quadrature import wrap_angle
 from rocknroller.analysis.slow_orbit import rest_energy, symmetric_data
 
-__all__ = ["rocking_jacobian", "PeriodDoubling", "period_doubling"]
+__all__ = ["rocking_jacobian", "map_rocking_jacobian", "map_period_doubling", "PeriodDoubling", "period_doubling"]
 
 #: Steps of the central differences at p*: in Q (well inside the layer of width ~2/|∇W(0)| ≳ 5e-3 where W turns,
 #: so the O(h⁴) truncation is ~1e-12 relative; the exact steps' ~1e-13 round-off adds ~1e-7/|∂Θ'/∂Q| ~ 1e-10) and
@@ -47,6 +50,23 @@ def rocking_jacobian(body: Body, theta0: float, eps: float, stable_psi: float) -
     def P(x: NDArray[np.float64]) -> NDArray[np.float64]:
         return exact_step(sym, eps, E, float(x[0]), float(x[1]), 0.5 * float(x[2]), period)[:3]
 
+    return _central_jacobian(P, x0)
+
+
+def map_rocking_jacobian(table: Any, eps: float, stable_psi: float, second: Any = None) -> NDArray[np.float64]:
+    """As :func:`rocking_jacobian`, for one step of the averaged map on a release table (order 2 with its
+    ``second``-order table)."""
+    from rocknroller.analysis.slow_map import iterate_slow_map
+
+    def P(x: NDArray[np.float64]) -> NDArray[np.float64]:
+        s = iterate_slow_map(table, eps, 0.5 * float(x[2]), 1e6, Q0=x[:2], n_steps=1, second=second)
+        return np.array([s.QR[0], s.QJ[0], s.Theta[0]])
+
+    return _central_jacobian(P, np.array([0.0, 0.0, 2.0 * stable_psi]))
+
+
+def _central_jacobian(P: Any, x0: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Fourth-order central differences of the step P at x0 (steps ``_H_Q``, ``_H_Q``, ``_H_THETA``; Θ wrapped)."""
     def diff(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
         d = a - b
         d[2] = float(wrap_angle(d[2]))
@@ -58,6 +78,45 @@ def rocking_jacobian(body: Body, theta0: float, eps: float, stable_psi: float) -
         e[j] = h
         J[:, j] = (8.0 * diff(P(x0 + e), P(x0 - e)) - diff(P(x0 + 2 * e), P(x0 - 2 * e))) / (12.0 * h)
     return J
+
+
+def _root(excess: Any, e1: float, theta0: float, rtol: float) -> float:
+    """The root of ``excess`` (det(J + 1)) in ε near 4/κ = e1: a bracket grown from ±1 % by 5 % a side, to 0.8 e1."""
+    from scipy.optimize import brentq
+
+    lo, hi = 0.99 * e1, 1.01 * e1
+    f_lo, f_hi = excess(lo), excess(hi)
+    while f_lo * f_hi > 0.0:
+        if lo < 0.8 * e1:
+            raise ValueError(f"no period doubling of stable rocking within [0.8, 1.25] x 4/kappa = {e1:.4g} at "
+                             f"theta0={theta0!r}")
+        lo, hi = 0.95 * lo, 1.05 * hi
+        f_lo, f_hi = excess(lo), excess(hi)
+    return float(brentq(excess, lo, hi, xtol=1e-300, rtol=rtol))
+
+
+def map_period_doubling(body: Body, theta0: float, order: int = 2, *, rtol: float = 1e-10, workers: int = 1) -> float:
+    """ε at which the averaged map of ``order`` has its rocking fixed point period-double (4/κ for order 1, to
+    the differences' accuracy; order 2 adds the map's O(ε²) correction).  Needs the release tables of (body, θ0)
+    (and for order 2 the second-order ones, built once by ``workers`` processes, ~60 s with 2, and cached).
+
+    Raises
+    ------
+    ValueError
+        ``order`` not 1 or 2, θ0 outside ``THETA0_RANGE``, or no root near 4/κ.
+    """
+    from rocknroller.analysis.slow_table import load_or_build_table
+
+    if order not in (1, 2) or isinstance(order, bool):
+        raise ValueError(f"order must be 1 or 2, got order={order!r}")
+    from rocknroller.analysis.second_order import load_or_build_second_order_table
+
+    table = load_or_build_table(body, theta0)
+    second = load_or_build_second_order_table(body, theta0, workers=workers) if order == 2 else None
+    kappa = float(table.kappa)
+    stable_psi = 0.5 * math.pi if kappa > 0.0 else 0.0
+    return _root(lambda eps: float(np.linalg.det(map_rocking_jacobian(table, eps, stable_psi, second) + np.eye(3))),
+                 eps_period_doubling(kappa), theta0, rtol)
 
 
 @dataclass(frozen=True)
@@ -105,8 +164,6 @@ def period_doubling(body: Body, theta0: float, *, rtol: float = 1e-10) -> Period
         θ0 outside ``THETA0_RANGE``; or no sign change of det(J + 1) within [0.8, 1.25] × 4/κ, or a bracket
         beyond the largest ε the moments allow (I2 < I3), naming it.
     """
-    from scipy.optimize import brentq
-
     from rocknroller.analysis.slow_table import load_or_build_table
 
     table = load_or_build_table(body, theta0)
@@ -118,18 +175,8 @@ def period_doubling(body: Body, theta0: float, *, rtol: float = 1e-10) -> Period
         raise ValueError(f"the period doubling at theta0={theta0!r} lies near eps = 4/kappa = {e1:.4g}, beyond the "
                          f"largest eps the moments allow (I2 < I3: eps < {eps_max:.4g})")
 
-    def excess(eps: float) -> float:
-        return float(np.linalg.det(rocking_jacobian(body, theta0, eps, stable_psi) + np.eye(3)))
-
-    lo, hi = 0.99 * e1, 1.01 * e1
-    f_lo, f_hi = excess(lo), excess(hi)
-    while f_lo * f_hi > 0.0:
-        if lo < 0.8 * e1:
-            raise ValueError(f"no period doubling of stable rocking within [0.8, 1.25] x 4/kappa = {e1:.4g} at "
-                             f"theta0={theta0!r}")
-        lo, hi = 0.95 * lo, 1.05 * hi
-        f_lo, f_hi = excess(lo), excess(hi)
-    eps = float(brentq(excess, lo, hi, xtol=1e-300, rtol=rtol))
+    eps = _root(lambda e: float(np.linalg.det(rocking_jacobian(body, theta0, e, stable_psi) + np.eye(3))), e1,
+                theta0, rtol)
     K = eps * kappa
     return PeriodDoubling(theta0=float(theta0), stable_psi=stable_psi, kappa=kappa, eps_first_order=e1,
                           eps_exact=eps, K_exact=K, correction=(K - K_PERIOD_DOUBLING) / eps,

@@ -47,3 +47,28 @@ def test_period_doubling_out_of_range():
         period_doubling(Body.paper(0.0), 0.8 * math.pi)
     with pytest.raises(ValueError, match="theta0"):
         period_doubling(Body.paper(0.0), 0.5 * math.pi)
+
+
+def test_second_order_map_threshold():
+    """The order-1 map period-doubles at 4/κ (to the differences' accuracy, 1e-9); the order-2 map at its corrected
+    ε_pd, which agrees with the exact one to 0.2 % (0.95π: 0.011 %; docs/averaging.md)."""
+    from rocknroller.analysis.period_doubling import map_period_doubling
+
+    theta0 = 0.95 * math.pi
+    exact = period_doubling(Body.paper(0.0), theta0)
+    assert map_period_doubling(Body.paper(0.0), theta0, order=1) == pytest.approx(exact.eps_first_order, rel=1e-9)
+    e2 = map_period_doubling(Body.paper(0.0), theta0, order=2, workers=2)
+    assert abs(e2 / exact.eps_exact - 1) < 2e-3
+    with pytest.raises(ValueError, match="order must be 1 or 2"):
+        map_period_doubling(Body.paper(0.0), theta0, order=3)
+
+
+@pytest.mark.slow
+def test_second_order_map_threshold_at_0_9pi():
+    """At 0.9π the first-order 4/κ is 0.27 % below the exact ε_pd; the order-2 map's is within 0.2 % (0.14 %)."""
+    from rocknroller.analysis.period_doubling import map_period_doubling
+
+    theta0 = 0.9 * math.pi
+    exact = period_doubling(Body.paper(0.0), theta0)
+    assert abs(exact.eps_first_order / exact.eps_exact - 1) > 2e-3
+    assert abs(map_period_doubling(Body.paper(0.0), theta0, order=2, workers=2) / exact.eps_exact - 1) < 2e-3

@@ -85,7 +85,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--period-doubling", action="store_true",
                    help="releases from rest: also compute the eps at which rocking about the stable axis "
                         "period-doubles from the exact one-step map (all orders in eps; 1-7 s), beside the first-order "
-                        "4/kappa")
+                        "4/kappa and, with --order 2, the second-order map's")
     p.add_argument("--plot", type=Path, default=None, metavar="DIR",
                    help="draw the predicted slow orbit over the direct ODE's turning points (slow_orbit.png and .pdf "
                         "in DIR, created if missing; existing files are not overwritten without --force)")
@@ -229,12 +229,14 @@ def run(args: argparse.Namespace) -> int:
     if pend is not None and pred.pure_rocking:
         summary["pendulum"]["slow_period"] = None  # K = 0: no libration (the closed form's period is infinite)
     if args.period_doubling:
-        from rocknroller.analysis.period_doubling import period_doubling
+        from rocknroller.analysis.period_doubling import map_period_doubling, period_doubling
 
         pd = period_doubling(body, theta0)
         summary["period_doubling"] = {"eps_first_order": pd.eps_first_order, "eps_exact": pd.eps_exact,
                                       "K_exact": pd.K_exact, "correction": pd.correction,
-                                      "stable_psi": pd.stable_psi}
+                                      "stable_psi": pd.stable_psi,
+                                      "eps_second_order": (map_period_doubling(body, theta0, 2, workers=args.workers)
+                                                           if order == 2 else None)}
     return _finish(args, body, pred, pend, None, summary, messages)
 
 
@@ -299,6 +301,8 @@ def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: flo
               f"(psi = {pend['stable_psi']:.4g}) at eps = {pend['eps_period_doubling']:.6g}")
     if "period_doubling" in s:
         pd = s["period_doubling"]
+        if pd["eps_second_order"] is not None:
+            print(f"second-order map: period doubling at eps = {pd['eps_second_order']:.8g}")
         print(f"exact one-step map: period doubling at eps = {pd['eps_exact']:.8g} (first order 4/kappa = "
               f"{pd['eps_first_order']:.8g}; K = eps*kappa = {pd['K_exact']:.8g} = 4 {'-' if pd['correction'] < 0 else '+'} "
               f"{abs(pd['correction']):.4g} eps)")
