@@ -1,4 +1,5 @@
-"""The second-order kick of the drift–kick–drift slow map, at a point, from the exact step's ε-derivatives.
+"""The second-order kick of the drift–kick–drift slow map: at a point from the exact step's ε-derivatives, and its
+tables over the release tables' chart.
 
 The first-order map (``rocknroller.analysis.averaging``) is D(W/2) ∘ K ∘ D(W/2): half twists Θ += W(Q)/2 around an
 implicit-midpoint kick x_b = x_a + ε k(m), m = (x_a + x_b)/2, x = (Q, Θ), with the time and φ advanced by
@@ -17,7 +18,9 @@ A₂ … D₂ are half the second ε-derivatives of :func:`rocknroller.analysis.
 (:func:`~rocknroller.analysis.exact_step.eps_derivatives`), k₁ and its derivatives and the drifts' gradients and
 Hessians come from a first-order table (:class:`rocknroller.analysis.slow_table.SlowMapTable`).
 :func:`dkd_residual` checks the formula: the exact step minus one step of the first-order map, over ε², tends to
-k₂ (plus ½ ∇F·k₂_Q for X = Θ, t, φ) as ε → 0 (``tests/test_second_order.py``).
+k₂ (plus ½ ∇F·k₂_Q for X = Θ, t, φ) as ε → 0 (``tests/test_second_order.py``).  :class:`SecondOrderTable` holds
+k₂'s harmonics 0, 1, 2 in Θ_a on the chart of a release table; the compiled kernel adds ε k₂ to the kick
+(:func:`rocknroller.analysis.slow_map.iterate_slow_map` with ``second=``).
 """
 
 from __future__ import annotations
@@ -38,7 +41,7 @@ from rocknroller.analysis.slow_table import (TABLE_FUNCTIONS, SlowMapTable, _che
                                              cached_table, load_or_build_table)
 
 __all__ = ["first_order_kick", "drift_derivatives", "second_order_kick", "dkd_residual", "K2_HARMONICS",
-           "K2_FUNCTIONS", "k2_harmonics", "SecondOrderTable", "build_second_order_table",
+           "K2_FUNCTIONS", "K2_ACCURACY", "k2_harmonics", "SecondOrderTable", "build_second_order_table",
            "load_or_build_second_order_table"]
 
 #: Table prefix of each kick component, in ``STEP_NAMES`` order, and the drift of the last three.

@@ -38,6 +38,7 @@ __all__ = [
     "eps_derivative_rhs",
     "FirstOrderStep",
     "first_order_step",
+    "second_order_step",
     "StepCoefficients",
     "step_coefficients",
     "symmetric_data",
@@ -201,12 +202,31 @@ def first_order_step(body: Body, E: float, QR: float, QJ: float, psi: float, *,
     z0 = dy_dth * (-dE_deps / dU)
 
     ta = _variational_integrator()
+    t1, out = _to_next_maximum(ta, sym, np.concatenate([y0, z0]))
+    Y, Z = out[:11], out[11:]
+    fY = np.array(body_frame_rhs(Y, sym.params))
+    dt1 = -directional_derivative(turning_point_function, Y, Z) / directional_derivative(turning_point_function, Y, fY)
+    dY = Z + fY * dt1
+    d = {
+        "QR": directional_derivative(_QR_of(sym), Y, dY),
+        "QJ": directional_derivative(_QJ_of(sym), Y, dY),
+        "Theta": 2.0 * directional_derivative(_psi_of, Y, dY, angle=True),
+        "t": dt1,
+        "phi": directional_derivative(_phi_of, Y, dY, angle=True),
+    }
+    return FirstOrderStep(QR=float(QR), QJ=float(QJ), psi=float(psi), theta_X=theta_X, T=t1,
+                          dpsi=float(wrap_angle(_psi_of(Y) - psi, math.pi)),
+                          dphi=float(wrap_angle(_phi_of(Y) - _phi_of(y0), math.pi)), d=d)
+
+
+def _to_next_maximum(ta: Any, sym: Body, x0: NDArray[np.float64]) -> tuple[float, NDArray[np.float64]]:
+    """Integrate ``ta`` (form (i) in its first 11 components, variational ones after) from the maximum x0[:11] at
+    t = 0 with ε = 0 to the next maximum of θ: steps until dγ3/dt rises through zero after the minimum, then Newton
+    on the dense output to round-off.  Returns (t1, the whole state at t1)."""
     ta.time = 0.0
-    ta.state[:11] = y0
-    ta.state[11:] = z0
+    ta.state[:] = x0
     ta.pars[:] = [sym.a, sym.I1, sym.I3, sym.g, 0.0]
-    # step until dγ3/dt rises through zero (a maximum of θ) after the minimum
-    h_prev, passed_min = turning_point_function(y0), False
+    h_prev, passed_min = turning_point_function(x0[:11]), False
     for _ in range(100000):
         outcome = ta.step(write_tc=True)[0]
         if outcome.name != "success":
@@ -221,7 +241,7 @@ def first_order_step(body: Body, E: float, QR: float, QJ: float, psi: float, *,
         raise RuntimeError("no next maximum of theta found")
     p0 = sym.params
     t1 = float(ta.time)
-    for _ in range(50):  # Newton on the dense output
+    for _ in range(50):
         ta.update_d_output(t1)
         Y = np.array(ta.d_output[:11])
         dt = -turning_point_function(Y) / directional_derivative(turning_point_function, Y,
@@ -230,21 +250,108 @@ def first_order_step(body: Body, E: float, QR: float, QJ: float, psi: float, *,
         if abs(dt) <= 4e-16 * t1:
             break
     ta.update_d_output(t1)
-    Y, Z = np.array(ta.d_output[:11]), np.array(ta.d_output[11:])
-    fY = np.array(body_frame_rhs(Y, p0))
-    dt1 = -directional_derivative(turning_point_function, Y, Z) / directional_derivative(turning_point_function, Y, fY)
-    dY = Z + fY * dt1
-    d = {
-        "QR": directional_derivative(_QR_of(sym), Y, dY),
-        "QJ": directional_derivative(_QJ_of(sym), Y, dY),
-        "Theta": 2.0 * directional_derivative(_psi_of, Y, dY, angle=True),
-        "t": dt1,
-        "phi": directional_derivative(_phi_of, Y, dY, angle=True),
-    }
-    return FirstOrderStep(QR=float(QR), QJ=float(QJ), psi=float(psi), theta_X=theta_X, T=t1,
-                          dpsi=float(wrap_angle(_psi_of(Y) - psi, math.pi)),
-                          dphi=float(wrap_angle(_phi_of(Y) - _phi_of(y0), math.pi)), d=d)
+    return t1, np.array(ta.d_output)
 
+
+def _second_variational_integrator() -> Any:
+    """heyoka integrator of form (i) with its first- and second-order variational equations along a curve
+    (y₀(ε), ε): state (y, z, w), 33 components, ż = A z + ∂f/∂ε and ẇ = A w + D²f[z, z] + 2 ∂²f/∂y∂ε z + ∂²f/∂ε²,
+    i.e. ẇ is the derivative of ż's right-hand side along (z, w, ε); parameters (a, I1, I3, g, ε)."""
+    if "ta2" in _INTEGRATOR:
+        return _INTEGRATOR["ta2"]
+    import heyoka as hy
+
+    names = ["g1", "g2", "g3", "w1", "w2", "w3", "x1", "x2", "x3", "X", "Y"]
+    y = hy.make_vars(*names)
+    z = hy.make_vars(*("d" + n for n in names))
+    w = hy.make_vars(*("dd" + n for n in names))
+    a, I1, I3, g, eps = (hy.par[i] for i in range(5))
+    f = body_frame_rhs(y, (a, I1, I1 * (1.0 + eps), I3, g))
+
+    def along(exprs: list[Any], first: list[Any], second: list[Any]) -> list[Any]:
+        """Σ_j ∂e/∂y_j first_j (+ Σ_j ∂e/∂z_j second_j) + ∂e/∂ε for each expression e."""
+        out = []
+        for e in exprs:
+            acc = hy.diff(e, eps)
+            for yj, fj in zip(y, first):
+                acc = acc + hy.diff(e, yj) * fj
+            for zj, sj in zip(z, second):
+                acc = acc + hy.diff(e, zj) * sj
+            out.append(acc)
+        return out
+
+    fz = along(f, list(z), [])
+    fw = along(fz, list(z), list(w))
+    ta = hy.taylor_adaptive(list(zip(y, f)) + list(zip(z, fz)) + list(zip(w, fw)), np.zeros(33), pars=np.zeros(5),
+                            compact_mode=True)
+    _INTEGRATOR["ta2"] = ta
+    return ta
+
+
+def _second_directional(fun: Callable[[NDArray[np.float64]], float], y: NDArray[np.float64], v: NDArray[np.float64],
+                        *, angle: bool = False, h: float = 1e-3) -> float:
+    """D²fun(y)[v, v] by the fourth-order central second difference along v/|v| (step h), times |v|²."""
+    norm = float(np.linalg.norm(v))
+    if norm == 0.0:
+        return 0.0
+    e = v / norm
+    wrap = (lambda x: float(wrap_angle(x))) if angle else float
+    f0 = fun(y)
+    d1, d2 = (wrap(fun(y + k * h * e) - f0) + wrap(fun(y - k * h * e) - f0) for k in (1, 2))
+    return norm * norm * (16.0 * d1 - d2) / (12.0 * h * h)
+
+
+def second_order_step(body: Body, E: float, QR: float, QJ: float, psi: float, *,
+                      h: float = 1e-3) -> dict[str, float]:
+    """Second ε-derivatives at fixed (E, Q_n, ψ_n) of Q_R, Q_J, Θ = 2ψ, the event time and φ at the next maximum
+    (keys of ``FIRST_ORDER_NAMES``), by the second-order variational equations: a second formulation of what
+    :func:`rocknroller.analysis.exact_step.eps_derivatives` differences.
+
+    The start's curve y₀(ε) (the maximum with the same (E, Q, ψ) for I2 = (1 + ε) I1,
+    :func:`rocknroller.analysis.exact_step.maximum_state`) is differenced in ε (step ``h``, fourth order: it is an
+    algebraic solve, smooth on the scale of ε ~ 1); the flow's first and second derivatives along it are integrated
+    (:func:`_second_variational_integrator`); the event time t₁(ε) of the next maximum, h(G(ε)) = 0 with
+    G(ε) = y(t₁(ε)) and h = dγ3/dt (quadratic), follows from
+    t₁' = −∇h·Z / ∇h·F and ∇h·G'' + D²h[G', G'] = 0, G' = Z + F t₁', G'' = W + 2 Ż t₁' + (A F) t₁'² + F t₁''.
+    The outputs q(G) have q'' = ∇q·G'' + D²q[G', G'] (directional differences of q, exact for the quadratic Q_J).
+    """
+    from rocknroller.analysis.exact_step import maximum_state
+
+    sym = body.symmetric()
+
+    def start(eps: float) -> NDArray[np.float64]:  # the family's frame: the requested ψ whatever the relabelling
+        st = maximum_state(sym, eps, E, QR, QJ, psi)[2]
+        return state_from_euler(st.theta, 0.0, psi, 0.0, st.phi_dot, st.psi_dot)
+
+    ys = {k: start(k * h) for k in (-2, -1, 0, 1, 2)}
+    a0 = (8.0 * (ys[1] - ys[-1]) - (ys[2] - ys[-2])) / (12.0 * h)
+    b0 = (16.0 * (ys[1] + ys[-1]) - (ys[2] + ys[-2]) - 30.0 * ys[0]) / (12.0 * h * h)
+    t1, out = _to_next_maximum(_second_variational_integrator(), sym, np.concatenate([ys[0], a0, b0]))
+    Y, Z, W = out[:11], out[11:22], out[22:]
+    p0 = sym.params
+
+    def rhs(v: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.array(body_frame_rhs(v, p0))
+
+    F = rhs(Y)
+    Zdot = _central_difference(lambda s: rhs(Y + s * Z), 0.0, 1e-4) + eps_derivative_rhs(Y, sym)
+    AF = _central_difference(lambda s: rhs(Y + s * F), 0.0, 1e-4)
+
+    def grad_h(v: NDArray[np.float64]) -> float:  # ∇h·v, h = y0 y4 − y1 y3
+        return float(v[0] * Y[4] + Y[0] * v[4] - v[1] * Y[3] - Y[1] * v[3])
+
+    t1p = -grad_h(Z) / grad_h(F)
+    G1 = Z + F * t1p
+    partial = W + 2.0 * Zdot * t1p + AF * t1p * t1p
+    t1pp = -(grad_h(partial) + 2.0 * (G1[0] * G1[4] - G1[1] * G1[3])) / grad_h(F)
+    G2 = partial + F * t1pp
+
+    def second(fun: Callable[[NDArray[np.float64]], float], angle: bool = False) -> float:
+        return (directional_derivative(fun, Y, G2, angle=angle)
+                + _second_directional(fun, Y, G1, angle=angle))
+
+    return {"QR": second(_QR_of(sym)), "QJ": second(_QJ_of(sym)), "Theta": 2.0 * second(_psi_of, angle=True),
+            "t": t1pp, "phi": second(_phi_of, angle=True)}
 
 # ----------------------------------------------------------------------------- coefficients at one Q
 @dataclass(frozen=True)

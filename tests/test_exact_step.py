@@ -85,3 +85,20 @@ def test_bad_input():
         family_member(SYM, math.nan)
     with pytest.raises(ValueError):
         maximum_state(SYM, 0.0, E, 10.0, 10.0, 0.0)  # no motion at this energy
+
+
+@pytest.mark.parametrize("QR, QJ, psi", STARTS + ((0.0019994, -4.86e-5, 2.0),))
+def test_second_derivative_is_the_second_order_variational_one(QR, QJ, psi):
+    """The second formulation (slow_orbit.second_order_step: second-order variational equations along the start's
+    curve, with the event time's second-order shift) against the extrapolated differences of the exact step, every
+    component, within the extrapolation's error estimate plus the stencil's round-off, 1.5 · 32 · 1e-13 |M|/(h/2)²
+    (a step's values M accurate to ~1e-13 of their size; the stencil's weights sum to 32/12 over (h/2)², × 12 for
+    the extrapolation's 16/15 and margin).  The third start lies in the layer of W near Q = 0."""
+    from rocknroller.analysis.slow_orbit import second_order_step
+
+    d = eps_derivatives(SYM, E, QR, QJ, psi)
+    var = second_order_step(SYM, E, QR, QJ, psi)
+    ref = np.array([var[k] for k in STEP_NAMES])
+    roundoff = 1.5 * 32 * 1e-13 * np.abs(exact_step(SYM, 0.0, E, QR, QJ, psi)) / (d.h / 2) ** 2
+    assert np.all(np.abs(d.d2 - ref) <= d.d2_error + roundoff), (d.d2 - ref, d.d2_error)
+    assert np.all(d.d2_error + roundoff < 1e-3 * np.abs(ref))  # the check has teeth
