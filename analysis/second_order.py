@@ -14,8 +14,9 @@ for X = Θ, t, φ with F = W, T_θ, Δφ.  The ½ ∇F·A₂ and ¼ k₁ᵀ∇²
 produces when evaluated at the kicked Q: near Q = 0, where W turns by ~2π over a width ~2/|∇W(0)|, they carry most
 of the exact step's large second derivative (docs/averaging.md, "The exact one-step map").
 
-A₂ … D₂ are half the second ε-derivatives of :func:`rocknroller.analysis.exact_step.exact_step`
-(:func:`~rocknroller.analysis.exact_step.eps_derivatives`), k₁ and its derivatives and the drifts' gradients and
+A₂ … D₂ are half the second ε-derivatives of the step at fixed (E, Q, ψ), from the second-order variational
+equations (:func:`rocknroller.analysis.slow_orbit.second_order_step`; checked against extrapolated differences of
+the exact step, :func:`~rocknroller.analysis.exact_step.eps_derivatives`), k₁ and its derivatives and the drifts' gradients and
 Hessians come from a first-order table (:class:`rocknroller.analysis.slow_table.SlowMapTable`).
 :func:`dkd_residual` checks the formula: the exact step minus one step of the first-order map, over ε², tends to
 k₂ (plus ½ ∇F·k₂_Q for X = Θ, t, φ) as ε → 0 (``tests/test_second_order.py``).  :class:`SecondOrderTable` holds
@@ -34,7 +35,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.body import Body
-from rocknroller.analysis.exact_step import STEP_NAMES, eps_derivatives, exact_step
+from rocknroller.analysis.exact_step import STEP_NAMES, exact_step
 from rocknroller.analysis.parallel import check_processes, map_blocks
 from rocknroller.analysis.quadrature import wrap_angle
 from rocknroller.analysis.slow_table import (TABLE_FUNCTIONS, SlowMapTable, _cheb_basis, _cheb_fit_matrix, _cheb_nodes,
@@ -90,14 +91,16 @@ def drift_derivatives(table: SlowMapTable, name: str, Q: ArrayLike) -> tuple[NDA
     return g, 0.5 * (H + H.T)
 
 
-def second_order_kick(table: SlowMapTable, Q: ArrayLike, theta_a: float, *, h: float = 5e-4) -> NDArray[np.float64]:
+def second_order_kick(table: SlowMapTable, Q: ArrayLike, theta_a: float) -> NDArray[np.float64]:
     """k₂ at (Q, Θ_a) for the components of ``STEP_NAMES`` (module docstring), at the table's energy; the exact
-    step's second derivatives by :func:`eps_derivatives` with step ``h`` (7 direct one-step runs)."""
+    step's second derivatives by the second-order variational equations (one orbit)."""
     Q = np.asarray(Q, float)
     W = float(table.evaluate(Q)[_IDX["W"]])
     theta = theta_a - 0.5 * W
-    d = eps_derivatives(table.body, table.E0, float(Q[0]), float(Q[1]), 0.5 * theta, h=h)
-    A2 = 0.5 * d.d2
+    from rocknroller.analysis.slow_orbit import second_order_step
+
+    d2 = second_order_step(table.body, table.E0, float(Q[0]), float(Q[1]), 0.5 * theta)
+    A2 = 0.5 * np.array([d2[k] for k in STEP_NAMES])
     k1, dk_dq, dk_dth = first_order_kick(table, Q, theta_a)
     kq = k1[:2]
     k2 = A2 - 0.5 * (dk_dq @ kq + dk_dth * k1[2])
@@ -145,10 +148,10 @@ def _basis(theta_a: ArrayLike) -> NDArray[np.float64]:
     return np.stack([np.ones_like(th), np.cos(th), np.sin(th), np.cos(2 * th), np.sin(2 * th)], axis=-1)
 
 
-def k2_harmonics(table: SlowMapTable, Q: ArrayLike, *, h: float = 5e-4) -> NDArray[np.float64]:
+def k2_harmonics(table: SlowMapTable, Q: ArrayLike) -> NDArray[np.float64]:
     """The harmonics ``K2_HARMONICS`` of k₂ in Θ_a at Q, shape (5 components, 5 harmonics), from
-    :func:`second_order_kick` at five Θ_a (35 direct one-step runs)."""
-    vals = np.array([second_order_kick(table, Q, ta, h=h) for ta in _K2_THETA_A])
+    :func:`second_order_kick` at five Θ_a (five second-order variational orbits and the starts' 25 solves)."""
+    vals = np.array([second_order_kick(table, Q, ta) for ta in _K2_THETA_A])
     return np.linalg.solve(_basis(np.array(_K2_THETA_A)), vals).T
 
 
@@ -174,19 +177,19 @@ class SecondOrderTable:
         return self.harmonics(first, Q) @ _basis(theta_a)
 
 
-def _k2_block(body: Body, theta0: float, nodes: list[tuple[float, float]], h: float) -> NDArray[np.float64]:
+def _k2_block(body: Body, theta0: float, nodes: list[tuple[float, float]]) -> NDArray[np.float64]:
     table = load_or_build_table(body, theta0)
-    return np.array([k2_harmonics(table, q, h=h).ravel() for q in nodes])
+    return np.array([k2_harmonics(table, q).ravel() for q in nodes])
 
 
-def build_second_order_table(body: Body, theta0: float, *, nu: int = 64, nv: int = 6, h: float = 5e-4,
+def build_second_order_table(body: Body, theta0: float, *, nu: int = 64, nv: int = 6,
                              workers: int = 1, progress: bool = False) -> SecondOrderTable:
     """Tabulate k₂ on the chart of the release table of (body, θ0) (built and cached if needed).
 
     Only half the Chebyshev nodes are computed: the grid is symmetric under (ξ, η) → (−ξ, −η), Q → −Q, where each
     component keeps or flips its sign (``_K2_ODD``), which makes the map reversible.  ``workers`` processes share
     the nodes (the table does not depend on how many).  Checked at off-grid points against direct evaluations;
-    above ``K2_ACCURACY`` an AveragingValidityWarning.  Cost: 35 direct one-step runs per computed node.
+    above ``K2_ACCURACY`` an AveragingValidityWarning.  Cost: five second-order variational orbits per computed node.
 
     Raises
     ------
@@ -206,7 +209,7 @@ def build_second_order_table(body: Body, theta0: float, *, nu: int = 64, nv: int
     half = [(float(QR[i, j]), float(QJ[i, j])) for i in range(nu // 2) for j in range(nv)]
     size = 16
     blocks = [half[k:k + size] for k in range(0, len(half), size)]
-    rows = map_blocks(_k2_block, [(body.symmetric(), float(theta0), b, float(h)) for b in blocks],
+    rows = map_blocks(_k2_block, [(body.symmetric(), float(theta0), b) for b in blocks],
                       [len(b) for b in blocks], processes=workers, desc="second-order tables", unit="node",
                       progress=progress)
     data = np.empty((nu, nv, 5, 5))
@@ -221,7 +224,7 @@ def build_second_order_table(body: Body, theta0: float, *, nu: int = 64, nv: int
     err = 0.0
     for x, y in _K2_CHECK_POINTS:
         q = np.array([float(c) for c in first.chart(x, y)])
-        diff = np.abs(table.harmonics(first, q) - k2_harmonics(first, q, h=h)).max(axis=1)
+        diff = np.abs(table.harmonics(first, q) - k2_harmonics(first, q)).max(axis=1)
         err = max(err, float((diff / scale).max()))
     if err > K2_ACCURACY:
         warnings.warn(f"the second-order tables for theta0={theta0!r} interpolate k2 only to {err:.1e} (relative); "
