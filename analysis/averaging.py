@@ -38,7 +38,7 @@ import functools
 import math
 import warnings
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -56,6 +56,9 @@ from rocknroller.analysis.reduction import u_ends
 from rocknroller.analysis.slow_diagnostics import azimuth_span, slow_period, span, unwrap_phase
 from rocknroller.analysis.slow_orbit import first_maximum, rest_energy, symmetric_data
 from rocknroller.numerics.equations import EulerState
+
+if TYPE_CHECKING:
+    from rocknroller.analysis.second_order import SecondOrderTable
 
 
 #: Defined here; the tables' and the map's public names (``SlowMapTable``, ``build_table``, ``load_or_build_table``,
@@ -183,7 +186,7 @@ class SlowPrediction:
 def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | None = None,
                         t_end: float = 1000.0, *,
                         table: SlowMapTable | None = None, build: bool = True, order: int = 1,
-                        second: Any = None) -> SlowPrediction:
+                        second: "SecondOrderTable | None" = None) -> SlowPrediction:
     """Predict the slow (Q_R, Q_J) motion of ``body`` released from rest at θ0 with spin angle ψ0, or from any
     initial state.
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["THETA0_RANGE", "MAX_MAXIMA", "K_PERIOD_DOUBLING", "eps_period_doubling", "AveragingRangeError", "AveragingValidityWarning", "check_map_theta0",
+__all__ = ["THETA0_RANGE", "MAX_MAXIMA", "K_PERIOD_DOUBLING", "eps_period_doubling", "stable_rocking_psi", "AveragingRangeError", "AveragingValidityWarning", "check_map_theta0",
            "t_end_limit", "check_t_end"]
 
 #: Release angles (θ0_min, θ0_max) for which the tables are built and the map is validated against the direct
@@ -31,6 +31,11 @@ K_PERIOD_DOUBLING = 4.0
 def eps_period_doubling(kappa: float) -> float:
     """ε at which K = ε κ reaches K_PERIOD_DOUBLING (rocking about the stable axis period-doubles)."""
     return K_PERIOD_DOUBLING / abs(kappa)
+
+
+def stable_rocking_psi(kappa: float) -> float:
+    """ψ (mod π) of the stable pure rocking: π/2 for κ > 0 (the axis of moment I2), 0 for κ < 0."""
+    return 0.5 * math.pi if kappa > 0 else 0.0
 
 
 class AveragingRangeError(ValueError):

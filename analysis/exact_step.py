@@ -14,6 +14,7 @@ symmetry axis and are always computed with the family's I1.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -23,15 +24,17 @@ from numpy.typing import NDArray
 from rocknroller.analysis.body import Body
 from rocknroller.analysis.invariants import jellett, routh
 from rocknroller.analysis.quadrature import wrap_angle
-from rocknroller.analysis.reduction import invariants_from_euler, turning_points
-from rocknroller.analysis.slow_orbit import symmetric_data
+from rocknroller.analysis.reduction import invariants_from_euler, state_from_turning_point, turning_points
+from rocknroller.analysis.slow_orbit import (FIRST_ORDER_NAMES, _central_difference, _central_second_difference,
+                                             symmetric_data)
 from rocknroller.numerics.equations import EulerState
 
-__all__ = ["STEP_NAMES", "family_member", "maximum_state", "exact_step", "EpsDerivatives", "eps_derivatives"]
+__all__ = ["STEP_NAMES", "family_member", "maximum_state", "exact_step", "step_difference", "EpsDerivatives",
+           "eps_derivatives"]
 
 #: What one step returns, in this order: Q_R, Q_J, Θ = 2ψ, t and φ at the next maximum (Θ and φ continued from the
-#: start, so that differences between neighbouring steps are small).
-STEP_NAMES = ("QR", "QJ", "Theta", "t", "phi")
+#: start, so that differences between neighbouring steps are small): the components of the first-order responses.
+STEP_NAMES = FIRST_ORDER_NAMES
 #: The angle components of a step (Θ, φ), whose differences are wrapped.
 _ANGLE_COMPONENTS = (2, 4)
 
@@ -56,8 +59,9 @@ def maximum_state(sym: Body, eps: float, E: float, QR: float, QJ: float, psi: fl
     """The family member's state at a maximum of θ with energy E, Routh's and Jellett's quantities (Q_R, Q_J)
     and spin angle ψ (θ̇ = 0, φ = 0): (body, ψ shift, state in the body's own Euler angles).
 
-    At θ̇ = 0, (Q_R, Q_J) are linear in (φ̇, ψ̇) (paper eqs. routh, jellett): solved for at each θ, after which
-    E(θ) = E (paper eq. energy) is solved by Brent's method in a bracket grown about the symmetric body's θ_X.
+    At θ̇ = 0 the rates with the given (Q_R, Q_J) are Routh's sphere's, φ̇ = V_φ(θ), ψ̇ = V_ψ(θ) (paper eqs.
+    phidotCJQR, psidotCJQR: Q_R and Q_J involve only I1, I3 and a, the family's), after which E(θ) = E (paper eq.
+    energy, with the member's I2) is solved by Brent's method in a bracket grown about the symmetric body's θ_X.
 
     Raises
     ------
@@ -71,10 +75,9 @@ def maximum_state(sym: Body, eps: float, E: float, QR: float, QJ: float, psi: fl
     theta_X = float(turning_points(E, QR, QJ, sym)[1])
     p = psi + shift
 
-    def rates(th: float) -> NDArray[np.float64]:
-        _, r1, j1 = invariants_from_euler(sym, th, 0.0, 1.0, 0.0, p)
-        _, r2, j2 = invariants_from_euler(sym, th, 0.0, 0.0, 1.0, p)
-        return np.linalg.solve(np.array([[r1, r2], [j1, j2]], float), [QR, QJ])
+    def rates(th: float) -> tuple[float, float]:
+        st = state_from_turning_point(sym, th, QR, QJ)
+        return float(st.phi_dot), float(st.psi_dot)
 
     def excess(th: float) -> float:
         pd, sd = rates(th)
@@ -89,7 +92,7 @@ def maximum_state(sym: Body, eps: float, E: float, QR: float, QJ: float, psi: fl
                              f"symmetric theta_X={theta_X!r}")
     th = brentq(excess, theta_X - d, theta_X + d, xtol=1e-300, rtol=8.9e-16, maxiter=200)
     pd, sd = rates(th)
-    return body, shift, EulerState(th, 0.0, p, 0.0, float(pd), float(sd))
+    return body, shift, EulerState(th, 0.0, p, 0.0, pd, sd)
 
 
 def exact_step(sym: Body, eps: float, E: float, QR: float, QJ: float, psi: float,
@@ -112,11 +115,13 @@ def exact_step(sym: Body, eps: float, E: float, QR: float, QJ: float, psi: float
                      2.0 * (float(m.psi[k]) - shift), float(m.t[k]), float(m.phi[k])])
 
 
-def _difference(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
-    """a − b with the angle components (Θ, φ) wrapped to (−π, π]."""
-    d = a - b
+def step_difference(d: NDArray[np.float64]) -> NDArray[np.float64]:
+    """A difference of two steps (or of their first components) with its angle components (Θ, φ) wrapped to
+    (−π, π]."""
+    d = np.array(d, float)
     for i in _ANGLE_COMPONENTS:
-        d[i] = float(wrap_angle(d[i]))
+        if i < d.size:
+            d[i] = float(wrap_angle(d[i]))
     return d
 
 
@@ -160,15 +165,15 @@ def eps_derivatives(sym: Body, E: float, QR: float, QJ: float, psi: float, h: fl
     if not (0.0 < h <= 0.05):
         raise ValueError(f"h must satisfy 0 < h <= 0.05, got h={h!r}")
     period = float(symmetric_data(sym, E, QR, QJ)[0])
-    M = {k: exact_step(sym, 0.25 * k * h, E, QR, QJ, psi, period) for k in (-8, -4, -2, 0, 2, 4, 8)}
 
-    def stencils(s: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:  # step s·h/4
-        step = 0.25 * s * h
-        d1 = (8.0 * _difference(M[s], M[-s]) - _difference(M[2 * s], M[-2 * s])) / (12.0 * step)
-        d2 = (16.0 * (_difference(M[s], M[0]) + _difference(M[-s], M[0]))
-              - (_difference(M[2 * s], M[0]) + _difference(M[-2 * s], M[0]))) / (12.0 * step * step)
-        return d1, d2
+    @functools.lru_cache(maxsize=None)  # ε = 0, ±h/2, ±h, ±2h: 7 steps shared by the four stencils (h/2 · 2 = h)
+    def step(eps: float) -> NDArray[np.float64]:
+        return exact_step(sym, eps, E, QR, QJ, psi, period)
 
-    (a1, a2), (b1, b2) = stencils(4), stencils(2)
+    def stencils(s: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        return (_central_difference(step, 0.0, s, step_difference),
+                _central_second_difference(step, 0.0, s, step_difference))
+
+    (a1, a2), (b1, b2) = stencils(h), stencils(0.5 * h)
     c1, c2 = (b1 - a1) / 15.0, (b2 - a2) / 15.0
     return EpsDerivatives(d1=b1 + c1, d2=b2 + c2, d1_error=np.abs(c1), d2_error=np.abs(c2), h=float(h))

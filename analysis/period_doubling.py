@@ -17,18 +17,19 @@ Checked against direct runs (``tests/test_period_doubling.py``): a deviation of 
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from rocknroller.analysis.averaging_limits import K_PERIOD_DOUBLING, eps_period_doubling
+from rocknroller.analysis.averaging_limits import K_PERIOD_DOUBLING, eps_period_doubling, stable_rocking_psi
 from rocknroller.analysis.body import Body
-from rocknroller.analysis.exact_step import exact_step
-from rocknroller.analysis.quadrature import wrap_angle
-from rocknroller.analysis.slow_orbit import rest_energy, symmetric_data
+from rocknroller.analysis.exact_step import exact_step, step_difference
+from rocknroller.analysis.slow_orbit import _central_difference, rest_energy, symmetric_data
+
+if TYPE_CHECKING:
+    from rocknroller.analysis.second_order import SecondOrderTable
 
 __all__ = ["rocking_jacobian", "map_rocking_jacobian", "map_period_doubling", "PeriodDoubling", "period_doubling"]
 
@@ -53,7 +54,7 @@ def rocking_jacobian(body: Body, theta0: float, eps: float, stable_psi: float) -
     return _central_jacobian(P, x0)
 
 
-def map_rocking_jacobian(table: Any, eps: float, stable_psi: float, second: Any = None) -> NDArray[np.float64]:
+def map_rocking_jacobian(table: Any, eps: float, stable_psi: float, second: "SecondOrderTable | None" = None) -> NDArray[np.float64]:
     """As :func:`rocking_jacobian`, for one step of the averaged map on a release table (order 2 with its
     ``second``-order table)."""
     from rocknroller.analysis.slow_map import iterate_slow_map
@@ -67,16 +68,10 @@ def map_rocking_jacobian(table: Any, eps: float, stable_psi: float, second: Any 
 
 def _central_jacobian(P: Any, x0: NDArray[np.float64]) -> NDArray[np.float64]:
     """Fourth-order central differences of the step P at x0 (steps ``_H_Q``, ``_H_Q``, ``_H_THETA``; Θ wrapped)."""
-    def diff(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
-        d = a - b
-        d[2] = float(wrap_angle(d[2]))
-        return d
-
     J = np.zeros((3, 3))
     for j, h in enumerate((_H_Q, _H_Q, _H_THETA)):
-        e = np.zeros(3)
-        e[j] = h
-        J[:, j] = (8.0 * diff(P(x0 + e), P(x0 - e)) - diff(P(x0 + 2 * e), P(x0 - 2 * e))) / (12.0 * h)
+        e = np.eye(3)[j]
+        J[:, j] = _central_difference(lambda s: P(x0 + s * e), 0.0, h, step_difference)
     return J
 
 
@@ -105,16 +100,16 @@ def map_period_doubling(body: Body, theta0: float, order: int = 2, *, rtol: floa
     ValueError
         ``order`` not 1 or 2, θ0 outside ``THETA0_RANGE``, or no root near 4/κ.
     """
+    from rocknroller.analysis.second_order import load_or_build_second_order_table
     from rocknroller.analysis.slow_table import load_or_build_table
 
     if order not in (1, 2) or isinstance(order, bool):
         raise ValueError(f"order must be 1 or 2, got order={order!r}")
-    from rocknroller.analysis.second_order import load_or_build_second_order_table
 
     table = load_or_build_table(body, theta0)
     second = load_or_build_second_order_table(body, theta0, workers=workers) if order == 2 else None
     kappa = float(table.kappa)
-    stable_psi = 0.5 * math.pi if kappa > 0.0 else 0.0
+    stable_psi = stable_rocking_psi(kappa)
     return _root(lambda eps: float(np.linalg.det(map_rocking_jacobian(table, eps, stable_psi, second) + np.eye(3))),
                  eps_period_doubling(kappa), theta0, rtol)
 
@@ -168,7 +163,7 @@ def period_doubling(body: Body, theta0: float, *, rtol: float = 1e-10) -> Period
 
     table = load_or_build_table(body, theta0)
     kappa = float(table.kappa)
-    stable_psi = 0.5 * math.pi if kappa > 0.0 else 0.0
+    stable_psi = stable_rocking_psi(kappa)
     e1 = eps_period_doubling(kappa)
     eps_max = body.I3 / body.I1 - 1.0
     if 1.25 * e1 >= eps_max:

@@ -38,18 +38,18 @@ from rocknroller.analysis.body import Body
 from rocknroller.analysis.exact_step import STEP_NAMES, exact_step
 from rocknroller.analysis.parallel import check_processes, map_blocks
 from rocknroller.analysis.quadrature import wrap_angle
-from rocknroller.analysis.slow_table import (TABLE_FUNCTIONS, SlowMapTable, _cheb_basis, _cheb_fit_matrix, _cheb_nodes,
+from rocknroller.analysis.slow_map import _HARM, _IDX
+from rocknroller.analysis.slow_orbit import second_order_step
+from rocknroller.analysis.slow_table import (_ODD, SlowMapTable, _cheb_basis, _cheb_fit_matrix, _cheb_nodes,
                                              cached_table, load_or_build_table)
 
 __all__ = ["first_order_kick", "drift_derivatives", "second_order_kick", "dkd_residual", "K2_HARMONICS",
            "K2_FUNCTIONS", "K2_ACCURACY", "k2_harmonics", "SecondOrderTable", "build_second_order_table",
            "load_or_build_second_order_table"]
 
-#: Table prefix of each kick component, in ``STEP_NAMES`` order, and the drift of the last three.
+#: Table prefix of each kick component, in ``STEP_NAMES`` order (Q_R, Q_J, Θ, t, φ), and the drift of the last three.
 _PREFIX = ("kQR", "kQJ", "kTh", "dt", "dphi1")
 _DRIFT = ("W", "T", "dphi")
-_HARM = ("c0", "c1", "s1")
-_IDX = {name: i for i, name in enumerate(TABLE_FUNCTIONS)}
 #: Step of the central differences of the drifts' gradients (the table's Chebyshev interpolant is smooth on the
 #: scale of the layer of W, ≳ 5e-3 at θ0 ≤ 0.97π: truncation ~(1e-6/5e-3)² relative).
 _H_HESSIAN = 1e-6
@@ -97,8 +97,6 @@ def second_order_kick(table: SlowMapTable, Q: ArrayLike, theta_a: float) -> NDAr
     Q = np.asarray(Q, float)
     W = float(table.evaluate(Q)[_IDX["W"]])
     theta = theta_a - 0.5 * W
-    from rocknroller.analysis.slow_orbit import second_order_step
-
     d2 = second_order_step(table.body, table.E0, float(Q[0]), float(Q[1]), 0.5 * theta)
     A2 = 0.5 * np.array([d2[k] for k in STEP_NAMES])
     k1, dk_dq, dk_dth = first_order_kick(table, Q, theta_a)
@@ -120,12 +118,10 @@ def dkd_residual(table: SlowMapTable, eps: float, Q: ArrayLike, theta: float) ->
     s = iterate_slow_map(table, eps, 0.5 * theta, 1e6, Q0=Q, n_steps=1)
     first = np.array([s.QR[0], s.QJ[0], s.Theta[0], s.t[0], s.phi[0]])
     r = exact - first
-    for i in (2, 4):
-        r[i] = float(wrap_angle(r[i], math.pi if i == 4 else 2.0 * math.pi))
+    r[2] = float(wrap_angle(r[2]))
+    r[4] = float(wrap_angle(r[4], math.pi))  # the map's φ is continued modulo its jumps of π
     return r / (eps * eps)
 
-
-assert STEP_NAMES == ("QR", "QJ", "Theta", "t", "phi")  # the order _PREFIX and the formulas assume
 
 # ----------------------------------------------------------------------------- tables of k₂
 #: Harmonics of k₂ in Θ_a: the second-order response holds the harmonics 0, 2 and 4 of ψ (0, 1, 2 of Θ = 2ψ).
@@ -134,8 +130,8 @@ K2_HARMONICS = ("c0", "c1", "s1", "c2", "s2")
 K2_FUNCTIONS = tuple(f"{p}_{h}" for p in _PREFIX for h in K2_HARMONICS)
 #: Θ_a of the five evaluations that fix the harmonics (a discrete Fourier transform).
 _K2_THETA_A = tuple(2.0 * math.pi * k / 5.0 for k in range(5))
-#: Components odd in Q (reversibility: (Q, Θ) → (−Q, Θ)); the others are even (as for k₁).
-_K2_ODD = (False, False, True, False, True)
+#: Components odd in Q (reversibility: (Q, Θ) → (−Q, Θ)), as for k₁; the others are even.
+_K2_ODD = tuple(f"{p}_c0" in _ODD for p in _PREFIX)
 #: Off-grid chart points (ξ, η) where a new table is checked against direct evaluations, and the largest error
 #: (relative to each component's largest harmonic on the grid) accepted without a warning: k₂ enters the step
 #: multiplied by ε², so 1e-3 of it is 1e-7 of a step at ε = 1e-2, below the map's O(ε³) error.

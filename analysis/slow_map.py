@@ -8,8 +8,8 @@ along the chart, Chebyshev series across it) in the compiled kernel ``rocknrolle
 from __future__ import annotations
 
 import math
-from typing import Any
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -20,7 +20,11 @@ from rocknroller.analysis.slow_table import TABLE_FUNCTIONS, SlowMapTable, _cheb
 
 from rocknroller.analysis import _slow_map_kernel as _kernel
 
+if TYPE_CHECKING:
+    from rocknroller.analysis.second_order import SecondOrderTable
+
 __all__ = ["SlowSeries", "iterate_slow_map"]
+
 
 @dataclass(frozen=True)
 class SlowSeries:
@@ -85,7 +89,7 @@ class _FastTable:
     compiled kernel ``rocknroller.analysis._slow_map_kernel`` (about 1 µs a step).
     """
 
-    def __init__(self, table: SlowMapTable, second: Any = None) -> None:
+    def __init__(self, table: SlowMapTable, second: "SecondOrderTable | None" = None) -> None:
         c = table.coef
         e, n = table.e, table.n
         rows = []
@@ -116,7 +120,7 @@ class _FastTable:
         self.second = second
         self.rows2 = None if second is None else self._second_order_rows(second)
 
-    def _second_order_rows(self, second: Any) -> NDArray[np.float64]:
+    def _second_order_rows(self, second: "SecondOrderTable") -> NDArray[np.float64]:
         """The run-time rows (Nf, 25 · nv) of a :class:`rocknroller.analysis.second_order.SecondOrderTable` on this
         table's chart: k₂_u = e·k₂_Q, k₂_v = n·k₂_Q, k₂_Θ, k₂_t, k₂_φ, five harmonics each, Chebyshev in τ (its
         series padded to this table's nv terms)."""
@@ -180,7 +184,7 @@ class _FastTable:
         return np.concatenate(chunks), (counts[0], counts[1])
 
 
-def _fast(table: SlowMapTable, second: Any = None) -> _FastTable:
+def _fast(table: SlowMapTable, second: "SecondOrderTable | None" = None) -> _FastTable:
     key = (id(table), id(second))
     ft = _FAST.get(key)
     if ft is None or ft.table is not table or ft.second is not second:
@@ -191,7 +195,7 @@ def _fast(table: SlowMapTable, second: Any = None) -> _FastTable:
 
 def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float, *,
                      Q0: ArrayLike = (0.0, 0.0), phi0: float = 0.0, n_steps: int | None = None,
-                     second: Any = None) -> SlowSeries:
+                     second: "SecondOrderTable | None" = None) -> SlowSeries:
     """Iterate the reversible drift–kick–drift slow map from a maximum at t = 0.
 
     One step: Θ += W(Q)/2; (Q, Θ) += ε k(midpoint) (implicit midpoint, solved by simplified Newton

@@ -16,6 +16,7 @@ of ψ_n (0 and 1 of Θ_n = 2ψ_n): three orbits per Q (ψ_n = 0, π/3, 2π/3) de
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 from typing import Any, Callable
@@ -85,6 +86,16 @@ def _central_difference(fun: Callable[[float], Any], x: float, h: float,
     return (8.0 * d1 - d2) / (12.0 * h)
 
 
+def _central_second_difference(fun: Callable[[float], Any], x: float, h: float,
+                               wrap: Callable[[Any], Any] = lambda d: d) -> Any:
+    """f''(x) ≈ [16 (d(h) + d(−h)) − (d(2h) + d(−2h))]/(12 h²), d(s) = f(x + s) − f(x), fourth order; ``wrap``
+    is applied to each d (for angles).  Works on scalar or array values of f."""
+    f0 = fun(x)
+    d1 = wrap(fun(x + h) - f0) + wrap(fun(x - h) - f0)
+    d2 = wrap(fun(x + 2 * h) - f0) + wrap(fun(x - 2 * h) - f0)
+    return (16.0 * d1 - d2) / (12.0 * h * h)
+
+
 def eps_derivative_rhs(y: ArrayLike, body: Body) -> NDArray[np.float64]:
     """∂f/∂ε of ``body_frame_rhs`` at ε = 0, I2 = (1 + ε) I1, by the complex step (exact to round-off)."""
     a, I1, _, I3, g = body.params
@@ -109,29 +120,42 @@ def _QJ_of(body: Body) -> Callable[[NDArray[np.float64]], float]:
     return lambda y: float(jellett(body, y[0:3], y[3:6]))
 
 
-def _variational_integrator() -> Any:
-    """heyoka integrator of form (i) with its first-order variational equations in ε.
-
-    State (y, z), 22 components; parameters (a, I1, I3, g, ε) with I2 = (1 + ε) I1.
+def _variational_integrator(order: int = 1) -> Any:
+    """heyoka integrator of form (i) with its variational equations in ε along a curve (y₀(ε), ε), to ``order``
+    1 or 2: state (y, z) or (y, z, w), 22 or 33 components, ż = A z + ∂f/∂ε and ẇ = A w + D²f[z, z] +
+    2 ∂²f/∂y∂ε z + ∂²f/∂ε² (ẇ is ż's right-hand side differentiated along (z, w, ε)); parameters (a, I1, I3, g, ε)
+    with I2 = (1 + ε) I1.
     """
-    if "ta" in _INTEGRATOR:
-        return _INTEGRATOR["ta"]
+    key = f"ta{order}"
+    if key in _INTEGRATOR:
+        return _INTEGRATOR[key]
     import heyoka as hy
 
     names = ["g1", "g2", "g3", "w1", "w2", "w3", "x1", "x2", "x3", "X", "Y"]
     y = hy.make_vars(*names)
     z = hy.make_vars(*("d" + n for n in names))
+    w = hy.make_vars(*("dd" + n for n in names))
     a, I1, I3, g, eps = (hy.par[i] for i in range(5))
     f = body_frame_rhs(y, (a, I1, I1 * (1.0 + eps), I3, g))
-    fz = []
-    for fi in f:
-        expr = hy.diff(fi, eps)
-        for yj, zj in zip(y, z):
-            expr = expr + hy.diff(fi, yj) * zj
-        fz.append(expr)
-    ta = hy.taylor_adaptive(list(zip(y, f)) + list(zip(z, fz)), np.zeros(22), pars=np.zeros(5),
-                            compact_mode=True)
-    _INTEGRATOR["ta"] = ta
+
+    def along(exprs: list[Any], second: list[Any]) -> list[Any]:
+        """∂e/∂ε + Σ_j ∂e/∂y_j z_j (+ Σ_j ∂e/∂z_j second_j) for each expression e."""
+        out = []
+        for e in exprs:
+            acc = hy.diff(e, eps)
+            for yj, zj in zip(y, z):
+                acc = acc + hy.diff(e, yj) * zj
+            for zj, sj in zip(z, second):
+                acc = acc + hy.diff(e, zj) * sj
+            out.append(acc)
+        return out
+
+    fz = along(f, [])
+    eqs = list(zip(y, f)) + list(zip(z, fz))
+    if order == 2:
+        eqs += list(zip(w, along(fz, list(w))))
+    ta = hy.taylor_adaptive(eqs, np.zeros(len(eqs)), pars=np.zeros(5), compact_mode=True)
+    _INTEGRATOR[key] = ta
     return ta
 
 
@@ -253,52 +277,16 @@ def _to_next_maximum(ta: Any, sym: Body, x0: NDArray[np.float64]) -> tuple[float
     return t1, np.array(ta.d_output)
 
 
-def _second_variational_integrator() -> Any:
-    """heyoka integrator of form (i) with its first- and second-order variational equations along a curve
-    (y₀(ε), ε): state (y, z, w), 33 components, ż = A z + ∂f/∂ε and ẇ = A w + D²f[z, z] + 2 ∂²f/∂y∂ε z + ∂²f/∂ε²,
-    i.e. ẇ is the derivative of ż's right-hand side along (z, w, ε); parameters (a, I1, I3, g, ε)."""
-    if "ta2" in _INTEGRATOR:
-        return _INTEGRATOR["ta2"]
-    import heyoka as hy
-
-    names = ["g1", "g2", "g3", "w1", "w2", "w3", "x1", "x2", "x3", "X", "Y"]
-    y = hy.make_vars(*names)
-    z = hy.make_vars(*("d" + n for n in names))
-    w = hy.make_vars(*("dd" + n for n in names))
-    a, I1, I3, g, eps = (hy.par[i] for i in range(5))
-    f = body_frame_rhs(y, (a, I1, I1 * (1.0 + eps), I3, g))
-
-    def along(exprs: list[Any], first: list[Any], second: list[Any]) -> list[Any]:
-        """Σ_j ∂e/∂y_j first_j (+ Σ_j ∂e/∂z_j second_j) + ∂e/∂ε for each expression e."""
-        out = []
-        for e in exprs:
-            acc = hy.diff(e, eps)
-            for yj, fj in zip(y, first):
-                acc = acc + hy.diff(e, yj) * fj
-            for zj, sj in zip(z, second):
-                acc = acc + hy.diff(e, zj) * sj
-            out.append(acc)
-        return out
-
-    fz = along(f, list(z), [])
-    fw = along(fz, list(z), list(w))
-    ta = hy.taylor_adaptive(list(zip(y, f)) + list(zip(z, fz)) + list(zip(w, fw)), np.zeros(33), pars=np.zeros(5),
-                            compact_mode=True)
-    _INTEGRATOR["ta2"] = ta
-    return ta
-
-
 def _second_directional(fun: Callable[[NDArray[np.float64]], float], y: NDArray[np.float64], v: NDArray[np.float64],
                         *, angle: bool = False, h: float = 1e-3) -> float:
-    """D²fun(y)[v, v] by the fourth-order central second difference along v/|v| (step h), times |v|²."""
+    """D²fun(y)[v, v] by :func:`_central_second_difference` along v/|v| (step h), times |v|²; exact to round-off for
+    quadratic functions."""
     norm = float(np.linalg.norm(v))
     if norm == 0.0:
         return 0.0
     e = v / norm
     wrap = (lambda x: float(wrap_angle(x))) if angle else float
-    f0 = fun(y)
-    d1, d2 = (wrap(fun(y + k * h * e) - f0) + wrap(fun(y - k * h * e) - f0) for k in (1, 2))
-    return norm * norm * (16.0 * d1 - d2) / (12.0 * h * h)
+    return norm * norm * _central_second_difference(lambda s: fun(y + s * e), 0.0, h, wrap)
 
 
 def second_order_step(body: Body, E: float, QR: float, QJ: float, psi: float, *,
@@ -310,7 +298,7 @@ def second_order_step(body: Body, E: float, QR: float, QJ: float, psi: float, *,
     The start's curve y₀(ε) (the maximum with the same (E, Q, ψ) for I2 = (1 + ε) I1,
     :func:`rocknroller.analysis.exact_step.maximum_state`) is differenced in ε (step ``h``, fourth order: it is an
     algebraic solve, smooth on the scale of ε ~ 1); the flow's first and second derivatives along it are integrated
-    (:func:`_second_variational_integrator`); the event time t₁(ε) of the next maximum, h(G(ε)) = 0 with
+    (:func:`_variational_integrator` of order 2); the event time t₁(ε) of the next maximum, h(G(ε)) = 0 with
     G(ε) = y(t₁(ε)) and h = dγ3/dt (quadratic), follows from
     t₁' = −∇h·Z / ∇h·F and ∇h·G'' + D²h[G', G'] = 0, G' = Z + F t₁', G'' = W + 2 Ż t₁' + (A F) t₁'² + F t₁''.
     The outputs q(G) have q'' = ∇q·G'' + D²q[G', G'] (directional differences of q, exact for the quadratic Q_J).
@@ -323,10 +311,9 @@ def second_order_step(body: Body, E: float, QR: float, QJ: float, psi: float, *,
         st = maximum_state(sym, eps, E, QR, QJ, psi)[2]
         return state_from_euler(st.theta, 0.0, psi, 0.0, st.phi_dot, st.psi_dot)
 
-    ys = {k: start(k * h) for k in (-2, -1, 0, 1, 2)}
-    a0 = (8.0 * (ys[1] - ys[-1]) - (ys[2] - ys[-2])) / (12.0 * h)
-    b0 = (16.0 * (ys[1] + ys[-1]) - (ys[2] + ys[-2]) - 30.0 * ys[0]) / (12.0 * h * h)
-    t1, out = _to_next_maximum(_second_variational_integrator(), sym, np.concatenate([ys[0], a0, b0]))
+    start = functools.lru_cache(maxsize=None)(start)  # the five solves are shared by both differences
+    a0, b0 = _central_difference(start, 0.0, h), _central_second_difference(start, 0.0, h)
+    t1, out = _to_next_maximum(_variational_integrator(2), sym, np.concatenate([start(0.0), a0, b0]))
     Y, Z, W = out[:11], out[11:22], out[22:]
     p0 = sym.params
 
@@ -337,13 +324,13 @@ def second_order_step(body: Body, E: float, QR: float, QJ: float, psi: float, *,
     Zdot = _central_difference(lambda s: rhs(Y + s * Z), 0.0, 1e-4) + eps_derivative_rhs(Y, sym)
     AF = _central_difference(lambda s: rhs(Y + s * F), 0.0, 1e-4)
 
-    def grad_h(v: NDArray[np.float64]) -> float:  # ∇h·v, h = y0 y4 − y1 y3
-        return float(v[0] * Y[4] + Y[0] * v[4] - v[1] * Y[3] - Y[1] * v[3])
+    def grad_h(v: NDArray[np.float64]) -> float:  # ∇h·v; h = dγ3/dt is quadratic: the differences are exact
+        return directional_derivative(turning_point_function, Y, v)
 
     t1p = -grad_h(Z) / grad_h(F)
     G1 = Z + F * t1p
     partial = W + 2.0 * Zdot * t1p + AF * t1p * t1p
-    t1pp = -(grad_h(partial) + 2.0 * (G1[0] * G1[4] - G1[1] * G1[3])) / grad_h(F)
+    t1pp = -(grad_h(partial) + _second_directional(turning_point_function, Y, G1)) / grad_h(F)
     G2 = partial + F * t1pp
 
     def second(fun: Callable[[NDArray[np.float64]], float], angle: bool = False) -> float:
@@ -352,6 +339,7 @@ def second_order_step(body: Body, E: float, QR: float, QJ: float, psi: float, *,
 
     return {"QR": second(_QR_of(sym)), "QJ": second(_QJ_of(sym)), "Theta": 2.0 * second(_psi_of, angle=True),
             "t": t1pp, "phi": second(_phi_of, angle=True)}
+
 
 # ----------------------------------------------------------------------------- coefficients at one Q
 @dataclass(frozen=True)

@@ -33,7 +33,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.special import ellipj, ellipk
 
-from rocknroller.analysis.averaging import eps_period_doubling
+from rocknroller.analysis.averaging_limits import eps_period_doubling, stable_rocking_psi
 from rocknroller.analysis.slow_orbit import _QJ_of, _QR_of, directional_derivative, eps_derivative_rhs, rest_energy
 from rocknroller.analysis.body import Body
 from rocknroller.analysis.invariants import V_phi, V_psi
@@ -90,7 +90,7 @@ class PendulumConstants:
     @property
     def stable_psi(self) -> float:
         """ψ (mod π) of the stable pure rocking: π/2 for κ > 0, 0 for κ < 0."""
-        return 0.5 * math.pi if self.kappa > 0 else 0.0
+        return stable_rocking_psi(self.kappa)
 
     @property
     def line_slope(self) -> float:

@@ -44,15 +44,11 @@ def paper_rate_starts() -> dict[str, tuple[float, float]]:
     """The paper's reversal starts at θ0 = 0.95π, ψ0 = π/4 as (φ̇0, ψ̇0), computed on their lines: fig. 7 (rest),
     fig. 8 (on Q_J,π^crit, ψ̇0 = 0.002), fig. 9 (on Q_J,0^crit, ψ̇0 = 0.378) and fig. 11 (on Q_J,π^crit at
     Q_R = 0.1; its run starts 2.5–3.5 % of the line's value above it, :mod:`fig11_high_QR`)."""
-    from rocknroller.analysis.criticality import critical_start
-    from rocknroller.numerics.equations import EulerState
     from rocknroller.papers.lynch_bustamante import fig8_visible_reversal, fig9_full_reversal, fig11_high_QR, reversals
 
     on_line = {"fig. 8": reversals.start_on_line("pi", fig8_visible_reversal.PSI_DOT0),
-               "fig. 9": reversals.start_on_line("0", fig9_full_reversal.PSI_DOT0)}
-    cs = critical_start(reversals.body(), reversals.THETA0, reversals.PSI0, "pi", QR=fig11_high_QR.QR0)
-    on_line["fig. 11"] = EulerState.from_omega(reversals.THETA0, 0.0, reversals.PSI0,
-                                               np.asarray(cs.omega, float).reshape(3))
+               "fig. 9": reversals.start_on_line("0", fig9_full_reversal.PSI_DOT0),
+               "fig. 11": reversals.start_on_line("pi", QR=fig11_high_QR.QR0)}
     return {"fig. 7": (0.0, 0.0), **{k: (s.phi_dot, s.psi_dot) for k, s in on_line.items()}}
 
 

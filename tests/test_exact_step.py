@@ -61,7 +61,13 @@ def test_second_derivative_has_harmonics_0_2_4_of_psi():
 
 def test_maximum_state_is_the_requested_maximum():
     """The solved start has the requested E (the member's), Q_R and Q_J (the family's I1) and θ̇ = 0; for ε < 0 the
-    relabelled body (moments ((1 + ε) I1, I1), ψ + π/2) has the same energy as the body it stands for."""
+    relabelled body (moments ((1 + ε) I1, I1), ψ + π/2) has the same energy as the body it stands for.
+
+    Bounds: Brent stops within 4 · 8.9e-16 |θ| ≈ 1.1e-14 of the root, which moves E by |dE/dθ| ≈ 0.08 of that, and
+    E (~1, sums of a few terms ≤ 1) is evaluated to a few ulps: ≤ 2e-15 together, 4e-15 with a margin of 2.  The
+    rates are V_φ, V_ψ at θ, whose Q_R, Q_J come back through Σ and ρ to ~10 ulps of their terms (here each term,
+    e.g. I1 s² φ̇ = 3.4e-3 against Q_J = 3e-3, is ≲ 2 |Q|): ≤ 5e-15, 1e-13 with a margin of 20 for other CPUs' and
+    kernels' last bits."""
     for eps in (0.01, -0.01):
         body, shift, st = maximum_state(SYM, eps, E, 0.01, 0.003, 0.4)
         got = invariants_from_euler(body, st.theta, 0.0, st.phi_dot, st.psi_dot, st.psi)
@@ -73,7 +79,9 @@ def test_maximum_state_is_the_requested_maximum():
 
 
 def test_exact_step_at_eps_zero_is_routh_sphere():
-    """At ε = 0 the step keeps Q (Routh's sphere conserves it) to the integrator's round-off."""
+    """At ε = 0 the step keeps Q (Routh's sphere conserves it) to the integrator's round-off: heyoka at tolerance u
+    over one rock (~100 steps) drifts the invariants by ≤ 100 · 10 u of their terms (|I ω| ≈ 3 |Q| here), 2e-12
+    relative, 1e-11 with a margin of 5."""
     out = exact_step(SYM, 0.0, E, 0.01, 0.003, 0.4)
     assert out[:2] == pytest.approx([0.01, 0.003], rel=1e-11)
 

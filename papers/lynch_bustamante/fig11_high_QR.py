@@ -14,8 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rocknroller.analysis.criticality import QJ_crit_pi, critical_start, region
-from rocknroller.numerics.equations import EulerState
+from rocknroller.analysis.criticality import QJ_crit_pi, region
 from rocknroller.analysis.quadrature import wrap_angle
 from rocknroller.papers.lynch_bustamante import reversals
 from rocknroller.papers.output import Reproduction, new_figure, save_figure, write_csv
@@ -29,11 +28,8 @@ T_END = 1000.0
 
 
 def run_with_offset(fraction: float) -> reversals.ReversalRun:
-    body = reversals.body()
-    offset = fraction * abs(float(QJ_crit_pi(QR0, body)))
-    cs = critical_start(body, reversals.THETA0, reversals.PSI0, "pi", QR=QR0, offset=offset)
-    ini = EulerState.from_omega(reversals.THETA0, 0.0, reversals.PSI0, np.asarray(cs.omega, float).reshape(3))
-    return reversals.run("high Q_R", ini, T_END)
+    offset = fraction * abs(float(QJ_crit_pi(QR0, reversals.body())))
+    return reversals.run("high Q_R", reversals.start_on_line("pi", QR=QR0, offset=offset), T_END)
 
 
 def compute() -> tuple[float, reversals.ReversalRun]:

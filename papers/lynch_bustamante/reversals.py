@@ -39,9 +39,11 @@ def body() -> Body:
     return Body.paper(EPSILON)
 
 
-def start_on_line(line: str, psi_dot0: float) -> EulerState:
-    """Turning-point start at θ0 = 0.95π, ψ0 = π/4 with the given ψ̇0, exactly on the critical line."""
-    cs = critical_start(body(), THETA0, PSI0, line, psi_dot0=psi_dot0)
+def start_on_line(line: str, psi_dot0: float | None = None, *, QR: float | None = None,
+                  offset: float = 0.0) -> EulerState:
+    """Turning-point start at θ0 = 0.95π, ψ0 = π/4 with the given ψ̇0 (or Q_R), on the critical line (or ``offset``
+    above it in Q_J): :func:`rocknroller.analysis.criticality.critical_start`."""
+    cs = critical_start(body(), THETA0, PSI0, line, psi_dot0=psi_dot0, QR=QR, offset=offset)
     return EulerState.from_omega(THETA0, 0.0, PSI0, np.asarray(cs.omega, float).reshape(3))
 
 
