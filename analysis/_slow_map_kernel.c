@@ -39,7 +39,7 @@
 #define N_KICK 15
 #define N_JAC 48    /* N_FUN + 2 * N_KICK */
 #define N_K2 25     /* second order: the harmonics (c0, c1, s1, c2, s2) of k2_u, k2_v, k2_Theta, k2_t, k2_phi */
-#define MAX_NV 64
+#define MAX_NV 128
 #define MAX_ITER 60
 #define KICK_RTOL 1e-13
 #define NEWTON_SAFETY 1e-3

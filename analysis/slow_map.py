@@ -58,8 +58,9 @@ class SlowSeries:
 
 _IDX = {name: i for i, name in enumerate(TABLE_FUNCTIONS)}
 _HARM = ("c0", "c1", "s1")
-#: Points of the fine uniform grid in u used at run time (6-point Lagrange interpolation between them).
-_FINE_POINTS = 8193
+#: Points of the fine uniform grid in u used at run time per Chebyshev term along it (6-point Lagrange
+#: interpolation between them; 64 nu + 1 = 8193 for the release tables' nu = 128).
+_FINE_PER_TERM = 64
 #: Run-time functions: 0-8 the harmonics (c0, c1, s1) of k_u = e·k_Q, k_v = n·k_Q and k_Θ (solved for
 #: implicitly), 9-14 those of the time and φ kicks, 15-17 the drifts T_θ, W, Δφ.
 _N_KICK = 15
@@ -101,7 +102,8 @@ class _FastTable:
         drift = [c[_IDX[name]] for name in ("T", "W", "dphi")]
         self.U, self.nv = float(table.U), c.shape[2]
         self.e, self.n = e, n
-        xi = np.linspace(-1.0, 1.0, _FINE_POINTS)
+        self.n_fine = _FINE_PER_TERM * c.shape[1] + 1
+        xi = np.linspace(-1.0, 1.0, self.n_fine)
         self.dx = float(xi[1] - xi[0])
         self.alpha, self.beta = float(table.alpha), float(table.beta)
         self.geom = np.ascontiguousarray(np.stack(table._sides(stretch(xi, self.alpha)), axis=1))
@@ -114,8 +116,8 @@ class _FastTable:
         dv = np.concatenate([dv, np.zeros(dv.shape[:2] + (1,))], axis=2)
         fine_d = np.concatenate([_at_points(du, Bu[: du.shape[1]]),
                                  _at_points(dv, Bu)], axis=1)         # (Nf, 30, nv)
-        self.rows = np.ascontiguousarray(fine.reshape(_FINE_POINTS, -1))
-        self.rows_jac = np.ascontiguousarray(np.concatenate([fine, fine_d], axis=1).reshape(_FINE_POINTS, -1))
+        self.rows = np.ascontiguousarray(fine.reshape(self.n_fine, -1))
+        self.rows_jac = np.ascontiguousarray(np.concatenate([fine, fine_d], axis=1).reshape(self.n_fine, -1))
         self.table = table
         self.second = second
         self.rows2 = None if second is None else self._second_order_rows(second)
@@ -133,9 +135,9 @@ class _FastTable:
         comps = [e[0] * c2[0] + e[1] * c2[1], n[0] * c2[0] + n[1] * c2[1], c2[2], c2[3], c2[4]]
         coef = np.zeros((25, nu2, self.nv))
         coef[:, :, :nv2] = np.concatenate(comps).reshape(25, nu2, nv2)
-        xi = np.linspace(-1.0, 1.0, _FINE_POINTS)
+        xi = np.linspace(-1.0, 1.0, self.n_fine)
         fine = _at_points(coef, _cheb_basis(xi, nu2))  # (Nf, 25, nv)
-        return np.ascontiguousarray(fine.reshape(_FINE_POINTS, -1))
+        return np.ascontiguousarray(fine.reshape(self.n_fine, -1))
 
     def _evaluate(self, rows: NDArray[np.float64], u: float, v: float) -> list[float]:
         out = _kernel.evaluate(rows, self.geom, rows.shape[1] // self.nv, self.nv, self.U, self.alpha, self.beta,

@@ -12,6 +12,10 @@ dy_{n+1}/dε = z + f dt₁/dε,  dt₁/dε = −∇h·z / ∇h·f,  h = dγ3/dt.
 
 By the rotational symmetry of Routh's sphere, the first-order response contains only the harmonics 0 and 2
 of ψ_n (0 and 1 of Θ_n = 2ψ_n): three orbits per Q (ψ_n = 0, π/3, 2π/3) determine it.
+
+The orbits run in heyoka's batch mode, one per SIMD lane (:func:`first_order_steps`, :func:`harmonic_steps`): the
+tables' nodes cost ~4× less than one orbit at a time (``benchmarks/region_table.py``); the lanes differ from a
+one-lane run by the rounding of the vector kernels only (~1e-14 of each response).
 """
 
 from __future__ import annotations
@@ -39,6 +43,8 @@ __all__ = [
     "eps_derivative_rhs",
     "FirstOrderStep",
     "first_order_step",
+    "first_order_steps",
+    "harmonic_steps",
     "second_order_step",
     "StepCoefficients",
     "step_coefficients",
@@ -66,15 +72,14 @@ def directional_derivative(fun: Callable[[NDArray[np.float64]], float], y: Array
     """D fun(y)[v] by the fourth-order central difference along v/|v| (step h), times |v|.
 
     Exact to round-off for quadratic functions (Q_J, dγ3/dt); truncation ~h⁴ otherwise.
-    ``angle=True`` wraps the differences to (−π, π] (for ψ and φ from ``atan2``).
+    ``angle=True`` wraps the differences to (−π, π] (for ψ and φ from ``atan2``).  y and v of shape (11, N)
+    give the N derivatives (fun then maps (11, N) to N values).
     """
     y, v = np.asarray(y, float), np.asarray(v, float)
-    norm = float(np.linalg.norm(v))
-    if norm == 0.0:
-        return 0.0
-    e = v / norm
-    wrap = (lambda x: float(wrap_angle(x))) if angle else float
-    return norm * _central_difference(lambda s: fun(y + s * e), 0.0, h, wrap)
+    norm = np.linalg.norm(v, axis=0)  # columns of (11, N) arrays are N separate points and directions
+    e = v / np.where(norm == 0.0, 1.0, norm)
+    out = norm * _central_difference(lambda s: fun(y + s * e), 0.0, h, wrap_angle if angle else np.asarray)
+    return float(out) if np.ndim(out) == 0 else out
 
 
 def _central_difference(fun: Callable[[float], Any], x: float, h: float,
@@ -104,31 +109,27 @@ def eps_derivative_rhs(y: ArrayLike, body: Body) -> NDArray[np.float64]:
     return np.array([complex(v).imag / h for v in out])
 
 
-def _psi_of(y: NDArray[np.float64]) -> float:
-    return float(angles_from_frame(y[0:3], y[6:9])[2])
+# functions of states (11,) or (11, N)
+def _psi_of(y: NDArray[np.float64]) -> NDArray[np.float64]:
+    return angles_from_frame(y[0:3], y[6:9])[2]
 
 
-def _phi_of(y: NDArray[np.float64]) -> float:
-    return float(angles_from_frame(y[0:3], y[6:9])[1])
+def _phi_of(y: NDArray[np.float64]) -> NDArray[np.float64]:
+    return angles_from_frame(y[0:3], y[6:9])[1]
 
 
-def _QR_of(body: Body) -> Callable[[NDArray[np.float64]], float]:
-    return lambda y: float(routh(body, y[0:3], y[3:6]))
+def _QR_of(body: Body) -> Callable[[NDArray[np.float64]], NDArray[np.float64]]:
+    return lambda y: routh(body, y[0:3], y[3:6])
 
 
-def _QJ_of(body: Body) -> Callable[[NDArray[np.float64]], float]:
-    return lambda y: float(jellett(body, y[0:3], y[3:6]))
+def _QJ_of(body: Body) -> Callable[[NDArray[np.float64]], NDArray[np.float64]]:
+    return lambda y: jellett(body, y[0:3], y[3:6])
 
 
-def _variational_integrator(order: int = 1) -> Any:
-    """heyoka integrator of form (i) with its variational equations in ε along a curve (y₀(ε), ε), to ``order``
-    1 or 2: state (y, z) or (y, z, w), 22 or 33 components, ż = A z + ∂f/∂ε and ẇ = A w + D²f[z, z] +
-    2 ∂²f/∂y∂ε z + ∂²f/∂ε² (ẇ is ż's right-hand side differentiated along (z, w, ε)); parameters (a, I1, I3, g, ε)
-    with I2 = (1 + ε) I1.
-    """
-    key = f"ta{order}"
-    if key in _INTEGRATOR:
-        return _INTEGRATOR[key]
+def _variational_system(order: int) -> list[tuple[Any, Any]]:
+    """Form (i) with its variational equations in ε along a curve (y₀(ε), ε), to ``order`` 1 or 2: state (y, z) or
+    (y, z, w), 22 or 33 components, ż = A z + ∂f/∂ε and ẇ = A w + D²f[z, z] + 2 ∂²f/∂y∂ε z + ∂²f/∂ε² (ẇ is ż's
+    right-hand side differentiated along (z, w, ε)); parameters (a, I1, I3, g, ε) with I2 = (1 + ε) I1."""
     import heyoka as hy
 
     names = ["g1", "g2", "g3", "w1", "w2", "w3", "x1", "x2", "x3", "X", "Y"]
@@ -154,9 +155,22 @@ def _variational_integrator(order: int = 1) -> Any:
     eqs = list(zip(y, f)) + list(zip(z, fz))
     if order == 2:
         eqs += list(zip(w, along(fz, list(w))))
-    ta = hy.taylor_adaptive(eqs, np.zeros(len(eqs)), pars=np.zeros(5), compact_mode=True)
-    _INTEGRATOR[key] = ta
-    return ta
+    return eqs
+
+
+def _variational_integrator(order: int = 1, lanes: int | None = None) -> Any:
+    """heyoka batch integrator of :func:`_variational_system` (``order`` 1 or 2), by default in lanes of heyoka's
+    recommended SIMD width: one orbit per lane, each with its own steps (the lanes do not interact), so a batch runs
+    several orbits for about the price of one (docs/averaging.md, "Cost"; ``lanes=1``: one orbit at a time)."""
+    import heyoka as hy
+
+    lanes = int(hy.recommended_simd_size()) if lanes is None else int(lanes)
+    key = f"batch{order}x{lanes}"
+    if key not in _INTEGRATOR:
+        eqs = _variational_system(order)
+        _INTEGRATOR[key] = hy.taylor_adaptive_batch(eqs, np.zeros((len(eqs), lanes)), pars=np.zeros((5, lanes)),
+                                                    compact_mode=True)
+    return _INTEGRATOR[key]
 
 
 # ----------------------------------------------------------------------------- one orbit
@@ -189,9 +203,43 @@ class FirstOrderStep:
     d: dict[str, float]
 
 
-def _max_state(sym: Body, theta: float, QR: float, QJ: float, psi: float) -> NDArray[np.float64]:
+def _max_state(sym: Body, theta: ArrayLike, QR: ArrayLike, QJ: ArrayLike, psi: ArrayLike) -> NDArray[np.float64]:
+    """The state(s) (11,) or (11, N) at the turning point θ with (Q_R, Q_J) and spin angle ψ."""
     st = state_from_turning_point(sym, theta, QR, QJ)
-    return state_from_euler(theta, 0.0, psi, 0.0, float(st.phi_dot), float(st.psi_dot))
+    return state_from_euler(theta, 0.0, psi, 0.0, st.phi_dot, st.psi_dot)
+
+
+def first_order_steps(body: Body, E: float, QR: ArrayLike, QJ: ArrayLike, psi: ArrayLike,
+                      theta_X: ArrayLike, *, lanes: int | None = None) -> FirstOrderStep:
+    """:func:`first_order_step` for N starts at once (arrays of one shape, or scalars broadcast to it), their orbits
+    run side by side in the lanes of the batch integrator (``lanes``: :func:`_variational_integrator`); the
+    FirstOrderStep's fields are then arrays (N,)."""
+    sym = body.symmetric()
+    QR, QJ, psi, theta_X = (np.ravel(v) for v in np.broadcast_arrays(*(np.asarray(v, float)
+                                                                          for v in (QR, QJ, psi, theta_X))))
+    y0 = _max_state(sym, theta_X, QR, QJ, psi)
+    # shift of θ_X at fixed (E, Q, ψ): ∂E/∂ε (E is linear in I2) over ∂U/∂θ
+    e_half = 0.5 * (sym.I3 / sym.I1 - 1.0)
+    dE_deps = (energy(sym.with_epsilon(e_half), y0[0:3], y0[3:6]) - energy(sym, y0[0:3], y0[3:6])) / e_half
+    hth = 1e-4 * np.minimum(theta_X, math.pi - theta_X)
+    dU = _central_difference(lambda th: effective_potential(th, QR, QJ, sym), theta_X, hth)
+    dy_dth = _central_difference(lambda th: _max_state(sym, th, QR, QJ, psi), theta_X, hth)
+    z0 = dy_dth * (-dE_deps / dU)
+
+    t1, out = _to_next_maxima(1, sym, np.concatenate([y0, z0]), lanes)
+    Y, Z = out[:11], out[11:]
+    fY = np.array(body_frame_rhs(Y, sym.params))
+    dt1 = -directional_derivative(turning_point_function, Y, Z) / directional_derivative(turning_point_function, Y, fY)
+    dY = Z + fY * dt1
+    d = {
+        "QR": directional_derivative(_QR_of(sym), Y, dY),
+        "QJ": directional_derivative(_QJ_of(sym), Y, dY),
+        "Theta": 2.0 * directional_derivative(_psi_of, Y, dY, angle=True),
+        "t": dt1,
+        "phi": directional_derivative(_phi_of, Y, dY, angle=True),
+    }
+    return FirstOrderStep(QR=QR, QJ=QJ, psi=psi, theta_X=theta_X, T=t1, dpsi=wrap_angle(_psi_of(Y) - psi, math.pi),
+                          dphi=wrap_angle(_phi_of(Y) - _phi_of(y0), math.pi), d=d)
 
 
 def first_order_step(body: Body, E: float, QR: float, QJ: float, psi: float, *,
@@ -212,69 +260,60 @@ def first_order_step(body: Body, E: float, QR: float, QJ: float, psi: float, *,
     theta_X : float, optional
         The maximum θ_X(E, Q_R, Q_J) if already known (``reduction.turning_points``).
     """
-    sym = body.symmetric()
     if theta_X is None:
-        theta_X = float(turning_points(E, QR, QJ, sym)[1])
-    y0 = _max_state(sym, theta_X, QR, QJ, psi)
-    # shift of θ_X at fixed (E, Q, ψ): ∂E/∂ε (E is linear in I2) over ∂U/∂θ
-    e_half = 0.5 * (sym.I3 / sym.I1 - 1.0)
-    dE_deps = float(energy(sym.with_epsilon(e_half), y0[0:3], y0[3:6]) - energy(sym, y0[0:3], y0[3:6])) / e_half
-    hth = 1e-4 * min(theta_X, math.pi - theta_X)
-    U = lambda th: float(effective_potential(th, QR, QJ, sym))  # noqa: E731
-    dU = _central_difference(U, theta_X, hth)
-    dy_dth = _central_difference(lambda th: _max_state(sym, th, QR, QJ, psi), theta_X, hth)
-    z0 = dy_dth * (-dE_deps / dU)
-
-    ta = _variational_integrator()
-    t1, out = _to_next_maximum(ta, sym, np.concatenate([y0, z0]))
-    Y, Z = out[:11], out[11:]
-    fY = np.array(body_frame_rhs(Y, sym.params))
-    dt1 = -directional_derivative(turning_point_function, Y, Z) / directional_derivative(turning_point_function, Y, fY)
-    dY = Z + fY * dt1
-    d = {
-        "QR": directional_derivative(_QR_of(sym), Y, dY),
-        "QJ": directional_derivative(_QJ_of(sym), Y, dY),
-        "Theta": 2.0 * directional_derivative(_psi_of, Y, dY, angle=True),
-        "t": dt1,
-        "phi": directional_derivative(_phi_of, Y, dY, angle=True),
-    }
-    return FirstOrderStep(QR=float(QR), QJ=float(QJ), psi=float(psi), theta_X=theta_X, T=t1,
-                          dpsi=float(wrap_angle(_psi_of(Y) - psi, math.pi)),
-                          dphi=float(wrap_angle(_phi_of(Y) - _phi_of(y0), math.pi)), d=d)
+        theta_X = float(turning_points(E, QR, QJ, body.symmetric())[1])
+    st = first_order_steps(body, E, QR, QJ, psi, theta_X)
+    return FirstOrderStep(QR=float(QR), QJ=float(QJ), psi=float(psi), theta_X=float(theta_X), T=float(st.T[0]),
+                          dpsi=float(st.dpsi[0]), dphi=float(st.dphi[0]), d={k: float(v[0]) for k, v in st.d.items()})
 
 
-def _to_next_maximum(ta: Any, sym: Body, x0: NDArray[np.float64]) -> tuple[float, NDArray[np.float64]]:
-    """Integrate ``ta`` (form (i) in its first 11 components, variational ones after) from the maximum x0[:11] at
-    t = 0 with ε = 0 to the next maximum of θ: steps until dγ3/dt rises through zero after the minimum, then Newton
-    on the dense output to round-off.  Returns (t1, the whole state at t1)."""
-    ta.time = 0.0
-    ta.state[:] = x0
-    ta.pars[:] = [sym.a, sym.I1, sym.I3, sym.g, 0.0]
-    h_prev, passed_min = turning_point_function(x0[:11]), False
-    for _ in range(100000):
-        outcome = ta.step(write_tc=True)[0]
-        if outcome.name != "success":
-            raise RuntimeError(f"heyoka step failed: {outcome}")
-        hv = turning_point_function(ta.state[:11])
-        if h_prev > 0.0 >= hv:
-            passed_min = True
-        if passed_min and h_prev < 0.0 <= hv:
-            break
-        h_prev = hv
-    else:  # pragma: no cover
-        raise RuntimeError("no next maximum of theta found")
+def _to_next_maxima(order: int, sym: Body, x0: NDArray[np.float64],
+                    lanes: int | None = None) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Integrate the variational system of ``order`` (form (i) in its first 11 components, variational ones after)
+    from the maxima x0[:11, k] at t = 0 with ε = 0 to the next maximum of θ, ``x0`` of shape (components, N), in
+    batches of the integrator's lanes (the last padded with copies): each lane steps until dγ3/dt rises through zero
+    after the minimum, then Newton on its dense output to round-off.  Returns (t1 (N,), the states at t1 (·, N))."""
+    tb = _variational_integrator(order, lanes)
+    lanes, n = tb.batch_size, x0.shape[1]
+    t1, out = np.empty(n), np.empty_like(x0)
     p0 = sym.params
-    t1 = float(ta.time)
-    for _ in range(50):
-        ta.update_d_output(t1)
-        Y = np.array(ta.d_output[:11])
-        dt = -turning_point_function(Y) / directional_derivative(turning_point_function, Y,
-                                                                  np.array(body_frame_rhs(Y, p0)))
-        t1 += dt
-        if abs(dt) <= 4e-16 * t1:
-            break
-    ta.update_d_output(t1)
-    return t1, np.array(ta.d_output)
+    for first in range(0, n, lanes):
+        take = np.minimum(np.arange(first, first + lanes), n - 1)
+        tb.set_time(np.zeros(lanes))
+        tb.state[:] = x0[:, take]
+        tb.pars[:] = np.array([sym.a, sym.I1, sym.I3, sym.g, 0.0])[:, None]
+        h_prev = turning_point_function(x0[:11, take])
+        passed_min, done = np.zeros(lanes, bool), np.zeros(lanes, bool)
+        for _ in range(100000):
+            tb.step(write_tc=True)
+            failed = [r[0].name for r in tb.step_res if r[0].name != "success"]
+            if failed:
+                raise RuntimeError(f"heyoka step failed: {failed[0]}")
+            hv = turning_point_function(tb.state[:11])
+            passed_min |= (h_prev > 0.0) & (hv <= 0.0)
+            for k in np.flatnonzero(passed_min & (h_prev < 0.0) & (hv >= 0.0) & ~done):
+                times = np.array(tb.time)
+                t = float(times[k])
+                for _ in range(50):
+                    times[k] = t
+                    tb.update_d_output(times)
+                    Y = np.array(tb.d_output[:11, k])
+                    dt = -turning_point_function(Y) / directional_derivative(turning_point_function, Y,
+                                                                              np.array(body_frame_rhs(Y, p0)))
+                    t += dt
+                    if abs(dt) <= 4e-16 * t:
+                        break
+                times[k] = t
+                tb.update_d_output(times)
+                if first + k < n:
+                    t1[first + k], out[:, first + k] = t, tb.d_output[:, k]
+                done[k] = True
+            if done.all():
+                break
+            h_prev = hv
+        else:  # pragma: no cover
+            raise RuntimeError("no next maximum of theta found")
+    return t1, out
 
 
 def _second_directional(fun: Callable[[NDArray[np.float64]], float], y: NDArray[np.float64], v: NDArray[np.float64],
@@ -313,7 +352,7 @@ def second_order_step(body: Body, E: float, QR: float, QJ: float, psi: float, *,
 
     start = functools.lru_cache(maxsize=None)(start)  # the five solves are shared by both differences
     a0, b0 = _central_difference(start, 0.0, h), _central_second_difference(start, 0.0, h)
-    t1, out = _to_next_maximum(_variational_integrator(2), sym, np.concatenate([start(0.0), a0, b0]))
+    out = _to_next_maxima(2, sym, np.concatenate([start(0.0), a0, b0])[:, None])[1][:, 0]
     Y, Z, W = out[:11], out[11:22], out[22:]
     p0 = sym.params
 
@@ -385,6 +424,21 @@ def _harmonics(values: ArrayLike) -> NDArray[np.float64]:
                      (2.0 / 3.0) * (v * np.sin(Th)).sum(axis=-1)], axis=-1)
 
 
+def harmonic_steps(body: Body, E: float, QR: ArrayLike, QJ: ArrayLike, theta_X: ArrayLike, *,
+                   lanes: int | None = None) -> tuple[FirstOrderStep, NDArray[np.float64]]:
+    """The three orbits (ψ_n in ``HARMONIC_PSI``) at each of N points Q, run together in the batch integrator
+    (``lanes``: :func:`_variational_integrator`), and the harmonics (c0, c1, s1) of their ε-responses, shape
+    (len(FIRST_ORDER_NAMES), N, 3); the steps' fields are arrays (N, 3)."""
+    QR, QJ, theta_X = (np.ravel(v)[:, None] for v in np.broadcast_arrays(*(np.asarray(v, float)
+                                                                            for v in (QR, QJ, theta_X))))
+    psi = np.asarray(HARMONIC_PSI)[None, :]
+    st = first_order_steps(body, E, QR, QJ, psi, theta_X, lanes=lanes)
+    shape = (QR.shape[0], len(HARMONIC_PSI))
+    st = FirstOrderStep(**{f: (np.reshape(getattr(st, f), shape) if f != "d" else
+                               {k: np.reshape(v, shape) for k, v in st.d.items()}) for f in st.__dataclass_fields__})
+    return st, np.stack([_harmonics(st.d[name]) for name in FIRST_ORDER_NAMES])
+
+
 def symmetric_data(sym: Body, E: float, QR: ArrayLike, QJ: ArrayLike) -> tuple[NDArray, NDArray, NDArray, NDArray]:
     """(T_θ, W, Δφ mod π, θ_X) at energy E from the quadratures, vectorised."""
     pr = precession(E, QR, QJ, sym, rtol=1e-12)  # W errors are amplified by the twist: full precision
@@ -399,8 +453,12 @@ def step_coefficients(body: Body, E: float, QR: float, QJ: float) -> StepCoeffic
     """The first-order one-step coefficients at energy E and Q = (Q_R, Q_J) (three variational orbits)."""
     sym = body.symmetric()
     T, W, dphi, theta_X = (float(x) for x in symmetric_data(sym, E, QR, QJ))
-    steps = tuple(first_order_step(sym, E, QR, QJ, psi, theta_X=theta_X) for psi in HARMONIC_PSI)
-    harm = {name: tuple(float(c) for c in _harmonics([s.d[name] for s in steps])) for name in FIRST_ORDER_NAMES}
+    st, resp = harmonic_steps(sym, E, QR, QJ, theta_X)
+    steps = tuple(FirstOrderStep(QR=float(QR), QJ=float(QJ), psi=psi, theta_X=theta_X, T=float(st.T[0, k]),
+                                 dpsi=float(st.dpsi[0, k]), dphi=float(st.dphi[0, k]),
+                                 d={name: float(v[0, k]) for name, v in st.d.items()})
+                  for k, psi in enumerate(HARMONIC_PSI))
+    harm = {name: tuple(float(c) for c in resp[j, 0]) for j, name in enumerate(FIRST_ORDER_NAMES)}
     return StepCoefficients(QR=float(QR), QJ=float(QJ), T=T, W=W, dphi=dphi, harmonics=harm, steps=steps)
 
 

@@ -12,7 +12,13 @@ the distance to steady rolling; along it, U = ``tip_fraction`` times the tip of 
 coefficient functions are analytic inside the region but not at the tips (Chebyshev coefficients along x
 decay like 1.2^−n when the chart reaches 97 % of the tip), hence the tip fraction.  c (odd) and w (even)
 are Chebyshev fits of the level set's two sides, so Q → −Q is (x, τ) → (−x, −τ): the parities that make
-the map reversible hold on the grid.
+the map reversible hold on the grid.  This "spindle" chart fails at high amplitude: there W turns by 2π across
+Q_J,π^crit (paper eq. QJcrit_pi) within a layer (width 0.0024 at Q = 0 for the energy of a release from 0.95π,
+0.03 near its ends) that crosses the spindle diagonally, and no stretch along or across the spindle follows it.
+The "band" chart takes e along Q_J,π^crit instead, c(x) the measured centre of the layer (where W turns fastest;
+it bends off the line by up to 0.03) and w(x) the largest half-width about it inside the level set: the sinh
+stretch across (β from |∂W/∂v(0)|) then sits on the layer all along it.  It covers the band about Q_J,π^crit, not
+the spindle's tips.  ``region_axis`` picks it from the energy of a release at ``BAND_FROM_THETA0`` up.
 
 Data.  T_θ, W = 2(Δψ − π) mod 2π and Δφ mod π come from the same variational orbits as the ε-responses
 (``slow_orbit.first_order_step``), not from the quadratures: those lose their double-precision accuracy
@@ -34,10 +40,11 @@ from rocknroller.analysis.body import Body
 from rocknroller.analysis.parallel import check_processes, map_blocks
 from rocknroller.analysis.quadrature import wrap_angle
 from rocknroller.analysis.reduction import E_MAX, NoMotionError, min_potential, solve_turning_points
-from rocknroller.analysis.slow_orbit import FIRST_ORDER_NAMES, HARMONIC_PSI, _harmonics, first_order_step, symmetric_data
+from rocknroller.analysis.slow_orbit import FIRST_ORDER_NAMES, harmonic_steps, symmetric_data
 
-__all__ = ["boundary_distance", "region_frame", "build_region_table", "region_interpolation_error",
-           "load_or_build_region_table", "DELTA_MIN_RANGE", "TIP_FRACTION_RANGE"]
+__all__ = ["boundary_distance", "check_below_top", "region_axis", "region_options", "region_frame",
+           "build_region_table", "region_interpolation_error", "load_or_build_region_table", "DELTA_MIN_RANGE",
+           "TIP_FRACTION_RANGE", "AXES", "BAND_FROM_THETA0", "DEFAULT_GRID"]
 
 #: Allowed least distances (E − min U)/E to steady rolling of a region table.
 DELTA_MIN_RANGE = (1e-3, 0.5)
@@ -64,25 +71,102 @@ def _check_energy(E: float) -> float:
     return E
 
 
-def region_frame(body: Body, E: float, *, nu: int = 48, nv: int = 24, delta_min: float = 0.05,
-                 tip_fraction: float = 0.8) -> SlowMapTable:
+#: Charts of the region tables: "spindle" along Q_J,0^crit over the whole region, "band" along Q_J,π^crit.
+AXES = ("spindle", "band")
+#: "auto" takes the band from the energy of a release from rest at this θ0 up (measured: docs/averaging.md).
+BAND_FROM_THETA0 = 0.65 * math.pi
+#: Default Chebyshev nodes (along, across) of each chart.
+DEFAULT_GRID = {"spindle": (128, 64), "band": (80, 96)}
+#: Degree of the band's centre and half-width fits (odd and even parts).
+_BAND_DEGREE = 12
+#: Layer search across the band: geometric steps (relative), and the points of the refining grid.
+_LAYER_STEP, _LAYER_REFINE = 0.04, 201
+
+
+def check_below_top(body: Body, E: float) -> float:
+    """E, or an AveragingRangeError if E ≥ 2 g a, the energy of the upright position θ = π at rest (paper eq.
+    energy): from there up, the orbits on Q_J,π^crit pass through the upright position (F(π) ≥ 0 on it), where the
+    advance W of the spin is discontinuous, and no table of the energy can hold the map across that line."""
+    E, top = _check_energy(E), 2.0 * body.g * body.a
+    if E >= top:
+        raise AveragingRangeError(
+            f"the region tables need an energy below that of the upright position, E < 2 g a = {top:.6g}, got "
+            f"E={E:.6g}: above it the orbits on the critical line Q_J,pi^crit pass through theta = pi, where the "
+            f"averaged map's twist is discontinuous; run this start by the direct ODE (rocknroller simulate)")
+    return E
+
+
+def region_axis(body: Body, E: float) -> str:
+    """The chart "auto" picks for (body, E): "band" from the energy of a release from rest at ``BAND_FROM_THETA0``
+    up (where W turns by 2π across Q_J,π^crit within a layer the spindle's stretch cannot follow), else "spindle"."""
+    from rocknroller.analysis.slow_orbit import rest_energy
+
+    return "band" if _check_energy(E) >= rest_energy(body.symmetric(), BAND_FROM_THETA0) else "spindle"
+
+
+def region_options(body: Body, E: float, axis: str = "auto", nu: int | None = None,
+                   nv: int | None = None) -> tuple[str, int, int]:
+    """(axis, nu, nv) with "auto" and the grid's defaults resolved (``region_axis``, ``DEFAULT_GRID``)."""
+    if axis == "auto":
+        axis = region_axis(body, E)
+    if axis not in AXES:
+        raise ValueError(f"axis must be one of {('auto',) + AXES}, got axis={axis!r}")
+    dnu, dnv = DEFAULT_GRID[axis]
+    return axis, dnu if nu is None else nu, dnv if nv is None else nv
+
+
+def _layer_centres(sym: Body, E: float, points: NDArray[np.float64], n: NDArray[np.float64],
+                   lo: NDArray[np.float64], up: NDArray[np.float64], width: float) -> NDArray[np.float64]:
+    """Offsets s along n from each point at which W (the quadrature's, paper eq. psidotCJQR) turns fastest across
+    Q_J,π^crit, searched within [lo/2, up/2]: a grid geometric about s = 0 (steps ``_LAYER_STEP`` relative, from
+    the layer's width at Q = 0), then a uniform one over the steepest cell and its neighbours, and a parabola
+    through the largest slope and its two neighbours."""
+    from rocknroller.analysis.quadrature import precession
+
+    def W_along(s: NDArray[np.float64]) -> NDArray[np.float64]:
+        Q = points[:, None, :] + s[..., None] * n
+        pr = precession(E, Q[..., 0].ravel(), Q[..., 1].ravel(), sym, rtol=1e-10)
+        if np.any(np.asarray(pr.status) != 0):  # pragma: no cover - the search stays inside δ >= delta_min / 2
+            raise AveragingRangeError(f"the quadrature failed while locating the layer of W at E={E!r}")
+        return np.unwrap(2.0 * np.asarray(pr.delta_psi).reshape(s.shape), axis=1)
+
+    k = np.arange(1, int(math.ceil(math.log(float(np.max(up - lo)) / width) / _LAYER_STEP)) + 1)
+    side = width * np.expm1(_LAYER_STEP * k)
+    grid = np.concatenate([-side[::-1], [0.0], side])
+    s = np.clip(grid[None, :], 0.5 * lo[:, None], 0.5 * up[:, None])
+    slope = np.abs(np.diff(W_along(s), axis=1)) / np.maximum(np.diff(s, axis=1), 1e-300)
+    j = np.clip(np.argmax(slope, axis=1), 1, s.shape[1] - 3)
+    rows = np.arange(len(points))
+    fine = np.linspace(s[rows, j - 1], s[rows, j + 2], _LAYER_REFINE, axis=1)
+    d = np.abs(np.diff(W_along(fine), axis=1))
+    m = np.clip(np.argmax(d, axis=1), 1, _LAYER_REFINE - 3)
+    y0, y1, y2 = d[rows, m - 1], d[rows, m], d[rows, m + 1]
+    h = fine[:, 1] - fine[:, 0]
+    curv = y0 - 2.0 * y1 + y2
+    shift = np.where(curv < 0.0, 0.5 * (y0 - y2) / np.where(curv < 0.0, curv, -1.0), 0.0)
+    return 0.5 * (fine[rows, m] + fine[rows, m + 1]) + h * shift
+
+
+def region_frame(body: Body, E: float, *, axis: str = "auto", nu: int | None = None, nv: int | None = None,
+                 delta_min: float = 0.05, tip_fraction: float = 0.8) -> SlowMapTable:
     """The chart of the region tables of (body, E) (module docstring), as a SlowMapTable without coefficients.
 
     Raises
     ------
     ValueError
-        E, delta_min or tip_fraction out of range (naming it and the range).
+        E, axis, delta_min or tip_fraction out of range (naming it and the range).
     """
-    E = _check_energy(E)
+    E = check_below_top(body, E)
+    axis, nu, nv = region_options(body, E, axis, nu, nv)
     check_grid(nu, nv)
     for name, val, (lo, hi) in (("delta_min", delta_min, DELTA_MIN_RANGE), ("tip_fraction", tip_fraction,
                                                                            TIP_FRACTION_RANGE)):
         if not lo <= val <= hi:
             raise ValueError(f"{name} must lie in [{lo:g}, {hi:g}], got {name}={val!r}")
     sym = body.symmetric()
-    from rocknroller.analysis.criticality import QJ_crit_0  # imported here: it loads sympy
+    from rocknroller.analysis.criticality import QJ_crit_0, QJ_crit_pi  # imported here: it loads sympy
 
-    e = np.array([1.0, float(QJ_crit_0(1.0, sym))])
+    e = np.array([1.0, float((QJ_crit_0 if axis == "spindle" else QJ_crit_pi)(1.0, sym))])
     e /= np.linalg.norm(e)
     n = np.array([-e[1], e[0]])
     level = E * (1.0 - delta_min)
@@ -109,28 +193,35 @@ def region_frame(body: Body, E: float, *, nu: int = 48, nv: int = 24, delta_min:
             lo, hi = np.where(ok, mid, lo), np.where(ok, hi, mid)
         return lo
 
+    # near Q = 0, W ≈ ∇W(0)·Q turns by O(1) over 1/|∂W/∂u| along e and 1/|∂W/∂v| across
+    hq = 1e-7
+    W = symmetric_data(sym, E, hq * np.array([e[0], -e[0], n[0], -n[0]]), hq * np.array([e[1], -e[1], n[1], -n[1]]))[1]
+    dW_du, dW_dv = abs(W[0] - W[1]) / (2.0 * hq), abs(W[2] - W[3]) / (2.0 * hq)
     tip = float(edge(np.zeros((1, 2)), e[None, :])[0])
     U = tip_fraction * tip
     xs = _cheb_nodes(_PROFILE_NODES)
     on_line = xs[:, None] * U * e[None, :]
     up = edge(on_line, np.tile(n, (len(xs), 1)))
     lo = -edge(on_line, np.tile(-n, (len(xs), 1)))
-    c, w = 0.5 * (up + lo), 0.5 * (up - lo)
     cheb = np.polynomial.chebyshev
-    # a low-degree chart: the tabulated functions of (x, τ) are resolved with few more nodes than the
-    # functions of Q themselves need (a chart of high degree would multiply their Chebyshev content)
     c_coef, w_coef = np.zeros(CHART_TERMS), np.zeros(CHART_TERMS)
-    c_coef[:_CHART_DEGREE + 1] = cheb.chebfit(xs, 0.5 * (c - c[::-1]), _CHART_DEGREE)
-    w_coef[:_CHART_DEGREE + 1] = cheb.chebfit(xs, 0.5 * (w + w[::-1]), _CHART_DEGREE)
+    if axis == "spindle":
+        # c, w: the level set's two sides; a low-degree chart: the tabulated functions of (x, τ) are resolved with
+        # few more nodes than the functions of Q themselves need (a chart of high degree would multiply their
+        # Chebyshev content)
+        c, w, degree = 0.5 * (up + lo), 0.5 * (up - lo), _CHART_DEGREE
+    else:
+        # c: the centre of the layer in which W turns by 2π across Q_J,π^crit (it bends off the line), w: the
+        # largest half-width about it inside the level set; the stretch across then follows the layer everywhere
+        c = _layer_centres(sym, E, on_line, n, lo, up, 2.0 / max(dW_dv, 1e-300))
+        w, degree = np.minimum(up - c, c - lo), _BAND_DEGREE
+    c_coef[:degree + 1] = cheb.chebfit(xs, 0.5 * (c - c[::-1]), degree)
+    w_coef[:degree + 1] = cheb.chebfit(xs, 0.5 * (w + w[::-1]), degree)
     c_coef[0::2] = 0.0  # exactly odd
     w_coef[1::2] = 0.0  # exactly even
     cf, wf = cheb.chebval(xs, c_coef), cheb.chebval(xs, w_coef)
     w_coef *= min(1.0, float(np.min(np.minimum(up - cf, cf - lo) / wf)))  # inside the level set at the nodes
-    # the sinh stretches: near Q = 0, W ≈ ∇W(0)·Q turns by O(1) over 1/|∂W/∂u| along e and 1/|∂W/∂v| across
-    hq = 1e-7
-    W = symmetric_data(sym, E, hq * np.array([e[0], -e[0], n[0], -n[0]]), hq * np.array([e[1], -e[1], n[1], -n[1]]))[1]
-    scales = (abs(W[0] - W[1]) / (2.0 * hq) * U, abs(W[2] - W[3]) / (2.0 * hq) * float(np.polynomial.chebyshev.chebval(
-        0.0, w_coef)))
+    scales = (dW_du * U, dW_dv * float(cheb.chebval(0.0, w_coef)))
     alpha, beta = (math.asinh(s) if s > 1.0 else 0.0 for s in scales)
     cos_theta0 = 1.0 - E / (sym.g * sym.a)
     theta0 = math.acos(cos_theta0) if -1.0 < cos_theta0 < 1.0 else math.nan
@@ -141,12 +232,15 @@ def region_frame(body: Body, E: float, *, nu: int = 48, nv: int = 24, delta_min:
 
 
 def _node_block(sym: Body, E: float, nodes: list[tuple[float, float, float]]) -> NDArray[np.float64]:
-    """Rows (T, W mod 2π, Δφ mod π, the harmonics of the ε-responses) at nodes (Q_R, Q_J, θ_X)."""
+    """Rows (T, W mod 2π, Δφ mod π, the harmonics of the ε-responses) at nodes (Q_R, Q_J, θ_X): three orbits
+    each, all run through the batch integrator's lanes."""
+    QR, QJ, thX = np.array(nodes, float).T
+    steps, resp = harmonic_steps(sym, E, QR, QJ, thX)
     out = np.empty((len(nodes), 3 + 3 * len(FIRST_ORDER_NAMES)))
-    for r, (QR, QJ, thX) in enumerate(nodes):
-        steps = [first_order_step(sym, E, QR, QJ, psi, theta_X=thX) for psi in HARMONIC_PSI]
-        out[r, :3] = (np.mean([s.T for s in steps]), float(wrap_angle(2.0 * steps[0].dpsi)), steps[0].dphi)
-        out[r, 3:] = np.concatenate([_harmonics([s.d[name] for s in steps]) for name in FIRST_ORDER_NAMES])
+    out[:, 0] = steps.T.mean(axis=1)
+    out[:, 1] = wrap_angle(2.0 * steps.dpsi[:, 0])
+    out[:, 2] = steps.dphi[:, 0]
+    out[:, 3:] = np.moveaxis(resp, 0, 1).reshape(len(nodes), -1)
     return out
 
 
@@ -194,8 +288,9 @@ def region_interpolation_error(table: SlowMapTable) -> float:
     return float(worst)
 
 
-def build_region_table(body: Body, E: float, *, nu: int = 128, nv: int = 32, delta_min: float = 0.05,
-                       tip_fraction: float = 0.8, progress: bool = False, workers: int = 1) -> SlowMapTable:
+def build_region_table(body: Body, E: float, *, axis: str = "auto", nu: int | None = None, nv: int | None = None,
+                       delta_min: float = 0.05, tip_fraction: float = 0.8, progress: bool = False,
+                       workers: int = 1) -> SlowMapTable:
     """Tabulate the reversible first-order slow map of (body, E) over the region of oscillation.
 
     Parameters
@@ -204,8 +299,11 @@ def build_region_table(body: Body, E: float, *, nu: int = 128, nv: int = 32, del
         Its symmetric part is used (the tables do not depend on ε).
     E : float
         The energy, > 0 (exact, conserved: the energy of the asymmetric body's start).
-    nu, nv : int
-        Chebyshev nodes along and across the critical line (even, ≥ 4).
+    axis : {"auto", "spindle", "band"}
+        The chart: along Q_J,0^crit over the whole region ("spindle"), or along Q_J,π^crit over the band about it
+        whose stretch follows the layer of W ("band", the one accurate at high amplitude); "auto": ``region_axis``.
+    nu, nv : int, optional
+        Chebyshev nodes along and across the chart's line (even, ≥ 4); default ``DEFAULT_GRID[axis]``.
     delta_min : float
         Least distance (E − min U)/E to steady rolling covered, in ``DELTA_MIN_RANGE``.
     tip_fraction : float
@@ -218,8 +316,9 @@ def build_region_table(body: Body, E: float, *, nu: int = 128, nv: int = 32, del
         workers must guard its top level with ``if __name__ == "__main__":`` (the ``rocknroller`` command does).
     """
     workers = check_processes(workers, "workers")
-    frame = region_frame(body, E, nu=nu, nv=nv, delta_min=delta_min, tip_fraction=tip_fraction)
+    frame = region_frame(body, E, axis=axis, nu=nu, nv=nv, delta_min=delta_min, tip_fraction=tip_fraction)
     QR, QJ = frame.nodes()
+    nu, nv = frame.coef.shape[1:]
     try:
         T, W, dphi, resp = _orbit_data(body.symmetric(), frame.E0, QR, QJ, progress, workers)
     except NoMotionError as exc:  # pragma: no cover - the chart lies inside the level set δ = delta_min
@@ -234,5 +333,7 @@ def load_or_build_region_table(body: Body, E: float, *, build: bool = True, use_
     """The region tables of (body, E): from memory, from the disk cache, or built (and cached), as
     :func:`rocknroller.analysis.averaging.load_or_build_table` does for a release; ``grid``: the options of
     :func:`build_region_table`."""
-    E = _check_energy(E)
-    return cached_table(build_region_table, body, E, f"E={E!r}", build=build, use_cache=use_cache, **grid)
+    E = check_below_top(body, E)
+    axis, nu, nv = region_options(body, E, grid.pop("axis", "auto"), grid.pop("nu", None), grid.pop("nv", None))
+    return cached_table(build_region_table, body, E, f"E={E!r}", build=build, use_cache=use_cache, axis=axis, nu=nu,
+                        nv=nv, **grid)

@@ -26,8 +26,8 @@ from rocknroller.analysis.averaging_limits import (K_PERIOD_DOUBLING, AveragingR
                                                    check_map_theta0, eps_period_doubling)
 from rocknroller.analysis.body import Body
 from rocknroller.numerics.cache import CacheWarning, cache_dir, load_arrays, save_arrays, warn_unwritable
-from rocknroller.analysis.slow_orbit import (FIRST_ORDER_NAMES, HARMONIC_PSI, _harmonics, first_order_step,
-                                             rest_energy, step_coefficients, symmetric_data)
+from rocknroller.analysis.slow_orbit import (FIRST_ORDER_NAMES, harmonic_steps, rest_energy, step_coefficients,
+                                             symmetric_data)
 from rocknroller.analysis.quadrature import wrap_angle
 
 __all__ = ["TABLE_FUNCTIONS", "CHART_TERMS", "REGION_TABLE_ACCURACY", "SlowMapTable", "stretch", "unstretch",
@@ -179,8 +179,10 @@ class SlowMapTable:
                 raise AveragingRangeError(
                     f"the slow orbit left the tabulated region at Q=({Q[0]:.4g}, {Q[1]:.4g}), whose distance to "
                     f"steady rolling is (E - min U)/E = {delta:.3g}: the tables of E={self.E0:.6g} cover "
-                    f"|u| <= {self.U:.4g} along the critical line Q_J,0^crit and distances >= "
-                    f"{self.delta_min:g}; nearer steady rolling the oscillation of theta is too small to average")
+                    f"|u| <= {self.U:.4g} along their chart's line e=({self.e[0]:.4f}, {self.e[1]:.4f}) (Q_J,0^crit for "
+                    f"the spindle chart, Q_J,pi^crit for the band) and distances >= {self.delta_min:g}; nearer "
+                    f"steady rolling the oscillation of theta is too small to average, and the band does not reach "
+                    f"the spindle's tips (axis='spindle' covers them where it is accurate)")
             raise AveragingRangeError(
                 f"the slow orbit left the tabulated region at Q=({Q[0]:.4g}, {Q[1]:.4g}): the tables cover "
                 f"|u| <= {self.U:.4g} along the kick direction e=({self.e[0]:.4f}, {self.e[1]:.4f}) and "
@@ -286,29 +288,25 @@ def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_fact
         raise AveragingRangeError(
             f"the averaging tables of theta0={theta0!r} cannot be built for this body ({sym.describe()}): on their "
             f"rectangle |u| <= {U:.4g} (2.5 times the libration amplitude at K = 4) {exc}") from None
-    resp = np.empty((len(FIRST_ORDER_NAMES), nu, nv, 3))
-    for i in range(nu):
-        for j in range(nv):
-            steps = [first_order_step(sym, E0, QRg[i, j], QJg[i, j], psi, theta_X=thX[i, j])
-                     for psi in HARMONIC_PSI]
-            for k, name in enumerate(FIRST_ORDER_NAMES):
-                resp[k, i, j] = _harmonics([s.d[name] for s in steps])
+    resp = harmonic_steps(sym, E0, QRg, QJg, thX)[1].reshape(len(FIRST_ORDER_NAMES), nu, nv, 3)
     return fit_and_check(frame, T, W, dphi, resp, _interpolation_error, _INTERP_WARN,
                          f"the averaging tables for theta0={theta0!r} interpolate the coefficients only to {{err:.1e}} "
                          f"(relative); use more nodes (nu={nu}, nv={nv})")
 
 
 def check_grid(nu: int, nv: int) -> None:
-    """ValueError unless nu and nv are even integers ≥ 4 (and nv ≤ 64, the compiled kernel's limit)."""
-    for name, val, top in (("nu", nu, 4096), ("nv", nv, 64)):
+    """ValueError unless nu and nv are even integers ≥ 4 (and nv ≤ 128, the compiled kernel's limit)."""
+    for name, val, top in (("nu", nu, 4096), ("nv", nv, 128)):
         if int(val) != val or not 4 <= val <= top or val % 2:
             raise ValueError(f"{name} must be an even integer in [4, {top}], got {name}={val!r}")
 
 
 def kick_at_rest(sym: Body, E: float) -> NDArray[np.float64]:
     """C0 with ΔQ(0, Θ) = C0 sin Θ: the kick at Q = 0 from the three variational orbits at energy E."""
-    at0 = [first_order_step(sym, E, 0.0, 0.0, psi) for psi in HARMONIC_PSI]
-    return np.array([_harmonics([s.d[k] for s in at0])[2] for k in ("QR", "QJ")])
+    from rocknroller.analysis.reduction import turning_points
+
+    resp = harmonic_steps(sym, E, 0.0, 0.0, float(turning_points(E, 0.0, 0.0, sym)[1]))[1]
+    return np.array([resp[FIRST_ORDER_NAMES.index(k), 0, 2] for k in ("QR", "QJ")])
 
 
 def fit_table(frame: SlowMapTable, T: NDArray, W: NDArray, dphi: NDArray, resp: NDArray) -> SlowMapTable:

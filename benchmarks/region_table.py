@@ -2,11 +2,13 @@
 
 Run:  python benchmarks/region_table.py
 Prints the tables of docs/averaging.md, "Starts with velocity":
-* for releases from rest at θ0 (the energy E = U(θ0; 0, 0)), the interpolation error of the default region table
-  (128 × 32 nodes) at its off-grid check points and its build time with 1 and 2 worker processes;
+* for releases from rest at θ0 (the energy E = U(θ0; 0, 0)), the interpolation error of the spindle chart's region
+  table (128 × 32 nodes; from 0.65π the default is the band chart, benchmarks/reversal_starts.py) at its off-grid check points and its build time with 1 and 2 worker processes;
 * for starts with velocity (ω2 = 0 in the body frame, so E and the table do not depend on ε), the largest
   maximum-by-maximum errors map − ODE over 1000 time units at ε = 1e-2, 1e-3, 1e-4 and their log-log slopes;
-* the cost of one prediction of 1000 time units (tables cached) against the direct ODE with the same diagnostics.
+* the cost of one prediction of 1000 time units (tables cached) against the direct ODE with the same diagnostics;
+* the table orbits in heyoka's batch mode (one orbit per SIMD lane) against one orbit at a time, side by side on
+  the same nodes, and the largest difference of their ε-responses.
 """
 
 from __future__ import annotations
@@ -15,12 +17,15 @@ import math
 import time
 import warnings
 
+import numpy as np
+
 from rocknroller.analysis import averaging as av
 from rocknroller.analysis import slow_region as sr
 from rocknroller.analysis.body import Body
-from rocknroller.analysis.slow_orbit import first_maximum, rest_energy
+from rocknroller.analysis.reduction import turning_points
+from rocknroller.analysis.slow_orbit import first_maximum, harmonic_steps, rest_energy
 from rocknroller.numerics.equations import EulerState
-from rocknroller.papers.averaging_check import loglog_slope, ode_slow_summary, sample_errors
+from rocknroller.papers.averaging_check import loglog_slope, sample_errors, timed_map_and_ode
 
 THETA0 = (0.05, 0.15, 0.3, 0.45, 0.6, 0.7, 0.8, 0.95)
 STARTS = {"0.6pi, omega=(0, 0, 0.05)": (0.6, 0.3, (0.0, 0.0, 0.05)),
@@ -29,8 +34,29 @@ STARTS = {"0.6pi, omega=(0, 0, 0.05)": (0.6, 0.3, (0.0, 0.0, 0.05)),
 EPS = (1e-2, 1e-3, 1e-4)
 
 
+def batch_against_one_at_a_time(th: float = 0.95, nodes: int = 256) -> None:
+    """The first ``nodes`` nodes of the default region table of a release's energy, three orbits each."""
+    import heyoka as hy
+
+    sym = Body.paper(0.0)
+    E = rest_energy(sym, th * math.pi)
+    QR, QJ = (np.ravel(q)[:nodes] for q in sr.region_frame(sym, E).nodes())
+    thX = turning_points(E, QR, QJ, sym)[1]
+    times, resp = {}, {}
+    for lanes in (1, None, 1, None):  # twice each, interleaved: the second of each is timed warm
+        t0 = time.perf_counter()
+        resp[lanes] = harmonic_steps(sym, E, QR, QJ, thX, lanes=lanes)[1]
+        times[lanes] = time.perf_counter() - t0
+    scale = np.abs(resp[1]).max(axis=(1, 2), keepdims=True)
+    print(f"\ntable orbits at the energy of a release from {th:g}π, {3 * nodes} orbits: one at a time "
+          f"{times[1] / (3 * nodes) * 1e3:.2f} ms an orbit, batch mode ({hy.recommended_simd_size()} lanes) "
+          f"{times[None] / (3 * nodes) * 1e3:.2f} ms, ratio {times[1] / times[None]:.1f}x; largest difference of the "
+          f"responses {float(np.max(np.abs(resp[None] - resp[1]) / scale)):.1e} of each one's largest")
+
+
 def main() -> None:
     warnings.simplefilter("ignore", av.AveragingValidityWarning)
+    batch_against_one_at_a_time()
     sym = Body.paper(0.0)
     print("| release θ0 | E | interp. error | build, 1 worker [s] | build, 2 workers [s] |")
     print("|---|---|---|---|---|")
@@ -39,7 +65,7 @@ def main() -> None:
         times = []
         for workers in ((1, 2) if k == 0 else (2,)):
             t0 = time.perf_counter()
-            table = sr.build_region_table(sym, E, workers=workers)
+            table = sr.build_region_table(sym, E, axis="spindle", workers=workers)
             times.append(time.perf_counter() - t0)
         one = f"{times[0]:.1f}" if len(times) == 2 else "–"
         print(f"| {th:g}π | {E:.6g} | {table.interp_error:.1e} | {one} | {times[-1]:.1f} |", flush=True)
@@ -55,15 +81,7 @@ def main() -> None:
             body = Body.paper(eps)
             if table is None:
                 table = sr.load_or_build_region_table(body, first_maximum(body, start).E, workers=2)
-            t0 = time.perf_counter()
-            pred = av.predict_slow_motion(body, start, t_end=1000.0, table=table)
-            t_first = time.perf_counter() - t0  # includes the run-time form of the table (once per table)
-            t0 = time.perf_counter()
-            pred = av.predict_slow_motion(body, start, t_end=1000.0, table=table)
-            t_map = time.perf_counter() - t0
-            t0 = time.perf_counter()
-            ode = ode_slow_summary(body, start, None, 1000.0)
-            t_ode = time.perf_counter() - t0
+            pred, ode, t_first, t_map, t_ode = timed_map_and_ode(body, start, 1000.0, table)
             cost = cost or (t_first, t_map, t_ode)
             for q, e in sample_errors(pred.series, ode).items():
                 errs.setdefault(q, []).append(e)

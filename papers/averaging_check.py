@@ -20,7 +20,7 @@ from rocknroller.analysis.quadrature import wrap_angle
 from rocknroller.analysis.slow_pendulum import PendulumConstants, pendulum_prediction
 from rocknroller.numerics.equations import EulerState
 
-__all__ = ["OBSERVABLES", "OdeSlowSummary", "ode_slow_summary", "relative_errors", "sample_errors",
+__all__ = ["OBSERVABLES", "OdeSlowSummary", "ode_slow_summary", "timed_map_and_ode", "relative_errors", "sample_errors",
            "loglog_slope", "Comparison", "compare_with_ode"]
 
 #: Observables compared with the ODE.
@@ -56,6 +56,24 @@ def ode_slow_summary(body: Body, theta0: float | EulerState, psi0: float | None,
                           QR_extent=tr.QR_extent, QJ_extent=tr.QJ_extent, Phi=tr.Phi,
                           line_slope=av.line_slope(m.QR, m.QJ),
                           region_runs=av.critical_regions(m.QR, m.QJ, m.t, body)[1])
+
+
+def timed_map_and_ode(body: Body, start: EulerState, t_end: float,
+                      table: Any) -> tuple[av.SlowPrediction, OdeSlowSummary, float, float, float]:
+    """The map's prediction from ``start`` (table given or None) and the ODE's summary, each timed (benchmarks):
+    (prediction, summary, seconds of the first prediction (it builds the table's run-time form once a process), of
+    a second one, of the ODE)."""
+    import time
+
+    t0 = time.perf_counter()
+    av.predict_slow_motion(body, start, t_end=t_end, table=table)
+    t_first = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    pred = av.predict_slow_motion(body, start, t_end=t_end, table=table)
+    t_map = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    ode = ode_slow_summary(body, start, None, t_end)
+    return pred, ode, t_first, t_map, time.perf_counter() - t0
 
 
 def relative_errors(pred: Any, ref: Any) -> dict[str, float | None]:

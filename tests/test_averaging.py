@@ -262,7 +262,7 @@ def _reference_map(table: av.SlowMapTable, eps: float, psi0: float, t_end: float
         y = (v - np.polynomial.chebyshev.chebval(x, table.c_coef)) / np.polynomial.chebyshev.chebval(x, table.w_coef)
         assert abs(x) <= 1.0 and abs(y) <= 1.0
         s = (x + 1.0) / ft.dx
-        i = min(max(int(s), 2), slow_map._FINE_POINTS - 4)
+        i = min(max(int(s), 2), ft.n_fine - 4)
         w = np.array([np.prod([(s - i - j) / (k - j) for j in off if j != k]) for k in off])
         return (w @ ft.rows[i - 2:i + 4]).reshape(-1, ft.nv) @ np.cos(np.arange(ft.nv) * np.arccos(y))
 
@@ -318,7 +318,7 @@ def _condition_sums(ft, u: float, v: float) -> np.ndarray:
     """Σ_k Σ_j |w_k| |c_kj| for each of the 18 run-time functions at (u, v): the sum of the absolute values of
     the terms of its 6 × nv stencil (|T_j| ≤ 1), which multiplies γ_n in the rounding error of its value."""
     s = (u / ft.U + 1.0) / ft.dx
-    i = min(max(int(s), 2), slow_map._FINE_POINTS - 4)
+    i = min(max(int(s), 2), ft.n_fine - 4)
     off = np.arange(-2, 4)
     w = np.array([np.prod([(s - i - j) / (k - j) for j in off if j != k]) for k in off])
     return np.abs(w) @ np.abs(ft.rows[i - 2:i + 4]).reshape(6, -1, ft.nv).sum(axis=2)

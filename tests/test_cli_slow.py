@@ -264,6 +264,18 @@ def test_start_on_a_critical_line(fresh_cache, capsys):
     assert out["start"]["psi_dot"] == pytest.approx(0.002, rel=1e-14)
     assert abs(out["start"]["theta_dot"]) < 1e-18
     assert out["first_maximum"]["t"] == 0.0  # a turning-point start at which theta falls: its own first maximum
+    assert out["chart"] == "band"  # the energy of a release from 0.95pi: the band about Q_J,pi^crit
+
+
+def test_chart_option(fresh_cache, capsys):
+    argv = ["slow", "--theta0", "0.6pi", "--phi-dot0", "0.05", "--t-end", "50", "--json", *COARSE]
+    assert main(argv + ["--chart", "band"]) == 0
+    assert json.loads(capsys.readouterr().out)["chart"] == "band"
+    assert main(argv) == 0
+    assert json.loads(capsys.readouterr().out)["chart"] == "spindle"  # auto below the energy of a release from 0.65pi
+    with pytest.raises(SystemExit) as exc:  # argparse's choices
+        main(argv + ["--chart", "pi"])
+    assert exc.value.code == 2 and "--chart" in capsys.readouterr().err
 
 
 def test_start_options_are_checked(fresh_cache, capsys):

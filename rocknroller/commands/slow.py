@@ -51,22 +51,27 @@ def register(sub: argparse._SubParsersAction) -> None:
         "period of Theta = 2 psi, the extents of Q_R and Q_J, the azimuth span Phi of phi mod pi, the rocks "
         "spent in each critical region, and the period-doubling eps. Valid for 0 <= eps with K = eps*kappa < 4 "
         f"and, for releases from rest, 0 < theta0 <= {_HI:g}pi: the release tables in [{_LO:g}pi, {_HI:g}pi], the "
-        "region tables below (accurate to 1e-6 up to the energy of a release from 0.7pi; beyond, a warning). "
+        "region tables below (to ~1e-9: over the whole region up to the energy of a release from 0.65pi, above it "
+        "over the band about Q_J,pi^crit, where the paper's reversal starts live). "
         "eps defaults to 1e-3 here; eps = 0 (Routh's sphere) is pure "
         "rocking on both critical lines. In --json, undefined quantities are null (never NaN or Infinity).",
     )
     add_body_options(p, eps_default=1e-3)
     add_initial_state_options(p, psi0_default="pi/4", rates_note=(
         f"with none of them (and no --critical-line) the body is released from rest, theta0 in [{_LO:g}pi, "
-        f"{_HI:g}pi]; with any, the region tables of the start's energy are used (accurate to 1e-6 up to the "
-        "energy of a release from about 0.7pi; beyond, a warning says how far)"))
+        f"{_HI:g}pi]; with any, the region tables of the start's energy are used (--chart)"))
     add_critical_line_options(p.add_argument_group("start on a critical line"))
     p.add_argument("--workers", type=int, default=2,
                    help="processes that build the region tables of a start with velocity, or the second-order "
                         "tables of a release (default 2)")
-    p.add_argument("--nodes", type=int, nargs=2, default=(128, 32), metavar=("NU", "NV"),
-                   help="Chebyshev nodes of the region tables along and across Q_J,0^crit (default 128 32: "
-                        "interpolation error ~1e-8 up to the energy of a release from 0.6pi; fewer are faster and "
+    p.add_argument("--chart", choices=("auto", "spindle", "band"), default="auto",
+                   help="the region tables' chart: 'spindle' along Q_J,0^crit over the whole region of the energy, "
+                        "'band' along Q_J,pi^crit over the band about it (its stretch follows the layer in which the "
+                        "spin advance W turns by 2pi across that line: the one accurate at high amplitude); 'auto' "
+                        "(default) takes the band from the energy of a release from rest at 0.65pi up")
+    p.add_argument("--nodes", type=int, nargs=2, default=None, metavar=("NU", "NV"),
+                   help="Chebyshev nodes of the region tables along and across the chart's line (default 128 64 for "
+                        "the spindle, 80 96 for the band: interpolation error ~1e-10 to 2e-9; fewer are faster and "
                         "coarser, and the prediction then warns)")
     p.add_argument("--t-end", type=float, default=1000.0,
                    help=f"time span, 0 < T <= {av.MAX_MAXIMA:.0e} * T_theta/2 with T_theta the time between maxima "
@@ -139,18 +144,19 @@ def _parse(args: argparse.Namespace, option: str) -> float:
 def _from_state(args: argparse.Namespace, body: Any, start: Any) -> tuple[Any, dict[str, Any], list[str]]:
     """The prediction from a start with velocity, its extra summary entries and its warnings."""
     from rocknroller.analysis.slow_orbit import first_maximum
-    from rocknroller.analysis.slow_region import load_or_build_region_table
+    from rocknroller.analysis.slow_region import load_or_build_region_table, region_options
 
     fm = first_maximum(body, start)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", av.AveragingValidityWarning)
+        nu, nv = args.nodes if args.nodes is not None else (None, None)
         table = load_or_build_region_table(body, fm.E, build=not args.cached_only, workers=args.workers,
-                                           progress=not args.json, nu=args.nodes[0], nv=args.nodes[1])
+                                           progress=not args.json, axis=args.chart, nu=nu, nv=nv)
         pred = av.predict_slow_motion(body, start, t_end=args.t_end, table=table)
     messages = list(dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, av.AveragingValidityWarning)))
     extra = {"start": {k: getattr(start, k) for k in ("theta", "phi", "psi", "theta_dot", "phi_dot", "psi_dot")},
              "E": fm.E, "first_maximum": {"t": fm.t, "theta": fm.theta, "QR": fm.QR, "QJ": fm.QJ},
-             "table_interp_error": table.interp_error}
+             "table_interp_error": table.interp_error, "chart": region_options(body, fm.E, args.chart)[0]}
     return pred, extra, messages
 
 
