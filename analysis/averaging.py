@@ -213,9 +213,10 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
         Build the tables if they are not cached (else ValueError).
     order : {1, 2}
         The map's order in ε.  Order 2 adds the second-order kick k₂ (:mod:`rocknroller.analysis.second_order`,
-        tables built once per (body, θ0), ~60 s on 2 cores, and cached); releases in ``THETA0_RANGE`` only.
+        tables built once per (body, θ0) for a release in ``THETA0_RANGE``, ~60 s on 2 cores, or per (body, E) on
+        the default region tables for any other start, 1–3 min, and cached).
     second : SecondOrderTable, optional
-        Precomputed second-order tables of (body, θ0) for order 2.
+        Precomputed second-order tables of (body, θ0), or of (body, E) for a start on the region tables.
 
     Returns
     -------
@@ -235,18 +236,15 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
     """
     if order not in (1, 2) or isinstance(order, bool):
         raise ValueError(f"order must be 1 or 2, got order={order!r}")
-    if order == 2 and (isinstance(theta0, EulerState) or releases_on_region_tables(theta0)):
-        raise ValueError(f"order=2 covers releases from rest with theta0 in [{THETA0_RANGE[0] / math.pi:.4g}pi, "
-                         f"{THETA0_RANGE[1] / math.pi:.4g}pi] (the release tables); starts with velocity and lower "
-                         "releases use the region tables, which are first order")
     if isinstance(theta0, EulerState):
         if psi0 is not None:
             raise ValueError("psi0 is part of the initial state: give either (theta0, psi0) or an EulerState")
-        return _predict_from_state(body, theta0, t_end, table=table, build=build)
+        return _predict_from_state(body, theta0, t_end, table=table, build=build, order=order, second=second)
     if psi0 is None:
         raise ValueError("psi0 must be given with a release angle theta0")
     if table is None and releases_on_region_tables(theta0):
-        return _predict_from_state(body, EulerState(float(theta0), 0.0, float(psi0)), t_end, table=None, build=build)
+        return _predict_from_state(body, EulerState(float(theta0), 0.0, float(psi0)), t_end, table=None, build=build,
+                                   order=order, second=second)
     theta0 = check_map_theta0(theta0)
     eps, psi0 = body.epsilon, float(psi0)
     if not math.isfinite(psi0):
@@ -296,9 +294,10 @@ def _warn_validity(eps: float, table: SlowMapTable) -> None:
     if table.delta_min > 0.0 and table.interp_error > REGION_TABLE_ACCURACY:
         warnings.warn(
             f"the region tables of E={table.E0:.6g} interpolate the map's coefficients only to {table.interp_error:.1e} "
-            f"(> {REGION_TABLE_ACCURACY:g}): near Q = 0, W turns by ~2 pi over 1/|grad W(0)|, which their Chebyshev "
-            "grid resolves up to the energy of a release from about 0.7 pi (docs/averaging.md, 'Starts with "
-            "velocity'); the prediction carries that error", AveragingValidityWarning, stacklevel=3)
+            f"(> {REGION_TABLE_ACCURACY:g}): their grid is too coarse for where W turns by ~2 pi across Q_J,pi^crit "
+            "(the band chart, the default from the energy of a release at 0.65 pi, follows that layer; "
+            "docs/averaging.md, 'Starts with velocity'); the prediction carries that error", AveragingValidityWarning,
+            stacklevel=3)
 
 
 def releases_on_region_tables(theta0: float) -> bool:
@@ -320,8 +319,9 @@ def _prediction(eps: float, theta0: float, psi0: float, t_end: float, K: float, 
 
 
 def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: SlowMapTable | None,
-                        build: bool) -> SlowPrediction:
-    """predict_slow_motion from an initial state: its first maximum, then the map on the region tables."""
+                        build: bool, order: int = 1, second: "SecondOrderTable | None" = None) -> SlowPrediction:
+    """predict_slow_motion from an initial state: its first maximum, then the map on the region tables (and for
+    order 2 the second-order tables on their chart)."""
     from rocknroller.analysis.slow_region import load_or_build_region_table
 
     t_end = float(t_end)
@@ -336,17 +336,29 @@ def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: S
         raise ValueError(f"the table is not the region table of this start's energy E={fm.E!r}")
     elif table.body != body.symmetric():
         raise ValueError(f"the table is for the body {table.body.describe()}, not {body.symmetric().describe()}")
+    if order == 2:
+        from rocknroller.analysis.second_order import load_or_build_second_order_region_table
+        from rocknroller.analysis.slow_region import region_options
+
+        if table.coef.shape[1:] != region_options(body, fm.E)[1:]:
+            raise ValueError("order=2 uses the second-order tables on the default region tables of the start's "
+                             "energy (axis 'auto', the default grid); this table has another grid")
+        if second is None:
+            second = load_or_build_second_order_region_table(body, fm.E, build=build)
+        elif second.E0 != table.E0:
+            raise ValueError(f"the second-order table is for E={second.E0!r}, not this start's E={fm.E!r}")
     eps = body.epsilon
     _warn_validity(eps, table)
-    rest = iterate_slow_map(table, eps, fm.psi, t_end - fm.t, Q0=(fm.QR, fm.QJ), phi0=fm.phi)
+    rest = iterate_slow_map(table, eps, fm.psi, t_end - fm.t, Q0=(fm.QR, fm.QJ), phi0=fm.phi,
+                            second=second if order == 2 else None)
     first = [fm.t > 0.0]  # a start that is itself a maximum is not a sample (the ODE reports none at t = 0)
     series = SlowSeries(t=np.concatenate([[fm.t][: sum(first)], fm.t + rest.t]),
                         QR=np.concatenate([[fm.QR][: sum(first)], rest.QR]),
                         QJ=np.concatenate([[fm.QJ][: sum(first)], rest.QJ]),
                         Theta=unwrap_phase(np.concatenate([[2.0 * fm.psi][: sum(first)], rest.Theta])),
                         phi=np.concatenate([[fm.phi][: sum(first)], rest.phi]))
-    return _prediction(eps, float(start.theta), float(start.psi), t_end, eps * table.kappa, series, table.body,
-                       start=start)
+    return replace(_prediction(eps, float(start.theta), float(start.psi), t_end, eps * table.kappa, series,
+                               table.body, start=start), order=order)
 
 
 def critical_regions(QR: ArrayLike, QJ: ArrayLike, t: ArrayLike, body: Body):

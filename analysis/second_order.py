@@ -20,8 +20,9 @@ the exact step, :func:`~rocknroller.analysis.exact_step.eps_derivatives`), k₁ 
 Hessians come from a first-order table (:class:`rocknroller.analysis.slow_table.SlowMapTable`).
 :func:`dkd_residual` checks the formula: the exact step minus one step of the first-order map, over ε², tends to
 k₂ (plus ½ ∇F·k₂_Q for X = Θ, t, φ) as ε → 0 (``tests/test_second_order.py``).  :class:`SecondOrderTable` holds
-k₂'s harmonics 0, 1, 2 in Θ_a on the chart of a release table; the compiled kernel adds ε k₂ to the kick
-(:func:`rocknroller.analysis.slow_map.iterate_slow_map` with ``second=``).
+k₂'s harmonics 0, 1, 2 in Θ_a on the chart of a release table, or of the region table of an energy (starts with
+velocity); the compiled kernel adds ε k₂ to the kick (:func:`rocknroller.analysis.slow_map.iterate_slow_map` with
+``second=``).
 """
 
 from __future__ import annotations
@@ -45,7 +46,8 @@ from rocknroller.analysis.slow_table import (_ODD, SlowMapTable, _cheb_basis, _c
 
 __all__ = ["first_order_kick", "drift_derivatives", "second_order_kick", "dkd_residual", "K2_HARMONICS",
            "K2_FUNCTIONS", "K2_ACCURACY", "k2_harmonics", "SecondOrderTable", "build_second_order_table",
-           "load_or_build_second_order_table"]
+           "load_or_build_second_order_table", "build_second_order_region_table",
+           "load_or_build_second_order_region_table"]
 
 #: Table prefix of each kick component, in ``STEP_NAMES`` order (Q_R, Q_J, Θ, t, φ), and the drift of the last three.
 _PREFIX = ("kQR", "kQJ", "kTh", "dt", "dphi1")
@@ -173,9 +175,62 @@ class SecondOrderTable:
         return self.harmonics(first, Q) @ _basis(theta_a)
 
 
-def _k2_block(body: Body, theta0: float, nodes: list[tuple[float, float]]) -> NDArray[np.float64]:
-    table = load_or_build_table(body, theta0)
+def _first_table(body: Body, where: float, kind: str) -> SlowMapTable:
+    """The first-order table whose chart a second-order table uses: the release table of θ0 = ``where`` or the
+    (default) region table of the energy E = ``where``."""
+    if kind == "release":
+        return load_or_build_table(body, where)
+    from rocknroller.analysis.slow_region import load_or_build_region_table
+
+    return load_or_build_region_table(body, where)
+
+
+def _k2_block(body: Body, where: float, kind: str, nodes: list[tuple[float, float]]) -> NDArray[np.float64]:
+    table = _first_table(body, where, kind)
     return np.array([k2_harmonics(table, q).ravel() for q in nodes])
+
+
+def _build_k2(body: Body, where: float, kind: str, nu: int, nv: int, workers: int,
+              progress: bool) -> SecondOrderTable:
+    """k₂ on the chart of the first-order table (:func:`_first_table`): half the nodes computed, the others by the
+    parity (module docstring of :func:`build_second_order_table`), checked at off-grid points."""
+    from rocknroller.analysis.averaging_limits import AveragingValidityWarning
+
+    if isinstance(nu, bool) or int(nu) != nu or nu % 2 or not 8 <= nu <= 256:
+        raise ValueError(f"nu must be an even integer in [8, 256], got nu={nu!r}")
+    workers = check_processes(workers, "workers")
+    first = _first_table(body, where, kind)
+    if isinstance(nv, bool) or int(nv) != nv or not 2 <= nv <= first.coef.shape[2]:
+        raise ValueError(f"nv must be an integer in [2, {first.coef.shape[2]}] (the first-order table's terms "
+                         f"across), got nv={nv!r}")
+    XI, ETA = np.meshgrid(_cheb_nodes(nu), _cheb_nodes(nv), indexing="ij")
+    QR, QJ = first.chart(XI, ETA)
+    half = [(float(QR[i, j]), float(QJ[i, j])) for i in range(nu // 2) for j in range(nv)]
+    size = 16
+    blocks = [half[k:k + size] for k in range(0, len(half), size)]
+    rows = map_blocks(_k2_block, [(body.symmetric(), float(where), kind, b) for b in blocks],
+                      [len(b) for b in blocks], processes=workers, desc="second-order tables", unit="node",
+                      progress=progress)
+    data = np.empty((nu, nv, 5, 5))
+    data[: nu // 2] = np.concatenate(rows).reshape(nu // 2, nv, 5, 5)
+    sign = np.where(np.array(_K2_ODD), -1.0, 1.0)[:, None]
+    data[nu // 2:] = sign * data[: nu // 2][::-1, ::-1]
+    Au, Av = _cheb_fit_matrix(nu), _cheb_fit_matrix(nv)
+    flat = data.reshape(nu, nv, 25)
+    coef = np.stack([Au @ flat[:, :, k] @ Av.T for k in range(25)])
+    table = SecondOrderTable(theta0=float(first.theta0) if kind == "release" else math.nan, E0=float(first.E0),
+                             coef=coef)
+    scale = np.abs(data).max(axis=(0, 1, 3))  # per component
+    err = 0.0
+    for x, y in _K2_CHECK_POINTS:
+        q = np.array([float(c) for c in first.chart(x, y)])
+        diff = np.abs(table.harmonics(first, q) - k2_harmonics(first, q)).max(axis=1)
+        err = max(err, float((diff / scale).max()))
+    if err > K2_ACCURACY:
+        what = f"theta0={where!r}" if kind == "release" else f"E={where!r}"
+        warnings.warn(f"the second-order tables for {what} interpolate k2 only to {err:.1e} (relative); use more "
+                      f"nodes (nu={nu}, nv={nv})", AveragingValidityWarning, stacklevel=3)
+    return replace(table, interp_error=err)
 
 
 def build_second_order_table(body: Body, theta0: float, *, nu: int = 64, nv: int = 6,
@@ -190,42 +245,23 @@ def build_second_order_table(body: Body, theta0: float, *, nu: int = 64, nv: int
     Raises
     ------
     ValueError
-        θ0 outside ``THETA0_RANGE``, or nu (even, 8–256), nv (2–64) or workers out of range, naming them.
+        θ0 outside ``THETA0_RANGE``, or nu (even, 8–256), nv (2–6, the release table's terms across) or workers out
+        of range, naming them.
     """
-    from rocknroller.analysis.averaging_limits import AveragingValidityWarning
+    return _build_k2(body, theta0, "release", nu, nv, workers, progress)
 
-    if isinstance(nu, bool) or int(nu) != nu or nu % 2 or not 8 <= nu <= 256:
-        raise ValueError(f"nu must be an even integer in [8, 256], got nu={nu!r}")
-    if isinstance(nv, bool) or int(nv) != nv or not 2 <= nv <= 64:
-        raise ValueError(f"nv must be an integer in [2, 64], got nv={nv!r}")
-    workers = check_processes(workers, "workers")
-    first = load_or_build_table(body, theta0)
-    XI, ETA = np.meshgrid(_cheb_nodes(nu), _cheb_nodes(nv), indexing="ij")
-    QR, QJ = first.chart(XI, ETA)
-    half = [(float(QR[i, j]), float(QJ[i, j])) for i in range(nu // 2) for j in range(nv)]
-    size = 16
-    blocks = [half[k:k + size] for k in range(0, len(half), size)]
-    rows = map_blocks(_k2_block, [(body.symmetric(), float(theta0), b) for b in blocks],
-                      [len(b) for b in blocks], processes=workers, desc="second-order tables", unit="node",
-                      progress=progress)
-    data = np.empty((nu, nv, 5, 5))
-    data[: nu // 2] = np.concatenate(rows).reshape(nu // 2, nv, 5, 5)
-    sign = np.where(np.array(_K2_ODD), -1.0, 1.0)[:, None]
-    data[nu // 2:] = sign * data[: nu // 2][::-1, ::-1]
-    Au, Av = _cheb_fit_matrix(nu), _cheb_fit_matrix(nv)
-    flat = data.reshape(nu, nv, 25)
-    coef = np.stack([Au @ flat[:, :, k] @ Av.T for k in range(25)])
-    table = SecondOrderTable(theta0=float(theta0), E0=float(first.E0), coef=coef)
-    scale = np.abs(data).max(axis=(0, 1, 3))  # per component
-    err = 0.0
-    for x, y in _K2_CHECK_POINTS:
-        q = np.array([float(c) for c in first.chart(x, y)])
-        diff = np.abs(table.harmonics(first, q) - k2_harmonics(first, q)).max(axis=1)
-        err = max(err, float((diff / scale).max()))
-    if err > K2_ACCURACY:
-        warnings.warn(f"the second-order tables for theta0={theta0!r} interpolate k2 only to {err:.1e} (relative); "
-                      f"use more nodes (nu={nu}, nv={nv})", AveragingValidityWarning, stacklevel=2)
-    return replace(table, interp_error=err)
+
+def build_second_order_region_table(body: Body, E: float, *, nu: int = 16, nv: int = 32, workers: int = 1,
+                                    progress: bool = False) -> SecondOrderTable:
+    """Tabulate k₂ on the chart of the default region table of (body, E) (a start with velocity), as
+    :func:`build_second_order_table` does on a release table's; nv up to that table's terms across.
+
+    On the band chart of the paper's reversal starts the default 16 × 32 nodes (256 computed, ~60 s on 2 cores)
+    interpolate k₂ to ~8e-3 of each component's largest harmonic, and more nodes do not go below ~5e-3 (16 × 48,
+    32 × 32, 16 × 64 measured): the direct values carry that much from the first-order table's differenced Hessians
+    near the layer of W, so the build warns (``K2_ACCURACY``).  k₂ enters a step as ε² k₂: 1e-2 of it is 1e-8 of a
+    step at ε = 1e-3, below the second-order map's error there (docs/averaging.md, "Second order in ε")."""
+    return _build_k2(body, E, "region", nu, nv, workers, progress)
 
 
 def load_or_build_second_order_table(body: Body, theta0: float, *, build: bool = True, use_cache: bool = True,
@@ -236,8 +272,20 @@ def load_or_build_second_order_table(body: Body, theta0: float, *, build: bool =
 
     theta0 = check_map_theta0(theta0)
 
-    def spec(opts: dict[str, Any]) -> dict[str, tuple[int, ...]]:
-        return {"theta0": (), "E0": (), "coef": (len(K2_FUNCTIONS), opts["nu"], opts["nv"]), "interp_error": ()}
-
     return cached_table(build_second_order_table, body, theta0, f"theta0={theta0!r}", build=build,
-                        use_cache=use_cache, table_type=SecondOrderTable, spec_of=spec, **grid)
+                        use_cache=use_cache, table_type=SecondOrderTable, spec_of=_k2_spec, **grid)
+
+
+def load_or_build_second_order_region_table(body: Body, E: float, *, build: bool = True, use_cache: bool = True,
+                                            **grid: Any) -> SecondOrderTable:
+    """The second-order table on the region table of (body, E), from memory, the disk cache, or built
+    (:func:`build_second_order_region_table`) and cached."""
+    from rocknroller.analysis.slow_region import check_below_top
+
+    E = check_below_top(body, E)
+    return cached_table(build_second_order_region_table, body, E, f"E={E!r}", build=build, use_cache=use_cache,
+                        table_type=SecondOrderTable, spec_of=_k2_spec, **grid)
+
+
+def _k2_spec(opts: dict[str, Any]) -> dict[str, tuple[int, ...]]:
+    return {"theta0": (), "E0": (), "coef": (len(K2_FUNCTIONS), opts["nu"], opts["nv"]), "interp_error": ()}

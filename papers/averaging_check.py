@@ -58,18 +58,18 @@ def ode_slow_summary(body: Body, theta0: float | EulerState, psi0: float | None,
                           region_runs=av.critical_regions(m.QR, m.QJ, m.t, body)[1])
 
 
-def timed_map_and_ode(body: Body, start: EulerState, t_end: float,
-                      table: Any) -> tuple[av.SlowPrediction, OdeSlowSummary, float, float, float]:
-    """The map's prediction from ``start`` (table given or None) and the ODE's summary, each timed (benchmarks):
-    (prediction, summary, seconds of the first prediction (it builds the table's run-time form once a process), of
-    a second one, of the ODE)."""
+def timed_map_and_ode(body: Body, start: EulerState, t_end: float, table: Any, order: int = 1,
+                      second: Any = None) -> tuple[av.SlowPrediction, OdeSlowSummary, float, float, float]:
+    """The map's prediction of ``order`` from ``start`` (tables given or None) and the ODE's summary, each timed
+    (benchmarks): (prediction, summary, seconds of the first prediction (it builds the tables' run-time form once a
+    process), of a second one, of the ODE)."""
     import time
 
     t0 = time.perf_counter()
-    av.predict_slow_motion(body, start, t_end=t_end, table=table)
+    av.predict_slow_motion(body, start, t_end=t_end, table=table, order=order, second=second)
     t_first = time.perf_counter() - t0
     t0 = time.perf_counter()
-    pred = av.predict_slow_motion(body, start, t_end=t_end, table=table)
+    pred = av.predict_slow_motion(body, start, t_end=t_end, table=table, order=order, second=second)
     t_map = time.perf_counter() - t0
     t0 = time.perf_counter()
     ode = ode_slow_summary(body, start, None, t_end)

@@ -134,6 +134,25 @@ def _step_period_bound(step: so.FirstOrderStep, E0: float, margin: float = 4.0) 
     return margin * (ro.integration_bound(n_steps, 2 * ro.u, scale * amp) + 4e-16 * step.T + ro.u * step.T)
 
 
+def test_batch_lanes_are_independent():
+    """The table orbits run in heyoka's batch mode, one per lane: an orbit's numbers do not depend on the lane it
+    runs in nor on its companions (bit for bit), so a table does not depend on how its nodes are grouped; the
+    scalar ``first_order_step`` (one orbit, padded with its copies) gives the same numbers."""
+    QR = np.array([2.0e-3, -1.0e-3, 4.0e-4, 3.0e-3, 0.0])
+    QJ = np.array([-3.0e-5, 2.0e-5, 1.0e-5, -1.0e-5, 0.0])
+    psi = np.array([0.3, 1.1, 2.0, 2.9, 0.7])
+    from rocknroller.analysis.reduction import turning_points
+
+    thX = np.array([float(turning_points(E0, q, j, SYM)[1]) for q, j in zip(QR, QJ)])
+    a = so.first_order_steps(SYM, E0, QR, QJ, psi, thX)
+    b = so.first_order_steps(SYM, E0, QR[::-1], QJ[::-1], psi[::-1], thX[::-1])  # other lanes, other companions
+    for name in so.FIRST_ORDER_NAMES:
+        assert np.array_equal(a.d[name], b.d[name][::-1]), name
+    assert np.array_equal(a.T, b.T[::-1])
+    one = so.first_order_step(SYM, E0, QR[2], QJ[2], psi[2], theta_X=thX[2])
+    assert one.T == a.T[2] and all(one.d[k] == a.d[k][2] for k in so.FIRST_ORDER_NAMES)
+
+
 def test_symmetric_step_equals_quadrature():
     """The symmetric orbit of the variational run reproduces T_θ, Δψ and Δφ (mod π) of the quadratures (T_θ against
     the 30-digit one, within ``_step_period_bound``)."""

@@ -4,6 +4,7 @@ one step of the first-order map, over ε², tends to what k₂ predicts, linearl
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -130,13 +131,21 @@ def test_order_argument(table):
 
     with pytest.raises(ValueError, match="order must be 1 or 2"):
         av.predict_slow_motion(Body.paper(1e-3), THETA0, 0.7, 100.0, order=3)
-    with pytest.raises(ValueError, match="order=2 covers releases from rest"):
-        av.predict_slow_motion(Body.paper(1e-3), EulerState(THETA0, 0.0, 0.7, 0.0, 0.01, 0.0), None, 100.0, order=2)
+    from rocknroller.analysis import slow_region as sr
+    from rocknroller.analysis.slow_orbit import first_maximum
+
+    body, start = Body.paper(1e-3), EulerState(THETA0, 0.0, 0.7, 0.0, 0.01, 0.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", av.AveragingValidityWarning)  # coarse
+        coarse = sr.build_region_table(body, first_maximum(body, start).E, nu=16, nv=8)
+    with pytest.raises(ValueError, match="order=2 uses the second-order tables on the default region tables"):
+        av.predict_slow_motion(body, start, None, 100.0, table=coarse, order=2)
 
 
 def test_slow_order_option(second, capsys):
     """--order: a release in the release tables' range defaults to order 2 (the better validated); --order 1 is the
-    first-order map; order 2 is refused, naming the option, for a start with velocity.  (Here, after the fixture has
+    first-order map; for a start with velocity order 2 needs the default region tables (refused with --nodes,
+    naming the options).  (Here, after the fixture has
     cached the second-order tables, rather than in test_cli_slow.py, whose fresh cache would build them again.)"""
     import json
 
@@ -146,5 +155,5 @@ def test_slow_order_option(second, capsys):
     assert json.loads(capsys.readouterr().out)["order"] == 2
     assert main(["slow", "--theta0", "0.95pi", "--order", "1", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["order"] == 1
-    assert main(["slow", "--theta0", "0.95pi", "--phi-dot0", "0.01", "--order", "2"]) == 2
-    assert "--order 2 covers releases from rest" in capsys.readouterr().err
+    assert main(["slow", "--theta0", "0.95pi", "--phi-dot0", "0.01", "--order", "2", "--nodes", "16", "8"]) == 2
+    assert "leave out --nodes and --chart" in capsys.readouterr().err

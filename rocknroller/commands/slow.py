@@ -82,11 +82,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--check", action="store_true",
                    help="also run the direct ODE and print both, with relative errors")
     p.add_argument("--order", type=int, choices=(1, 2), default=None,
-                   help="order of the map in eps: 2 adds the second-order kick (releases from rest in "
-                        f"[{_LO:g}pi, {_HI:g}pi]; its tables are built once per body and theta0, ~60 s on 2 cores, and "
-                        "cached; errors ~10-100x smaller than order 1 at eps <= 3e-3, docs/averaging.md); default: 2 "
-                        "for those releases, 1 for the others (starts with velocity and lower releases: region "
-                        "tables, first order)")
+                   help="order of the map in eps: 2 adds the second-order kick (its tables are built once per body "
+                        "and theta0 or energy, 1-3 min on 2 cores, and cached; errors ~10-100x smaller than order 1 "
+                        "at eps <= 3e-3, docs/averaging.md); default: 2 for releases from rest in "
+                        f"[{_LO:g}pi, {_HI:g}pi], 1 for starts with velocity and lower releases (their second-order "
+                        "tables take longer to build)")
     p.add_argument("--period-doubling", action="store_true",
                    help="releases from rest: also compute the eps at which rocking about the stable axis "
                         "period-doubles from the exact one-step map (all orders in eps; 1-7 s), beside the first-order "
@@ -152,7 +152,14 @@ def _from_state(args: argparse.Namespace, body: Any, start: Any) -> tuple[Any, d
         nu, nv = args.nodes if args.nodes is not None else (None, None)
         table = load_or_build_region_table(body, fm.E, build=not args.cached_only, workers=args.workers,
                                            progress=not args.json, axis=args.chart, nu=nu, nv=nv)
-        pred = av.predict_slow_motion(body, start, t_end=args.t_end, table=table)
+        second = None
+        if args.order == 2:
+            from rocknroller.analysis.second_order import load_or_build_second_order_region_table
+
+            second = load_or_build_second_order_region_table(body, fm.E, build=not args.cached_only,
+                                                             workers=args.workers, progress=not args.json)
+        pred = av.predict_slow_motion(body, start, t_end=args.t_end, table=table, order=args.order or 1,
+                                      second=second)
     messages = list(dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, av.AveragingValidityWarning)))
     extra = {"start": {k: getattr(start, k) for k in ("theta", "phi", "psi", "theta_dot", "phi_dot", "psi_dot")},
              "E": fm.E, "first_maximum": {"t": fm.t, "theta": fm.theta, "QR": fm.QR, "QJ": fm.QJ},
@@ -170,9 +177,10 @@ def run(args: argparse.Namespace) -> int:
     body = _body(args, given)
     if (rates_given(args) or args.critical_line is not None or _parse(args, "phi0") != 0.0
             or av.releases_on_region_tables(_parse(args, "theta0"))):
-        if args.order == 2:
-            raise ValueError(f"--order 2 covers releases from rest with --theta0 in [{_LO:g}pi, {_HI:g}pi]; starts "
-                             "with velocity and lower releases use the region tables, which are first order")
+        if args.order == 2 and (args.nodes is not None or args.chart != "auto"):
+            raise ValueError("--order 2 with a start with velocity (or a release below "
+                             f"{_LO:g}pi) uses the second-order tables on the default region tables: leave out --nodes "
+                             "and --chart")
         if args.period_doubling:
             raise ValueError("--period-doubling applies to releases from rest (the rocking it follows is that of the "
                              "release's energy): give --theta0 and --psi0 only")
