@@ -59,8 +59,10 @@ class SlowSeries:
 _IDX = {name: i for i, name in enumerate(TABLE_FUNCTIONS)}
 _HARM = ("c0", "c1", "s1")
 #: Points of the fine uniform grid in u used at run time per Chebyshev term along it (6-point Lagrange
-#: interpolation between them; 64 nu + 1 = 8193 for the release tables' nu = 128).
+#: interpolation between them; 64 nu + 1 = 8193 for the release tables' nu = 128), and their most: the run-time form
+#: holds (points × 48 functions × nv) doubles, ≤ 8193 × 48 × 128 × 8 B = 0.4 GB whatever nu (≤ 4096) is.
 _FINE_PER_TERM = 64
+_FINE_MAX = 8193
 #: Run-time functions: 0-8 the harmonics (c0, c1, s1) of k_u = e·k_Q, k_v = n·k_Q and k_Θ (solved for
 #: implicitly), 9-14 those of the time and φ kicks, 15-17 the drifts T_θ, W, Δφ.
 _N_KICK = 15
@@ -102,7 +104,7 @@ class _FastTable:
         drift = [c[_IDX[name]] for name in ("T", "W", "dphi")]
         self.U, self.nv = float(table.U), c.shape[2]
         self.e, self.n = e, n
-        self.n_fine = _FINE_PER_TERM * c.shape[1] + 1
+        self.n_fine = min(_FINE_PER_TERM * c.shape[1] + 1, _FINE_MAX)
         xi = np.linspace(-1.0, 1.0, self.n_fine)
         self.dx = float(xi[1] - xi[0])
         self.alpha, self.beta = float(table.alpha), float(table.beta)

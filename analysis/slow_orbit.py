@@ -202,6 +202,13 @@ class FirstOrderStep:
     dphi: float
     d: dict[str, float]
 
+    def at(self, *index: int) -> "FirstOrderStep":
+        """The step of one orbit of a batch (fields of floats) at ``index`` of its arrays."""
+        pick = (lambda v: float(np.asarray(v)[index]))  # noqa: E731
+        return FirstOrderStep(QR=pick(self.QR), QJ=pick(self.QJ), psi=pick(self.psi), theta_X=pick(self.theta_X),
+                              T=pick(self.T), dpsi=pick(self.dpsi), dphi=pick(self.dphi),
+                              d={k: pick(v) for k, v in self.d.items()})
+
 
 def _max_state(sym: Body, theta: ArrayLike, QR: ArrayLike, QJ: ArrayLike, psi: ArrayLike) -> NDArray[np.float64]:
     """The state(s) (11,) or (11, N) at the turning point θ with (Q_R, Q_J) and spin angle ψ."""
@@ -210,13 +217,16 @@ def _max_state(sym: Body, theta: ArrayLike, QR: ArrayLike, QJ: ArrayLike, psi: A
 
 
 def first_order_steps(body: Body, E: float, QR: ArrayLike, QJ: ArrayLike, psi: ArrayLike,
-                      theta_X: ArrayLike, *, lanes: int | None = None) -> FirstOrderStep:
+                      theta_X: ArrayLike | None = None, *, lanes: int | None = None) -> FirstOrderStep:
     """:func:`first_order_step` for N starts at once (arrays of one shape, or scalars broadcast to it), their orbits
     run side by side in the lanes of the batch integrator (``lanes``: :func:`_variational_integrator`); the
-    FirstOrderStep's fields are then arrays (N,)."""
+    FirstOrderStep's fields are then arrays (N,) (:meth:`FirstOrderStep.at` picks one).  θ_X: the maxima
+    θ_X(E, Q_R, Q_J) if known, else from ``reduction.turning_points``."""
     sym = body.symmetric()
-    QR, QJ, psi, theta_X = (np.ravel(v) for v in np.broadcast_arrays(*(np.asarray(v, float)
-                                                                          for v in (QR, QJ, psi, theta_X))))
+    given = [v for v in (QR, QJ, psi, theta_X) if v is not None]
+    flat = [np.ravel(v) for v in np.broadcast_arrays(*(np.asarray(v, float) for v in given))]
+    QR, QJ, psi = flat[:3]
+    theta_X = flat[3] if theta_X is not None else np.asarray(turning_points(E, QR, QJ, sym)[1], float)
     y0 = _max_state(sym, theta_X, QR, QJ, psi)
     # shift of θ_X at fixed (E, Q, ψ): ∂E/∂ε (E is linear in I2) over ∂U/∂θ
     e_half = 0.5 * (sym.I3 / sym.I1 - 1.0)
@@ -260,11 +270,7 @@ def first_order_step(body: Body, E: float, QR: float, QJ: float, psi: float, *,
     theta_X : float, optional
         The maximum θ_X(E, Q_R, Q_J) if already known (``reduction.turning_points``).
     """
-    if theta_X is None:
-        theta_X = float(turning_points(E, QR, QJ, body.symmetric())[1])
-    st = first_order_steps(body, E, QR, QJ, psi, theta_X)
-    return FirstOrderStep(QR=float(QR), QJ=float(QJ), psi=float(psi), theta_X=float(theta_X), T=float(st.T[0]),
-                          dpsi=float(st.dpsi[0]), dphi=float(st.dphi[0]), d={k: float(v[0]) for k, v in st.d.items()})
+    return first_order_steps(body, E, QR, QJ, psi, theta_X).at(0)
 
 
 def _to_next_maxima(order: int, sym: Body, x0: NDArray[np.float64],
@@ -424,13 +430,14 @@ def _harmonics(values: ArrayLike) -> NDArray[np.float64]:
                      (2.0 / 3.0) * (v * np.sin(Th)).sum(axis=-1)], axis=-1)
 
 
-def harmonic_steps(body: Body, E: float, QR: ArrayLike, QJ: ArrayLike, theta_X: ArrayLike, *,
+def harmonic_steps(body: Body, E: float, QR: ArrayLike, QJ: ArrayLike, theta_X: ArrayLike | None = None, *,
                    lanes: int | None = None) -> tuple[FirstOrderStep, NDArray[np.float64]]:
     """The three orbits (ψ_n in ``HARMONIC_PSI``) at each of N points Q, run together in the batch integrator
     (``lanes``: :func:`_variational_integrator`), and the harmonics (c0, c1, s1) of their ε-responses, shape
-    (len(FIRST_ORDER_NAMES), N, 3); the steps' fields are arrays (N, 3)."""
-    QR, QJ, theta_X = (np.ravel(v)[:, None] for v in np.broadcast_arrays(*(np.asarray(v, float)
-                                                                            for v in (QR, QJ, theta_X))))
+    (len(FIRST_ORDER_NAMES), N, 3); the steps' fields are arrays (N, 3).  θ_X as in :func:`first_order_steps`."""
+    given = [v for v in (QR, QJ, theta_X) if v is not None]
+    cols = [np.ravel(v)[:, None] for v in np.broadcast_arrays(*(np.asarray(v, float) for v in given))]
+    QR, QJ, theta_X = cols if theta_X is not None else cols + [None]
     psi = np.asarray(HARMONIC_PSI)[None, :]
     st = first_order_steps(body, E, QR, QJ, psi, theta_X, lanes=lanes)
     shape = (QR.shape[0], len(HARMONIC_PSI))
@@ -454,10 +461,7 @@ def step_coefficients(body: Body, E: float, QR: float, QJ: float) -> StepCoeffic
     sym = body.symmetric()
     T, W, dphi, theta_X = (float(x) for x in symmetric_data(sym, E, QR, QJ))
     st, resp = harmonic_steps(sym, E, QR, QJ, theta_X)
-    steps = tuple(FirstOrderStep(QR=float(QR), QJ=float(QJ), psi=psi, theta_X=theta_X, T=float(st.T[0, k]),
-                                 dpsi=float(st.dpsi[0, k]), dphi=float(st.dphi[0, k]),
-                                 d={name: float(v[0, k]) for name, v in st.d.items()})
-                  for k, psi in enumerate(HARMONIC_PSI))
+    steps = tuple(st.at(0, k) for k in range(len(HARMONIC_PSI)))
     harm = {name: tuple(float(c) for c in resp[j, 0]) for j, name in enumerate(FIRST_ORDER_NAMES)}
     return StepCoefficients(QR=float(QR), QJ=float(QJ), T=T, W=W, dphi=dphi, harmonics=harm, steps=steps)
 

@@ -303,9 +303,7 @@ def check_grid(nu: int, nv: int) -> None:
 
 def kick_at_rest(sym: Body, E: float) -> NDArray[np.float64]:
     """C0 with ΔQ(0, Θ) = C0 sin Θ: the kick at Q = 0 from the three variational orbits at energy E."""
-    from rocknroller.analysis.reduction import turning_points
-
-    resp = harmonic_steps(sym, E, 0.0, 0.0, float(turning_points(E, 0.0, 0.0, sym)[1]))[1]
+    resp = harmonic_steps(sym, E, 0.0, 0.0)[1]
     return np.array([resp[FIRST_ORDER_NAMES.index(k), 0, 2] for k in ("QR", "QJ")])
 
 

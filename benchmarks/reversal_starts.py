@@ -22,7 +22,6 @@ import numpy as np
 
 from rocknroller.analysis import slow_region as sr
 from rocknroller.analysis.body import Body
-from rocknroller.analysis.criticality import critical_start
 from rocknroller.analysis.second_order import load_or_build_second_order_region_table
 from rocknroller.analysis.slow_orbit import first_maximum, rest_energy
 from rocknroller.numerics.equations import EulerState
@@ -35,14 +34,10 @@ EPS = (1e-3, 5e-4)
 
 def starts(body: Body) -> dict[str, EulerState]:
     """The paper's starts for this body (the critical starts depend on ε through the energy)."""
-    def on(line: str, **kw: float) -> EulerState:
-        cs = critical_start(body, reversals.THETA0, reversals.PSI0, line, **kw)
-        return EulerState.from_omega(reversals.THETA0, 0.0, reversals.PSI0, np.asarray(cs.omega, float).reshape(3))
-
     return {"fig. 7 (rest)": EulerState(reversals.THETA0, 0.0, reversals.PSI0),
-            "fig. 8 (on QJpi, psi_dot0 0.002)": on("pi", psi_dot0=fig8_visible_reversal.PSI_DOT0),
-            "fig. 9 (on QJ0, psi_dot0 0.378)": on("0", psi_dot0=fig9_full_reversal.PSI_DOT0),
-            "fig. 11 (on QJpi, Q_R 0.1)": on("pi", QR=fig11_high_QR.QR0)}
+            "fig. 8 (on QJpi, psi_dot0 0.002)": reversals.start_on_line("pi", fig8_visible_reversal.PSI_DOT0, of=body),
+            "fig. 9 (on QJ0, psi_dot0 0.378)": reversals.start_on_line("0", fig9_full_reversal.PSI_DOT0, of=body),
+            "fig. 11 (on QJpi, Q_R 0.1)": reversals.start_on_line("pi", QR=fig11_high_QR.QR0, of=body)}
 
 
 def main() -> None:

@@ -494,6 +494,16 @@ def test_fast_map_equals_plain_evaluation(table, eps, psi0, Q0):
     assert n_jac == n and n_plain <= 3 * n
 
 
+def test_run_time_grid_is_bounded(table):
+    """The run-time form's fine grid grows with nu (64 points a term) up to 8193 points, so its memory stays
+    ≤ 8193 × 48 × nv doubles whatever nu the tables allow."""
+    import dataclasses
+
+    assert slow_map._FastTable(table).n_fine == min(64 * table.coef.shape[1] + 1, 8193)
+    wide = dataclasses.replace(table, coef=np.zeros((table.coef.shape[0], 512, 4)))
+    assert slow_map._FastTable(wide).n_fine == 8193
+
+
 def test_kernel_output_in_chunks(table, monkeypatch):
     """A run longer than one output chunk continues from the last maximum: identical rows."""
     whole = av.iterate_slow_map(table, 1e-3, 0.4, 1000.0)

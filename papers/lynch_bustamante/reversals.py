@@ -40,10 +40,11 @@ def body() -> Body:
 
 
 def start_on_line(line: str, psi_dot0: float | None = None, *, QR: float | None = None,
-                  offset: float = 0.0) -> EulerState:
+                  offset: float = 0.0, of: Body | None = None) -> EulerState:
     """Turning-point start at θ0 = 0.95π, ψ0 = π/4 with the given ψ̇0 (or Q_R), on the critical line (or ``offset``
-    above it in Q_J): :func:`rocknroller.analysis.criticality.critical_start`."""
-    cs = critical_start(body(), THETA0, PSI0, line, psi_dot0=psi_dot0, QR=QR, offset=offset)
+    above it in Q_J) of the body ``of`` (default the paper's at ε = 1e-3):
+    :func:`rocknroller.analysis.criticality.critical_start`."""
+    cs = critical_start(of if of is not None else body(), THETA0, PSI0, line, psi_dot0=psi_dot0, QR=QR, offset=offset)
     return EulerState.from_omega(THETA0, 0.0, PSI0, np.asarray(cs.omega, float).reshape(3))
 
 
