@@ -47,7 +47,7 @@ from numpy.typing import ArrayLike
 # reports those this module does not use itself as unused.
 from rocknroller.analysis.averaging_limits import (K_PERIOD_DOUBLING, MAX_MAXIMA, THETA0_RANGE,  # noqa: F401
                                                    AveragingRangeError, AveragingValidityWarning, check_map_theta0,
-                                                   check_t_end, eps_period_doubling, t_end_limit)
+                                                   check_release_theta0, check_t_end, eps_period_doubling, t_end_limit)
 from rocknroller.analysis.slow_map import _N_KICK, SlowSeries, _fast, iterate_slow_map
 from rocknroller.analysis.slow_table import (REGION_TABLE_ACCURACY, TABLE_FUNCTIONS, SlowMapTable,  # noqa: F401
                                              build_table, load_or_build_table)
@@ -242,6 +242,7 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
         return _predict_from_state(body, theta0, t_end, table=table, build=build, order=order, second=second)
     if psi0 is None:
         raise ValueError("psi0 must be given with a release angle theta0")
+    theta0 = check_release_theta0(theta0)
     if table is None and releases_on_region_tables(theta0):
         return _predict_from_state(body, EulerState(float(theta0), 0.0, float(psi0)), t_end, table=None, build=build,
                                    order=order, second=second)
@@ -338,11 +339,13 @@ def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: S
         raise ValueError(f"the table is for the body {table.body.describe()}, not {body.symmetric().describe()}")
     if order == 2:
         from rocknroller.analysis.second_order import load_or_build_second_order_region_table
+
         from rocknroller.analysis.slow_region import region_options
 
-        if table.coef.shape[1:] != region_options(body, fm.E)[1:]:
+        if (table.coef.shape[1:] != region_options(body, fm.E)[1:]  # cheap first: another grid
+                or not table.same_chart(load_or_build_region_table(body, fm.E, build=build))):
             raise ValueError("order=2 uses the second-order tables on the default region tables of the start's "
-                             "energy (axis 'auto', the default grid); this table has another grid")
+                             "energy (axis 'auto', the default grid); this table has another chart or grid")
         if second is None:
             second = load_or_build_second_order_region_table(body, fm.E, build=build)
         elif second.E0 != table.E0:

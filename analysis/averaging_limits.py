@@ -60,6 +60,18 @@ def check_map_theta0(theta0: float, name: str = "theta0") -> float:
     return theta0
 
 
+def check_release_theta0(theta0: float, name: str = "theta0") -> float:
+    """θ0 of a release from rest as a float, or a ValueError naming ``name`` unless 0 < θ0 ≤ ``THETA0_RANGE[1]``
+    (from ``THETA0_RANGE[0]`` up the release tables serve it, below the region tables of its energy)."""
+    theta0, (lo, hi) = float(theta0), THETA0_RANGE
+    if not 0.0 < theta0 <= hi:  # also NaN
+        raise ValueError(f"{name} must lie in (0, {hi / math.pi:g}pi] for a release from rest, got {name}={theta0!r}: "
+                         f"from {lo / math.pi:g}pi up on the release tables, below on the region tables of its energy; "
+                         f"{name} = 0 is the body at rest at the bottom (no motion), and above {hi / math.pi:g}pi the "
+                         "tables lose accuracy near the upright equilibrium")
+    return theta0
+
+
 def t_end_limit(T0: float) -> float:
     """Largest t_end for T0 = T_θ(0), the time between maxima of pure rocking: the maxima within t_end number
     at most t_end/(T0/2) (T_θ ≥ 0.73 T0 on the tables), which must not exceed ``MAX_MAXIMA``."""

@@ -194,7 +194,7 @@ def _build_k2(body: Body, where: float, kind: str, nu: int, nv: int, workers: in
               progress: bool) -> SecondOrderTable:
     """k₂ on the chart of the first-order table (:func:`_first_table`): half the nodes computed, the others by the
     parity (module docstring of :func:`build_second_order_table`), checked at off-grid points."""
-    from rocknroller.analysis.averaging_limits import AveragingValidityWarning
+    from rocknroller.analysis.averaging_limits import AveragingRangeError, AveragingValidityWarning
 
     if isinstance(nu, bool) or int(nu) != nu or nu % 2 or not 8 <= nu <= 256:
         raise ValueError(f"nu must be an even integer in [8, 256], got nu={nu!r}")
@@ -215,6 +215,9 @@ def _build_k2(body: Body, where: float, kind: str, nu: int, nv: int, workers: in
     data[: nu // 2] = np.concatenate(rows).reshape(nu // 2, nv, 5, 5)
     sign = np.where(np.array(_K2_ODD), -1.0, 1.0)[:, None]
     data[nu // 2:] = sign * data[: nu // 2][::-1, ::-1]
+    if not np.all(np.isfinite(data)):
+        raise AveragingRangeError(f"the second-order orbits of {np.count_nonzero(~np.isfinite(data).all(axis=(2, 3)))} "
+                                  f"of the {nu * nv} nodes gave non-finite data; the tables are not built")
     Au, Av = _cheb_fit_matrix(nu), _cheb_fit_matrix(nv)
     flat = data.reshape(nu, nv, 25)
     coef = np.stack([Au @ flat[:, :, k] @ Av.T for k in range(25)])
@@ -225,7 +228,10 @@ def _build_k2(body: Body, where: float, kind: str, nu: int, nv: int, workers: in
     for x, y in _K2_CHECK_POINTS:
         q = np.array([float(c) for c in first.chart(x, y)])
         diff = np.abs(table.harmonics(first, q) - k2_harmonics(first, q)).max(axis=1)
-        err = max(err, float((diff / scale).max()))
+        err = float(np.max([err, (diff / scale).max()]))  # a NaN propagates (max() would drop it)
+    if not math.isfinite(err):
+        raise AveragingRangeError(f"the check of the second-order tables against direct orbits gave {err!r}; the "
+                                  "tables are not used")
     if err > K2_ACCURACY:
         what = f"theta0={where!r}" if kind == "release" else f"E={where!r}"
         warnings.warn(f"the second-order tables for {what} interpolate k2 only to {err:.1e} (relative); use more "

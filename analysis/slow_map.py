@@ -19,6 +19,7 @@ from rocknroller.analysis.slow_diagnostics import unwrap_phase
 from rocknroller.analysis.slow_table import TABLE_FUNCTIONS, SlowMapTable, _cheb_basis, stretch
 
 from rocknroller.analysis import _slow_map_kernel as _kernel
+from rocknroller.numerics.cache import MemoryCache
 
 if TYPE_CHECKING:
     from rocknroller.analysis.second_order import SecondOrderTable
@@ -66,7 +67,10 @@ _FINE_MAX = 8193
 #: Run-time functions: 0-8 the harmonics (c0, c1, s1) of k_u = e·k_Q, k_v = n·k_Q and k_Θ (solved for
 #: implicitly), 9-14 those of the time and φ kicks, 15-17 the drifts T_θ, W, Δφ.
 _N_KICK = 15
-_FAST: dict[tuple[int, int], "_FastTable"] = {}
+#: Bytes of run-time forms this process keeps (the most recently used): 1 GiB, four region tables' (~250 MB each)
+#: or forty release tables' (~25 MB).  A form dropped is rebuilt from its table when used again (0.1–1 s).
+RUNTIME_CACHE_BYTES = 1 << 30
+_FAST = MemoryCache(RUNTIME_CACHE_BYTES)
 #: Kernel statuses (analysis/_slow_map_kernel.c).
 _DONE, _FULL, _LEFT_TABLE, _NO_CONVERGENCE = range(4)
 #: Largest number of output rows the kernel fills per call.
@@ -190,7 +194,7 @@ class _FastTable:
 
 def _fast(table: SlowMapTable, second: "SecondOrderTable | None" = None) -> _FastTable:
     key = (id(table), id(second))
-    ft = _FAST.get(key)
+    ft = _FAST[key] if key in _FAST else None
     if ft is None or ft.table is not table or ft.second is not second:
         ft = _FastTable(table, second)
         _FAST[key] = ft

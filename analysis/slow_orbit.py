@@ -291,6 +291,7 @@ def _to_next_maxima(order: int, sym: Body, x0: NDArray[np.float64],
         h_prev = turning_point_function(x0[:11, take])
         passed_min, done = np.zeros(lanes, bool), np.zeros(lanes, bool)
         for _ in range(100000):
+            t_start = np.array(tb.time)
             tb.step(write_tc=True)
             failed = [r[0].name for r in tb.step_res if r[0].name != "success"]
             if failed:
@@ -299,16 +300,7 @@ def _to_next_maxima(order: int, sym: Body, x0: NDArray[np.float64],
             passed_min |= (h_prev > 0.0) & (hv <= 0.0)
             for k in np.flatnonzero(passed_min & (h_prev < 0.0) & (hv >= 0.0) & ~done):
                 times = np.array(tb.time)
-                t = float(times[k])
-                for _ in range(50):
-                    times[k] = t
-                    tb.update_d_output(times)
-                    Y = np.array(tb.d_output[:11, k])
-                    dt = -turning_point_function(Y) / directional_derivative(turning_point_function, Y,
-                                                                              np.array(body_frame_rhs(Y, p0)))
-                    t += dt
-                    if abs(dt) <= 4e-16 * t:
-                        break
+                t = _maximum_in_step(tb, times, k, float(t_start[k]), p0)
                 times[k] = t
                 tb.update_d_output(times)
                 if first + k < n:
@@ -320,6 +312,32 @@ def _to_next_maxima(order: int, sym: Body, x0: NDArray[np.float64],
         else:  # pragma: no cover
             raise RuntimeError("no next maximum of theta found")
     return t1, out
+
+
+def _maximum_in_step(tb: Any, times: NDArray[np.float64], k: int, t_start: float, p0: Any) -> float:
+    """The time of lane k's maximum of θ within its last step [t_start, times[k]], where dγ3/dt rises through zero:
+    Newton on the dense output from the step's end, kept inside the bracket (a Newton iterate outside it, or a zero
+    slope, is replaced by the bisection of the bracket: the dense output is a polynomial valid on the step only, and a
+    step that ends where dγ3/dt is nearly flat would send plain Newton far outside it), to round-off."""
+    lo, hi = t_start, float(times[k])
+    t = hi
+    for _ in range(200):
+        times[k] = t
+        tb.update_d_output(times)
+        Y = np.array(tb.d_output[:11, k])
+        h = turning_point_function(Y)
+        if h < 0.0:
+            lo = t
+        else:
+            hi = t
+        slope = directional_derivative(turning_point_function, Y, np.array(body_frame_rhs(Y, p0)))
+        new = t - h / slope if slope > 0.0 else math.nan
+        if not lo <= new <= hi:
+            new = 0.5 * (lo + hi)
+        dt, t = new - t, new
+        if abs(dt) <= 4e-16 * t or hi - lo <= 4e-16 * hi:
+            return t
+    raise RuntimeError(f"the maximum of theta in [{t_start!r}, {float(times[k])!r}] was not located")  # pragma: no cover
 
 
 def _second_directional(fun: Callable[[NDArray[np.float64]], float], y: NDArray[np.float64], v: NDArray[np.float64],
@@ -511,6 +529,9 @@ def first_maximum(body: Body, initial: EulerState) -> FirstMaximum:
 
     y0 = initial.to_body_state()
     E = float(energy(body, y0[0:3], y0[3:6]))
+    if not E > 0.0:
+        raise ValueError(f"the start has no motion to average over: its energy is E={E!r} in double precision (at rest "
+                         f"at the bottom, or theta0={initial.theta!r} and its rates too small to register)")
     QR0, QJ0 = float(routh(body, y0[0:3], y0[3:6])), float(jellett(body, y0[0:3], y0[3:6]))
     h0 = float(turning_point_function(y0))
     dh0 = directional_derivative(turning_point_function, y0, np.array(body_frame_rhs(y0, body.params)))

@@ -284,7 +284,7 @@ def region_interpolation_error(table: SlowMapTable) -> float:
             scale = float(np.max(np.abs(resp[j, k])))
             back = (c0, c1 * math.cos(w) + s1 * math.sin(w), -c1 * math.sin(w) + s1 * math.cos(w))
             errs += [abs(b - a) / scale for b, a in zip(back, resp[j, k])]
-        worst = max(worst, *errs)
+        worst = float(np.max([worst, *errs]))  # a NaN propagates (max() would drop it)
     return float(worst)
 
 

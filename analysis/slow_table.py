@@ -25,7 +25,7 @@ from numpy.typing import ArrayLike, NDArray
 from rocknroller.analysis.averaging_limits import (K_PERIOD_DOUBLING, AveragingRangeError, AveragingValidityWarning,
                                                    check_map_theta0, eps_period_doubling)
 from rocknroller.analysis.body import Body
-from rocknroller.numerics.cache import CacheWarning, cache_dir, load_arrays, save_arrays, warn_unwritable
+from rocknroller.numerics.cache import CacheWarning, MemoryCache, cache_dir, load_arrays, save_arrays, warn_unwritable
 from rocknroller.analysis.slow_orbit import (FIRST_ORDER_NAMES, harmonic_steps, rest_energy, step_coefficients,
                                              symmetric_data)
 from rocknroller.analysis.quadrature import wrap_angle
@@ -36,7 +36,10 @@ __all__ = ["TABLE_FUNCTIONS", "CHART_TERMS", "REGION_TABLE_ACCURACY", "SlowMapTa
 
 #: Bump when the table construction or its file format changes (part of the cache key).
 _TABLE_VERSION = "5"
-_TABLES: dict[str, "SlowMapTable"] = {}
+#: Bytes of tables this process keeps in memory (the most recently used; each is also on disk): 256 MiB, ~250
+#: region tables or ~2500 release tables.
+TABLE_CACHE_BYTES = 1 << 28
+_TABLES = MemoryCache(TABLE_CACHE_BYTES)
 
 #: Largest interpolation error of a region table for which its predictions are given without a warning: the
 #: map's own error is O(ε) of the slow motion, and a table error δ adds ~N δ over N rocks (N ≲ 10³ in 10⁴ t.u.).
@@ -138,6 +141,12 @@ class SlowMapTable:
         x = np.clip(x, -1.0, 1.0)  # the series are the chart's only on [−1, 1]; beyond it Q is outside anyway
         return (cheb.chebval(x, self.c_coef), cheb.chebval(x, self.w_coef),
                 cheb.chebval(x, cheb.chebder(self.c_coef)) / self.U, cheb.chebval(x, cheb.chebder(self.w_coef)) / self.U)
+
+    def same_chart(self, other: "SlowMapTable") -> bool:
+        """True if ``other`` has this table's chart and grid (the frame e, n, U, the sides c, w, the stretches and
+        the number of terms), bit for bit: tables tabulated on one table's chart (the second-order k₂) fit it."""
+        return (self.coef.shape == other.coef.shape and (self.U, self.alpha, self.beta) == (other.U, other.alpha, other.beta)
+                and all(np.array_equal(getattr(self, k), getattr(other, k)) for k in ("e", "n", "c_coef", "w_coef")))
 
     def chart(self, xi: ArrayLike, eta: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """(Q_R, Q_J) at the chart coordinates (ξ, η) ∈ [−1, 1]² (those of the Chebyshev series)."""
@@ -372,8 +381,15 @@ def fit_and_check(frame: SlowMapTable, T: NDArray, W: NDArray, dphi: NDArray, re
                   error_of: Callable[[SlowMapTable], float], limit: float, message: str) -> SlowMapTable:
     """:func:`fit_table`, then its interpolation error ``error_of(table)`` recorded in the table; above ``limit`` an
     :class:`AveragingValidityWarning` with ``message`` (``{err:.1e}`` in it replaced by the error)."""
+    finite = np.isfinite(T) & np.isfinite(W) & np.isfinite(dphi) & np.all(np.isfinite(resp), axis=(0, -1))
+    if not finite.all():
+        raise AveragingRangeError(f"the orbits of {np.count_nonzero(~finite)} of the {finite.size} nodes of the tables "
+                                  f"of E={frame.E0!r} gave non-finite data; the tables are not built")
     table = fit_table(frame, T, W, dphi, resp)
     err = error_of(table)
+    if not math.isfinite(err):
+        raise AveragingRangeError(f"the check of the tables of E={frame.E0!r} against direct orbits gave {err!r}; "
+                                  "the tables are not used")
     if err > limit:
         warnings.warn(message.format(err=err), AveragingValidityWarning, stacklevel=3)
     return dataclasses.replace(table, interp_error=err)
@@ -407,7 +423,7 @@ def _interpolation_error(table: SlowMapTable) -> float:
             scale = max(abs(v) for v in sc.harmonics[name])
             back = (c0, c1 * math.cos(w) + s1 * math.sin(w), -c1 * math.sin(w) + s1 * math.cos(w))
             errs += [abs(b - a) / scale for b, a in zip(back, sc.harmonics[name])]
-        worst = max(worst, *errs)
+        worst = float(np.max([worst, *errs]))  # a NaN propagates (max() would drop it)
     return float(worst)
 
 

@@ -1,4 +1,5 @@
-"""The on-disk cache: where it lives, how files are written, and plain-array files that are checked on load.
+"""The on-disk cache: where it lives, how files are written, and plain-array files that are checked on load; and
+the bound of the in-memory caches (:class:`MemoryCache`).
 
 Nothing in the cache is trusted: it holds plain numeric arrays only (``.npz`` read with
 ``allow_pickle=False``), each file carries its key and a SHA-256 checksum of its contents, and a file
@@ -21,13 +22,14 @@ import stat
 import tempfile
 import warnings
 import zipfile
+from collections import OrderedDict
 from pathlib import Path
-from typing import Any, Callable, Mapping
+from typing import Any, Callable, Hashable, Iterator, Mapping
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["CacheWarning", "cache_dir", "atomic_write", "probe_writable", "warn_unwritable", "array_checksum",
+__all__ = ["CacheWarning", "MemoryCache", "array_bytes", "cache_dir", "atomic_write", "probe_writable", "warn_unwritable", "array_checksum",
            "save_arrays", "load_arrays"]
 
 #: Names of the two bookkeeping members of an array file (0-d unicode arrays).
@@ -39,6 +41,62 @@ _WARNED_DIRS: set[str] = set()
 
 class CacheWarning(UserWarning):
     """A cache file failed its check (and is rebuilt), or the cache directory cannot be written."""
+
+
+class MemoryCache:
+    """An in-memory cache of the values used most recently, within a byte budget.
+
+    Reading an entry (``cache[key]``) makes it the newest; storing one drops the oldest entries while the entries'
+    bytes (``array_bytes`` of each value) exceed ``max_bytes``, the newest always kept (a value larger than the
+    budget is held alone).  ``key in cache`` does not reorder.  The process's caches of tables and of their run-time
+    forms are of this kind, so that a session over many starts (each energy its own table) keeps a bounded memory.
+
+    Parameters
+    ----------
+    max_bytes : int
+        The budget, ≥ 0.
+    """
+
+    def __init__(self, max_bytes: int) -> None:
+        if isinstance(max_bytes, bool) or int(max_bytes) != max_bytes or max_bytes < 0:
+            raise ValueError(f"max_bytes must be an integer >= 0, got max_bytes={max_bytes!r}")
+        self.max_bytes = int(max_bytes)
+        self._entries: OrderedDict[Hashable, tuple[Any, int]] = OrderedDict()
+
+    def __contains__(self, key: Hashable) -> bool:
+        return key in self._entries
+
+    def __len__(self) -> int:
+        return len(self._entries)
+
+    def __iter__(self) -> Iterator[Hashable]:
+        return iter(list(self._entries))
+
+    def __getitem__(self, key: Hashable) -> Any:
+        value = self._entries[key][0]
+        self._entries.move_to_end(key)
+        return value
+
+    def __setitem__(self, key: Hashable, value: Any) -> None:
+        self._entries[key] = (value, array_bytes(value))
+        self._entries.move_to_end(key)
+        while len(self._entries) > 1 and self.nbytes > self.max_bytes:
+            self._entries.popitem(last=False)
+
+    @property
+    def nbytes(self) -> int:
+        """Bytes of the arrays held (``array_bytes`` of each value)."""
+        return sum(n for _, n in self._entries.values())
+
+    def clear(self) -> None:
+        """Drop every entry."""
+        self._entries.clear()
+
+
+def array_bytes(obj: Any) -> int:
+    """Bytes of the numpy arrays among an object's attributes (a table's data; the objects it refers to are not
+    counted)."""
+    return sum(v.nbytes for v in vars(obj).values() if isinstance(v, np.ndarray))
 
 
 def cache_dir() -> Path:

@@ -265,3 +265,49 @@ def test_atomic_write_keeps_old_file_on_error(tmp_path):
     with pytest.raises(OSError, match="disk full"):
         cache.atomic_write(target, fail)
     assert target.read_bytes() == b"old" and [p.name for p in tmp_path.iterdir()] == ["f.bin"]
+
+
+class _Blob:
+    """An object holding one array of n bytes (and a non-array attribute, not counted)."""
+
+    def __init__(self, n: int) -> None:
+        self.data = np.zeros(n, np.uint8)
+        self.name = "blob"
+
+
+def test_memory_cache_keeps_the_newest_within_its_budget():
+    c = cache.MemoryCache(250)
+    for k in "abc":
+        c[k] = _Blob(100)
+    assert list(c) == ["b", "c"] and c.nbytes == 200          # a dropped: 300 > 250
+    assert isinstance(c["b"], _Blob) and list(c) == ["c", "b"]  # read: b is the newest
+    c["d"] = _Blob(100)
+    assert list(c) == ["b", "d"]                               # c, the oldest now, dropped
+    c["e"] = _Blob(1000)
+    assert list(c) == ["e"] and c.nbytes == 1000               # larger than the budget: held alone
+    assert "e" in c and "b" not in c and len(c) == 1
+    c.clear()
+    assert len(c) == 0 and c.nbytes == 0
+    for bad in (-1, 1.5, True):
+        with pytest.raises(ValueError, match="max_bytes"):
+            cache.MemoryCache(bad)
+
+
+def test_run_time_forms_are_bounded(monkeypatch, fresh):
+    """Two tables' run-time forms in a budget of one: the older is dropped and rebuilt when used again."""
+    from dataclasses import replace
+
+    from rocknroller.analysis import slow_map
+
+    table = fresh[0]
+    other = replace(table)  # another table object (the forms are kept per table object)
+    one = cache.array_bytes(slow_map._FastTable(table))
+    assert slow_map.RUNTIME_CACHE_BYTES >= 4 * 2**28  # the default: four region tables' forms (~250 MB each)
+    monkeypatch.setattr(slow_map, "_FAST", cache.MemoryCache(one))
+    first = slow_map._fast(table)
+    assert slow_map._fast(table) is first
+    second = slow_map._fast(other)
+    assert len(slow_map._FAST) == 1 and slow_map._FAST.nbytes == one
+    again = slow_map._fast(table)
+    assert again is not first and again.table is table and second.table is other
+    np.testing.assert_array_equal(again.rows_jac, first.rows_jac)  # the same table: the same form, bit for bit

@@ -40,3 +40,31 @@ def test_a_start_without_oscillation_is_refused():
     # from rest at the bottom: no motion at all (simulate refuses it, naming the state)
     with pytest.raises(ValueError):
         first_maximum(BODY, EulerState(theta=0.0))
+
+
+def test_maximum_located_when_a_step_ends_where_the_event_function_is_flat():
+    """A node of the spindle tables of a release from 0.03π (θ between 0.02 and 0.054 rad): the Taylor step that
+    passes the maximum ends where dγ3/dt is nearly flat, and Newton from the step's end left the step (the dense
+    output, a polynomial, extrapolated to 1e17: NaN in 76 of the table's 8192 nodes).  Kept inside the step's
+    bracket, the orbit ends at the next maximum: T_θ and Δψ mod π as the quadrature (paper eqs. T_theta,
+    Delta_psi) gives them within its tolerance DEFAULT_RTOL, and finite ε-responses."""
+    import numpy as np
+
+    from rocknroller.analysis.quadrature import DEFAULT_RTOL, precession, wrap_angle
+    from rocknroller.analysis.slow_orbit import first_order_steps
+
+    sym = Body.paper(0.0)
+    E, QR, QJ = rest_energy(sym, 0.03 * math.pi), 0.09587927499116591, 0.03078631520695371
+    step = first_order_steps(BODY, E, QR, QJ, [0.0, 1.0, 2.0])
+    ref = precession(E, QR, QJ, sym)
+    np.testing.assert_allclose(step.T, float(ref.T_theta), rtol=DEFAULT_RTOL, atol=0.0)
+    assert np.all(np.abs(wrap_angle(step.dpsi - float(ref.delta_psi), math.pi)) <= DEFAULT_RTOL * abs(ref.delta_psi))
+    assert all(np.all(np.isfinite(v)) for v in step.d.values())
+
+
+def test_a_release_whose_energy_is_zero_is_refused_as_no_motion():
+    """θ0 = 1e-9: g a (1 − cos θ0) is 0 in double precision (the range check of test_cli_slow passes it)."""
+    from rocknroller.analysis import averaging as av
+
+    with pytest.raises(ValueError, match="no motion to average over"):
+        av.predict_slow_motion(BODY, 1e-9, 0.3, 100.0)

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -263,3 +264,27 @@ def test_second_order_map_from_a_start_with_velocity():
     e1, e2 = sample_errors(one.series, ode), sample_errors(two.series, ode)
     for k in e1:
         assert e2[k] * 20.0 < e1[k], (k, e1[k], e2[k])
+    # a table of the default grid on another chart (a side moved by far less than a node's spacing) is refused for
+    # order 2: k2 was tabulated on the default table's chart
+    shifted = replace(table, c_coef=table.c_coef + np.r_[1e-9, np.zeros(table.c_coef.size - 1)])
+    assert shifted.coef.shape == table.coef.shape and not shifted.same_chart(table) and table.same_chart(table)
+    with pytest.raises(ValueError, match="another chart or grid"):
+        av.predict_slow_motion(body, start, t_end=1000.0, table=shifted, order=2, second=second)
+
+
+def test_non_finite_node_data_refuse_the_table():
+    """Orbits that fail at some nodes (non-finite data) stop the build with the count, never a table of NaN (which
+    the interpolation check, max() dropping NaN, passed as error 0)."""
+    from rocknroller.analysis.slow_table import fit_and_check
+
+    sym = Body.paper(0.0)
+    E = rest_energy(sym, 0.3 * math.pi)
+    frame = sr.region_frame(sym, E, axis="spindle", nu=8, nv=4)
+    T, W, dphi = np.ones((8, 4)), np.zeros((8, 4)), np.zeros((8, 4))
+    resp = np.zeros((5, 8, 4, 3))
+    resp[2, 3, 1, 0] = np.nan
+    with pytest.raises(sr.AveragingRangeError, match="orbits of 1 of the 32 nodes .* non-finite"):
+        fit_and_check(frame, T, W, dphi, resp, lambda t: 0.0, 1.0, "")
+    resp[2, 3, 1, 0] = 0.0
+    with pytest.raises(sr.AveragingRangeError, match="gave nan"):
+        fit_and_check(frame, T, W, dphi, resp, lambda t: math.nan, 1.0, "")

@@ -196,7 +196,7 @@ def run(args: argparse.Namespace) -> int:
         return _finish(args, body, pred, None, start, summary, messages)
     if args.QR is not None:
         raise ValueError("--QR needs --critical-line")
-    theta0 = av.check_map_theta0(_parse(args, "theta0"), "--theta0")
+    theta0 = av.check_map_theta0(av.check_release_theta0(_parse(args, "theta0"), "--theta0"), "--theta0")
     psi0 = _parse(args, "psi0")
     unresolved = f"cannot be computed for --theta0 {args.theta0} and the body options {given} ({body.describe()})"
     try:
