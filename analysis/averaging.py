@@ -323,7 +323,7 @@ def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: S
                         build: bool, order: int = 1, second: "SecondOrderTable | None" = None) -> SlowPrediction:
     """predict_slow_motion from an initial state: its first maximum, then the map on the region tables (and for
     order 2 the second-order tables on their chart)."""
-    from rocknroller.analysis.slow_region import load_or_build_region_table
+    from rocknroller.analysis.slow_region import DELTA_MIN_DEFAULT, boundary_distance, load_or_build_region_table
 
     t_end = float(t_end)
     if not (math.isfinite(t_end) and t_end > 0.0):
@@ -331,6 +331,14 @@ def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: S
     fm = first_maximum(body, start)
     if fm.t >= t_end:
         raise ValueError(f"t_end={t_end!r} ends before the first maximum of theta (t = {fm.t:.6g})")
+    delta = float(boundary_distance(body, fm.E, fm.QR, fm.QJ))
+    covered = DELTA_MIN_DEFAULT if table is None else table.delta_min
+    if delta < covered:  # before any table is built: nearer steady rolling than the tables reach
+        raise AveragingRangeError(
+            f"the start's first maximum of theta is at distance (E - min U)/E = {delta:.3g} from steady rolling "
+            f"(Q=({fm.QR:.6g}, {fm.QJ:.6g}), E={fm.E:.6g}); the region tables cover distances >= {covered:g}: nearer "
+            "steady rolling the oscillation of theta is too small to average over; run this start by the direct ODE "
+            "(rocknroller simulate)")
     if table is None:
         table = load_or_build_region_table(body, fm.E, build=build)
     elif abs(table.E0 - fm.E) > 8.0 * math.ulp(fm.E) or table.delta_min == 0.0:  # E from two formulas: rounding

@@ -31,8 +31,9 @@ from numpy.typing import ArrayLike, NDArray
 from rocknroller.analysis.body import Body
 from rocknroller.analysis.invariants import energy, jellett, routh
 from rocknroller.analysis.kinematics import angles_from_frame
-from rocknroller.analysis.quadrature import precession, wrap_angle
-from rocknroller.analysis.reduction import effective_potential, require_open_tilt, state_from_turning_point, turning_points
+from rocknroller.analysis.quadrature import precession, precession_mp, wrap_angle
+from rocknroller.analysis.reduction import (NoMotionError, SteadyRollingError, effective_potential, require_open_tilt,
+                                            state_from_turning_point, turning_points)
 from rocknroller.numerics.equations import EulerState, body_frame_rhs, state_from_euler, turning_point_function
 
 __all__ = [
@@ -543,8 +544,10 @@ def first_maximum(body: Body, initial: EulerState) -> FirstMaximum:
     sym = body.symmetric()
     try:
         period = float(precession(E, QR0, QJ0, sym).T_theta)
-    except ValueError as exc:
+    except (NoMotionError, SteadyRollingError) as exc:
         raise ValueError(f"the start has no oscillation of theta to average over: {exc}") from None
+    except ValueError:  # oscillating, but too near steady rolling for the double quadrature: its mpmath reference
+        period = float(precession_mp(E, QR0, QJ0, sym, dps=30).T_theta)
     run = simulate(body, initial, _FIRST_MAXIMUM_PERIODS * period, samples=False)
     if len(run.maxima) == 0:
         raise ValueError(f"theta has no maximum within {_FIRST_MAXIMUM_PERIODS:g} rocking periods "

@@ -44,10 +44,13 @@ from rocknroller.analysis.slow_orbit import FIRST_ORDER_NAMES, harmonic_steps, s
 
 __all__ = ["boundary_distance", "check_below_top", "region_axis", "region_options", "region_frame",
            "build_region_table", "region_interpolation_error", "load_or_build_region_table", "DELTA_MIN_RANGE",
+           "DELTA_MIN_DEFAULT",
            "TIP_FRACTION_RANGE", "AXES", "BAND_FROM_THETA0", "DEFAULT_GRID"]
 
-#: Allowed least distances (E − min U)/E to steady rolling of a region table.
+#: Allowed least distances (E − min U)/E to steady rolling of a region table, and the default one (the tables of
+#: ``load_or_build_region_table`` and of the predictions): nearer steady rolling θ hardly oscillates.
 DELTA_MIN_RANGE = (1e-3, 0.5)
+DELTA_MIN_DEFAULT = 0.05
 #: Allowed fractions of the tip covered along the critical line.
 TIP_FRACTION_RANGE = (0.1, 0.95)
 #: Nodes of the fit of the level set's sides, and the degree of the chart's c(x) and w(x).
@@ -148,7 +151,7 @@ def _layer_centres(sym: Body, E: float, points: NDArray[np.float64], n: NDArray[
 
 
 def region_frame(body: Body, E: float, *, axis: str = "auto", nu: int | None = None, nv: int | None = None,
-                 delta_min: float = 0.05, tip_fraction: float = 0.8) -> SlowMapTable:
+                 delta_min: float = DELTA_MIN_DEFAULT, tip_fraction: float = 0.8) -> SlowMapTable:
     """The chart of the region tables of (body, E) (module docstring), as a SlowMapTable without coefficients.
 
     Raises
@@ -289,7 +292,7 @@ def region_interpolation_error(table: SlowMapTable) -> float:
 
 
 def build_region_table(body: Body, E: float, *, axis: str = "auto", nu: int | None = None, nv: int | None = None,
-                       delta_min: float = 0.05, tip_fraction: float = 0.8, progress: bool = False,
+                       delta_min: float = DELTA_MIN_DEFAULT, tip_fraction: float = 0.8, progress: bool = False,
                        workers: int = 1) -> SlowMapTable:
     """Tabulate the reversible first-order slow map of (body, E) over the region of oscillation.
 

@@ -151,6 +151,20 @@ def initial_state_from_args(args: argparse.Namespace) -> EulerState:
     return EulerState(theta, phi, psi, *rates)
 
 
+def start_with_default_rates(args: argparse.Namespace, initial: EulerState) -> EulerState:
+    """``initial``, or with no rate option given (:func:`rates_given`) the figure-5 body-frame ω at its angles (the
+    default start of ``simulate`` and ``animate``), which needs 0 < θ0 < π."""
+    if rates_given(args):
+        return initial
+    from rocknroller.papers.lynch_bustamante import fig5_symmetry_breaking as fig5
+
+    if not 0.0 < initial.theta < math.pi:
+        raise ValueError(f"--theta0 must satisfy 0 < theta0 < pi when no rates are given (the start then takes the "
+                         f"figure-5 omega = {fig5.OMEGA0}, singular in Euler rates at theta = 0, pi), got "
+                         f"--theta0={initial.theta!r}: give the rates (e.g. --psi-dot0 0) to start there")
+    return EulerState.from_omega(initial.theta, initial.phi, initial.psi, fig5.OMEGA0)
+
+
 def add_critical_line_options(group: Any) -> None:
     """--critical-line {pi,0}, --QR, --offset: a turning-point start on a critical line (paper figs. 8, 9)."""
     group.add_argument("--critical-line", choices=("pi", "0"), default=None,

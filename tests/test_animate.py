@@ -81,3 +81,6 @@ def test_animate_command(tmp_path, capsys):
     assert "--out must name a .gif or an .mp4" in capsys.readouterr().err
     assert main(["animate", "--fps", "0", "--out", str(tmp_path / "b.gif"), "--quiet"]) == 2
     assert "--fps" in capsys.readouterr().err
+    # the default start takes the figure-5 omega, which needs 0 < theta0 < pi: said so, as simulate says it
+    assert main(["animate", "--theta0", "0", "--out", str(tmp_path / "c.gif"), "--quiet"]) == 2
+    assert "0 < theta0 < pi when no rates are given" in capsys.readouterr().err

@@ -64,6 +64,7 @@ def test_outputs_written(tmp_path, capsys):
         (["--theta0", "4", "--theta-dot0", "1"], "0 <= theta0 <= pi"),
         (["--t-end", "-1"], "--t-end must be"),
         (["--theta0", "nan"], "angle"),
+        (["--theta0", "0"], "0 < theta0 < pi when no rates are given (the start then takes the figure-5 omega"),
     ],
 )
 def test_bad_input_exits_2_without_traceback(argv, fragment):

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import mpmath
 import numpy as np
 import pytest
@@ -338,6 +340,10 @@ def test_bad_input_raises():
         precession_mp(1.0, 0.01, 0.0, BODY, dps=5)
     with pytest.raises(ValueError, match="rtol must"):
         precession(1.0, 0.01, 0.0, BODY, rtol=0.5)
+    # below the rules' round-off the doubling cannot meet the tolerance: refused, not a table of unresolved points
+    for bad in (3e-15, 0.0, "x", math.nan):
+        with pytest.raises(ValueError, match=r"rtol must lie in \[1e-14, 0.001\]"):
+            precession(1.0, 0.01, 0.0, BODY, rtol=bad)
     for call in (lambda: precession(1.0, 0.01, 0.0, Body.paper(1e-3)),
                  lambda: precession_mp(1.0, 0.01, 0.0, Body.paper(1e-3))):
         with pytest.raises(ValueError, match="symmetric body"):

@@ -68,3 +68,23 @@ def test_a_release_whose_energy_is_zero_is_refused_as_no_motion():
 
     with pytest.raises(ValueError, match="no motion to average over"):
         av.predict_slow_motion(BODY, 1e-9, 0.3, 100.0)
+
+
+def test_a_start_near_steady_rolling_is_refused_with_its_distance():
+    """Steady rolling at 0.4π (paper eq. om2om3) nudged by θ̇0 = 0.05: θ oscillates, but within (E − min U)/E =
+    2.5e-3 of steady rolling, where the double quadrature of the first-maximum search is unresolved (its mpmath
+    reference takes over) and the region tables (δ ≥ 0.05) do not reach: refused with that distance before any
+    table is built (build=False would otherwise fail for want of one)."""
+    from rocknroller.analysis import averaging as av
+    from rocknroller.analysis.slow_region import DELTA_MIN_DEFAULT, boundary_distance
+    from rocknroller.analysis.steady_rolling import steady_rolling_omega3
+
+    theta0, phi_dot = 0.4 * math.pi, 0.5
+    omega3 = steady_rolling_omega3(BODY.symmetric(), theta0, math.sin(theta0) * phi_dot)
+    start = EulerState(theta0, 0.0, 0.0, 0.05, phi_dot, omega3 - math.cos(theta0) * phi_dot)
+    fm = first_maximum(BODY, start)
+    delta = float(boundary_distance(BODY, fm.E, fm.QR, fm.QJ))
+    assert fm.t > 0.0 and 0.0 < delta < 0.1 * DELTA_MIN_DEFAULT
+    with pytest.raises(av.AveragingRangeError, match=rf"distance \(E - min U\)/E = {delta:.3g} from steady rolling"
+                                                     rf".* cover distances >= {DELTA_MIN_DEFAULT:g}"):
+        av.predict_slow_motion(BODY, start, t_end=100.0, build=False)

@@ -126,7 +126,8 @@ def test_bad_input_message_and_status_2(argv, message, tmp_path, capsys):
     (["--QR", "0:0.01:100000", "--QJ", "0:0.01:100000"], "over the limit 500000"),
     (["--QR", "0:0.01:1000000000"], "COUNT must be at most 500000"),
     (["--QR", "0:0.01:3000", "--QJ", "0:1:3", "--dps", "20"], "over the limit 2000 with --dps"),
-    (["--rtol", "0"], "--rtol must lie in"),
+    (["--rtol", "0"], "--rtol must lie in [1e-14, 0.001]"),
+    (["--rtol", "1e-17"], "--rtol must lie in [1e-14, 0.001]"),
 ])
 def test_sizes_are_refused_before_computing(argv, fragment, tmp_path, capsys):
     out = tmp_path / "t.csv"

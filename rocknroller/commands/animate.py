@@ -8,7 +8,7 @@ from pathlib import Path
 
 from rocknroller.options import (add_body_options, add_critical_line_options, add_force_option,
                                  add_initial_state_options, body_from_args, critical_line_state, prepare_output_file,
-                                 rates_given)
+                                 start_with_default_rates)
 from rocknroller.papers.lynch_bustamante import fig5_symmetry_breaking as fig5
 
 
@@ -44,13 +44,12 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller animate`` with the parsed ``args``; returns the exit status."""
     from rocknroller.numerics.animation import animate, frame_times
-    from rocknroller.numerics.equations import EulerState
     from rocknroller.numerics.integrate import simulate
 
     body = body_from_args(args)
     initial, _ = critical_line_state(args, body)
-    if not rates_given(args) and args.critical_line is None:
-        initial = EulerState.from_omega(initial.theta, initial.phi, initial.psi, fig5.OMEGA0)
+    if args.critical_line is None:
+        initial = start_with_default_rates(args, initial)
     if args.out.suffix.lower() not in (".gif", ".mp4"):
         raise ValueError(f"--out must name a .gif or an .mp4 file, got {str(args.out)!r}")
     times = frame_times(args.t_end, args.fps, args.duration)  # checked before the run

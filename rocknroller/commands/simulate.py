@@ -9,7 +9,7 @@ from pathlib import Path
 
 from rocknroller.papers.lynch_bustamante import fig5_symmetry_breaking as fig5
 from rocknroller.options import (add_body_options, add_force_option, add_initial_state_options, body_from_args,
-                                 initial_state_from_args, prepare_output_dir, print_json, rates_given)
+                                 initial_state_from_args, prepare_output_dir, print_json, start_with_default_rates)
 
 #: Files written to --out (with samples), and with --turning-points-only.
 OUTPUTS = ("samples.csv", "turning_points.csv", "contact_track.png", "contact_track.pdf", "phi_at_maxima.png",
@@ -95,14 +95,12 @@ def _write_outputs(traj, body, initial, out: Path) -> list[Path]:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller simulate`` with the parsed ``args``; returns the exit status."""
-    from rocknroller.numerics.equations import EulerState
     from rocknroller.numerics.integrate import AccuracyWarning, simulate
     from rocknroller.papers.output import CsvStream
 
     body = body_from_args(args)
     initial = initial_state_from_args(args)
-    if not rates_given(args):
-        initial = EulerState.from_omega(initial.theta, initial.phi, initial.psi, fig5.OMEGA0)
+    initial = start_with_default_rates(args, initial)
     tp_only = args.turning_points_only
     if args.out is not None:
         prepare_output_dir(args.out, "--out", args.force, OUTPUTS_TURNING_POINTS if tp_only else OUTPUTS)

@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from rocknroller.analysis.quadrature import DEFAULT_RTOL
+from rocknroller.analysis.quadrature import DEFAULT_RTOL, RTOL_RANGE, check_rtol
 from rocknroller.options import (add_body_options, add_force_option, body_from_args, parse_angle,
                                  prepare_output_file, print_json)
 
@@ -88,7 +88,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help=f"use the mpmath reference at N digits, 15 <= N <= 1000 (slow: at most {MAX_POINTS_MP} points) "
                         "instead of double precision")
     p.add_argument("--rtol", type=float, default=DEFAULT_RTOL,
-                   help=f"double backend: tolerance on the change between n/2 and n nodes (default {DEFAULT_RTOL:g})")
+                   help=f"double backend: tolerance on the change between n/2 and n nodes, in [{RTOL_RANGE[0]:g}, "
+                        f"{RTOL_RANGE[1]:g}] (default {DEFAULT_RTOL:g})")
     p.add_argument("--out", type=Path, default=Path("precession_table.csv"), metavar="FILE",
                    help="CSV output (default precession_table.csv; an existing file is not overwritten without --force)")
     add_force_option(p)
@@ -118,8 +119,7 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError("give either --theta0 (theta_X fixed) or --E (an energy grid), not both")
     if args.dps is not None and not 15 <= args.dps <= 1000:
         raise ValueError(f"--dps must be an integer in [15, 1000], got {args.dps}")
-    if not 0.0 < args.rtol < 1e-3:
-        raise ValueError(f"--rtol must lie in (0, 1e-3), got {args.rtol!r}")
+    check_rtol(args.rtol, "--rtol")
     QR_axis, QJ_axis = parse_grid(args.QR, "--QR"), parse_grid(args.QJ, "--QJ")
     E_axis = parse_grid(args.E, "--E") if args.E is not None else np.ones(1)
     n = QR_axis.size * QJ_axis.size * E_axis.size
