@@ -22,6 +22,7 @@ from numpy.typing import NDArray
 from rocknroller.analysis import criticality as crit
 from rocknroller.analysis.body import Body
 from rocknroller.analysis.invariants import V_phi
+from rocknroller.analysis.reduction import Q_RANGE
 from rocknroller.papers.output import new_figure
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -150,6 +151,11 @@ def _window(body: Body, QR_max: float, traj: "Trajectory | None") -> tuple[float
     return (x0 - 0.35 * wx, x1 + 0.35 * wx, y0 - 0.35 * wy, y1 + 0.35 * wy)
 
 
+#: Half-widths of the Q_R window the diagram draws: Q_RANGE (reduction) with a margin of 1e3 below (the window's
+#: sample points fall to ~1e-3 of it about 0) and 10 above (the window reaches 1.7 QR_max).
+_QR_MAX_RANGE = (1e3 * Q_RANGE[0], Q_RANGE[1] / 10.0)
+
+
 def region_diagram(body: Body, QR_max: float = 1.0, traj: "Trajectory | None" = None,
                    title: str | None = None) -> tuple[Figure, DiagramData]:
     """The four-region diagram (paper fig. 4), optionally with a trajectory's (Q_R(t), Q_J(t)) orbit
@@ -167,8 +173,11 @@ def region_diagram(body: Body, QR_max: float = 1.0, traj: "Trajectory | None" = 
     -------
     (figure, DiagramData)
     """
-    if not (math.isfinite(QR_max) and QR_max > 0):
-        raise ValueError(f"QR_max must be a finite number > 0, got QR_max={QR_max!r}")
+    lo, hi = _QR_MAX_RANGE
+    if not lo <= QR_max <= hi:  # also NaN
+        raise ValueError(f"QR_max must lie in [{lo:g}, {hi:g}] (the window, 1.7 QR_max either side of 0, and its sample "
+                         f"points must stay within the critical lines' range of Q, reduction.Q_RANGE = {Q_RANGE}), got "
+                         f"QR_max={QR_max!r}")
     window = _window(body, QR_max, traj)
     obstacles = None
     if traj is not None:

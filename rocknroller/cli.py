@@ -43,7 +43,7 @@ _OPTION_OF = {"t_end": "--t-end", "dt": "--dt", "theta0": "--theta0", "phi0": "-
               "theta_dot": "--theta-dot0", "phi_dot": "--phi-dot0", "psi_dot": "--psi-dot0", "omega": "--omega",
               "epsilon": "--eps", "a": "--a", "I1": "--I1", "I2": "--I2", "I3": "--I3", "g": "--g",
               "QR_max": "--QR-max", "workers": "--workers", "nu": "--nodes", "nv": "--nodes", "fps": "--fps",
-              "duration": "--duration"}
+              "duration": "--duration", "processes": "--processes"}
 _PARAMETER = re.compile(r"(?<![-\w])(" + "|".join(_OPTION_OF) + r")\b(?=( must|=))")  # not inside an option
 
 

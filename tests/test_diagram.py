@@ -108,9 +108,23 @@ def test_cli_simulate_plain_initial_state(tmp_path, capsys):
     assert (tmp_path / "regions_orbit.png").stat().st_size > 10_000
 
 
+def test_window_range_ends_are_drawn():
+    """The ends of the allowed half-widths draw (the range is not stricter than the critical lines need)."""
+    import matplotlib.pyplot as plt
+
+    from rocknroller.papers.plotting import _QR_MAX_RANGE
+
+    for qr_max in _QR_MAX_RANGE:
+        fig, data = region_diagram(BODY, QR_max=qr_max)
+        assert np.all(np.isfinite(data.QJ0_line)) and np.all(np.isfinite(data.QJpi_line))
+        plt.close(fig)
+
+
 @pytest.mark.parametrize("argv, message", [
     (["diagram", "--QR", "0.1"], "--critical-line and --QR need --simulate"),
-    (["diagram", "--QR-max", "0"], "--QR-max must be a finite number > 0"),
+    (["diagram", "--QR-max", "0"], "--QR-max must lie in [1e-147, 1e+79]"),
+    (["diagram", "--QR-max", "1e308"], "--QR-max must lie in [1e-147, 1e+79]"),  # was an overflow to QR=inf inside
+    (["diagram", "--QR-max", "1e-160"], "--QR-max must lie in [1e-147, 1e+79]"),
     (["diagram", "--simulate", "--critical-line", "pi", "--QR", "0.1", "--phi-dot0", "0.2"], "do not give"),
     (["diagram", "--simulate", "--critical-line", "pi", "--QR", "0.1", "--theta0", "pi"], "theta0 must lie"),
 ])
