@@ -50,7 +50,7 @@ from rocknroller.analysis.averaging_limits import (K_PERIOD_DOUBLING, MAX_MAXIMA
                                                    check_release_theta0, check_t_end, eps_period_doubling, t_end_limit)
 from rocknroller.analysis.slow_map import _N_KICK, SlowSeries, _fast, iterate_slow_map
 from rocknroller.analysis.slow_table import (REGION_TABLE_ACCURACY, TABLE_FUNCTIONS, SlowMapTable,  # noqa: F401
-                                             build_table, load_or_build_table)
+                                             TableNotCachedError, build_table, load_or_build_table)
 from rocknroller.analysis.body import Body
 from rocknroller.analysis.reduction import u_ends
 from rocknroller.analysis.slow_diagnostics import azimuth_span, slow_period, span, unwrap_phase
@@ -331,16 +331,22 @@ def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: S
     fm = first_maximum(body, start)
     if fm.t >= t_end:
         raise ValueError(f"t_end={t_end!r} ends before the first maximum of theta (t = {fm.t:.6g})")
-    delta = float(boundary_distance(body, fm.E, fm.QR, fm.QJ))
-    covered = DELTA_MIN_DEFAULT if table is None else table.delta_min
-    if delta < covered:  # before any table is built: nearer steady rolling than the tables reach
-        raise AveragingRangeError(
-            f"the start's first maximum of theta is at distance (E - min U)/E = {delta:.3g} from steady rolling "
-            f"(Q=({fm.QR:.6g}, {fm.QJ:.6g}), E={fm.E:.6g}); the region tables cover distances >= {covered:g}: nearer "
-            "steady rolling the oscillation of theta is too small to average over; run this start by the direct ODE "
-            "(rocknroller simulate)")
     if table is None:
-        table = load_or_build_region_table(body, fm.E, build=build)
+        try:
+            table = load_or_build_region_table(body, fm.E, build=False)
+        except TableNotCachedError:
+            # before a build of seconds (its tables will not serve a start nearer steady rolling than they reach;
+            # with tables at hand the map itself says so, naming the distance, and this 7 ms check is skipped)
+            delta = float(boundary_distance(body, fm.E, fm.QR, fm.QJ))
+            if delta < DELTA_MIN_DEFAULT:
+                raise AveragingRangeError(
+                    f"the start's first maximum of theta is at distance (E - min U)/E = {delta:.3g} from steady "
+                    f"rolling (Q=({fm.QR:.6g}, {fm.QJ:.6g}), E={fm.E:.6g}); the region tables cover distances >= "
+                    f"{DELTA_MIN_DEFAULT:g}: nearer steady rolling the oscillation of theta is too small to average "
+                    "over; run this start by the direct ODE (rocknroller simulate)") from None
+            if not build:
+                raise
+            table = load_or_build_region_table(body, fm.E, build=True)
     elif abs(table.E0 - fm.E) > 8.0 * math.ulp(fm.E) or table.delta_min == 0.0:  # E from two formulas: rounding
         raise ValueError(f"the table is not the region table of this start's energy E={fm.E!r}")
     elif table.body != body.symmetric():

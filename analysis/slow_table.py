@@ -36,6 +36,10 @@ __all__ = ["TABLE_FUNCTIONS", "CHART_TERMS", "REGION_TABLE_ACCURACY", "SlowMapTa
 
 #: Bump when the table construction or its file format changes (part of the cache key).
 _TABLE_VERSION = "5"
+class TableNotCachedError(ValueError):
+    """The tables asked for with ``build=False`` are neither in memory nor in the disk cache."""
+
+
 #: Bytes of tables this process keeps in memory (the most recently used; each is also on disk): 256 MiB, ~250
 #: region tables or ~2500 release tables.
 TABLE_CACHE_BYTES = 1 << 28
@@ -488,7 +492,7 @@ def cached_table(builder: Callable[..., Any], body: Body, where: float, what: st
             table = table_type(**{k: (a if a.ndim else float(a)) for k, a in arrays.items()})
     if table is None:
         if not build:
-            raise ValueError(
+            raise TableNotCachedError(
                 f"no averaging tables for {what} and this body ({sym.describe()}); they are built "
                 "on first use: call without build=False / --cached-only")
         table = builder(sym, where, **opts, **run)
