@@ -335,8 +335,8 @@ def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: S
         try:
             table = load_or_build_region_table(body, fm.E, build=False)
         except TableNotCachedError:
-            # before a build of seconds (its tables will not serve a start nearer steady rolling than they reach;
-            # with tables at hand the map itself says so, naming the distance, and this 7 ms check is skipped)
+            # before a build of seconds: a start nearer steady rolling than the tables reach (with tables at hand the
+            # map itself says so, naming the distance, and this 7 ms check is skipped), and a t_end over the limit
             delta = float(boundary_distance(body, fm.E, fm.QR, fm.QJ))
             if delta < DELTA_MIN_DEFAULT:
                 raise AveragingRangeError(
@@ -344,6 +344,8 @@ def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: S
                     f"rolling (Q=({fm.QR:.6g}, {fm.QJ:.6g}), E={fm.E:.6g}); the region tables cover distances >= "
                     f"{DELTA_MIN_DEFAULT:g}: nearer steady rolling the oscillation of theta is too small to average "
                     "over; run this start by the direct ODE (rocknroller simulate)") from None
+            # the map's limit on t_end (checked again on the table), from T_θ at Q = 0 of this energy
+            check_t_end(t_end - fm.t, float(symmetric_data(body.symmetric(), fm.E, 0.0, 0.0)[0]))
             if not build:
                 raise
             table = load_or_build_region_table(body, fm.E, build=True)

@@ -88,3 +88,13 @@ def test_a_start_near_steady_rolling_is_refused_with_its_distance():
     with pytest.raises(av.AveragingRangeError, match=rf"distance \(E - min U\)/E = {delta:.3g} from steady rolling"
                                                      rf".* cover distances >= {DELTA_MIN_DEFAULT:g}"):
         av.predict_slow_motion(BODY, start, t_end=100.0, build=False)
+
+
+def test_t_end_over_the_maps_limit_is_refused_before_any_table_is_built():
+    """A start with velocity and t_end = 1e12: the map's limit (MAX_MAXIMA maxima) is checked before its tables are
+    built (build=False: with none cached the refusal is the t_end's, not the missing table's)."""
+    from rocknroller.analysis import averaging as av
+
+    start = EulerState(0.9 * math.pi, 0.0, 0.3, 0.0, 0.01, 0.0)
+    with pytest.raises(ValueError, match=r"^t_end must be a finite number in \(0, "):
+        av.predict_slow_motion(BODY, start, t_end=1e12, build=False)
