@@ -194,7 +194,7 @@ class _FastTable:
 
 def _fast(table: SlowMapTable, second: "SecondOrderTable | None" = None) -> _FastTable:
     key = (id(table), id(second))
-    ft = _FAST[key] if key in _FAST else None
+    ft = _FAST.get(key)
     if ft is None or ft.table is not table or ft.second is not second:
         ft = _FastTable(table, second)
         _FAST[key] = ft

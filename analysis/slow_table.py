@@ -477,8 +477,9 @@ def cached_table(builder: Callable[..., Any], body: Body, where: float, what: st
     run = {name: grid.pop(name) for name in _RUN_OPTIONS if name in grid and name in params}
     opts.update(grid)
     key = _table_key(builder.__name__, sym, where, opts)
-    if key in _TABLES:
-        return _TABLES[key]
+    table = _TABLES.get(key)
+    if table is not None:
+        return table
     directory = os.path.join(str(cache_dir()), "averaging")
     path = os.path.join(directory, f"slowmap-{hashlib.sha256(key.encode()).hexdigest()[:20]}.npz")
     spec = spec_of(opts) if spec_of is not None else _table_spec(opts["nu"], opts["nv"])

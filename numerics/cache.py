@@ -77,6 +77,14 @@ class MemoryCache:
         self._entries.move_to_end(key)
         return value
 
+    def get(self, key: Hashable, default: Any = None) -> Any:
+        """``cache[key]`` (the newest now), or ``default`` if absent (one lookup: no gap in which another thread's
+        store could drop the entry between a test and a read)."""
+        try:
+            return self[key]
+        except KeyError:
+            return default
+
     def __setitem__(self, key: Hashable, value: Any) -> None:
         self._entries[key] = (value, array_bytes(value))
         self._entries.move_to_end(key)

@@ -281,6 +281,8 @@ def test_memory_cache_keeps_the_newest_within_its_budget():
         c[k] = _Blob(100)
     assert list(c) == ["b", "c"] and c.nbytes == 200          # a dropped: 300 > 250
     assert isinstance(c["b"], _Blob) and list(c) == ["c", "b"]  # read: b is the newest
+    assert c.get("a") is None and c.get("a", 0) == 0 and c.get("c") is not None and list(c) == ["b", "c"]
+    assert c["b"] is not None and list(c) == ["c", "b"]      # b the newest again
     c["d"] = _Blob(100)
     assert list(c) == ["b", "d"]                               # c, the oldest now, dropped
     c["e"] = _Blob(1000)
