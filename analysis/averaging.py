@@ -323,7 +323,8 @@ def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: S
                         build: bool, order: int = 1, second: "SecondOrderTable | None" = None) -> SlowPrediction:
     """predict_slow_motion from an initial state: its first maximum, then the map on the region tables (and for
     order 2 the second-order tables on their chart)."""
-    from rocknroller.analysis.slow_region import DELTA_MIN_DEFAULT, boundary_distance, load_or_build_region_table
+    from rocknroller.analysis.slow_region import (DELTA_MIN_DEFAULT, boundary_distance, load_or_build_region_table,
+                                                  region_options)
 
     t_end = float(t_end)
     if not (math.isfinite(t_end) and t_end > 0.0):
@@ -355,8 +356,6 @@ def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: S
         raise ValueError(f"the table is for the body {table.body.describe()}, not {body.symmetric().describe()}")
     if order == 2:
         from rocknroller.analysis.second_order import load_or_build_second_order_region_table
-
-        from rocknroller.analysis.slow_region import region_options
 
         if (table.coef.shape[1:] != region_options(body, fm.E)[1:]  # cheap first: another grid
                 or not table.same_chart(load_or_build_region_table(body, fm.E, build=build))):

@@ -36,6 +36,8 @@ __all__ = ["TABLE_FUNCTIONS", "CHART_TERMS", "REGION_TABLE_ACCURACY", "SlowMapTa
 
 #: Bump when the table construction or its file format changes (part of the cache key).
 _TABLE_VERSION = "5"
+
+
 class TableNotCachedError(ValueError):
     """The tables asked for with ``build=False`` are neither in memory nor in the disk cache."""
 
@@ -149,7 +151,8 @@ class SlowMapTable:
     def same_chart(self, other: "SlowMapTable") -> bool:
         """True if ``other`` has this table's chart and grid (the frame e, n, U, the sides c, w, the stretches and
         the number of terms), bit for bit: tables tabulated on one table's chart (the second-order k₂) fit it."""
-        return (self.coef.shape == other.coef.shape and (self.U, self.alpha, self.beta) == (other.U, other.alpha, other.beta)
+        return (self.coef.shape == other.coef.shape
+                and (self.U, self.alpha, self.beta) == (other.U, other.alpha, other.beta)
                 and all(np.array_equal(getattr(self, k), getattr(other, k)) for k in ("e", "n", "c_coef", "w_coef")))
 
     def chart(self, xi: ArrayLike, eta: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
