@@ -24,6 +24,7 @@ __all__ = [
     "add_initial_state_options",
     "initial_state_from_args",
     "rates_given",
+    "start_with_default_rates",
     "add_critical_line_options",
     "critical_line_state",
     "add_cluster_options",
