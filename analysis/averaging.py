@@ -89,13 +89,14 @@ def max_t_end(body: Body, theta0: float) -> float:
     """Largest t_end accepted by :func:`predict_slow_motion` for (body, θ0): ``MAX_MAXIMA`` · T_θ(0)/2, with T_θ(0)
     the time between maxima of pure rocking (quadrature)."""
     theta0 = check_map_theta0(theta0)
-    return t_end_limit(_rocking_period(body.symmetric(), theta0))
+    sym = body.symmetric()
+    return t_end_limit(_rocking_period(sym, rest_energy(sym, theta0)))
 
 
 @functools.lru_cache(maxsize=256)
-def _rocking_period(sym: Body, theta0: float) -> float:
-    """T_θ(0), the time between maxima of pure rocking released at θ0 (quadrature, ~10 ms; remembered)."""
-    return float(symmetric_data(sym, rest_energy(sym, theta0), 0.0, 0.0)[0])
+def _rocking_period(sym: Body, E: float) -> float:
+    """T_θ(0), the time between maxima of pure rocking at energy E (Q = 0; quadrature, ~10 ms; remembered)."""
+    return float(symmetric_data(sym, E, 0.0, 0.0)[0])
 
 
 
@@ -251,7 +252,8 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
     if not math.isfinite(psi0):
         raise ValueError(f"psi0 must be finite, got psi0={psi0!r}")
     if table is None:
-        check_t_end(t_end, _rocking_period(body.symmetric(), theta0))
+        sym = body.symmetric()
+        check_t_end(t_end, _rocking_period(sym, rest_energy(sym, theta0)))
         table = load_or_build_table(body, theta0, build=build)
     elif abs(table.theta0 - theta0) > 1e-15:
         raise ValueError(f"the table is for theta0={table.theta0!r}, not {theta0!r}")
@@ -346,7 +348,7 @@ def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: S
                     f"{DELTA_MIN_DEFAULT:g}: nearer steady rolling the oscillation of theta is too small to average "
                     "over; run this start by the direct ODE (rocknroller simulate)") from None
             # the map's limit on t_end (checked again on the table), from T_θ at Q = 0 of this energy
-            check_t_end(t_end - fm.t, float(symmetric_data(body.symmetric(), fm.E, 0.0, 0.0)[0]))
+            check_t_end(t_end - fm.t, _rocking_period(body.symmetric(), fm.E))
             if not build:
                 raise
             table = load_or_build_region_table(body, fm.E, build=True)

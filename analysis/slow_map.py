@@ -61,7 +61,8 @@ _IDX = {name: i for i, name in enumerate(TABLE_FUNCTIONS)}
 _HARM = ("c0", "c1", "s1")
 #: Points of the fine uniform grid in u used at run time per Chebyshev term along it (6-point Lagrange
 #: interpolation between them; 64 nu + 1 = 8193 for the release tables' nu = 128), and their most: the run-time form
-#: holds (points × 48 functions × nv) doubles, ≤ 8193 × 48 × 128 × 8 B = 0.4 GB whatever nu (≤ 4096) is.
+#: holds points × (18 + 48 + 25 for order 2) functions × nv doubles, ≤ 8193 × 91 × 128 × 8 B = 0.76 GB whatever nu
+#: (≤ 4096) is.
 _FINE_PER_TERM = 64
 _FINE_MAX = 8193
 #: Run-time functions: 0-8 the harmonics (c0, c1, s1) of k_u = e·k_Q, k_v = n·k_Q and k_Θ (solved for

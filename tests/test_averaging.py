@@ -496,12 +496,17 @@ def test_fast_map_equals_plain_evaluation(table, eps, psi0, Q0):
 
 def test_run_time_grid_is_bounded(table):
     """The run-time form's fine grid grows with nu (64 points a term) up to 8193 points, so its memory stays
-    ≤ 8193 × 48 × nv doubles whatever nu the tables allow."""
+    ≤ 8193 × (18 + 48) × nv doubles (first order) whatever nu the tables allow: a table of 512 terms along takes
+    no more than one of 128 (this fixture's)."""
     import dataclasses
 
-    assert slow_map._FastTable(table).n_fine == min(64 * table.coef.shape[1] + 1, 8193)
-    wide = dataclasses.replace(table, coef=np.zeros((table.coef.shape[0], 512, 4)))
-    assert slow_map._FastTable(wide).n_fine == 8193
+    from rocknroller.numerics.cache import array_bytes
+
+    nv = table.coef.shape[2]
+    bound = 8193 * (18 + 48) * nv * 8 + 8193 * 4 * 8 + 2 * 2 * 8  # the rows, the chart's four functions, e and n
+    wide = dataclasses.replace(table, coef=np.zeros((table.coef.shape[0], 512, nv)))
+    for t in (table, wide):
+        assert slow_map._FastTable(t).n_fine == 8193 and array_bytes(slow_map._FastTable(t)) == bound
 
 
 def test_kernel_output_in_chunks(table, monkeypatch):

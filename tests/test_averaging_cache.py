@@ -304,7 +304,6 @@ def test_run_time_forms_are_bounded(monkeypatch, fresh):
     table = fresh[0]
     other = replace(table)  # another table object (the forms are kept per table object)
     one = cache.array_bytes(slow_map._FastTable(table))
-    assert slow_map.RUNTIME_CACHE_BYTES >= 4 * 2**28  # the default: four region tables' forms (~250 MB each)
     monkeypatch.setattr(slow_map, "_FAST", cache.MemoryCache(one))
     first = slow_map._fast(table)
     assert slow_map._fast(table) is first
