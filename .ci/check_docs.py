@@ -19,11 +19,20 @@ with open(build / "objects.inv", "rb") as fh:
     inventory = InventoryFile.load(fh, str(build), lambda base, uri: uri)
 documented = {name for kind in inventory.values() for name in kind}
 
+
+def modules() -> list[str]:
+    """Every module of the package.  The folders install under one name (setuptools package-dir), so each top
+    package is walked on its own path: an editable install's ``rocknroller.__path__`` holds only the front door."""
+    names = {"rocknroller"}
+    for top in ("rocknroller", "rocknroller.analysis", "rocknroller.numerics", "rocknroller.papers"):
+        names.add(top)
+        names.update(info.name for info in pkgutil.walk_packages(importlib.import_module(top).__path__, top + "."))
+    return sorted(n for n in names if not any(part.startswith("_") for part in n.split(".")))
+
+
 missing = []
-for info in pkgutil.walk_packages(rocknroller.__path__, "rocknroller."):
-    if any(part.startswith("_") for part in info.name.split(".")):
-        continue
-    module = importlib.import_module(info.name)
+for name in modules():
+    module = importlib.import_module(name)
     for name, obj in vars(module).items():
         if name.startswith("_") or not (inspect.isfunction(obj) or inspect.isclass(obj)):
             continue

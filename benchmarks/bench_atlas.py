@@ -17,10 +17,10 @@ import time
 
 import numpy as np
 
-from rocknroller.analysis import atlas as at
-from rocknroller.analysis import averaging as av
-from rocknroller.analysis import slow_map, slow_table
-from rocknroller.analysis.body import Body
+from rocknroller.analysis.slow import atlas as at
+from rocknroller.analysis.slow import prediction as av
+from rocknroller.analysis.slow import compiled_map as slow_map, table as slow_table
+from rocknroller.analysis.model.body import Body
 
 
 def rates(n: int) -> None:

@@ -6,9 +6,9 @@ Paper body, ε = 1e-3, θ0 = 0.95π, ψ0 = π/4, 1000 time units.  Reports best-
 * the direct ODE producing the same prediction (rocknroller.papers.averaging_check.ode_slow_summary: heyoka with
   events, then the same slow diagnostics at its θ-maxima), and the integration alone
   (rocknroller.numerics.integrate.simulate, output every 100 t.u.);
-* the averaged map once its tables exist (rocknroller.analysis.averaging.predict_slow_motion: the compiled
-  step loop, then the diagnostics), and its loop alone (rocknroller.analysis.averaging.iterate_slow_map) per step;
-* the closed form (rocknroller.analysis.slow_pendulum.pendulum_prediction, constants precomputed) and the
+* the averaged map once its tables exist (rocknroller.analysis.slow.prediction.predict_slow_motion: the compiled
+  step loop, then the diagnostics), and its loop alone (rocknroller.analysis.slow.prediction.iterate_slow_map) per step;
+* the closed form (rocknroller.analysis.slow.pendulum.pendulum_prediction, constants precomputed) and the
   one-dimensional quadratures of its constants;
 * the one-off table build (first use per body and θ0; cached on disk afterwards).
 """
@@ -19,10 +19,10 @@ import math
 import time
 import warnings
 
-from rocknroller.analysis import averaging as av
-from rocknroller.analysis.body import Body
-from rocknroller.analysis.slow_pendulum import pendulum_constants, pendulum_prediction
-from rocknroller.numerics.equations import EulerState
+from rocknroller.analysis.slow import prediction as av
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.slow.pendulum import pendulum_constants, pendulum_prediction
+from rocknroller.analysis.model.equations import EulerState
 from rocknroller.numerics.integrate import simulate
 from rocknroller.papers.averaging_check import ode_slow_summary
 

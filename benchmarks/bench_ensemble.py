@@ -23,9 +23,9 @@ from typing import Callable
 
 import numpy as np
 
-from rocknroller.analysis.body import Body
+from rocknroller.analysis.model.body import Body
 from rocknroller.numerics.ensemble import Job, RunSummary, run_ensemble
-from rocknroller.numerics.equations import EulerState
+from rocknroller.analysis.model.equations import EulerState
 from rocknroller.numerics.integrate import heyoka_integrator, simulate
 from rocknroller.numerics.trajectory import TurningPoints
 

@@ -16,8 +16,8 @@ import resource
 import sys
 import time
 
-from rocknroller.analysis.body import Body
-from rocknroller.numerics.equations import EulerState
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.equations import EulerState
 from rocknroller.numerics.integrate import heyoka_integrator, simulate
 
 

@@ -3,9 +3,9 @@
 Run:  python benchmarks/bench_quadrature.py [--n-table 10000] [--n-acc 60] [--dps 40]
 
 * Speed: a 10^4-point table (paper body, θ_X = θ0 = 0.95π, Q_R, Q_J ∈ [−0.01, 0.01]) with the vectorised
-  double-precision rule (rocknroller.analysis.quadrature.precession_from_turning_point).
+  double-precision rule (rocknroller.analysis.routh.quadrature.precession_from_turning_point).
 * Accuracy and time per point on ``n_acc`` points spread over the plane (a third with θ_N < 1e-3, a
-  sixth with θ_X > π − 1e-3), against the mpmath reference (rocknroller.analysis.quadrature.precession_mp):
+  sixth with θ_X > π − 1e-3), against the mpmath reference (rocknroller.analysis.routh.quadrature_mp.precession_mp):
   - the vectorised rule;
   - scipy.integrate.quad with the algebraic end-point weight (QUADPACK QAWS, weight='alg',
     wvar=(−½, −½)) in θ, i.e. the standard way to integrate dθ/√F between simple roots,
@@ -23,10 +23,12 @@ import warnings
 import numpy as np
 from scipy import integrate
 
-from rocknroller.analysis.body import Body
-from rocknroller.analysis.invariants import V_phi, V_psi
-from rocknroller.analysis.quadrature import precession, precession_from_turning_point, precession_mp
-from rocknroller.analysis.reduction import F, state_from_turning_point, turning_points, u_ends
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.invariants import V_phi, V_psi
+from rocknroller.analysis.routh.quadrature import precession, precession_from_turning_point
+from rocknroller.analysis.routh.quadrature_mp import precession_mp
+from rocknroller.analysis.routh.reduction import F, state_from_turning_point, u_ends
+from rocknroller.analysis.routh.turning_points import turning_points
 
 
 def points(rng: np.random.Generator, n: int, body: Body) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

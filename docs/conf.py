@@ -81,8 +81,7 @@ def _write_cli_page() -> None:
 
 
 #: The modules of the reference (recursive: every public module below them gets a page).
-API_MODULES = ("rocknroller.analysis", "rocknroller.numerics", "rocknroller.papers", "rocknroller.cli",
-               "rocknroller.options", "rocknroller.citation", "rocknroller.commands")
+API_MODULES = ("rocknroller.analysis", "rocknroller.numerics", "rocknroller.papers", "rocknroller.cli")
 
 
 def _write_api_page() -> None:

@@ -1,1 +1,19 @@
-"""The direct equations of motion of the rock'n'roller, their integration and diagnostics."""
+"""Integrating the model: the direct equations of motion of :mod:`rocknroller.analysis.model`, run and recorded.
+
+Imports only :mod:`rocknroller.analysis.model`.  In the order data flows through them:
+
+``provenance``
+    The package version that stamps results.
+``cache``
+    The on-disk cache of plain arrays (key and checksum, never pickle) and the bounded in-memory caches.
+``parallel``
+    Blocks of independent work on "spawn" processes, with progress (table builds, atlases).
+``trajectory``
+    :class:`~rocknroller.numerics.trajectory.Trajectory` and the turning points of a run, with their diagnostics;
+    ``trajectory_plots`` its quick-look plots.
+``integrate``
+    :func:`~rocknroller.numerics.integrate.simulate`: heyoka's Taylor integrator (or scipy's DOP853) with every
+    turning point of θ found as an event.
+``ensemble``
+    Many runs at once: in this process, in threads, or on a dask.distributed cluster.
+"""

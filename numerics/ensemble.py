@@ -38,8 +38,8 @@ from typing import Any, Sequence, cast
 
 import numpy as np
 
-from rocknroller.analysis.body import Body
-from rocknroller.numerics.equations import EulerState
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.equations import EulerState
 from rocknroller.numerics.integrate import check_run, heyoka_integrator, simulate
 from rocknroller.numerics.trajectory import TurningPointRun, TurningPoints
 
@@ -93,7 +93,7 @@ class RunSummary:
     """A direct-ODE run reduced to what the slow-map comparison needs: its θ-maxima and its slow diagnostics.
 
     The diagnostics are those of :class:`rocknroller.numerics.trajectory.TurningPointRun` (and of
-    :class:`rocknroller.analysis.averaging.SlowPrediction`), computed where the job ran.  A worker's warnings
+    :class:`rocknroller.analysis.slow.prediction.SlowPrediction`), computed where the job ran.  A worker's warnings
     (an :class:`rocknroller.numerics.integrate.AccuracyWarning`) stay on the worker: ``energy_rel_error`` and
     ``n_steps`` let the caller check the accuracy (:func:`rocknroller.numerics.trajectory.energy_error_bound`).
 
@@ -270,7 +270,7 @@ def _versions() -> tuple[str, str, str]:
     """The versions that decide a job's result: rocknroller, heyoka, numpy."""
     import heyoka
 
-    from rocknroller._version import __version__
+    from rocknroller.numerics.provenance import __version__
 
     return __version__, heyoka.__version__, np.__version__
 

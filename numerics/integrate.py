@@ -54,12 +54,13 @@ from typing import Any, Callable, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from rocknroller.analysis.body import Body
-from rocknroller.analysis.invariants import energy
-from rocknroller.numerics.cache import CacheWarning, cache_dir, probe_writable, warn_unwritable  # cache_dir: re-exported
-from rocknroller.numerics.equations import STATE_SIZE, EulerState, body_frame_rhs, turning_point_function
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.equations import STATE_SIZE, EulerState, body_frame_rhs, turning_point_function
+from rocknroller.analysis.model.invariants import energy
+from rocknroller.numerics.cache import (CacheWarning, cache_dir, probe_writable,  # cache_dir: re-exported
+                                        warn_unwritable)
 from rocknroller.numerics.trajectory import (DenseOutput, Trajectory, TurningPointRun, TurningPoints, _Samples,
-                                 energy_scale)
+                                             energy_scale)
 
 __all__ = ["simulate", "check_run", "RunPlan", "heyoka_integrator", "default_dt", "cache_dir", "rate_bound",
            "AccuracyWarning", "AccuracyError", "CacheWarning", "MAX_SAMPLES", "MAX_DENSE_RADIANS", "MAX_DENSE_STEPS", "MAX_RADIANS", "MAX_GRID_POINTS",
@@ -169,9 +170,9 @@ def default_dt(t_end: float, rate: float) -> float:
 
 def _validate(body: Body, initial: EulerState, t_end: float) -> tuple[NDArray[np.float64], float]:
     if not isinstance(body, Body):
-        raise ValueError(f"body must be a rocknroller.analysis.body.Body, got {type(body).__name__}")
+        raise ValueError(f"body must be a rocknroller.analysis.model.body.Body, got {type(body).__name__}")
     if not isinstance(initial, EulerState):
-        raise ValueError(f"initial must be a rocknroller.numerics.equations.EulerState, got {type(initial).__name__}")
+        raise ValueError(f"initial must be a rocknroller.analysis.model.equations.EulerState, got {type(initial).__name__}")
     if not math.isfinite(t_end) or t_end <= 0.0:
         raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}")
     lo, hi = MOMENT_RANGE

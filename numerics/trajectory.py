@@ -16,11 +16,10 @@ from typing import Any, Callable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from rocknroller.analysis.body import Body
-from rocknroller.analysis.invariants import energy, jellett, routh
-from rocknroller.analysis.kinematics import angles_from_frame
-from rocknroller.analysis.quadrature import wrap_angle
-from rocknroller.analysis.slow_diagnostics import azimuth_span, slow_period, span
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.diagnostics import azimuth_span, slow_period, span, wrap_angle
+from rocknroller.analysis.model.invariants import energy, jellett, routh
+from rocknroller.analysis.model.kinematics import angles_from_frame
 
 __all__ = ["TurningPoints", "Trajectory", "TurningPointRun", "energy_scale", "energy_error_bound", "ENERGY_SLACK"]
 
@@ -52,7 +51,7 @@ class TurningPoints:
 
     def to_dataframe(self) -> "pandas.DataFrame":  # noqa: F821
         """One row per turning point: t, θ, φ, ψ, Q_R, Q_J (needs pandas)."""
-        from rocknroller.analysis.frames import dataframe
+        from rocknroller.analysis.model.frames import dataframe
 
         return dataframe({n: getattr(self, n) for n in ("t", "theta", "phi", "psi", "QR", "QJ")})
 
@@ -177,7 +176,7 @@ class _TurningPointDiagnostics:
     @property
     def slow_period(self) -> float | None:
         """Period of Θ = 2ψ sampled at the θ-maxima, from interpolated crossings of the mean
-        (:func:`rocknroller.analysis.slow_diagnostics.slow_period`); None if not measurable within the run."""
+        (:func:`rocknroller.analysis.model.diagnostics.slow_period`); None if not measurable within the run."""
         return slow_period(self.maxima.t, 2.0 * self.maxima.psi)
 
     @property
@@ -233,7 +232,7 @@ class Trajectory(_TurningPointDiagnostics):
         ``"heyoka"`` or ``"scipy"``.
     t : ndarray (N,)
     states : ndarray (N, 11)
-        Body-frame states (γ, ω, e_X, X, Y) of form (i), see :mod:`rocknroller.numerics.equations`.
+        Body-frame states (γ, ω, e_X, X, Y) of form (i), see :mod:`rocknroller.analysis.model.equations`.
     theta, phi, psi : ndarray (N,)
         Euler angles; φ (full azimuth) and ψ unwrapped and continuous.
     maxima, minima : TurningPoints
@@ -315,7 +314,7 @@ class Trajectory(_TurningPointDiagnostics):
     def to_dataframe(self) -> "pandas.DataFrame":  # noqa: F821
         """One row per sample: t, θ, φ, ψ, the contact point X, Y, and E, Q_R, Q_J (needs pandas; the turning
         points alone: :meth:`turning_points_dataframe`)."""
-        from rocknroller.analysis.frames import dataframe
+        from rocknroller.analysis.model.frames import dataframe
 
         return dataframe({n: getattr(self, n) for n in ("t", "theta", "phi", "psi", "X", "Y", "E", "QR", "QJ")})
 

@@ -1,13 +1,15 @@
 """Plots of a direct-ODE trajectory: contact track, φ at the θ-maxima, and the (Q_R, Q_J) orbit.
 
 Each function draws on the axes it is given; without one it opens a pyplot figure (for interactive use,
-on whatever backend the user has chosen: the package never calls ``matplotlib.use``)."""
+on whatever backend the user has chosen: the package never calls ``matplotlib.use``).  They are the quick look of
+:meth:`rocknroller.numerics.trajectory.Trajectory.plot` and take a run by its attributes (``maxima``, ``minima``
+and, for a sampled :class:`~rocknroller.numerics.trajectory.Trajectory`, ``QR``, ``QJ``, ``X``, ``Y``), so that
+this module imports nothing from the one that calls it."""
 
 from __future__ import annotations
 
 import math
-
-from rocknroller.numerics.trajectory import Trajectory, TurningPointRun
+from typing import Any
 
 __all__ = ["plot_contact_track", "plot_phi_at_maxima", "plot_invariant_orbit"]
 
@@ -20,7 +22,7 @@ def _pyplot():
     return plt
 
 
-def plot_contact_track(traj: Trajectory, ax=None, label: str | None = None):
+def plot_contact_track(traj: Any, ax=None, label: str | None = None):
     """Contact point (X, Y) with a circle at the start (paper figs. 5, 6)."""
     if ax is None:
         _, ax = _pyplot().subplots(figsize=(4.5, 4.5))
@@ -32,7 +34,7 @@ def plot_contact_track(traj: Trajectory, ax=None, label: str | None = None):
     return ax
 
 
-def plot_phi_at_maxima(traj: Trajectory | TurningPointRun, ax=None, label: str | None = None):
+def plot_phi_at_maxima(traj: Any, ax=None, label: str | None = None):
     """Full azimuth φ at the θ-maxima against time (paper fig. 5, right panels)."""
     if ax is None:
         _, ax = _pyplot().subplots(figsize=(5, 3.5))
@@ -42,11 +44,11 @@ def plot_phi_at_maxima(traj: Trajectory | TurningPointRun, ax=None, label: str |
     return ax
 
 
-def plot_invariant_orbit(traj: Trajectory | TurningPointRun, ax=None, turning_points: bool = True):
+def plot_invariant_orbit(traj: Any, ax=None, turning_points: bool = True):
     """(Q_R(t), Q_J(t)) with dots at the θ-maxima (red) and θ-minima (blue) (paper figs. 7-10)."""
     if ax is None:
         _, ax = _pyplot().subplots(figsize=(5, 4))
-    if isinstance(traj, Trajectory):  # a TurningPointRun has only the turning points
+    if hasattr(traj, "QR"):  # a TurningPointRun has only the turning points
         ax.plot(traj.QR, traj.QJ, color="k", lw=0.5, label=r"$(Q_R(t), Q_J(t))$")
     if turning_points:
         ax.plot(traj.maxima.QR, traj.maxima.QJ, ".", color="tab:red", ms=4, label=r"$\theta$-maxima")

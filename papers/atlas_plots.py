@@ -1,4 +1,4 @@
-"""Figures of a recession atlas (:mod:`rocknroller.analysis.atlas`): heat maps over (ψ0, θ0) or (φ̇0, ψ̇0), the
+"""Figures of a recession atlas (:mod:`rocknroller.analysis.slow.atlas`): heat maps over (ψ0, θ0) or (φ̇0, ψ̇0), the
 paper's starts marked (and, over the rates, the starts on the critical lines drawn), and the map's errors at the
 points the direct ODE confirmed."""
 
@@ -10,11 +10,12 @@ from typing import Any
 
 import numpy as np
 
-from rocknroller.analysis.atlas import ATLAS_OBSERVABLES, Atlas, AtlasCheck
-from rocknroller.analysis.body import Body
+from rocknroller.analysis.criticality.starts import PSI0, THETA0, paper_rate_starts
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.slow.atlas import ATLAS_OBSERVABLES, Atlas, AtlasCheck
 from rocknroller.papers.output import new_figure, save_figure
 
-__all__ = ["PAPER_RELEASES", "LABELS", "AXIS_LABELS", "paper_rate_starts", "plot_atlas", "plot_atlas_check"]
+__all__ = ["PAPER_RELEASES", "LABELS", "AXIS_LABELS", "plot_atlas", "plot_atlas_check"]
 
 #: The paper's releases from rest (θ0, ψ0) (§numerics: figs. 6 and 7, θ0 = 0.95π; the four ψ0 of its slow runs).
 PAPER_RELEASES = tuple((0.95 * math.pi, psi) for psi in (math.pi / 8, math.pi / 4, 3 * math.pi / 8, 3.9 * math.pi / 8))
@@ -40,27 +41,13 @@ def _edges(x: np.ndarray) -> np.ndarray:
     return np.concatenate([[2 * x[0] - mid[0]], mid, [2 * x[-1] - mid[-1]]])
 
 
-def paper_rate_starts() -> dict[str, tuple[float, float]]:
-    """The paper's reversal starts at θ0 = 0.95π, ψ0 = π/4 as (φ̇0, ψ̇0), computed on their lines: fig. 7 (rest),
-    fig. 8 (on Q_J,π^crit, ψ̇0 = 0.002), fig. 9 (on Q_J,0^crit, ψ̇0 = 0.378) and fig. 11 (on Q_J,π^crit at
-    Q_R = 0.1; its run starts 2.5–3.5 % of the line's value above it, :mod:`fig11_high_QR`)."""
-    from rocknroller.papers.lynch_bustamante import fig8_visible_reversal, fig9_full_reversal, fig11_high_QR, reversals
-
-    on_line = {"fig. 8": reversals.start_on_line("pi", fig8_visible_reversal.PSI_DOT0),
-               "fig. 9": reversals.start_on_line("0", fig9_full_reversal.PSI_DOT0),
-               "fig. 11": reversals.start_on_line("pi", QR=fig11_high_QR.QR0)}
-    return {"fig. 7": (0.0, 0.0), **{k: (s.phi_dot, s.psi_dot) for k, s in on_line.items()}}
-
-
 def _paper_points(atlas: Atlas) -> list[tuple[float, float]]:
     """The paper's starts inside the atlas's window, as (column, row) values."""
     if atlas.plane == "release":
         pts = [(p0, t0) for t0, p0 in PAPER_RELEASES]
     else:
-        from rocknroller.papers.lynch_bustamante import reversals
-
         assert atlas.at is not None
-        if not np.allclose(atlas.at, (reversals.THETA0, reversals.PSI0), rtol=0.0, atol=1e-12):
+        if not np.allclose(atlas.at, (THETA0, PSI0), rtol=0.0, atol=1e-12):
             return []
         pts = list(paper_rate_starts().values())
     c, r = atlas.cols, atlas.rows
@@ -74,8 +61,8 @@ def _decorate(ax: Any, atlas: Atlas, body: Body | None) -> None:
     for x, y in _paper_points(atlas):
         ax.plot(x / xs, y / ys, marker="*", ms=9, mfc="white", mec="k", ls="none")
     if atlas.plane == "rates" and body is not None:
-        from rocknroller.analysis.criticality import QJ_crit
-        from rocknroller.analysis.reduction import invariants_from_euler
+        from rocknroller.analysis.criticality.lines import QJ_crit
+        from rocknroller.analysis.routh.reduction import invariants_from_euler
         from rocknroller.papers.plotting import LINE_STYLE
 
         assert atlas.at is not None

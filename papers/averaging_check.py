@@ -1,6 +1,6 @@
 """Comparison of the averaged predictions with the direct ODE (shared by the tests, the CLI and the docs table).
 
-The observables follow the shared definitions of :mod:`rocknroller.analysis.slow_diagnostics`: slow period of
+The observables follow the shared definitions of :mod:`rocknroller.analysis.model.diagnostics`: slow period of
 Θ = 2ψ at the θ-maxima (crossings of the mean), extents of Q_R and Q_J over the maxima within t_end,
 and Φ, the span of φ mod π at the maxima.
 """
@@ -14,11 +14,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from rocknroller.analysis import averaging as av
-from rocknroller.analysis.body import Body
-from rocknroller.analysis.quadrature import wrap_angle
-from rocknroller.analysis.slow_pendulum import PendulumConstants, pendulum_prediction
-from rocknroller.numerics.equations import EulerState
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.diagnostics import wrap_angle
+from rocknroller.analysis.model.equations import EulerState
+from rocknroller.analysis.slow import prediction as av
+from rocknroller.analysis.slow.pendulum import PendulumConstants, pendulum_prediction
 
 __all__ = ["OBSERVABLES", "OdeSlowSummary", "ode_slow_summary", "timed_map_and_ode", "relative_errors", "sample_errors",
            "loglog_slope", "Comparison", "compare_with_ode"]
@@ -46,7 +46,7 @@ class OdeSlowSummary:
 
 def ode_slow_summary(body: Body, theta0: float | EulerState, psi0: float | None, t_end: float) -> OdeSlowSummary:
     """Run the direct ODE (heyoka) from rest at (θ0, ψ0), or from an initial state (then psi0 is None), and
-    summarise its θ-maxima (as :func:`rocknroller.analysis.averaging.predict_slow_motion` takes its start)."""
+    summarise its θ-maxima (as :func:`rocknroller.analysis.slow.prediction.predict_slow_motion` takes its start)."""
     from rocknroller.numerics.integrate import simulate
 
     start = theta0 if isinstance(theta0, EulerState) else EulerState(theta0, 0.0, psi0)

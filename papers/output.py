@@ -14,7 +14,7 @@ from typing import Iterable, Mapping, Sequence
 
 import numpy as np
 
-from rocknroller._version import __version__
+from rocknroller.numerics.provenance import __version__
 
 __all__ = ["write_csv", "CsvStream", "new_figure", "save_figure", "Reproduction", "PRODUCER"]
 

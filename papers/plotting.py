@@ -1,6 +1,6 @@
 """Plotting helpers for the critical-line diagrams (paper figs. 4, 7–10), shared by ``rocknroller diagram`` and
 the figure scripts in ``papers/lynch_bustamante``.  No physics here: every number comes from
-:mod:`rocknroller.analysis.criticality` and :mod:`rocknroller.analysis.invariants`.
+:mod:`rocknroller.analysis.criticality.lines` and :mod:`rocknroller.analysis.model.invariants`.
 
 Layout of :func:`region_diagram`: the (Q_R, Q_J) plane in the centre with the critical lines Q_J = Q_J,π^crit
 (red, solid) and Q_J = Q_J,0^crit (blue, dashed), one marked representative point per region, and the graph of
@@ -19,10 +19,11 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from numpy.typing import NDArray
 
-from rocknroller.analysis import criticality as crit
-from rocknroller.analysis.body import Body
-from rocknroller.analysis.invariants import V_phi
-from rocknroller.analysis.reduction import Q_RANGE
+from rocknroller.analysis.criticality import lines as crit
+from rocknroller.analysis.criticality import theta_z
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.invariants import V_phi
+from rocknroller.analysis.routh.reduction import Q_RANGE
 from rocknroller.papers.output import new_figure
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -121,11 +122,11 @@ def plot_V_phi(ax, body: Body, QR: float, QJ: float, region: str) -> None:
     ax.plot(theta, v, color="k", lw=1.2)
     ax.axhline(0.0, color="0.6", lw=0.6)
     if region in ("I", "III"):
-        tz = float(crit.theta_z(QR, QJ, body))
+        tz = float(theta_z.theta_z(QR, QJ, body))
         ax.axvline(tz, color="0.3", ls=":", lw=1)
         ax.annotate(r"$\theta_z$", (tz, 0), xytext=(4, 4), textcoords="offset points", fontsize=8)
     else:
-        te = float(crit.theta_e(QR, QJ, body))
+        te = float(theta_z.theta_e(QR, QJ, body))
         ax.axvline(te, color="0.3", ls=":", lw=1)
         ax.annotate(r"$\theta_e$", (te, float(V_phi(te, QR=QR, QJ=QJ, body=body))), xytext=(4, 4 if region == "IV" else -12),
                     textcoords="offset points", fontsize=8)

@@ -13,12 +13,15 @@ from typing import Callable
 
 import numpy as np
 
-from rocknroller.analysis.body import Body
-from rocknroller.numerics.equations import EulerState
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.equations import EulerState
 from rocknroller.papers.averaging_check import loglog_slope
-from rocknroller.papers.lynch_bustamante.fig5_symmetry_breaking import initial_state as fig5_initial_state
+from rocknroller.analysis.model.equations import fig5_start
 
-__all__ = ["Check", "CHECKS", "run_checks"]
+__all__ = [
+    "Check", "CHECKS", "run_checks", "check_formulations", "check_integrators", "check_small_amplitude",
+    "check_reduction_and_quadrature", "check_criticality", "check_averaging"
+]
 
 
 @dataclass(frozen=True)
@@ -41,7 +44,9 @@ class Check:
 
 # ------------------------------------------------------------------------------------------- ODE
 def check_formulations() -> list[Check]:
-    from rocknroller.numerics.equations import formulation_differences, state_from_euler
+    """Paper systems (ii), (iii) and (iv) against the body-frame form (i): the largest scaled difference
+    in ω̇ over 200 random states, for the body at ε = 0.1 and the symmetric body (tolerance 2e-13)."""
+    from rocknroller.analysis.model.equations import formulation_differences, state_from_euler
 
     rng = np.random.default_rng(5)
     n = 200
@@ -57,10 +62,12 @@ def check_formulations() -> list[Check]:
 
 
 def check_integrators() -> list[Check]:
+    """The default integrator (heyoka) from the fig. 5 start, ε = 1e-3: the state over 100 time units against
+    scipy DOP853, the first five θ-maxima times against 80-bit long double, and the relative energy error over 1500."""
     from rocknroller.numerics.integrate import simulate
 
     body = Body.paper(1e-3)
-    ini = fig5_initial_state()
+    ini = fig5_start()
     hy = simulate(body, ini, 100.0)
     sc = simulate(body, ini, 100.0, method="scipy")
     ext = simulate(body, ini, 100.0, precision="extended")
@@ -75,8 +82,10 @@ def check_integrators() -> list[Check]:
 
 
 def check_small_amplitude() -> list[Check]:
-    from rocknroller.analysis.rocking import small_amplitude_frequency
-    from rocknroller.papers.lynch_bustamante.table_small_amplitude import measured_frequency
+    """The small-amplitude frequency √(ga/(I1 + (1 − a)²)) (ε = 1e-3) against the direct ODE at amplitude
+    1e-3 (relative error, tolerance 1e-5)."""
+    from rocknroller.analysis.routh.rocking import small_amplitude_frequency
+    from rocknroller.analysis.routh.rocking import measured_frequency
 
     body = Body.paper(1e-3)
     err = abs(measured_frequency(body, 0.0) / small_amplitude_frequency(body, body.I1) - 1.0)
@@ -85,7 +94,7 @@ def check_small_amplitude() -> list[Check]:
 
 # ------------------------------------------------------------------------------------ quadrature
 def _symmetric_run(theta0: float, QR: float, QJ: float, t_end: float = 60.0):
-    from rocknroller.analysis.reduction import state_from_turning_point
+    from rocknroller.analysis.routh.reduction import state_from_turning_point
     from rocknroller.numerics.integrate import simulate
 
     body = Body.paper()
@@ -94,10 +103,15 @@ def _symmetric_run(theta0: float, QR: float, QJ: float, t_end: float = 60.0):
 
 
 def check_reduction_and_quadrature() -> list[Check]:
-    from rocknroller.analysis.invariants import invariants
-    from rocknroller.analysis.quadrature import precession, precession_mp
-    from rocknroller.analysis.reduction import F, turning_points
-    from rocknroller.numerics.equations import euler_from_state
+    """On two symmetric-body ODE runs (a passage near the vertical, a maximum near θ = π): F(θ) = θ̇², the
+    turning points θ_N, θ_X, and the quadrature's T_θ, Δφ, Δψ against the ODE; the double-precision rule against
+    mpmath at 40 digits."""
+    from rocknroller.analysis.model.equations import euler_from_state
+    from rocknroller.analysis.model.invariants import invariants
+    from rocknroller.analysis.routh.quadrature import precession
+    from rocknroller.analysis.routh.quadrature_mp import precession_mp
+    from rocknroller.analysis.routh.reduction import F
+    from rocknroller.analysis.routh.turning_points import turning_points
 
     out = []
     # a passage close to the vertical, and a maximum close to θ = π
@@ -133,9 +147,10 @@ def check_criticality() -> list[Check]:
     """Critical lines, regions, cos θ_z, the δ expansion, the Laurent series and critical-line starts."""
     from scipy.optimize import brentq
 
-    from rocknroller.analysis import criticality as C
-    from rocknroller.analysis.invariants import V_phi
-    from rocknroller.analysis.laurent import laurent_function
+    from rocknroller.analysis.criticality import lines as C
+    from rocknroller.analysis.criticality import starts, theta_z
+    from rocknroller.analysis.criticality.laurent import laurent_function
+    from rocknroller.analysis.model.invariants import V_phi
 
     body = Body.paper()
     rng = np.random.default_rng(17)
@@ -155,16 +170,16 @@ def check_criticality() -> list[Check]:
     roots = np.array([math.cos(brentq(lambda th: float(V_phi(th, QR=r, QJ=j, body=body)), 1e-9, math.pi - 1e-9, xtol=1e-16,
                                       rtol=4 * np.finfo(float).eps)) for r, j in zip(QR, QJ)])
     out.append(Check("criticality", "cos(theta_z), corrected closed form (200 points in Regions I, III)",
-                     "Brent root of V_phi", float(np.max(np.abs(C.cos_theta_z(QR, QJ, body) - roots))), 1e-12))
+                     "Brent root of V_phi", float(np.max(np.abs(theta_z.cos_theta_z(QR, QJ, body) - roots))), 1e-12))
     out.append(Check("criticality", "cos(theta_z) as printed in the paper is wrong (must fail: error > 0.01)",
-                     "Brent root of V_phi", float(0.01 / max(np.max(np.abs(C.cos_theta_z_printed(QR, QJ, body)
+                     "Brent root of V_phi", float(0.01 / max(np.max(np.abs(theta_z.cos_theta_z_printed(QR, QJ, body)
                                                                          - roots)), 1e-300)), 1.0))
     # δ expansion of θ_z near Q_J = Q_J,π^crit (1 − δ): error powers 3/2 (one term) and 5/2 (two terms)
     deltas = np.array([1e-2, 3e-3, 1e-3, 3e-4])
     QR1 = 0.01
-    exact = C.theta_z(QR1, C.QJ_crit_pi(QR1, body) * (1 - deltas), body)
+    exact = theta_z.theta_z(QR1, C.QJ_crit_pi(QR1, body) * (1 - deltas), body)
     for terms, power in ((1, 1.5), (2, 2.5)):
-        err = np.abs(C.theta_z_expansion(deltas, body, terms=terms) - exact)
+        err = np.abs(theta_z.theta_z_expansion(deltas, body, terms=terms) - exact)
         out.append(Check("criticality", f"delta expansion of theta_z, {terms} term(s): error power {power}",
                          "closed-form theta_z, fitted log-log slope", abs(loglog_slope(deltas, err) - power), 0.1))
     # Laurent series about θ = π truncated at order 2: error falls as x⁴
@@ -176,7 +191,7 @@ def check_criticality() -> list[Check]:
     # starts placed on the critical lines
     worst = 0.0
     for line, crit in (("pi", C.QJ_crit_pi), ("0", C.QJ_crit_0)):
-        cs = C.critical_start(Body.paper(1e-3), 0.95 * math.pi, math.pi / 4, line, QR=rng.uniform(-0.01, 0.01, 50))
+        cs = starts.critical_start(Body.paper(1e-3), 0.95 * math.pi, math.pi / 4, line, QR=rng.uniform(-0.01, 0.01, 50))
         worst = max(worst, float(np.max(np.abs(cs.QJ / crit(cs.QR, body) - 1))))
     out.append(Check("criticality", "initial states placed on the critical lines (100 starts)",
                      "Q_J^crit(Q_R) of the start", worst, 1e-14))
@@ -191,8 +206,8 @@ def check_averaging() -> list[Check]:
     acceptance bound, and 5e-4 at ε = 1e-3; the closed form is first order in K = εκ with larger
     constants: 1e-2 on the slow period at ε = 1e-4.
     """
-    from rocknroller.analysis.averaging import load_or_build_table
-    from rocknroller.analysis.slow_pendulum import pendulum_constants
+    from rocknroller.analysis.slow.pendulum import pendulum_constants
+    from rocknroller.analysis.slow.prediction import load_or_build_table
     from rocknroller.papers.averaging_check import compare_with_ode
 
     theta0, psi0, t_end = 0.95 * math.pi, math.pi / 4, 1000.0

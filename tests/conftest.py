@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from rocknroller.analysis.body import Body
-from rocknroller.numerics.equations import EulerState
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.equations import EulerState, fig5_start
 
 
 @pytest.fixture(scope="session")
@@ -16,6 +16,4 @@ def paper_body() -> Body:
 @pytest.fixture(scope="session")
 def fig5_initial() -> EulerState:
     """Paper §7.1: θ0 = 0.95π, φ0 = ψ0 = 0, ω = (0, 0.001, −0.001)."""
-    from rocknroller.papers.lynch_bustamante.fig5_symmetry_breaking import initial_state
-
-    return initial_state()
+    return fig5_start()

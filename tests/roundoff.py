@@ -259,7 +259,7 @@ def energy_condition(body) -> float:
 
     Parameters
     ----------
-    body : rocknroller.analysis.body.Body
+    body : rocknroller.analysis.model.body.Body
 
     Returns
     -------

@@ -2,7 +2,9 @@
 
 Each module defines ``NAME`` and ``run(out: Path) -> rocknroller.papers.output.Reproduction``; it computes with the
 library, writes PNG + PDF and the data as CSV into ``out``, and returns a caption with the numbers it
-measured.  ``MODULES`` lists them in the order ``rocknroller reproduce`` runs them.
+measured.  ``MODULES`` lists them in the order ``rocknroller reproduce`` runs them.  Beside them: ``reversals``
+(the runs and three-panel plots shared by figs. 7–11) and ``ERRATA.md`` (what the paper gets wrong, with the
+checks; ``rocknroller verify`` runs them, :mod:`rocknroller.papers.verification`).
 """
 
 from __future__ import annotations

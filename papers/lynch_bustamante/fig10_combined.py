@@ -6,7 +6,8 @@ from pathlib import Path
 
 import numpy as np
 
-from rocknroller.numerics.equations import EulerState
+from rocknroller.analysis.criticality.starts import PSI0, THETA0, start_on_line
+from rocknroller.analysis.model.equations import EulerState
 from rocknroller.papers.lynch_bustamante import fig8_visible_reversal as fig8
 from rocknroller.papers.lynch_bustamante import fig9_full_reversal as fig9
 from rocknroller.papers.lynch_bustamante import reversals
@@ -17,12 +18,16 @@ NAME = "fig10"
 
 
 def runs() -> list[reversals.ReversalRun]:
-    return [reversals.run("fig. 7: from rest", EulerState(reversals.THETA0, 0.0, reversals.PSI0)),
-            reversals.run("fig. 8: on Q_J,pi crit", reversals.start_on_line("pi", fig8.PSI_DOT0)),
-            reversals.run("fig. 9: on Q_J,0 crit", reversals.start_on_line("0", fig9.PSI_DOT0))]
+    """The three runs of paper figs. 7, 8 and 9 (ε = 1e-3, θ0 = 0.95π, ψ0 = π/4, 200 time units): from rest,
+    on Q_J,π^crit with fig. 8's ψ̇0 and on Q_J,0^crit with fig. 9's ψ̇0."""
+    return [reversals.run("fig. 7: from rest", EulerState(THETA0, 0.0, PSI0)),
+            reversals.run("fig. 8: on Q_J,pi crit", start_on_line("pi", fig8.PSI_DOT0)),
+            reversals.run("fig. 9: on Q_J,0 crit", start_on_line("0", fig9.PSI_DOT0))]
 
 
 def run(out: Path) -> Reproduction:
+    """Paper fig. 10: writes ``fig10_combined.png`` and ``.pdf`` (the orbits of :func:`runs` in the (Q_R, Q_J)
+    plane with the critical lines); numbers: the Q_R and Q_J extents (peak to peak) of each orbit."""
     rr = runs()
     fig = new_figure(figsize=(7, 5.5))
     ax = fig.subplots()

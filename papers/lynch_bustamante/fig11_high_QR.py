@@ -14,22 +14,25 @@ from pathlib import Path
 
 import numpy as np
 
-from rocknroller.analysis.criticality import QJ_crit_pi, region
-from rocknroller.analysis.quadrature import wrap_angle
+from rocknroller.analysis.criticality.lines import QJ_crit_pi, region
+from rocknroller.analysis.criticality.starts import FIG11_QR0 as QR0
+from rocknroller.analysis.criticality.starts import start_on_line
+from rocknroller.analysis.model.diagnostics import wrap_angle
+from rocknroller.numerics.trajectory_plots import plot_invariant_orbit
 from rocknroller.papers.lynch_bustamante import reversals
 from rocknroller.papers.output import Reproduction, new_figure, save_figure, write_csv
 from rocknroller.papers.plotting import draw_critical_lines
-from rocknroller.numerics.trajectory_plots import plot_invariant_orbit
 
 NAME = "fig11"
-QR0 = 0.1
 OFFSET_BRACKET = (0.025, 0.035)  # fractions of |Q_J,pi crit| above the line: steady recession / precession
 T_END = 1000.0
 
 
 def run_with_offset(fraction: float) -> reversals.ReversalRun:
+    """The fig. 11 run: θ0 = 0.95π, ψ0 = π/4, Q_R(0) = 0.1, started ``fraction * abs(Q_J,pi^crit)`` above the
+    line Q_J,π^crit in Q_J, ε = 1e-3, ``T_END`` = 1000 time units."""
     offset = fraction * abs(float(QJ_crit_pi(QR0, reversals.body())))
-    return reversals.run("high Q_R", reversals.start_on_line("pi", QR=QR0, offset=offset), T_END)
+    return reversals.run("high Q_R", start_on_line("pi", QR=QR0, offset=offset), T_END)
 
 
 def compute() -> tuple[float, reversals.ReversalRun]:
@@ -49,6 +52,9 @@ def visible_precession(traj) -> tuple[np.ndarray, np.ndarray]:
 
 
 def run(out: Path) -> Reproduction:
+    """Paper fig. 11: writes ``fig11_high_QR.png`` and ``.pdf`` (orbit with the critical lines; φ mod 2π at the
+    θ-maxima) and ``fig11_visible_precession.csv`` (t_j, Δφ(t_j) mod 2π) for the run of :func:`compute`; numbers:
+    the offset fraction, Q_J(0) − Q_J,π^crit, the regions at the maxima, and the least and greatest Δφ(t_j)."""
     fraction, r = compute()
     traj = r.traj
     t_j, dphi = visible_precession(traj)

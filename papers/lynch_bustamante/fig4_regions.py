@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from rocknroller.analysis.body import Body
+from rocknroller.analysis.model.body import Body
 from rocknroller.papers.output import Reproduction, save_figure, write_csv
 from rocknroller.papers.plotting import region_diagram
 
@@ -12,6 +12,9 @@ NAME = "fig4"
 
 
 def run(out: Path) -> Reproduction:
+    """Paper fig. 4: writes ``fig4_regions.png`` and ``.pdf`` (Regions I–IV, with V_φ(θ) at a representative
+    point of each; paper body, I1 = I2) and ``fig4_critical_lines.csv`` (Q_R, Q_J,0^crit, Q_J,π^crit); numbers:
+    the representative (Q_R, Q_J) of each region and the slopes Q_J/Q_R of the two critical lines."""
     body = Body.paper()
     fig, data = region_diagram(body, title="Paper fig. 4: critical Jellett lines and regions I-IV")
     paths = save_figure(fig, out, "fig4_regions")

@@ -5,12 +5,11 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-
-from rocknroller.analysis.body import Body
-from rocknroller.numerics.equations import EulerState
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.equations import EulerState
 from rocknroller.numerics.integrate import simulate
-from rocknroller.papers.output import Reproduction, new_figure, save_figure, write_csv
 from rocknroller.numerics.trajectory_plots import plot_contact_track
+from rocknroller.papers.output import Reproduction, new_figure, save_figure, write_csv
 
 NAME = "fig6"
 T_END = 1000.0
@@ -20,11 +19,15 @@ LABELS = (r"$\pi/100$", r"$\pi/8$", r"$\pi/4$", r"$3\pi/8$", r"$3.9\pi/8$", r"$\
 
 
 def compute():
+    """The six trajectories of fig. 6: ε = 1e-3, released at rest from θ0 = 0.95π, φ0 = 0, each ψ0 of
+    ``PSI0``, ``T_END`` = 1000 time units."""
     body = Body.paper(EPSILON)
     return [simulate(body, EulerState(0.95 * math.pi, 0.0, psi0), T_END) for psi0 in PSI0]
 
 
 def run(out: Path) -> Reproduction:
+    """Paper fig. 6: writes ``fig6_contact_tracks.png`` and ``.pdf`` (the contact tracks of :func:`compute`,
+    panels A–F) and ``fig6_Phi.csv`` (ψ0, Φ from the ODE, π − 2ψ0); numbers: Φ/π for each ψ0."""
     runs = compute()
     fig = new_figure(figsize=(11, 7.5))
     axes = fig.subplots(2, 3)

@@ -8,19 +8,24 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from rocknroller.numerics.animation import animate
+from rocknroller.analysis.criticality.starts import FIG8_PSI_DOT0 as PSI_DOT0
+from rocknroller.analysis.criticality.starts import start_on_line
+from rocknroller.papers.animation import animate
 from rocknroller.papers.lynch_bustamante import reversals
 from rocknroller.papers.output import Reproduction
 
 NAME = "fig8"
-PSI_DOT0 = 0.002
 #: The short animation of the run (``rocknroller animate`` makes longer ones): frames per second and seconds.
 ANIMATION_FPS = 10
 ANIMATION_SECONDS = 4
 
 
 def run(out: Path) -> Reproduction:
-    r = reversals.run("on QJ,pi crit", reversals.start_on_line("pi", PSI_DOT0))
+    """Paper fig. 8: the start on Q_J,π^crit with ψ̇0 = 0.002 (φ̇0 solved), 200 time units; writes the three
+    panels of :func:`~rocknroller.papers.lynch_bustamante.reversals.three_panels` as ``fig8_visible_reversal.png``
+    and ``.pdf`` and ``fig8_visible_reversal_turning_points.csv``, and ``fig8_animation.gif`` (10 fps, 4 s);
+    numbers: those of :func:`~rocknroller.papers.lynch_bustamante.reversals.numbers`."""
+    r = reversals.run("on QJ,pi crit", start_on_line("pi", PSI_DOT0))
     nums = reversals.numbers(r)
     paths = reversals.three_panels(r, out, "fig8_visible_reversal",
                                    r"Paper fig. 8: start on $Q_J=Q_{J,\pi}^{crit}$, $\dot\psi_0=0.002$")

@@ -2,7 +2,7 @@
 
 Paper §numerics (Recession and criticality): ε = 1e-3, released at θ0 = 0.95π with θ̇0 = 0, φ0 = 0,
 ψ0 = π/4, 200 time units.  Starts "on a critical line" are placed by computation
-(:func:`rocknroller.analysis.criticality.critical_start`), not by the paper's rounded rates.
+(:func:`rocknroller.analysis.criticality.starts.critical_start`), not by the paper's rounded rates.
 """
 
 from __future__ import annotations
@@ -13,18 +13,16 @@ from pathlib import Path
 
 import numpy as np
 
-from rocknroller.analysis.body import Body
-from rocknroller.analysis.criticality import critical_start, reversal_analysis
-from rocknroller.numerics.equations import EulerState
+from rocknroller.analysis.criticality.reversals import reversal_analysis
+from rocknroller.analysis.criticality.starts import EPSILON, THETA0
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.equations import EulerState
 from rocknroller.numerics.integrate import simulate
 from rocknroller.numerics.trajectory import Trajectory
+from rocknroller.numerics.trajectory_plots import plot_invariant_orbit
 from rocknroller.papers.output import new_figure, save_figure, write_csv
 from rocknroller.papers.plotting import draw_critical_lines
-from rocknroller.numerics.trajectory_plots import plot_invariant_orbit
 
-EPSILON = 1e-3
-THETA0 = 0.95 * math.pi
-PSI0 = math.pi / 4
 T_END = 200.0
 
 
@@ -36,19 +34,13 @@ class ReversalRun:
 
 
 def body() -> Body:
+    """The body of figs. 7–11: the paper's at ε = 1e-3."""
     return Body.paper(EPSILON)
 
 
-def start_on_line(line: str, psi_dot0: float | None = None, *, QR: float | None = None,
-                  offset: float = 0.0, of: Body | None = None) -> EulerState:
-    """Turning-point start at θ0 = 0.95π, ψ0 = π/4 with the given ψ̇0 (or Q_R), on the critical line (or ``offset``
-    above it in Q_J) of the body ``of`` (default the paper's at ε = 1e-3):
-    :func:`rocknroller.analysis.criticality.critical_start`."""
-    cs = critical_start(of if of is not None else body(), THETA0, PSI0, line, psi_dot0=psi_dot0, QR=QR, offset=offset)
-    return EulerState.from_omega(THETA0, 0.0, PSI0, np.asarray(cs.omega, float).reshape(3))
-
-
 def run(label: str, initial: EulerState, t_end: float = T_END) -> ReversalRun:
+    """The direct ODE run of :func:`body` from ``initial`` over ``t_end`` time units (default 200), labelled
+    ``label``."""
     return ReversalRun(label, initial, simulate(body(), initial, t_end))
 
 

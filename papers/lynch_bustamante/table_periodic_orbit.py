@@ -11,8 +11,8 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from rocknroller.analysis.body import Body
-from rocknroller.numerics.equations import EulerState
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.equations import EulerState
 from rocknroller.numerics.integrate import simulate
 from rocknroller.papers.output import Reproduction, write_csv
 
@@ -46,6 +46,9 @@ def periodic_psi0(body: Body, guess: float = PAPER_PSI0, tol: float = 1e-10) -> 
 
 
 def run(out: Path) -> Reproduction:
+    """Paper §7.2: writes ``table_periodic_orbit.csv`` (ψ0, ψ0/(π/8), P/T_θ, P, T_θ and the traversals of
+    the track in 1000 time units, at the paper's ψ0 = 2.965π/8 and at the solved periodic ψ0); numbers: the
+    periodic ψ0/(π/8), N = P/T_θ there, P/T_θ at the paper's ψ0, and P and the traversals at the periodic ψ0."""
     body = Body.paper(EPSILON)
     psi0, N = periodic_psi0(body)
     rows = [(label, p, *rocks_per_slow_period(p, body)) for label, p in

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from rocknroller.analysis.body import Body, polar_cap_offset_as_printed
+from rocknroller.analysis.model.body import Body, polar_cap_offset_as_printed
 from rocknroller.papers.output import Reproduction, write_csv
 
 NAME = "table_polar_cap"
@@ -14,6 +14,8 @@ PAPER_D = 0.6  # Θ ≈ 53°, paper App. A.1
 
 
 def run(out: Path) -> Reproduction:
+    """Paper App. A.1: writes ``table_polar_cap.csv`` (for each d of ``D_VALUES``: Θ in degrees, a, the
+    paper's printed a, I1, I3); numbers: d, a, I1, I3 and the printed a at the paper's d = 0.6."""
     bodies = [Body.from_polar_cap(d) for d in D_VALUES]
     printed_a = [polar_cap_offset_as_printed(d) for d in D_VALUES]
     path = write_csv(out / "table_polar_cap.csv", {

@@ -1,0 +1,206 @@
+"""Body parameters of the rock'n'roller (paper §2, §4 and App. A.1).
+
+Unit mass and unit radius throughout.  The mass centre O lies a distance ``a``
+below the geometric centre C along the body axis k (so that k points from O to
+C); the principal moments about O are ``I1 <= I2 < I3`` and ``g`` is gravity.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+__all__ = [
+    "Body", "paper_I1", "require_finite", "polar_cap_offset_as_printed", "PAPER_A", "PAPER_I3", "PAPER_G",
+    "polar_cap_volume"
+]
+
+#: Paper defaults (paper §7: a = 0.05, I3 = 2/5, I1 = (1 - 5a/2) I3, g = 9.87).
+PAPER_A = 0.05
+PAPER_I3 = 0.4
+PAPER_G = 9.87
+
+
+#: Relative accuracy to which Body.from_polar_cap must represent its asymmetry I3 − I1.
+POLAR_CAP_GAP_RTOL = 1e-6
+
+
+def paper_I1(a: float, I3: float) -> float:
+    """The paper's choice I1 = (1 − 5a/2) I3 (§numerics), used by Body.paper and as the CLI default."""
+    return (1.0 - 2.5 * a) * I3
+
+
+def require_finite(name: str, value: float) -> float:
+    """``float(value)``, or a ValueError naming ``name`` if it is not a finite real number."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a finite real number, got {value!r}") from None
+    if not math.isfinite(v):
+        raise ValueError(f"{name} must be a finite real number, got {value!r}")
+    return v
+
+
+def polar_cap_volume(d: float) -> float:
+    """Volume of the unit ball with the polar cap above height ``d`` removed.
+
+    Paper App. A.1: V = π (2/3 + d − d³/3).
+    """
+    return math.pi * (2.0 / 3.0 + d - d**3 / 3.0)
+
+
+def polar_cap_offset_as_printed(d: float) -> float:
+    """The paper's App. A.1 formula a = (π/4)(d²(2 − d²) − 1)/V, kept to show its sign error.
+
+    It equals −a for every d: d²(2 − d²) − 1 = −(1 − d²)².  See :meth:`Body.from_polar_cap`.
+    """
+    return (math.pi / 4.0) * (d * d * (2.0 - d * d) - 1.0) / polar_cap_volume(d)
+
+
+@dataclass(frozen=True)
+class Body:
+    """Parameters of a loaded sphere of unit mass and unit radius.
+
+    Parameters
+    ----------
+    a : float
+        Distance from the geometric centre to the mass centre, ``0 <= a < 1``.
+    I1, I2, I3 : float
+        Principal moments of inertia about the mass centre, ``0 < I1 <= I2 < I3``
+        and ``I1 + I2 >= I3`` (triangle inequality of a real mass distribution).
+    g : float
+        Acceleration of gravity, ``g > 0``.
+
+    Raises
+    ------
+    ValueError
+        If any parameter is non-finite or outside its allowed range; the message
+        names the parameter and the range.
+    """
+
+    a: float
+    I1: float
+    I2: float
+    I3: float
+    g: float
+
+    def __post_init__(self) -> None:
+        for name in ("a", "I1", "I2", "I3", "g"):
+            object.__setattr__(self, name, require_finite(name, getattr(self, name)))
+        if not 0.0 <= self.a < 1.0:
+            raise ValueError(f"a must satisfy 0 <= a < 1 (mass centre inside the sphere), got a={self.a!r}")
+        for name in ("I1", "I2", "I3"):
+            if getattr(self, name) <= 0.0:
+                raise ValueError(f"{name} must be > 0, got {name}={getattr(self, name)!r}")
+        if self.I1 > self.I2:
+            raise ValueError(f"moments must be ordered I1 <= I2, got I1={self.I1!r} > I2={self.I2!r}")
+        if self.I2 >= self.I3:
+            raise ValueError(f"moments must be ordered I2 < I3, got I2={self.I2!r} >= I3={self.I3!r}")
+        if self.I1 + self.I2 < self.I3:
+            raise ValueError(
+                "moments must satisfy the triangle inequality I1 + I2 >= I3, "
+                f"got I1 + I2 = {self.I1 + self.I2!r} < I3 = {self.I3!r}"
+            )
+        if self.g <= 0.0:
+            raise ValueError(f"g must be > 0, got g={self.g!r}")
+
+    # ------------------------------------------------------------------ constructors
+    @classmethod
+    def paper(cls, epsilon: float = 0.0) -> "Body":
+        """The paper's body: a = 0.05, I3 = 0.4, I1 = (1 − 5a/2) I3 = 0.35, I2 = (1 + ε) I1, g = 9.87.
+
+        Parameters
+        ----------
+        epsilon : float
+            Asymmetry ε = (I2 − I1)/I1, ``0 <= ε < I3/I1 − 1`` (= 1/7 for the paper body).
+        """
+        return cls._from_epsilon(PAPER_A, paper_I1(PAPER_A, PAPER_I3), PAPER_I3, PAPER_G, epsilon)
+
+    @classmethod
+    def from_polar_cap(cls, d: float, g: float = PAPER_G, epsilon: float = 0.0) -> "Body":
+        """Homogeneous unit ball with the polar cap above height ``d`` = cos Θ removed (paper App. A.1).
+
+        With V = π(2/3 + d − d³/3) the volume,
+
+        * a = (π/4)(1 − d²)²/V  (the paper prints the opposite sign: d²(2 − d²) − 1 = −(1 − d²)²),
+        * I3 = (π/2)(8/15 + d − 2d³/3 + d⁵/5)/V,
+        * I1 = π(4/15 + d/4 + d³/6 − 3d⁵/20)/V − a²  (parallel-axis theorem, unit mass),
+
+        computed as I1 = I3 − a(d + a): the difference of the two bracketed polynomials is
+        (π/4) d (1 − d²)² = a V d, so I3 − I1 = a d + a², free of cancellation.
+
+        Parameters
+        ----------
+        d : float
+            Height of the planar face above the geometric centre.  The asymmetry I3 − I1 = a(d + a)
+            ≈ (3/4)(1 − d)² vanishes at d = 1 (the homogeneous ball); d must satisfy −1 < d < 1 with
+            I3 − I1 resolved in double precision to ``POLAR_CAP_GAP_RTOL`` = 1e-6 relative: I3 − I1 = I3 − (I3 − gap)
+            is exact to ½ ulp(I3), so 1 − d ≳ √(½ ulp(I3) / (¾ · 1e-6)) ≈ 6e-6.
+        g : float
+            Gravity.
+        epsilon : float
+            Optional asymmetry ε, I2 = (1 + ε) I1.
+        """
+        d = require_finite("d", d)
+        if not -1.0 < d < 1.0:
+            raise ValueError(f"polar-cap height d = cos(Theta) must satisfy -1 < d < 1 (d = 1 is the homogeneous "
+                             f"ball, I1 = I3), got d={d!r}")
+        V = polar_cap_volume(d)
+        a = (math.pi / 4.0) * (1.0 - d * d) ** 2 / V
+        I3 = (math.pi / 2.0) * (8.0 / 15.0 + d - 2.0 * d**3 / 3.0 + d**5 / 5.0) / V
+        gap = a * (d + a)
+        I1 = I3 - gap
+        if gap > 0.0 and not abs((I3 - I1) - gap) <= POLAR_CAP_GAP_RTOL * gap:
+            limit = math.sqrt(0.5 * math.ulp(I3) / (0.75 * POLAR_CAP_GAP_RTOL))
+            raise ValueError(
+                f"polar-cap height d={d!r} is too close to 1: I3 - I1 = a(d + a) = {gap:.3g} cannot be represented "
+                f"to {POLAR_CAP_GAP_RTOL:g} relative beside I3 in double precision; use -1 < d <= 1 - {limit:.1g}")
+        return cls._from_epsilon(a, I1, I3, g, epsilon)
+
+    @classmethod
+    def _from_epsilon(cls, a: float, I1: float, I3: float, g: float, epsilon: float) -> "Body":
+        epsilon = require_finite("epsilon", epsilon)
+        if epsilon < 0.0:
+            raise ValueError(f"epsilon = (I2 - I1)/I1 must be >= 0, got epsilon={epsilon!r}")
+        if (1.0 + epsilon) * I1 >= I3:
+            raise ValueError(
+                f"epsilon must satisfy 0 <= epsilon < I3/I1 - 1 = {I3 / I1 - 1.0:.6g} "
+                f"(so that I2 < I3), got epsilon={epsilon!r}"
+            )
+        return cls(a=a, I1=I1, I2=(1.0 + epsilon) * I1, I3=I3, g=g)
+
+    # ------------------------------------------------------------------ derived
+    @property
+    def epsilon(self) -> float:
+        """Asymmetry parameter ε = (I2 − I1)/I1 (paper §6)."""
+        return (self.I2 - self.I1) / self.I1
+
+    @property
+    def is_symmetric(self) -> bool:
+        """True for Routh's sphere, I1 == I2 exactly."""
+        return self.I1 == self.I2
+
+    def with_epsilon(self, epsilon: float) -> "Body":
+        """Same a, I1, I3, g with I2 = (1 + ε) I1."""
+        return self._from_epsilon(self.a, self.I1, self.I3, self.g, epsilon)
+
+    def symmetric(self) -> "Body":
+        """Routh's sphere with the same a, I1, I3, g (I2 = I1)."""
+        return replace(self, I2=self.I1)
+
+    def require_symmetric(self, what: str) -> None:
+        """Raise ``ValueError`` unless I1 == I2 (for results that hold only for Routh's sphere)."""
+        if not self.is_symmetric:
+            raise ValueError(
+                f"{what} holds only for a symmetric body (I1 == I2, epsilon = 0); "
+                f"got I1={self.I1!r}, I2={self.I2!r} (epsilon={self.epsilon:.3g}). Use body.symmetric()."
+            )
+
+    @property
+    def params(self) -> tuple[float, float, float, float, float]:
+        """(a, I1, I2, I3, g), the order used for runtime parameters of the integrators."""
+        return (self.a, self.I1, self.I2, self.I3, self.g)
+
+    def describe(self) -> str:
+        """One-line description for CSV headers and reports."""
+        return f"a={self.a!r} I1={self.I1!r} I2={self.I2!r} I3={self.I3!r} g={self.g!r} epsilon={self.epsilon!r}"

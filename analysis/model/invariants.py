@@ -1,0 +1,86 @@
+"""Energy, Jellett's and Routh's quantities, and the angular rates of Routh's sphere.
+
+Paper eqs. (energy), (jellett), (routh), (measure), (phidotCJQR), (psidotCJQR).
+For the asymmetric body the paper's definitions (eq. JelletandRouth_Qtys) are
+kept: Q_J = I1 s ω2' + I3 f ω3' and Q_R = ω3'/ρ.  In body components
+s ω2' = γ1 ω1 + γ2 ω2 and ω3' = ω3, so every function here is smooth at θ = 0.
+All functions are vectorised: body-frame vectors have shape (3, ...).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from rocknroller.analysis.model.body import Body
+
+__all__ = ["rho", "rho_inv", "rho_inv_sq", "energy", "jellett", "routh", "invariants", "V_phi", "V_psi"]
+
+
+def rho_inv_sq(body: Any, s2: Any, f: Any) -> Any:
+    """ρ⁻² = I3 + s² + (I3/I1) f² from s² = sin²θ and f = cos θ − a (paper eq. measure).
+
+    Generic arithmetic: numpy arrays, mpmath numbers or sympy expressions; ``body`` needs only the
+    attributes I1 and I3 (a Body, or the same numbers in another arithmetic).
+    """
+    return body.I3 + s2 + (body.I3 / body.I1) * f * f
+
+
+def rho_inv(body: Body, s2: ArrayLike, f: ArrayLike) -> NDArray[np.float64]:
+    """1/ρ = [I3 + s² + (I3/I1) f²]^(1/2) from s² = sin²θ and f = cos θ − a (paper eq. measure)."""
+    return np.sqrt(rho_inv_sq(body, np.asarray(s2, float), np.asarray(f, float)))
+
+
+def rho(theta: ArrayLike, body: Body) -> NDArray[np.float64]:
+    """Measure ρ(θ) = [I3 + s² + (I3/I1) f²]^(−1/2), f = cos θ − a (paper eq. measure)."""
+    theta = np.asarray(theta, float)
+    return 1.0 / rho_inv(body, np.sin(theta) ** 2, np.cos(theta) - body.a)
+
+
+def energy(body: Body, gamma: ArrayLike, omega: ArrayLike) -> NDArray[np.float64]:
+    """Total energy E = T + V, V = g a (1 − c), with v = ω × r and r = γ − a e3 (paper eq. energy)."""
+    g1, g2, g3 = np.asarray(gamma, float)
+    w1, w2, w3 = np.asarray(omega, float)
+    r3 = g3 - body.a
+    v1, v2, v3 = w2 * r3 - w3 * g2, w3 * g1 - w1 * r3, w1 * g2 - w2 * g1
+    T = 0.5 * (v1 * v1 + v2 * v2 + v3 * v3) + 0.5 * (body.I1 * w1 * w1 + body.I2 * w2 * w2 + body.I3 * w3 * w3)
+    return T + body.g * body.a * (1.0 - g3)
+
+
+def jellett(body: Body, gamma: ArrayLike, omega: ArrayLike) -> NDArray[np.float64]:
+    """Jellett's quantity Q_J = I1 s ω2' + I3 f ω3' (paper eqs. jellett, JelletandRouth_Qtys)."""
+    g1, g2, g3 = np.asarray(gamma, float)
+    w1, w2, w3 = np.asarray(omega, float)
+    return body.I1 * (g1 * w1 + g2 * w2) + body.I3 * (g3 - body.a) * w3
+
+
+def routh(body: Body, gamma: ArrayLike, omega: ArrayLike) -> NDArray[np.float64]:
+    """Routh's quantity Q_R = ω3'/ρ (paper eqs. routh, measure)."""
+    g1, g2, g3 = np.asarray(gamma, float)
+    w3 = np.asarray(omega, float)[2]
+    return w3 * rho_inv(body, g1 * g1 + g2 * g2, g3 - body.a)
+
+
+def invariants(body: Body, gamma: ArrayLike, omega: ArrayLike) -> tuple[NDArray, NDArray, NDArray]:
+    """(E, Q_R, Q_J) of body-frame states."""
+    return energy(body, gamma, omega), routh(body, gamma, omega), jellett(body, gamma, omega)
+
+
+def V_phi(theta: ArrayLike, *, QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]:
+    """φ̇ = V_φ(θ; Q_R, Q_J) = [Q_J − ρ f I3 Q_R]/(I1 s²) (paper eq. phidotCJQR; the paper writes V_φ(θ; Q_J, Q_R)).
+
+    Q_R, Q_J and the body are keyword-only: the package orders Q_R before Q_J everywhere, and a swap here would
+    give wrong numbers silently."""
+    theta = np.asarray(theta, float)
+    s, c = np.sin(theta), np.cos(theta)
+    return (QJ - rho(theta, body) * (c - body.a) * body.I3 * QR) / (body.I1 * s * s)
+
+
+def V_psi(theta: ArrayLike, *, QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]:
+    """ψ̇ = V_ψ(θ; Q_R, Q_J) = −[c Q_J − ρ(c f I3 + I1 s²) Q_R]/(I1 s²) (paper eq. psidotCJQR); keyword-only
+    like :func:`V_phi`."""
+    theta = np.asarray(theta, float)
+    s, c = np.sin(theta), np.cos(theta)
+    return -(c * QJ - rho(theta, body) * (c * (c - body.a) * body.I3 + body.I1 * s * s) * QR) / (body.I1 * s * s)

@@ -1,0 +1,426 @@
+/*
+ * Compiled step loop of the reversible drift-kick-drift slow map (analysis/slow/prediction.py).
+ *
+ * The step of analysis.slow.compiled_map.iterate_slow_map, in C so that it costs ~1 us instead of the ~15 us
+ * of interpreter overhead of a Python loop.  It evaluates the run-time tables built by
+ * analysis.averaging._FastTable (values on a fine uniform grid in xi, 6-point Lagrange interpolation
+ * between them, Chebyshev series in eta; the table's chart is u = U x with x = sinh(alpha xi)/sinh(alpha)
+ * and v = c(x) + tau w(x) with tau = sinh(beta eta)/sinh(beta), the identity for alpha, beta = 0) and solves the implicit midpoint kick m = a + (eps/2) k(m) by
+ * simplified Newton: the explicit kick as first iterate, the Jacobian I - (eps/2) dk/dm once at that
+ * iterate, and a stop when the change of the end point 2m - a is within 1e-13 of the kick (+ 4 ulp) or
+ * the observed contraction eta puts the remaining error eta/(1 - eta) x change below 1e-3 of that
+ * (Hairer & Wanner, Solving ODEs II, IV.8).  The time and phi kicks at the midpoint are corrected to
+ * first order by the last Newton correction.  It computes no formula of its own: every number comes
+ * from the tables.  tests/test_averaging.py::_reference_map evaluates the same map plainly in NumPy
+ * (fixed-point kick) and the tests compare the two.
+ *
+ * iterate(rows, rows_jac, geom, out, U, alpha, beta, dx, nv, eps, u, v, Th, t, phi, t_end[, rows2])
+ *     rows      C-contiguous float64 buffer (Nf, 18 * nv): the 18 run-time functions (Chebyshev in eta)
+ *     rows_jac  C-contiguous float64 buffer (Nf, 48 * nv): those, their xi-derivatives at fixed eta divided
+ *               by U, and their eta-derivatives, for the kick functions 0-14
+ *     geom      C-contiguous float64 buffer (Nf, 4): the chart c(x), w(x) > 0, c'(x)/U, w'(x)/U
+ *     out       writable C-contiguous float64 buffer (n_max, 5): rows (t, u, v, Theta, phi)
+ *     the state (u, v, Theta, t, phi) at a maximum, and t_end
+ *     rows2     optional C-contiguous float64 buffer (Nf, 25 * nv): the second-order kick k2 (harmonics c0, c1, s1,
+ *               c2, s2 in Theta of its u, v, Theta, t and phi components); the kick function is then k1 + eps k2
+ * returns (n, status, u_bad, v_bad, n_jacobian, n_plain): n rows written; status 0 = t_end reached,
+ *     1 = out is full, 2 = the orbit left the table at (u_bad, v_bad), 3 = the implicit kick did not
+ *     converge; the numbers of table evaluations with and without the Jacobian rows.
+ *
+ * evaluate(rows, geom, width, nv, U, alpha, beta, dx, u, v)
+ *     the `width` (18 or 48) functions of rows at (u, v), or None outside the table; with width 48 the
+ *     derivatives are d/du and d/dv at (u, v).
+ */
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+#include <math.h>
+
+#define N_FUN 18    /* run-time functions: 0-14 kick harmonics, 15-17 drifts T, W, dphi */
+#define N_KICK 15
+#define N_JAC 48    /* N_FUN + 2 * N_KICK */
+#define N_K2 25     /* second order: the harmonics (c0, c1, s1, c2, s2) of k2_u, k2_v, k2_Theta, k2_t, k2_phi */
+#define MAX_NV 128
+#define MAX_ITER 60
+#define KICK_RTOL 1e-13
+#define NEWTON_SAFETY 1e-3
+
+enum { DONE = 0, FULL = 1, LEFT_TABLE = 2, NO_CONVERGENCE = 3 };
+
+typedef struct {
+    const double *rows, *rows_jac, *geom, *rows2; /* rows2: NULL (first order) or the N_K2 second-order rows */
+    Py_ssize_t n_fine;
+    double U, alpha, beta, sinh_alpha, sinh_beta, dx;
+    int nv;
+} table_t;
+
+#define N_GEOM 4
+
+/* the stretched coordinate s of z = sinh(a s)/sinh(a) (s = z for a = 0), and ds/dz there */
+static double unstretch(double z, double a, double sinh_a, double *ds_dz)
+{
+    if (a == 0.0) {
+        *ds_dz = 1.0;
+        return z;
+    }
+    double s = asinh(z * sinh_a) / a;
+    *ds_dz = sinh_a / (a * cosh(a * s));
+    return s;
+}
+
+/* 1/prod_{j != k}(k - j) for the stencil offsets k, j = -2 .. 3, set when the module is loaded */
+static double LAGRANGE_INV[6];
+
+static double ulp(double x)
+{
+    x = fabs(x);
+    return nextafter(x, INFINITY) - x;
+}
+
+/* the `width` functions of `rows` (stride width * nv) at (u, v); 0 if inside the table.  With width N_JAC
+   the tabulated (d/dxi at fixed eta)/U and d/deta become d/du and d/dv by the chain rule through the chart:
+   d/du = (d/dxi)(dxi/dx)/U + (d/deta) deta/du, d/dv = (d/deta) deta/dv, with deta/dv = (deta/dtau)/w and
+   deta/du = -(c'/U + tau w'/U) deta/dv (v = c(x) + tau w(x)). */
+static int evaluate(const table_t *tb, const double *rows, int width, double u, double v,
+                    double *val)
+{
+    double x = u / tb->U, dxi_dx, deta_dy;
+    if (!(x >= -1.0 && x <= 1.0))
+        return 1;
+    double xi = unstretch(x, tb->alpha, tb->sinh_alpha, &dxi_dx);
+    double s = (xi + 1.0) / tb->dx;
+    Py_ssize_t i = (Py_ssize_t)s;
+    if (i < 2)
+        i = 2;
+    else if (i > tb->n_fine - 4)
+        i = tb->n_fine - 4;
+    double r = s - (double)i;
+    double d0 = r + 2.0, d1 = r + 1.0, d2 = r, d3 = r - 1.0, d4 = r - 2.0, d5 = r - 3.0;
+    double l2 = d0 * d1, r3 = d5 * d4;
+    double l3 = l2 * d2, r2 = r3 * d3;
+    double l4 = l3 * d3, r1 = r2 * d2;
+    double w[6] = {r1 * d1 * LAGRANGE_INV[0], d0 * r1 * LAGRANGE_INV[1], l2 * r2 * LAGRANGE_INV[2],
+                   l3 * r3 * LAGRANGE_INV[3], l4 * d5 * LAGRANGE_INV[4], l4 * d4 * LAGRANGE_INV[5]};
+    double g[N_GEOM];
+    const double *gb = tb->geom + (i - 2) * N_GEOM;
+    for (int k = 0; k < N_GEOM; k++)
+        g[k] = w[0] * gb[k] + w[1] * gb[N_GEOM + k] + w[2] * gb[2 * N_GEOM + k] + w[3] * gb[3 * N_GEOM + k]
+               + w[4] * gb[4 * N_GEOM + k] + w[5] * gb[5 * N_GEOM + k];
+    double tau = (v - g[0]) / g[1];
+    if (!(tau >= -1.0 && tau <= 1.0))
+        return 1;
+    double y = unstretch(tau, tb->beta, tb->sinh_beta, &deta_dy);
+    double deta_dv = deta_dy / g[1], deta_du = -(g[2] + tau * g[3]) * deta_dv;
+    double T[MAX_NV];
+    int nv = tb->nv;
+    T[0] = 1.0;
+    T[1] = y;
+    for (int j = 2; j < nv; j++)
+        T[j] = 2.0 * y * T[j - 1] - T[j - 2];
+    Py_ssize_t stride = (Py_ssize_t)width * nv;
+    const double *base = rows + (i - 2) * stride;
+    for (int f = 0; f < width; f++) {
+        double acc = 0.0;
+        for (int j = 0; j < nv; j++) {
+            const double *p = base + f * nv + j;
+            double c = w[0] * p[0] + w[1] * p[stride] + w[2] * p[2 * stride] + w[3] * p[3 * stride]
+                       + w[4] * p[4 * stride] + w[5] * p[5 * stride];
+            acc += c * T[j];
+        }
+        val[f] = acc;
+    }
+    if (width == N_JAC)
+        for (int f = 0; f < N_KICK; f++) {
+            double f_eta = val[N_FUN + N_KICK + f];
+            val[N_FUN + N_KICK + f] = f_eta * deta_dv;
+            val[N_FUN + f] = val[N_FUN + f] * dxi_dx + f_eta * deta_du;
+        }
+    return 0;
+}
+
+/* sum of the harmonics c0 + c1 cos + s1 sin + c2 cos 2 + s2 sin 2 (cs = cos, sin, cos 2, sin 2 of Theta) */
+static double harmonics5(const double *k, const double *cs)
+{
+    return k[0] + k[1] * cs[0] + k[2] * cs[1] + k[3] * cs[2] + k[4] * cs[3];
+}
+
+/* the implicit midpoint kick (see the top); res = (u', v', Theta', eps k_t, eps k_phi).  With second-order rows the
+   kick function is k1 + eps k2 (k2 left out of the simplified Newton's Jacobian: it sets the speed of convergence,
+   not the converged value) */
+static int implicit_kick(const table_t *tb, double eps, double u, double v, double th, const double *k0,
+                         double *res, double *bad, Py_ssize_t *counts)
+{
+    double h = 0.5 * eps;
+    double c = cos(th), s = sin(th);
+    double mu = u + h * (k0[0] + k0[1] * c + k0[2] * s);
+    double mv = v + h * (k0[3] + k0[4] * c + k0[5] * s);
+    double mt = th + h * (k0[6] + k0[7] * c + k0[8] * s);
+    double k[N_JAC], ji[9], prev = 0.0, k2[N_K2], cs[4];
+    const double *kdu = k + N_FUN, *kdv = k + N_FUN + N_KICK;
+    int have_jac = 0;
+    for (int it = 0; it < MAX_ITER; it++) {
+        if (evaluate(tb, have_jac ? tb->rows : tb->rows_jac, have_jac ? N_FUN : N_JAC, mu, mv, k)) {
+            bad[0] = mu;
+            bad[1] = mv;
+            return LEFT_TABLE;
+        }
+        counts[have_jac]++;
+        c = cos(mt);
+        s = sin(mt);
+        double ku = k[0] + k[1] * c + k[2] * s;
+        double kv = k[3] + k[4] * c + k[5] * s;
+        double kth = k[6] + k[7] * c + k[8] * s;
+        if (tb->rows2 != NULL) {
+            if (evaluate(tb, tb->rows2, N_K2, mu, mv, k2)) {
+                bad[0] = mu;
+                bad[1] = mv;
+                return LEFT_TABLE;
+            }
+            cs[0] = c;
+            cs[1] = s;
+            cs[2] = c * c - s * s;
+            cs[3] = 2.0 * s * c;
+            ku += eps * harmonics5(k2, cs);
+            kv += eps * harmonics5(k2 + 5, cs);
+            kth += eps * harmonics5(k2 + 10, cs);
+        }
+        if (!have_jac) { /* J = I - h dk/dm at this iterate, inverted by cofactors */
+            double a0 = 1.0 - h * (kdu[0] + kdu[1] * c + kdu[2] * s), a1 = -h * (kdv[0] + kdv[1] * c + kdv[2] * s),
+                   a2 = -h * (k[2] * c - k[1] * s);
+            double a3 = -h * (kdu[3] + kdu[4] * c + kdu[5] * s), a4 = 1.0 - h * (kdv[3] + kdv[4] * c + kdv[5] * s),
+                   a5 = -h * (k[5] * c - k[4] * s);
+            double a6 = -h * (kdu[6] + kdu[7] * c + kdu[8] * s), a7 = -h * (kdv[6] + kdv[7] * c + kdv[8] * s),
+                   a8 = 1.0 - h * (k[8] * c - k[7] * s);
+            double c0 = a4 * a8 - a5 * a7, c3 = a5 * a6 - a3 * a8, c6 = a3 * a7 - a4 * a6;
+            double det = a0 * c0 + a1 * c3 + a2 * c6;
+            ji[0] = c0 / det;
+            ji[1] = (a2 * a7 - a1 * a8) / det;
+            ji[2] = (a1 * a5 - a2 * a4) / det;
+            ji[3] = c3 / det;
+            ji[4] = (a0 * a8 - a2 * a6) / det;
+            ji[5] = (a2 * a3 - a0 * a5) / det;
+            ji[6] = c6 / det;
+            ji[7] = (a1 * a6 - a0 * a7) / det;
+            ji[8] = (a0 * a4 - a1 * a3) / det;
+            have_jac = 1;
+        }
+        double fu = mu - u - h * ku, fv = mv - v - h * kv, fth = mt - th - h * kth;
+        double du = -(ji[0] * fu + ji[1] * fv + ji[2] * fth);
+        double dv = -(ji[3] * fu + ji[4] * fv + ji[5] * fth);
+        double dth = -(ji[6] * fu + ji[7] * fv + ji[8] * fth);
+        mu += du;
+        mv += dv;
+        mt += dth;
+        double u1 = 2.0 * mu - u, v1 = 2.0 * mv - v, th1 = 2.0 * mt - th;
+        double tol_q = KICK_RTOL * eps * (fabs(ku) + fabs(kv)) + 4.0 * ulp(fabs(u1) + fabs(v1));
+        double cq = 2.0 * fmax(fabs(du), fabs(dv)) / tol_q;
+        double ct = 2.0 * fabs(dth) / (KICK_RTOL * eps * fabs(kth) + 4.0 * ulp(th1));
+        double change = fmax(cq, ct);
+        double eta = prev > 0.0 ? change / prev : 1.0;
+        if (change <= 1.0 || (eta < 1.0 && eta * change <= NEWTON_SAFETY * (1.0 - eta))) {
+            double kt = k[9] + k[10] * c + k[11] * s + (kdu[9] + kdu[10] * c + kdu[11] * s) * du
+                        + (kdv[9] + kdv[10] * c + kdv[11] * s) * dv + (k[11] * c - k[10] * s) * dth;
+            double kp = k[12] + k[13] * c + k[14] * s + (kdu[12] + kdu[13] * c + kdu[14] * s) * du
+                        + (kdv[12] + kdv[13] * c + kdv[14] * s) * dv + (k[14] * c - k[13] * s) * dth;
+            if (tb->rows2 != NULL) {
+                kt += eps * harmonics5(k2 + 15, cs);
+                kp += eps * harmonics5(k2 + 20, cs);
+            }
+            res[0] = u1;
+            res[1] = v1;
+            res[2] = th1;
+            res[3] = eps * kt;
+            res[4] = eps * kp;
+            return DONE;
+        }
+        prev = change;
+    }
+    return NO_CONVERGENCE;
+}
+
+static int get_buffer(PyObject *obj, Py_buffer *view, int writable, const char *name)
+{
+    int flags = PyBUF_C_CONTIGUOUS | PyBUF_FORMAT | (writable ? PyBUF_WRITABLE : 0);
+    if (PyObject_GetBuffer(obj, view, flags) < 0)
+        return -1;
+    if (view->itemsize != 8 || view->format == NULL || strcmp(view->format, "d") != 0) {
+        PyErr_Format(PyExc_TypeError, "%s must be a C-contiguous float64 buffer", name);
+        PyBuffer_Release(view);
+        return -1;
+    }
+    return 0;
+}
+
+static PyObject *iterate(PyObject *self, PyObject *args)
+{
+    PyObject *o_rows, *o_jac, *o_geom, *o_out, *o_rows2 = Py_None;
+    double U, alpha, beta, dx, eps, u, v, Th, t, phi, t_end;
+    int nv;
+    if (!PyArg_ParseTuple(args, "OOOOddddiddddddd|O", &o_rows, &o_jac, &o_geom, &o_out, &U, &alpha, &beta, &dx, &nv,
+                          &eps, &u, &v, &Th, &t, &phi, &t_end, &o_rows2))
+        return NULL;
+    if (nv < 2 || nv > MAX_NV) {
+        PyErr_Format(PyExc_ValueError, "nv must be in [2, %d], got %d", MAX_NV, nv);
+        return NULL;
+    }
+    Py_buffer b_rows, b_jac, b_geom, b_out;
+    if (get_buffer(o_rows, &b_rows, 0, "rows") < 0)
+        return NULL;
+    if (get_buffer(o_jac, &b_jac, 0, "rows_jac") < 0) {
+        PyBuffer_Release(&b_rows);
+        return NULL;
+    }
+    if (get_buffer(o_geom, &b_geom, 0, "geom") < 0) {
+        PyBuffer_Release(&b_rows);
+        PyBuffer_Release(&b_jac);
+        return NULL;
+    }
+    if (get_buffer(o_out, &b_out, 1, "out") < 0) {
+        PyBuffer_Release(&b_rows);
+        PyBuffer_Release(&b_jac);
+        PyBuffer_Release(&b_geom);
+        return NULL;
+    }
+    Py_buffer b_rows2;
+    int second = o_rows2 != Py_None;
+    if (second && get_buffer(o_rows2, &b_rows2, 0, "rows2") < 0) {
+        PyBuffer_Release(&b_rows);
+        PyBuffer_Release(&b_jac);
+        PyBuffer_Release(&b_geom);
+        PyBuffer_Release(&b_out);
+        return NULL;
+    }
+    table_t tb = {(const double *)b_rows.buf, (const double *)b_jac.buf, (const double *)b_geom.buf,
+                  second ? (const double *)b_rows2.buf : NULL, b_rows.len / (8 * N_FUN * nv), U, alpha, beta,
+                  sinh(alpha), sinh(beta), dx, nv};
+    Py_ssize_t n_max = b_out.len / (8 * 5);
+    if (tb.n_fine < 6 || b_rows.len != tb.n_fine * 8 * N_FUN * nv || b_jac.len != tb.n_fine * 8 * N_JAC * nv
+        || b_geom.len != tb.n_fine * 8 * N_GEOM || (second && b_rows2.len != tb.n_fine * 8 * N_K2 * nv)) {
+        PyBuffer_Release(&b_rows);
+        PyBuffer_Release(&b_jac);
+        PyBuffer_Release(&b_geom);
+        PyBuffer_Release(&b_out);
+        if (second)
+            PyBuffer_Release(&b_rows2);
+        PyErr_SetString(PyExc_ValueError, "rows, rows_jac, geom (and rows2) must hold (Nf >= 6) x 18 x nv, "
+                                          "Nf x 48 x nv and Nf x 4 (and Nf x 25 x nv) values");
+        return NULL;
+    }
+    double *out = (double *)b_out.buf, f[N_FUN], f1[N_FUN], res[5], bad[2] = {NAN, NAN};
+    Py_ssize_t n = 0, counts[2] = {0, 0}; /* evaluations with and without the Jacobian */
+    int status = DONE;
+    Py_BEGIN_ALLOW_THREADS
+    if (evaluate(&tb, tb.rows, N_FUN, u, v, f)) {
+        bad[0] = u;
+        bad[1] = v;
+        status = LEFT_TABLE;
+    }
+    counts[1]++;
+    while (status == DONE) {
+        if (n >= n_max) {
+            status = FULL;
+            break;
+        }
+        status = implicit_kick(&tb, eps, u, v, Th + 0.5 * f[N_KICK + 1], f, res, bad, counts);
+        if (status != DONE)
+            break;
+        if (evaluate(&tb, tb.rows, N_FUN, res[0], res[1], f1)) {
+            bad[0] = res[0];
+            bad[1] = res[1];
+            status = LEFT_TABLE;
+            break;
+        }
+        counts[1]++;
+        double t_next = t + 0.5 * (f[N_KICK] + f1[N_KICK]) + res[3];
+        if (t_next > t_end)
+            break;
+        phi += 0.5 * (f[N_KICK + 2] + f1[N_KICK + 2]) + res[4];
+        t = t_next;
+        u = res[0];
+        v = res[1];
+        memcpy(f, f1, sizeof f);
+        Th = res[2] + 0.5 * f[N_KICK + 1];
+        double *row = out + 5 * n++;
+        row[0] = t;
+        row[1] = u;
+        row[2] = v;
+        row[3] = Th;
+        row[4] = phi;
+    }
+    Py_END_ALLOW_THREADS
+    PyBuffer_Release(&b_rows);
+    PyBuffer_Release(&b_jac);
+    PyBuffer_Release(&b_geom);
+    PyBuffer_Release(&b_out);
+    if (second)
+        PyBuffer_Release(&b_rows2);
+    return Py_BuildValue("niddnn", n, status, bad[0], bad[1], counts[0], counts[1]);
+}
+
+static PyObject *evaluate_py(PyObject *self, PyObject *args)
+{
+    PyObject *o_rows, *o_geom;
+    double U, alpha, beta, dx, u, v;
+    int width, nv;
+    if (!PyArg_ParseTuple(args, "OOiidddddd", &o_rows, &o_geom, &width, &nv, &U, &alpha, &beta, &dx, &u, &v))
+        return NULL;
+    if (nv < 2 || nv > MAX_NV || (width != N_FUN && width != N_JAC && width != N_K2)) {
+        PyErr_Format(PyExc_ValueError, "nv must be in [2, %d] and width %d, %d or %d", MAX_NV, N_FUN, N_JAC, N_K2);
+        return NULL;
+    }
+    Py_buffer b, bg;
+    if (get_buffer(o_rows, &b, 0, "rows") < 0)
+        return NULL;
+    if (get_buffer(o_geom, &bg, 0, "geom") < 0) {
+        PyBuffer_Release(&b);
+        return NULL;
+    }
+    table_t tb = {(const double *)b.buf, NULL, (const double *)bg.buf, NULL, b.len / (8 * (Py_ssize_t)width * nv), U,
+                  alpha, beta, sinh(alpha), sinh(beta), dx, nv};
+    double val[N_JAC];
+    int out = (tb.n_fine < 6 || bg.len != tb.n_fine * 8 * N_GEOM) ? -1 : evaluate(&tb, tb.rows, width, u, v, val);
+    PyBuffer_Release(&b);
+    PyBuffer_Release(&bg);
+    if (out < 0) {
+        PyErr_SetString(PyExc_ValueError, "rows must hold at least 6 grid points and geom 4 values for each");
+        return NULL;
+    }
+    if (out)
+        Py_RETURN_NONE;
+    PyObject *list = PyList_New(width);
+    if (list == NULL)
+        return NULL;
+    for (int f = 0; f < width; f++) {
+        PyObject *x = PyFloat_FromDouble(val[f]);
+        if (x == NULL) {
+            Py_DECREF(list);
+            return NULL;
+        }
+        PyList_SET_ITEM(list, f, x);
+    }
+    return list;
+}
+
+static PyMethodDef methods[] = {
+    {"iterate", iterate, METH_VARARGS,
+     "iterate(rows, rows_jac, geom, out, U, alpha, beta, dx, nv, eps, u, v, Theta, t, phi, t_end[, rows2])\n"
+     "    -> (n, status, u_bad, v_bad, n_jacobian, n_plain)\n\n"
+     "Step the slow map from a maximum until t_end; see analysis/slow/_kernel.c."},
+    {"evaluate", evaluate_py, METH_VARARGS,
+     "evaluate(rows, geom, width, nv, U, alpha, beta, dx, u, v) -> list of width values, or None outside "
+     "the table"},
+    {NULL, NULL, 0, NULL}};
+
+static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_kernel",
+                                    "Compiled step loop of analysis.slow.compiled_map.iterate_slow_map.", -1, methods};
+
+PyMODINIT_FUNC PyInit__kernel(void)
+{
+    for (int k = 0; k < 6; k++) {
+        double d = 1.0;
+        for (int j = 0; j < 6; j++)
+            if (j != k)
+                d *= (double)(k - j);
+        LAGRANGE_INV[k] = 1.0 / d;
+    }
+    return PyModule_Create(&module);
+}

@@ -1,0 +1,333 @@
+"""Recession atlas: the slow motion over a plane of starts, by the averaged map or the direct ODE.  It holds the
+atlas of releases from rest (:func:`atlas_from_rest`) and of initial rates (:func:`atlas_of_rates`), their result
+:class:`Atlas`, the reversal counts per 1000 time units, crossings of the critical lines Q_J,0^crit and Q_J,π^crit
+(:func:`reversal_counts`; paper eqs. QJcrit_0, QJcrit_pi), and the check of a map-made atlas by the direct ODE
+(:func:`confirm_atlas`, :class:`AtlasCheck`).
+
+Two planes: releases from rest over (ψ0, θ0) (:func:`atlas_from_rest`, by the map, or by the ODE), and initial rates
+(φ̇0, ψ̇0) at fixed θ0, ψ0 (:func:`atlas_of_rates`, the plane of the paper's reversal starts, by the ODE: each
+of its starts has its own energy, and the map's tables are per energy).
+
+For each release angle θ0 the map runs on one table (:func:`rocknroller.analysis.slow.table.load_or_build_table`
+in ``THETA0_RANGE``, the region tables of the release's energy below it, :mod:`rocknroller.analysis.slow.region`),
+so a row of ψ0 costs one table and ~1 ms a point once the tables are cached.  Each point gives the slow period of
+Θ = 2ψ, the azimuth span Φ, the Q_R and Q_J extents and the numbers of full-angle (Q_J,0^crit) and visible-angle
+(Q_J,π^crit) reversals per 1000 time units: crossings of the critical lines by the maxima's (Q_R, Q_J), as
+:func:`rocknroller.analysis.slow.prediction.critical_regions` counts them for the map and the ODE alike.
+
+A sample of a map-made atlas's points (and any the caller names) is run by the direct ODE as an ensemble
+(:func:`rocknroller.numerics.ensemble.run_ensemble`: in process, threads, or a dask cluster, the same numbers bit for
+bit), and the map's relative errors there are returned beside the atlas.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, field, replace
+from typing import Any, Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.equations import RATE_MAX, EulerState
+from rocknroller.analysis.slow import prediction as av
+from rocknroller.numerics.parallel import check_processes, map_blocks
+
+__all__ = [
+    "ATLAS_OBSERVABLES", "PLANES", "METHODS", "MAX_ATLAS_POINTS", "MAX_ODE_ATLAS_POINTS", "Atlas", "AtlasCheck",
+    "reversal_counts", "atlas_from_rest", "atlas_of_rates", "confirm_atlas"
+]
+
+#: What the atlas maps, per point: the map's diagnostics and the reversals per 1000 time units.
+ATLAS_OBSERVABLES = ("slow_period", "Phi", "QR_extent", "QJ_extent", "full_reversals", "visible_reversals")
+#: Most points of one atlas (≈ 1 ms and 48 bytes each once the tables are cached).
+MAX_ATLAS_POINTS = 250_000
+
+
+def reversal_counts(crossings: Sequence[tuple[float, str, str, str]] | None, t_end: float) -> tuple[float, float]:
+    """(full-angle, visible-angle) reversals per 1000 time units: crossings of Q_J,0^crit and of Q_J,π^crit."""
+    lines = [c[3] for c in crossings or []]
+    scale = 1000.0 / t_end
+    return (scale * sum("QJ0crit" in s for s in lines), scale * sum("QJpicrit" in s for s in lines))
+
+
+def _values(pred: Any, t_end: float) -> list[float | None]:
+    full, visible = reversal_counts(pred.crossings, t_end)
+    return [pred.slow_period, pred.Phi, pred.QR_extent, pred.QJ_extent, full, visible]
+
+
+#: The planes of starts an atlas covers: the initial values along its rows and its columns.
+PLANES = {"release": ("theta0", "psi0"), "rates": ("psi_dot0", "phi_dot0")}
+#: How an atlas computes each point: the averaged map, or the direct ODE.
+METHODS = ("map", "ode")
+
+
+@dataclass(frozen=True)
+class Atlas:
+    """The slow-motion diagnostics over a plane of starts.
+
+    Attributes
+    ----------
+    eps, t_end : the body's asymmetry and the time span of each run.
+    plane : ``"release"`` (rows θ0, columns ψ0, released from rest) or ``"rates"`` (rows ψ̇0, columns φ̇0, at the
+        fixed tilt and spin angle ``at`` with θ̇0 = 0, φ0 = 0).
+    rows, cols : the grid's values along the rows and the columns (``PLANES[plane]`` names them).
+    at : (θ0, ψ0) of a ``"rates"`` plane; None for ``"release"``.
+    method : ``"map"`` (the averaged map) or ``"ode"`` (the direct ODE at every point).
+    values : dict
+        For each of ``ATLAS_OBSERVABLES``, a masked array (len(rows), len(cols)); masked where the quantity is
+        undefined (the slow period of a run with fewer than two crossings of its mean).
+    warnings : the distinct validity warnings of the predictions (e.g. K = ε κ > 4, coarse region tables).
+    """
+
+    eps: float
+    t_end: float
+    plane: str
+    rows: NDArray[np.float64]
+    cols: NDArray[np.float64]
+    values: dict[str, np.ma.MaskedArray] = field(repr=False)
+    at: tuple[float, float] | None = None
+    method: str = "map"
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def row_name(self) -> str:
+        """The initial value along the rows: ``"theta0"`` or ``"psi_dot0"``."""
+        return PLANES[self.plane][0]
+
+    @property
+    def col_name(self) -> str:
+        """The initial value along the columns: ``"psi0"`` or ``"phi_dot0"``."""
+        return PLANES[self.plane][1]
+
+    def state(self, i: int, j: int) -> EulerState:
+        """The initial state of grid point (row i, column j)."""
+        if self.plane == "release":
+            return EulerState(float(self.rows[i]), 0.0, float(self.cols[j]))
+        assert self.at is not None
+        return EulerState(self.at[0], 0.0, self.at[1], 0.0, float(self.cols[j]), float(self.rows[i]))
+
+
+def _check_grid(name: str, values: ArrayLike, lo: float, hi: float) -> NDArray[np.float64]:
+    a = np.atleast_1d(np.asarray(values, float))
+    if a.ndim != 1 or a.size == 0 or not np.all(np.isfinite(a)) or np.any((a < lo) | (a > hi)):
+        raise ValueError(f"{name} must be a non-empty 1-D grid of finite values in [{lo:.6g}, {hi:.6g}], got {values!r}")
+    return a
+
+
+def _rows(body: Body, theta0: NDArray[np.float64], psi0: NDArray[np.float64], t_end: float,
+          build: bool) -> tuple[NDArray[np.float64], NDArray[np.bool_], list[str]]:
+    """The map's observables (len(ATLAS_OBSERVABLES), len(theta0), len(psi0)), where they are undefined, and the
+    validity warnings, for some rows of a release atlas (in this process)."""
+    out = np.zeros((len(ATLAS_OBSERVABLES), theta0.size, psi0.size))
+    mask = np.zeros_like(out, dtype=bool)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", av.AveragingValidityWarning)
+        for i, t0 in enumerate(theta0):
+            table = None if av.releases_on_region_tables(t0) else av.load_or_build_table(body, t0, build=build)
+            for j, p0 in enumerate(psi0):
+                pred = av.predict_slow_motion(body, float(t0), float(p0), t_end, table=table, build=build)
+                for k, v in enumerate(_values(pred, t_end)):
+                    mask[k, i, j] = v is None
+                    out[k, i, j] = 0.0 if v is None else v
+    return out, mask, [str(w.message) for w in caught if issubclass(w.category, av.AveragingValidityWarning)]
+
+
+def _ode_values(body: Body, states: Sequence[EulerState], t_end: float, scheduler: str | None, workers: int | None,
+                threads: int | None, progress: bool | None) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """The direct ODE's observables (len(ATLAS_OBSERVABLES), len(states)) and where they are undefined, the runs
+    made as one ensemble (:func:`rocknroller.numerics.ensemble.run_ensemble`); the reversals are the crossings of the
+    critical lines by the maxima's (Q_R, Q_J), counted as for the map."""
+    from rocknroller.numerics.ensemble import Job, run_ensemble
+
+    runs = run_ensemble([Job(body, s, t_end) for s in states], scheduler=scheduler, workers=workers,
+                        threads=threads, progress=progress)
+    out = np.zeros((len(ATLAS_OBSERVABLES), len(runs)))
+    mask = np.zeros_like(out, dtype=bool)
+    sym = body.symmetric()
+    for r, run in enumerate(runs):
+        m = run.maxima
+        full, visible = reversal_counts(av.critical_regions(m.QR, m.QJ, m.t, sym)[2], t_end)
+        for k, v in enumerate((run.slow_period, run.Phi, run.QR_extent, run.QJ_extent, full, visible)):
+            mask[k, r] = v is None
+            out[k, r] = 0.0 if v is None else v
+    return out, mask
+
+
+def _check_size(n_rows: int, n_cols: int, limit: int, what: str) -> None:
+    if n_rows * n_cols > limit:
+        raise ValueError(f"the atlas has {n_rows} x {n_cols} = {n_rows * n_cols} points, more than {what} = {limit}")
+
+
+def _ode_atlas(body: Body, plane: str, rows: NDArray[np.float64], cols: NDArray[np.float64],
+               at: tuple[float, float] | None, t_end: float, scheduler: str | None, workers: int | None,
+               threads: int | None, progress: bool | None) -> Atlas:
+    """Every point of the grid by the direct ODE (the states are checked, by ``Job``, before any run)."""
+    _check_size(rows.size, cols.size, MAX_ODE_ATLAS_POINTS, "MAX_ODE_ATLAS_POINTS")
+    grid = Atlas(eps=body.epsilon, t_end=float(t_end), plane=plane, rows=rows, cols=cols, values={}, at=at,
+                 method="ode")
+    states = [grid.state(i, j) for i in range(rows.size) for j in range(cols.size)]
+    out, mask = _ode_values(body, states, float(t_end), scheduler, workers, threads, progress)
+    shape = (rows.size, cols.size)
+    return replace(grid, values={name: np.ma.MaskedArray(out[k].reshape(shape), mask[k].reshape(shape))
+                                 for k, name in enumerate(ATLAS_OBSERVABLES)})
+
+
+#: Most points of an atlas made by the direct ODE (≈ 16 ms a run of 1000 time units at θ0 = 0.95π, ≈ 0.2 s at
+#: small amplitude; its maxima, 136 bytes each, are held until the run's diagnostics are taken).
+MAX_ODE_ATLAS_POINTS = 20_000
+
+
+def _check_method(method: str) -> str:
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {METHODS}, got method={method!r}")
+    return method
+
+
+def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float = 1000.0, *,
+                    method: str = "map", progress: bool | None = None, build: bool = True, processes: int = 1,
+                    scheduler: str | None = None, workers: int | None = None,
+                    threads: int | None = None) -> Atlas:
+    """Map the slow motion over the releases from rest at every (θ0, ψ0) of the grid (module docstring).
+
+    Parameters
+    ----------
+    body : Body
+        The asymmetric body (ε = body.epsilon).
+    theta0 : array_like
+        Release tilts, 0 < θ0 ≤ ``THETA0_RANGE[1]`` (0.999π).
+    psi0 : array_like
+        Spin angles (any finite values; ψ0 and ψ0 + π give the same motion).
+    t_end : float
+        Time span of each run (``predict_slow_motion``'s limits, or ``simulate``'s for the ODE).
+    method : {"map", "ode"}
+        The averaged map at every point (at most ``MAX_ATLAS_POINTS``), or the direct ODE at every point as one
+        ensemble (at most ``MAX_ODE_ATLAS_POINTS``).
+    progress : bool or None
+        A tqdm bar over the rows, or over the ODE runs (None: only on a terminal).
+    build : bool
+        Build the tables that are not cached (else ValueError); the map only.
+    processes : int
+        Processes that share the map's rows, 1 ≤ processes ≤ ``parallel.MAX_PROCESSES`` (each point is computed the same
+        way wherever it runs; more than one starts "spawn" processes, which import the calling script: guard a
+        script's top level with ``if __name__ == "__main__":``).
+    scheduler, workers, threads
+        Where the ODE's runs go (method "ode"), as for :func:`rocknroller.numerics.ensemble.run_ensemble`.
+
+    Raises
+    ------
+    ValueError
+        A grid out of range or larger than its method's limit (before anything is built or run), naming it.
+    """
+    th = _check_grid("theta0", theta0, np.nextafter(0.0, 1.0), av.THETA0_RANGE[1])
+    ps = _check_grid("psi0", psi0, -1e6, 1e6)
+    if _check_method(method) == "ode":
+        return _ode_atlas(body, "release", th, ps, None, t_end, scheduler, workers, threads, progress)
+    _check_size(th.size, ps.size, MAX_ATLAS_POINTS, "MAX_ATLAS_POINTS")
+    processes = check_processes(processes, "processes")
+    blocks = np.array_split(np.arange(th.size), min(processes, th.size) if processes > 1 else th.size)
+    parts = map_blocks(_rows, [(body, th[rows], ps, float(t_end), build) for rows in blocks], [b.size for b in blocks],
+                       processes=processes, desc="atlas rows", unit="theta0", progress=progress)
+    out = np.concatenate([p[0] for p in parts], axis=1)
+    mask = np.concatenate([p[1] for p in parts], axis=1)
+    caught_all = [msg for p in parts for msg in p[2]]
+    return Atlas(eps=body.epsilon, t_end=float(t_end), plane="release", rows=th, cols=ps,
+                 values={name: np.ma.MaskedArray(out[k], mask[k]) for k, name in enumerate(ATLAS_OBSERVABLES)},
+                 warnings=tuple(dict.fromkeys(caught_all)))
+
+
+def atlas_of_rates(body: Body, theta0: float, psi0: float, phi_dot0: ArrayLike, psi_dot0: ArrayLike,
+                   t_end: float = 1000.0, *, method: str = "ode", progress: bool | None = None,
+                   scheduler: str | None = None, workers: int | None = None, threads: int | None = None) -> Atlas:
+    """The slow motion over a plane of initial rates (φ̇0, ψ̇0) at fixed θ0, ψ0 (θ̇0 = 0, φ0 = 0): the plane of
+    the paper's reversal starts (figs. 7–11: θ0 = 0.95π, ψ0 = π/4), by the direct ODE at every point.
+
+    Each start of the plane has its own energy, and the averaged map's tables are per (body, energy): the map
+    would need a table for every point (≈ 15 s each), and at the paper's θ0 = 0.95π its tables do not yet reach
+    the accuracy an atlas needs near Q_J,π^crit (docs/averaging.md), so ``method`` accepts "ode" only, and says so.
+
+    Parameters
+    ----------
+    body : Body
+        The body.
+    theta0, psi0 : float
+        The fixed tilt, 0 < θ0 < π, and spin angle (finite).
+    phi_dot0, psi_dot0 : array_like
+        The grid's columns and rows: finite rates within ``EulerState``'s bound.
+    t_end, progress, scheduler, workers, threads
+        As for :func:`atlas_from_rest` with method "ode".
+
+    Raises
+    ------
+    ValueError
+        A method other than "ode", a grid out of range or larger than ``MAX_ODE_ATLAS_POINTS``, or a start with no
+        motion (before any run), naming it.
+    """
+    if _check_method(method) != "ode":
+        raise ValueError("method must be 'ode' for a plane of rates: each start has its own energy and the map's "
+                         "tables are per (body, energy) (atlas_from_rest maps releases from rest with the map)")
+    th = float(_check_grid("theta0", [theta0], np.nextafter(0.0, 1.0), np.nextafter(np.pi, 0.0))[0])
+    ps = float(_check_grid("psi0", [psi0], -1e6, 1e6)[0])
+    pd = _check_grid("phi_dot0", phi_dot0, -RATE_MAX, RATE_MAX)
+    sd = _check_grid("psi_dot0", psi_dot0, -RATE_MAX, RATE_MAX)
+    return _ode_atlas(body, "rates", sd, pd, (th, ps), t_end, scheduler, workers, threads, progress)
+
+
+@dataclass(frozen=True)
+class AtlasCheck:
+    """The direct ODE at some points of an atlas, and the map's relative errors there.
+
+    Attributes
+    ----------
+    index : ndarray (n, 2) of int, the (row, column) of each point.
+    ode : dict, for each of ``ATLAS_OBSERVABLES``, the ODE's values (masked where undefined).
+    rel_error : dict, the map's value / the ODE's − 1 (masked where either is undefined or the ODE's is 0);
+        for the reversal counts, the difference map − ODE (per 1000 time units) instead.
+    """
+
+    index: NDArray[np.int64]
+    ode: dict[str, np.ma.MaskedArray] = field(repr=False)
+    rel_error: dict[str, np.ma.MaskedArray] = field(repr=False)
+
+
+def confirm_atlas(atlas: Atlas, body: Body, *, every: int | None = 50, points: Sequence[tuple[int, int]] = (),
+                  scheduler: str | None = None, workers: int | None = None, threads: int | None = None,
+                  progress: bool | None = None) -> AtlasCheck:
+    """Run the direct ODE at 1 point in ``every`` (row-major, starting at the first; None: none) and at ``points``
+    (row, column) of a map-made atlas, as an ensemble (:func:`rocknroller.numerics.ensemble.run_ensemble`; where it
+    runs does not change the numbers).
+
+    Raises
+    ------
+    ValueError
+        An atlas made by the ODE (there is nothing to confirm), ``every`` not an integer ≥ 1, a point outside the
+        grid, or the ensemble's own limits, naming them.
+    """
+    if atlas.method != "map":
+        raise ValueError(f"atlas.method must be 'map' to be confirmed by the ODE, got {atlas.method!r} (an atlas made "
+                         "by the ODE is its own confirmation)")
+    n_t, n_p = atlas.rows.size, atlas.cols.size
+    if every is not None and (int(every) != every or every < 1):
+        raise ValueError(f"every must be an integer >= 1 or None, got every={every!r}")
+    chosen = [] if every is None else list(range(0, n_t * n_p, int(every)))
+    for i, j in points:
+        if not (0 <= i < n_t and 0 <= j < n_p):
+            raise ValueError(f"points must lie on the {n_t} x {n_p} grid, got {(i, j)!r}")
+        chosen.append(int(i) * n_p + int(j))
+    flat = sorted(set(chosen))
+    if not flat:
+        raise ValueError("nothing to confirm: give every or points")
+    index = np.array([divmod(f, n_p) for f in flat], dtype=np.int64).reshape(-1, 2)
+    out, mask = _ode_values(body, [atlas.state(i, j) for i, j in index], atlas.t_end, scheduler, workers, threads,
+                            progress)
+    ode = {name: np.ma.MaskedArray(out[k], mask[k]) for k, name in enumerate(ATLAS_OBSERVABLES)}
+    rel: dict[str, np.ma.MaskedArray] = {}
+    for name in ATLAS_OBSERVABLES:
+        mv = atlas.values[name][index[:, 0], index[:, 1]]
+        if name.endswith("reversals"):
+            rel[name] = mv - ode[name]
+        else:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                rel[name] = np.ma.masked_invalid(mv / np.ma.masked_equal(ode[name], 0.0) - 1.0)
+    return AtlasCheck(index=index, ode=ode, rel_error=rel)

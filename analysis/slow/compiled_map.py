@@ -1,0 +1,253 @@
+"""The averaged slow map itself: its run-time tables and the compiled drift–kick–drift iteration.  It holds
+:func:`iterate_slow_map`, which iterates the reversible map of :mod:`rocknroller.analysis.slow.prediction` from a
+maximum, to first order in ε or, given a :class:`rocknroller.analysis.slow.chart.SecondOrderTable`, to second order
+(kick k₁ + ε k₂), and :class:`SlowSeries`, its samples (t, Q_R, Q_J, Θ = 2ψ, φ) at the θ-maxima.
+
+The map runs on the run-time form of a :class:`rocknroller.analysis.slow.chart.SlowMapTable` (values on a fine
+grid along the chart, Chebyshev series across it; the most recently used forms are kept in memory,
+``RUNTIME_CACHE_BYTES``) in the compiled kernel ``rocknroller.analysis.slow._kernel`` (C source ``_kernel.c``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from rocknroller.analysis.model.diagnostics import unwrap_phase
+from rocknroller.analysis.slow import _kernel
+from rocknroller.analysis.slow.chart import _HARM, _IDX, SecondOrderTable, SlowMapTable, _cheb_basis, stretch
+from rocknroller.analysis.slow.limits import MAX_MAXIMA, AveragingRangeError, check_t_end
+from rocknroller.numerics.cache import MemoryCache
+
+__all__ = ["SlowSeries", "iterate_slow_map"]
+
+
+@dataclass(frozen=True)
+class SlowSeries:
+    """Samples of the slow map at the θ-maxima n = 1, 2, ... with t_n ≤ t_end.
+
+    ``Theta`` is unwrapped (continuous); ``phi`` is the accumulated azimuth modulo π-jumps (use mod π).
+    """
+
+    t: NDArray[np.float64]
+    QR: NDArray[np.float64]
+    QJ: NDArray[np.float64]
+    Theta: NDArray[np.float64]
+    phi: NDArray[np.float64]
+
+    @property
+    def psi_mod_pi(self) -> NDArray[np.float64]:
+        """ψ mod π at the maxima."""
+        return np.mod(0.5 * self.Theta, math.pi)
+
+    @property
+    def phi_mod_pi(self) -> NDArray[np.float64]:
+        """φ mod π at the maxima (the visible half-angle)."""
+        return np.mod(self.phi, math.pi)
+
+    def to_dataframe(self) -> "pandas.DataFrame":  # noqa: F821
+        """One row per maximum: t, Q_R, Q_J, Θ, φ (needs pandas)."""
+        from rocknroller.analysis.model.frames import dataframe
+
+        return dataframe({n: getattr(self, n) for n in ("t", "QR", "QJ", "Theta", "phi")})
+
+
+#: Points of the fine uniform grid in u used at run time per Chebyshev term along it (6-point Lagrange
+#: interpolation between them; 64 nu + 1 = 8193 for the release tables' nu = 128), and their most: the run-time form
+#: holds points × (18 + 48 + 25 for order 2) functions × nv doubles, ≤ 8193 × 91 × 128 × 8 B = 0.76 GB whatever nu
+#: (≤ 4096) is.
+_FINE_PER_TERM = 64
+_FINE_MAX = 8193
+#: Run-time functions: 0-8 the harmonics (c0, c1, s1) of k_u = e·k_Q, k_v = n·k_Q and k_Θ (solved for
+#: implicitly), 9-14 those of the time and φ kicks, 15-17 the drifts T_θ, W, Δφ.
+_N_KICK = 15
+#: Bytes of run-time forms this process keeps (the most recently used): 1 GiB, four region tables' (~250 MB each)
+#: or forty release tables' (~25 MB).  A form dropped is rebuilt from its table when used again (0.1–1 s).
+RUNTIME_CACHE_BYTES = 1 << 30
+_FAST = MemoryCache(RUNTIME_CACHE_BYTES)
+#: Kernel statuses (analysis/slow/_kernel.c).
+_DONE, _FULL, _LEFT_TABLE, _NO_CONVERGENCE = range(4)
+#: Largest number of output rows the kernel fills per call.
+_CHUNK = 1 << 16
+
+
+def _at_points(coef: NDArray[np.float64], basis: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Σ_k coef[f, k, j] basis[k, i] as an array (i, f, j): Chebyshev series in x at the points of ``basis``
+    (one BLAS product; an einsum without optimisation loops in C one term at a time, ~25× slower here)."""
+    return np.tensordot(basis, coef, axes=([0], [1]))
+
+
+class _FastTable:
+    """Run-time form of a SlowMapTable: values on a fine uniform grid in x = u/U, Chebyshev series in τ.
+
+    Each row of ``rows`` holds the 18 run-time functions (see ``_N_KICK``) at one grid point as
+    Chebyshev coefficients in τ; 6-point Lagrange interpolation in x on 8193 points reproduces the
+    Chebyshev interpolant to ~1e-13 relative.  ``geom`` holds the chart there (c, w, c'/U, w'/U).
+    ``rows_jac`` adds the x- (over U) and τ-derivatives of the
+    Chebyshev series of the kick functions 0-14, for the Jacobian of the implicit kick and a
+    first-order correction of ε k_t, ε k_φ by less than the kick tolerance (they set the speed of
+    convergence, not the converged value).  The rows are evaluated, and the map stepped, by the
+    compiled kernel ``rocknroller.analysis.slow._kernel`` (about 1 µs a step).
+    """
+
+    def __init__(self, table: SlowMapTable, second: SecondOrderTable | None = None) -> None:
+        c = table.coef
+        e, n = table.e, table.n
+        rows = []
+        for h in _HARM:
+            qr, qj = c[_IDX[f"kQR_{h}"]], c[_IDX[f"kQJ_{h}"]]
+            rows.append((e[0] * qr + e[1] * qj, n[0] * qr + n[1] * qj))
+        kick = [rows[m][0] for m in range(3)] + [rows[m][1] for m in range(3)]
+        kick += [c[_IDX[f"{pre}_{h}"]] for pre in ("kTh", "dt", "dphi1") for h in _HARM]
+        drift = [c[_IDX[name]] for name in ("T", "W", "dphi")]
+        self.U, self.nv = float(table.U), c.shape[2]
+        self.e, self.n = e, n
+        self.n_fine = min(_FINE_PER_TERM * c.shape[1] + 1, _FINE_MAX)
+        xi = np.linspace(-1.0, 1.0, self.n_fine)
+        self.dx = float(xi[1] - xi[0])
+        self.alpha, self.beta = float(table.alpha), float(table.beta)
+        self.geom = np.ascontiguousarray(np.stack(table._sides(stretch(xi, self.alpha)), axis=1))
+        Bu = _cheb_basis(xi, c.shape[1])                                  # (nu, Nf)
+        fine = np.concatenate([_at_points(np.array(kick), Bu),
+                               _at_points(np.array(drift), Bu)], axis=1)  # (Nf, 18, nv)
+        kick = np.array(kick)
+        du = np.polynomial.chebyshev.chebder(kick, axis=1) / self.U                 # (15, nu − 1, nv)
+        dv = np.polynomial.chebyshev.chebder(kick, axis=2)                          # (15, nu, nv − 1), d/dτ
+        dv = np.concatenate([dv, np.zeros(dv.shape[:2] + (1,))], axis=2)
+        fine_d = np.concatenate([_at_points(du, Bu[: du.shape[1]]),
+                                 _at_points(dv, Bu)], axis=1)         # (Nf, 30, nv)
+        self.rows = np.ascontiguousarray(fine.reshape(self.n_fine, -1))
+        self.rows_jac = np.ascontiguousarray(np.concatenate([fine, fine_d], axis=1).reshape(self.n_fine, -1))
+        self.table = table
+        self.second = second
+        self.rows2 = None if second is None else self._second_order_rows(second)
+
+    def _second_order_rows(self, second: "SecondOrderTable") -> NDArray[np.float64]:
+        """The run-time rows (Nf, 25 · nv) of a :class:`rocknroller.analysis.slow.chart.SecondOrderTable` on this
+        table's chart: k₂_u = e·k₂_Q, k₂_v = n·k₂_Q, k₂_Θ, k₂_t, k₂_φ, five harmonics each, Chebyshev in τ (its
+        series padded to this table's nv terms)."""
+        c2 = np.asarray(second.coef, float).reshape(5, 5, *second.coef.shape[1:])  # (component, harmonic, ξ, η)
+        nu2, nv2 = c2.shape[2:]
+        if nv2 > self.nv:
+            raise ValueError(f"the second-order table ({nu2} x {nv2} terms) does not fit the run-time form of this "
+                             f"table ({self.nv} terms across)")
+        e, n = self.e, self.n
+        comps = [e[0] * c2[0] + e[1] * c2[1], n[0] * c2[0] + n[1] * c2[1], c2[2], c2[3], c2[4]]
+        coef = np.zeros((25, nu2, self.nv))
+        coef[:, :, :nv2] = np.concatenate(comps).reshape(25, nu2, nv2)
+        xi = np.linspace(-1.0, 1.0, self.n_fine)
+        fine = _at_points(coef, _cheb_basis(xi, nu2))  # (Nf, 25, nv)
+        return np.ascontiguousarray(fine.reshape(self.n_fine, -1))
+
+    def _evaluate(self, rows: NDArray[np.float64], u: float, v: float) -> list[float]:
+        out = _kernel.evaluate(rows, self.geom, rows.shape[1] // self.nv, self.nv, self.U, self.alpha, self.beta,
+                               self.dx, u, v)
+        if out is None:
+            self.table.evaluate(u * self.e + v * self.n)  # raises AveragingRangeError with the explanation
+        return out
+
+    def values(self, u: float, v: float) -> list[float]:
+        """The 18 run-time functions at Q = u e + v n."""
+        return self._evaluate(self.rows, u, v)
+
+    def values_and_jacobian(self, u: float, v: float) -> list[float]:
+        """The 18 functions, then ∂/∂u and ∂/∂v of the kick functions (0-14): 48 values."""
+        return self._evaluate(self.rows_jac, u, v)
+
+    def iterate(self, eps: float, u: float, v: float, Th: float, phi: float, t_end: float,
+                n_steps: int | None) -> tuple[NDArray[np.float64], tuple[int, int]]:
+        """Rows (t, u, v, Θ, φ) of the maxima after the start with t ≤ t_end (at most ``n_steps``),
+        and the numbers of table evaluations with and without the Jacobian rows."""
+        # room for t_end / (T_θ(0)/2) maxima, at most _CHUNK rows at a time
+        cap = min(int(t_end / (0.5 * abs(self.values(0.0, 0.0)[_N_KICK]))) + 8, _CHUNK)
+        cap = cap if n_steps is None else min(int(n_steps), cap)
+        chunks, t, counts = [], 0.0, [0, 0]
+        while True:
+            out = np.empty((max(cap, 1), 5))
+            n, status, ub, vb, n_jac, n_plain = _kernel.iterate(self.rows, self.rows_jac, self.geom, out, self.U,
+                                                                 self.alpha, self.beta, self.dx, self.nv, eps, u, v,
+                                                                 Th, t, phi, t_end, self.rows2)
+            counts[0] += n_jac
+            counts[1] += n_plain
+            chunks.append(out[:n])
+            done = sum(len(c) for c in chunks)
+            if status == _LEFT_TABLE:
+                self.table.evaluate(ub * self.e + vb * self.n)  # raises AveragingRangeError with the explanation
+            if status == _NO_CONVERGENCE:
+                raise AveragingRangeError(
+                    f"the implicit kick did not converge at eps={eps!r}: eps is too large for the first-order map")
+            if status == _DONE or (n_steps is not None and done >= n_steps):
+                break
+            if done > MAX_MAXIMA:  # t_end was checked against T_θ(0)/2 per maximum; T_θ ≥ 0.7 T_θ(0) on the tables
+                raise ValueError(f"t_end={t_end!r} gives more than MAX_MAXIMA = {MAX_MAXIMA} maxima")
+            assert status == _FULL
+            t, u, v, Th, phi = (float(x) for x in out[n - 1])  # out was full: go on from the last maximum
+            cap = _CHUNK if n_steps is None else min(_CHUNK, n_steps - done)
+        return np.concatenate(chunks), (counts[0], counts[1])
+
+
+def _fast(table: SlowMapTable, second: SecondOrderTable | None = None) -> _FastTable:
+    key = (id(table), id(second))
+    ft = _FAST.get(key)
+    if ft is None or ft.table is not table or ft.second is not second:
+        ft = _FastTable(table, second)
+        _FAST[key] = ft
+    return ft
+
+
+def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float, *,
+                     Q0: ArrayLike = (0.0, 0.0), phi0: float = 0.0, n_steps: int | None = None,
+                     second: SecondOrderTable | None = None) -> SlowSeries:
+    """Iterate the reversible drift–kick–drift slow map from a maximum at t = 0.
+
+    One step: Θ += W(Q)/2; (Q, Θ) += ε k(midpoint) (implicit midpoint, solved by simplified Newton
+    to 1e-13 of the kick, + 4 ulp, or until the observed contraction η puts the remaining error
+    η/(1 − η) × change below 1e-3 of that; Hairer & Wanner, Solving ODEs II, §IV.8); Θ += W(Q')/2;
+    t += ½[T_θ(Q) + T_θ(Q')] + ε k_t(midpoint); φ += ½[Δφ(Q) + Δφ(Q')] + ε k_φ(midpoint).
+    The loop runs in the compiled kernel ``rocknroller.analysis.slow._kernel``.
+
+    Parameters
+    ----------
+    table : SlowMapTable
+    eps : float
+        Asymmetry ε ≥ 0.
+    psi0 : float
+        ψ at the starting maximum (Θ0 = 2ψ0).
+    t_end : float
+        Last time, 0 < t_end ≤ MAX_MAXIMA · T_θ(0)/2 (at most ``MAX_MAXIMA`` maxima; unbounded if n_steps is given).
+    Q0 : (Q_R, Q_J) at the start (default: released from rest, Q = 0).
+    phi0 : φ at the start.
+    n_steps : int, optional
+        Stop after this many steps (even before t_end), 1 ≤ n_steps ≤ ``MAX_MAXIMA``.
+    second : SecondOrderTable, optional
+        The second-order kick k₂ on this table's chart (:mod:`rocknroller.analysis.slow.second_order`): the kick function
+        becomes k₁ + ε k₂, the map second order in ε and still reversible.
+
+    Raises
+    ------
+    ValueError
+        Bad input, naming the parameter and its range.
+    AveragingRangeError
+        If the orbit leaves the tabulated region, or the implicit kick does not converge.
+    """
+    eps, t_end, psi0 = float(eps), float(t_end), float(psi0)
+    if not math.isfinite(eps) or eps < 0.0:
+        raise ValueError(f"eps must be a finite number >= 0, got eps={eps!r}")
+    if not math.isfinite(psi0):
+        raise ValueError(f"psi0 must be finite, got psi0={psi0!r}")
+    if n_steps is not None and (int(n_steps) != n_steps or not 1 <= n_steps <= MAX_MAXIMA):
+        raise ValueError(f"n_steps must be an integer in [1, {MAX_MAXIMA}] (MAX_MAXIMA), got n_steps={n_steps!r}")
+    ft = _fast(table, second)
+    if n_steps is None:
+        check_t_end(t_end, ft.values(0.0, 0.0)[_N_KICK])
+    elif not (math.isfinite(t_end) and t_end > 0.0):
+        raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}")
+    Q0 = np.asarray(Q0, float)
+    if Q0.shape != (2,) or not np.all(np.isfinite(Q0)) or not math.isfinite(float(phi0)):
+        raise ValueError(f"Q0 must be two finite numbers (Q_R, Q_J) and phi0 finite, got Q0={Q0!r}, phi0={phi0!r}")
+    arr, _ = ft.iterate(eps, float(ft.e @ Q0), float(ft.n @ Q0), 2.0 * psi0, float(phi0), t_end, n_steps)
+    Q = np.outer(arr[:, 1], ft.e) + np.outer(arr[:, 2], ft.n)
+    return SlowSeries(t=arr[:, 0], QR=Q[:, 0], QJ=Q[:, 1], Theta=unwrap_phase(arr[:, 3]), phi=arr[:, 4])

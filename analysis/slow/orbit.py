@@ -1,0 +1,435 @@
+"""The variational orbit: one step maximum → maximum of Routh's sphere with its first- and second-order ε-responses.
+It holds the first-order step (:func:`first_order_step`, and :func:`first_order_steps` for many starts at once),
+the three orbits per Q that give the responses' harmonics in Θ (:func:`harmonic_steps`), the second-order step
+(:func:`second_order_step`), the first-order coefficients of one step at a Q (:func:`step_coefficients`, with
+T_θ, W and Δφ of the symmetric body from the quadratures of paper eqs. thetadotsq, Delta_phi:
+:func:`symmetric_data`), and ∂f/∂ε of the equations of motion (:func:`eps_derivative_rhs`).  The responses are
+those of Q_R, Q_J (paper eq. JelletandRouth_Qtys), Θ = 2ψ, the time and φ at the next maximum; this is the orbit
+stage of the averaged slow map (:mod:`rocknroller.analysis.slow.prediction`; docs/averaging.md, "Method").
+
+The symmetric orbit from a maximum θ_X at (E, Q, ψ_n) is integrated (heyoka) together with its first-order
+variational equations in ε (I2 = (1 + ε) I1) on ``rocknroller.analysis.model.equations.body_frame_rhs``:
+
+    ż = (∂f/∂y) z + ∂f/∂ε,   z(0) = ∂y₀/∂ε,
+
+where z(0) is the shift of the starting maximum θ_X at fixed (E, Q, ψ) (the kinetic energy depends on I2),
+and the shift of the event time (the next zero of dγ3/dt) is included:
+dy_{n+1}/dε = z + f dt₁/dε,  dt₁/dε = −∇h·z / ∇h·f,  h = dγ3/dt.
+
+By the rotational symmetry of Routh's sphere, the first-order response contains only the harmonics 0 and 2
+of ψ_n (0 and 1 of Θ_n = 2ψ_n): three orbits per Q (ψ_n = 0, π/3, 2π/3) determine it.
+
+To second order (:func:`second_order_step`) the state also carries w, the second ε-derivative along the start's
+curve y₀(ε) (:func:`rocknroller.analysis.slow.family.maximum_state`, differenced in ε), with
+ẇ = A w + D²f[z, z] + 2 ∂²f/∂y∂ε z + ∂²f/∂ε² (A = ∂f/∂y); the second derivative of the event time follows from
+h = 0 at the next maximum as the first's does.
+
+The orbits run in heyoka's batch mode, one per SIMD lane (:func:`first_order_steps`, :func:`harmonic_steps`): the
+tables' nodes cost ~4× less than one orbit at a time (``validation/region_table.py``); the lanes differ from a
+one-lane run by the rounding of the vector kernels only (~1e-14 of each response).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.diagnostics import wrap_angle
+from rocknroller.analysis.model.equations import body_frame_rhs, state_from_euler, turning_point_function
+from rocknroller.analysis.model.invariants import energy, jellett, routh
+from rocknroller.analysis.model.kinematics import angles_from_frame
+from rocknroller.analysis.routh.quadrature import precession
+from rocknroller.analysis.routh.reduction import effective_potential, state_from_turning_point
+from rocknroller.analysis.routh.turning_points import turning_points
+from rocknroller.analysis.slow.family import (_central_difference, _central_second_difference, _second_directional,
+                                              directional_derivative, maximum_state)
+
+__all__ = [
+    "HARMONIC_PSI", "FIRST_ORDER_NAMES", "eps_derivative_rhs", "FirstOrderStep", "first_order_step",
+    "first_order_steps", "harmonic_steps", "second_order_step", "StepCoefficients", "step_coefficients",
+    "symmetric_data"
+]
+
+#: Spin angles ψ_n of the three orbits that determine the harmonics 0 and 2 of ψ_n.
+HARMONIC_PSI = (0.0, math.pi / 3.0, 2.0 * math.pi / 3.0)
+#: First-order responses per step: ε-derivatives of Q_R, Q_J, Θ = 2ψ, the event time and φ.
+FIRST_ORDER_NAMES = ("QR", "QJ", "Theta", "t", "phi")
+_INTEGRATOR: dict[str, Any] = {}
+
+
+def eps_derivative_rhs(y: ArrayLike, body: Body) -> NDArray[np.float64]:
+    """∂f/∂ε of ``body_frame_rhs`` at ε = 0, I2 = (1 + ε) I1, by the complex step (exact to round-off)."""
+    a, I1, _, I3, g = body.params
+    h = 1e-30
+    out = body_frame_rhs(np.asarray(y, float).astype(complex), (a, I1, I1 * complex(1.0, h), I3, g))
+    return np.array([complex(v).imag / h for v in out])
+
+
+# functions of states (11,) or (11, N)
+def _psi_of(y: NDArray[np.float64]) -> NDArray[np.float64]:
+    return angles_from_frame(y[0:3], y[6:9])[2]
+
+
+def _phi_of(y: NDArray[np.float64]) -> NDArray[np.float64]:
+    return angles_from_frame(y[0:3], y[6:9])[1]
+
+
+def _QR_of(body: Body) -> Callable[[NDArray[np.float64]], NDArray[np.float64]]:
+    return lambda y: routh(body, y[0:3], y[3:6])
+
+
+def _QJ_of(body: Body) -> Callable[[NDArray[np.float64]], NDArray[np.float64]]:
+    return lambda y: jellett(body, y[0:3], y[3:6])
+
+
+def _variational_system(order: int) -> list[tuple[Any, Any]]:
+    """Form (i) with its variational equations in ε along a curve (y₀(ε), ε), to ``order`` 1 or 2: state (y, z) or
+    (y, z, w), 22 or 33 components, ż = A z + ∂f/∂ε and ẇ = A w + D²f[z, z] + 2 ∂²f/∂y∂ε z + ∂²f/∂ε² (ẇ is ż's
+    right-hand side differentiated along (z, w, ε)); parameters (a, I1, I3, g, ε) with I2 = (1 + ε) I1."""
+    import heyoka as hy
+
+    names = ["g1", "g2", "g3", "w1", "w2", "w3", "x1", "x2", "x3", "X", "Y"]
+    y = hy.make_vars(*names)
+    z = hy.make_vars(*("d" + n for n in names))
+    w = hy.make_vars(*("dd" + n for n in names))
+    a, I1, I3, g, eps = (hy.par[i] for i in range(5))
+    f = body_frame_rhs(y, (a, I1, I1 * (1.0 + eps), I3, g))
+
+    def along(exprs: list[Any], second: list[Any]) -> list[Any]:
+        """∂e/∂ε + Σ_j ∂e/∂y_j z_j (+ Σ_j ∂e/∂z_j second_j) for each expression e."""
+        out = []
+        for e in exprs:
+            acc = hy.diff(e, eps)
+            for yj, zj in zip(y, z):
+                acc = acc + hy.diff(e, yj) * zj
+            for zj, sj in zip(z, second):
+                acc = acc + hy.diff(e, zj) * sj
+            out.append(acc)
+        return out
+
+    fz = along(f, [])
+    eqs = list(zip(y, f)) + list(zip(z, fz))
+    if order == 2:
+        eqs += list(zip(w, along(fz, list(w))))
+    return eqs
+
+
+def _variational_integrator(order: int = 1, lanes: int | None = None) -> Any:
+    """heyoka batch integrator of :func:`_variational_system` (``order`` 1 or 2), by default in lanes of heyoka's
+    recommended SIMD width: one orbit per lane, each with its own steps (the lanes do not interact), so a batch runs
+    several orbits for about the price of one (docs/averaging.md, "Cost"; ``lanes=1``: one orbit at a time)."""
+    import heyoka as hy
+
+    lanes = int(hy.recommended_simd_size()) if lanes is None else int(lanes)
+    key = f"batch{order}x{lanes}"
+    if key not in _INTEGRATOR:
+        eqs = _variational_system(order)
+        _INTEGRATOR[key] = hy.taylor_adaptive_batch(eqs, np.zeros((len(eqs), lanes)), pars=np.zeros((5, lanes)),
+                                                    compact_mode=True)
+    return _INTEGRATOR[key]
+
+
+# ----------------------------------------------------------------------------- one orbit
+@dataclass(frozen=True)
+class FirstOrderStep:
+    """One step maximum → maximum of the symmetric orbit with its first-order ε-responses.
+
+    Attributes
+    ----------
+    QR, QJ, psi : float
+        The starting point (Q_R, Q_J, ψ_n) at the maximum θ_X.
+    theta_X : float
+        The symmetric body's maximum for (E, Q_R, Q_J).
+    T : float
+        Time to the next maximum (symmetric orbit, event on dγ3/dt located to round-off).
+    dpsi, dphi : float
+        The symmetric increments of ψ and φ, wrapped to (−π/2, π/2] (mod π).
+    d : dict
+        ε-derivatives at fixed (E, Q_n, ψ_n) of Q_R, Q_J, Θ = 2ψ, the event time and φ at the
+        next maximum (keys of ``FIRST_ORDER_NAMES``).
+    """
+
+    QR: float
+    QJ: float
+    psi: float
+    theta_X: float
+    T: float
+    dpsi: float
+    dphi: float
+    d: dict[str, float]
+
+    def at(self, *index: int) -> "FirstOrderStep":
+        """The step of one orbit of a batch (fields of floats) at ``index`` of its arrays."""
+        pick = (lambda v: float(np.asarray(v)[index]))  # noqa: E731
+        return FirstOrderStep(QR=pick(self.QR), QJ=pick(self.QJ), psi=pick(self.psi), theta_X=pick(self.theta_X),
+                              T=pick(self.T), dpsi=pick(self.dpsi), dphi=pick(self.dphi),
+                              d={k: pick(v) for k, v in self.d.items()})
+
+
+def _max_state(sym: Body, theta: ArrayLike, QR: ArrayLike, QJ: ArrayLike, psi: ArrayLike) -> NDArray[np.float64]:
+    """The state(s) (11,) or (11, N) at the turning point θ with (Q_R, Q_J) and spin angle ψ."""
+    st = state_from_turning_point(sym, theta, QR, QJ)
+    return state_from_euler(theta, 0.0, psi, 0.0, st.phi_dot, st.psi_dot)
+
+
+def first_order_steps(body: Body, E: float, QR: ArrayLike, QJ: ArrayLike, psi: ArrayLike,
+                      theta_X: ArrayLike | None = None, *, lanes: int | None = None) -> FirstOrderStep:
+    """:func:`first_order_step` for N starts at once (arrays of one shape, or scalars broadcast to it), their orbits
+    run side by side in the lanes of the batch integrator (``lanes``: :func:`_variational_integrator`); the
+    FirstOrderStep's fields are then arrays (N,) (:meth:`FirstOrderStep.at` picks one).  θ_X: the maxima
+    θ_X(E, Q_R, Q_J) if known, else from ``reduction.turning_points``."""
+    sym = body.symmetric()
+    given = [v for v in (QR, QJ, psi, theta_X) if v is not None]
+    flat = [np.ravel(v) for v in np.broadcast_arrays(*(np.asarray(v, float) for v in given))]
+    QR, QJ, psi = flat[:3]
+    theta_X = flat[3] if theta_X is not None else np.asarray(turning_points(E, QR, QJ, sym)[1], float)
+    y0 = _max_state(sym, theta_X, QR, QJ, psi)
+    # shift of θ_X at fixed (E, Q, ψ): ∂E/∂ε (E is linear in I2) over ∂U/∂θ
+    e_half = 0.5 * (sym.I3 / sym.I1 - 1.0)
+    dE_deps = (energy(sym.with_epsilon(e_half), y0[0:3], y0[3:6]) - energy(sym, y0[0:3], y0[3:6])) / e_half
+    hth = 1e-4 * np.minimum(theta_X, math.pi - theta_X)
+    dU = _central_difference(lambda th: effective_potential(th, QR, QJ, sym), theta_X, hth)
+    dy_dth = _central_difference(lambda th: _max_state(sym, th, QR, QJ, psi), theta_X, hth)
+    z0 = dy_dth * (-dE_deps / dU)
+
+    t1, out = _to_next_maxima(1, sym, np.concatenate([y0, z0]), lanes)
+    Y, Z = out[:11], out[11:]
+    fY = np.array(body_frame_rhs(Y, sym.params))
+    dt1 = -directional_derivative(turning_point_function, Y, Z) / directional_derivative(turning_point_function, Y, fY)
+    dY = Z + fY * dt1
+    d = {
+        "QR": directional_derivative(_QR_of(sym), Y, dY),
+        "QJ": directional_derivative(_QJ_of(sym), Y, dY),
+        "Theta": 2.0 * directional_derivative(_psi_of, Y, dY, angle=True),
+        "t": dt1,
+        "phi": directional_derivative(_phi_of, Y, dY, angle=True),
+    }
+    return FirstOrderStep(QR=QR, QJ=QJ, psi=psi, theta_X=theta_X, T=t1, dpsi=wrap_angle(_psi_of(Y) - psi, math.pi),
+                          dphi=wrap_angle(_phi_of(Y) - _phi_of(y0), math.pi), d=d)
+
+
+def first_order_step(body: Body, E: float, QR: float, QJ: float, psi: float, *,
+                     theta_X: float | None = None) -> FirstOrderStep:
+    """Integrate one step of the symmetric orbit and its first-order variational equations in ε.
+
+    Parameters
+    ----------
+    body : Body
+        Any body; its symmetric part (a, I1, I3, g) is used, with I2 = (1 + ε) I1.
+    E : float
+        The energy (exact, conserved by the asymmetric body too); for a release from rest at θ0,
+        :func:`rest_energy`.
+    QR, QJ : float
+        Routh's and Jellett's quantities at the starting maximum.
+    psi : float
+        Spin angle ψ_n at the starting maximum.
+    theta_X : float, optional
+        The maximum θ_X(E, Q_R, Q_J) if already known (``reduction.turning_points``).
+    """
+    return first_order_steps(body, E, QR, QJ, psi, theta_X).at(0)
+
+
+def _to_next_maxima(order: int, sym: Body, x0: NDArray[np.float64],
+                    lanes: int | None = None) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Integrate the variational system of ``order`` (form (i) in its first 11 components, variational ones after)
+    from the maxima x0[:11, k] at t = 0 with ε = 0 to the next maximum of θ, ``x0`` of shape (components, N), in
+    batches of the integrator's lanes (the last padded with copies): each lane steps until dγ3/dt rises through zero
+    after the minimum, then Newton on its dense output to round-off.  Returns (t1 (N,), the states at t1 (·, N))."""
+    tb = _variational_integrator(order, lanes)
+    lanes, n = tb.batch_size, x0.shape[1]
+    t1, out = np.empty(n), np.empty_like(x0)
+    p0 = sym.params
+    for first in range(0, n, lanes):
+        take = np.minimum(np.arange(first, first + lanes), n - 1)
+        tb.set_time(np.zeros(lanes))
+        tb.state[:] = x0[:, take]
+        tb.pars[:] = np.array([sym.a, sym.I1, sym.I3, sym.g, 0.0])[:, None]
+        h_prev = turning_point_function(x0[:11, take])
+        passed_min, done = np.zeros(lanes, bool), np.zeros(lanes, bool)
+        for _ in range(100000):
+            t_start = np.array(tb.time)
+            tb.step(write_tc=True)
+            failed = [r[0].name for r in tb.step_res if r[0].name != "success"]
+            if failed:
+                raise RuntimeError(f"heyoka step failed: {failed[0]}")
+            hv = turning_point_function(tb.state[:11])
+            passed_min |= (h_prev > 0.0) & (hv <= 0.0)
+            for k in np.flatnonzero(passed_min & (h_prev < 0.0) & (hv >= 0.0) & ~done):
+                times = np.array(tb.time)
+                t = _maximum_in_step(tb, times, k, float(t_start[k]), p0)
+                times[k] = t
+                tb.update_d_output(times)
+                if first + k < n:
+                    t1[first + k], out[:, first + k] = t, tb.d_output[:, k]
+                done[k] = True
+            if done.all():
+                break
+            h_prev = hv
+        else:  # pragma: no cover
+            raise RuntimeError("no next maximum of theta found")
+    return t1, out
+
+
+def _maximum_in_step(tb: Any, times: NDArray[np.float64], k: int, t_start: float, p0: Any) -> float:
+    """The time of lane k's maximum of θ within its last step [t_start, times[k]], where dγ3/dt rises through zero:
+    Newton on the dense output from the step's end, kept inside the bracket (a Newton iterate outside it, or a zero
+    slope, is replaced by the bisection of the bracket: the dense output is a polynomial valid on the step only, and a
+    step that ends where dγ3/dt is nearly flat would send plain Newton far outside it), to round-off."""
+    lo, hi = t_start, float(times[k])
+    t = hi
+    for _ in range(200):
+        times[k] = t
+        tb.update_d_output(times)
+        Y = np.array(tb.d_output[:11, k])
+        h = turning_point_function(Y)
+        if h < 0.0:
+            lo = t
+        else:
+            hi = t
+        slope = directional_derivative(turning_point_function, Y, np.array(body_frame_rhs(Y, p0)))
+        new = t - h / slope if slope > 0.0 else math.nan
+        if not lo <= new <= hi:
+            new = 0.5 * (lo + hi)
+        dt, t = new - t, new
+        if abs(dt) <= 4e-16 * t or hi - lo <= 4e-16 * hi:
+            return t
+    raise RuntimeError(f"the maximum of theta in [{t_start!r}, {float(times[k])!r}] was not located")  # pragma: no cover
+
+
+def second_order_step(body: Body, E: float, QR: float, QJ: float, psi: float, *,
+                      h: float = 1e-3) -> dict[str, float]:
+    """Second ε-derivatives at fixed (E, Q_n, ψ_n) of Q_R, Q_J, Θ = 2ψ, the event time and φ at the next maximum
+    (keys of ``FIRST_ORDER_NAMES``), by the second-order variational equations: a second formulation of what
+    :func:`rocknroller.analysis.slow.exact_step.eps_derivatives` differences.
+
+    The start's curve y₀(ε) (the maximum with the same (E, Q, ψ) for I2 = (1 + ε) I1,
+    :func:`rocknroller.analysis.slow.family.maximum_state`) is differenced in ε (step ``h``, fourth order: it is an
+    algebraic solve, smooth on the scale of ε ~ 1); the flow's first and second derivatives along it are integrated
+    (:func:`_variational_integrator` of order 2); the event time t₁(ε) of the next maximum, h(G(ε)) = 0 with
+    G(ε) = y(t₁(ε)) and h = dγ3/dt (quadratic), follows from
+    t₁' = −∇h·Z / ∇h·F and ∇h·G'' + D²h[G', G'] = 0, G' = Z + F t₁', G'' = W + 2 Ż t₁' + (A F) t₁'² + F t₁''.
+    The outputs q(G) have q'' = ∇q·G'' + D²q[G', G'] (directional differences of q, exact for the quadratic Q_J).
+    """
+
+    sym = body.symmetric()
+
+    def start(eps: float) -> NDArray[np.float64]:  # the family's frame: the requested ψ whatever the relabelling
+        st = maximum_state(sym, eps, E, QR, QJ, psi)[2]
+        return state_from_euler(st.theta, 0.0, psi, 0.0, st.phi_dot, st.psi_dot)
+
+    start = functools.lru_cache(maxsize=None)(start)  # the five solves are shared by both differences
+    a0, b0 = _central_difference(start, 0.0, h), _central_second_difference(start, 0.0, h)
+    out = _to_next_maxima(2, sym, np.concatenate([start(0.0), a0, b0])[:, None])[1][:, 0]
+    Y, Z, W = out[:11], out[11:22], out[22:]
+    p0 = sym.params
+
+    def rhs(v: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.array(body_frame_rhs(v, p0))
+
+    F = rhs(Y)
+    Zdot = _central_difference(lambda s: rhs(Y + s * Z), 0.0, 1e-4) + eps_derivative_rhs(Y, sym)
+    AF = _central_difference(lambda s: rhs(Y + s * F), 0.0, 1e-4)
+
+    def grad_h(v: NDArray[np.float64]) -> float:  # ∇h·v; h = dγ3/dt is quadratic: the differences are exact
+        return directional_derivative(turning_point_function, Y, v)
+
+    t1p = -grad_h(Z) / grad_h(F)
+    G1 = Z + F * t1p
+    partial = W + 2.0 * Zdot * t1p + AF * t1p * t1p
+    t1pp = -(grad_h(partial) + _second_directional(turning_point_function, Y, G1)) / grad_h(F)
+    G2 = partial + F * t1pp
+
+    def second(fun: Callable[[NDArray[np.float64]], float], angle: bool = False) -> float:
+        return (directional_derivative(fun, Y, G2, angle=angle)
+                + _second_directional(fun, Y, G1, angle=angle))
+
+    return {"QR": second(_QR_of(sym)), "QJ": second(_QJ_of(sym)), "Theta": 2.0 * second(_psi_of, angle=True),
+            "t": t1pp, "phi": second(_phi_of, angle=True)}
+
+
+# ----------------------------------------------------------------------------- coefficients at one Q
+@dataclass(frozen=True)
+class StepCoefficients:
+    """First-order one-step coefficients at a given Q (paper-body units).
+
+    Attributes
+    ----------
+    QR, QJ : float
+    T : float
+        T_θ(Q), time between maxima of the symmetric body (quadrature).
+    W : float
+        2(Δψ − π) wrapped to (−π, π] (quadrature, per T_θ).
+    dphi : float
+        Δφ per T_θ mod π in (−π/2, π/2] (quadrature).
+    harmonics : dict
+        For each name of ``FIRST_ORDER_NAMES``, (c0, c1, s1) with
+        ε-response(Θ_n) = c0 + c1 cos Θ_n + s1 sin Θ_n, Θ_n = 2ψ_n.
+    steps : tuple of FirstOrderStep
+        The three orbits (ψ_n in ``HARMONIC_PSI``).
+    """
+
+    QR: float
+    QJ: float
+    T: float
+    W: float
+    dphi: float
+    harmonics: dict[str, tuple[float, float, float]]
+    steps: tuple[FirstOrderStep, ...] = field(repr=False)
+
+    def response(self, name: str, psi: ArrayLike) -> NDArray[np.float64]:
+        """ε-response ``name`` at spin angle(s) ψ_n."""
+        c0, c1, s1 = self.harmonics[name]
+        Th = 2.0 * np.asarray(psi, float)
+        return c0 + c1 * np.cos(Th) + s1 * np.sin(Th)
+
+
+def _harmonics(values: ArrayLike) -> NDArray[np.float64]:
+    """(c0, c1, s1) from values at Θ = 0, 2π/3, 4π/3 (last axis)."""
+    v = np.asarray(values, float)
+    Th = 2.0 * np.asarray(HARMONIC_PSI)
+    return np.stack([v.mean(axis=-1), (2.0 / 3.0) * (v * np.cos(Th)).sum(axis=-1),
+                     (2.0 / 3.0) * (v * np.sin(Th)).sum(axis=-1)], axis=-1)
+
+
+def harmonic_steps(body: Body, E: float, QR: ArrayLike, QJ: ArrayLike, theta_X: ArrayLike | None = None, *,
+                   lanes: int | None = None) -> tuple[FirstOrderStep, NDArray[np.float64]]:
+    """The three orbits (ψ_n in ``HARMONIC_PSI``) at each of N points Q, run together in the batch integrator
+    (``lanes``: :func:`_variational_integrator`), and the harmonics (c0, c1, s1) of their ε-responses, shape
+    (len(FIRST_ORDER_NAMES), N, 3); the steps' fields are arrays (N, 3).  θ_X as in :func:`first_order_steps`."""
+    given = [v for v in (QR, QJ, theta_X) if v is not None]
+    cols = [np.ravel(v)[:, None] for v in np.broadcast_arrays(*(np.asarray(v, float) for v in given))]
+    QR, QJ, theta_X = cols if theta_X is not None else cols + [None]
+    psi = np.asarray(HARMONIC_PSI)[None, :]
+    st = first_order_steps(body, E, QR, QJ, psi, theta_X, lanes=lanes)
+    shape = (QR.shape[0], len(HARMONIC_PSI))
+    st = FirstOrderStep(**{f: (np.reshape(getattr(st, f), shape) if f != "d" else
+                               {k: np.reshape(v, shape) for k, v in st.d.items()}) for f in st.__dataclass_fields__})
+    return st, np.stack([_harmonics(st.d[name]) for name in FIRST_ORDER_NAMES])
+
+
+def symmetric_data(sym: Body, E: float, QR: ArrayLike, QJ: ArrayLike) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """(T_θ, W, Δφ mod π, θ_X) at energy E from the quadratures, vectorised."""
+    pr = precession(E, QR, QJ, sym, rtol=1e-12)  # W errors are amplified by the twist: full precision
+    bad = np.asarray(pr.status) != 0
+    if np.any(bad):
+        raise ValueError(f"the symmetric quadrature failed at some Q (status {pr.status_text()[bad][:3]})")
+    return (np.asarray(pr.T_theta, float), np.asarray(wrap_angle(2.0 * np.asarray(pr.delta_psi) - 2.0 * math.pi)),
+            np.asarray(pr.visible_half_phi, float), np.asarray(pr.theta_X, float))
+
+
+def step_coefficients(body: Body, E: float, QR: float, QJ: float) -> StepCoefficients:
+    """The first-order one-step coefficients at energy E and Q = (Q_R, Q_J) (three variational orbits)."""
+    sym = body.symmetric()
+    T, W, dphi, theta_X = (float(x) for x in symmetric_data(sym, E, QR, QJ))
+    st, resp = harmonic_steps(sym, E, QR, QJ, theta_X)
+    steps = tuple(st.at(0, k) for k in range(len(HARMONIC_PSI)))
+    harm = {name: tuple(float(c) for c in resp[j, 0]) for j, name in enumerate(FIRST_ORDER_NAMES)}
+    return StepCoefficients(QR=float(QR), QJ=float(QJ), T=T, W=W, dphi=dphi, harmonics=harm, steps=steps)
+
+

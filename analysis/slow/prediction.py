@@ -1,0 +1,428 @@
+"""The prediction of the slow (Q_R, Q_J) motion of the asymmetric rock'n'roller by the ε-averaged map, to first or
+second order in ε = (I2 − I1)/I1.  It holds :func:`predict_slow_motion`, for a release from rest at (θ0, ψ0) with
+0 < θ0 ≤ 0.999π or any initial state with velocity, at ``order`` 1 or 2, and its result :class:`SlowPrediction`
+with the diagnostics of the series of maxima: slow period, extents, azimuth span Φ, :func:`line_slope`, and the
+critical regions and crossings of the lines Q_J,0^crit and Q_J,π^crit (:func:`critical_regions`; paper eqs.
+QJcrit_0, QJcrit_pi).  It re-exports the public names of the stages below it.
+
+The motion is sampled at successive maxima of θ.  The slow variables are Q = (Q_R, Q_J)
+(paper eq. JelletandRouth_Qtys) and the phase Θ = 2ψ mod 2π (ψ itself jumps by about ±π at each
+passage near θ = 0; 2ψ does not).  The energy E is exact and fixed by the start (paper eq. energy): the release
+tables belong to (body, θ0) with E = U(θ0; 0, 0), the energy of the body released from rest at θ0, the region
+tables to (body, E).
+
+One step (maximum n → maximum n+1), to first order in ε at fixed Q_n:
+
+    Q_{n+1} = Q_n + ε ΔQ(Q_n, Θ_n),     Θ_{n+1} = Θ_n + W(Q_n) + ε ΔΘ(Q_n, Θ_n),
+    t_{n+1} = t_n + T_θ(Q_n) + ε Δt(Q_n, Θ_n),   φ_{n+1} = φ_n + Δφ(Q_n) + ε Δφ₁(Q_n, Θ_n),
+
+with T_θ, W = 2(Δψ − π) and Δφ those of the symmetric body (from the quadratures,
+``rocknroller.analysis.routh.quadrature``, for the release tables; from the variational orbits themselves for the
+region tables) and the first-order terms from the symmetric orbit integrated together with its first-order
+variational equations in ε (:mod:`rocknroller.analysis.slow.orbit`; three orbits per Q give the harmonics 0 and 1
+of Θ_n).
+
+Reversible form.  The exact map is reversible under (Q, Θ) → (−Q, Θ) (time reversal).  The same
+first-order data are written as drift–kick–drift: a half twist Θ += W(Q)/2, a kick
+(Q, Θ) += ε k((x + x')/2) by the implicit midpoint rule, and a half twist W(Q')/2, with
+
+    k_Q(Q, Θ') = ΔQ(Q, Θ' − W/2),   k_Θ(Q, Θ') = ΔΘ(Q, Θ' − W/2) − ½ ∇W·k_Q(Q, Θ'),
+
+k_Q even and k_Θ odd in Q (enforced on the symmetric grid).  The ε ΔΘ term is kept: it is the phase
+change of the part of the kick received before the passage near θ = 0, multiplied by the large ∂W/∂Q.
+To second order (``order=2``) the kick is k₁ + ε k₂ (:mod:`rocknroller.analysis.slow.second_order`), and the map
+stays reversible.
+
+Starts.  A release from rest at θ0 in ``THETA0_RANGE`` = [0.75π, 0.999π] runs on the release tables of (body, θ0).
+A release below 0.75π, and any initial state (an ``EulerState``, with velocity), is first carried to its first
+maximum of θ by a short direct integration (:func:`rocknroller.analysis.slow.family.first_maximum`; a release from
+rest is its own first maximum), and runs on the region tables of its energy
+(:mod:`rocknroller.analysis.slow.region`).  Order 2 adds the second-order tables on the same chart: per (body, θ0)
+for a release table, per (body, E) on the default region tables.  For ε = 0 a release on the release tables is
+returned as the exact pure rocking (``SlowPrediction.pure_rocking``).
+
+Stages.  The coefficient functions are tabulated once per (body, θ0) or (body, energy) and cached
+(:mod:`rocknroller.analysis.slow.chart`, :mod:`rocknroller.analysis.slow.table`, and
+:mod:`rocknroller.analysis.slow.region` for whole regions); the map is iterated on them in compiled code
+(:mod:`rocknroller.analysis.slow.compiled_map`); this module predicts the slow motion of a start
+(:func:`predict_slow_motion`) and its diagnostics.  The stages' public names, and the limits' of
+:mod:`rocknroller.analysis.slow.limits`, are re-exported here.
+
+Range.  The release tables are built and validated for releases 0.75π ≤ θ0 ≤ 0.999π (``THETA0_RANGE``;
+docs/averaging.md, "Range of θ0"); the region tables need an energy below that of the upright position and cover
+distances (E − min U)/E ≥ 0.05 to steady rolling (docs/averaging.md, "Starts with velocity: the region tables").
+One run produces at most ``MAX_MAXIMA`` maxima (:func:`max_t_end`).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import warnings
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.diagnostics import azimuth_span, slow_period, span, unwrap_phase
+from rocknroller.analysis.model.equations import EulerState
+from rocknroller.analysis.routh.reduction import u_ends
+from rocknroller.analysis.slow.chart import TABLE_FUNCTIONS, SlowMapTable  # noqa: F401 (re-exported)
+from rocknroller.analysis.slow.compiled_map import _N_KICK, SlowSeries, _fast, iterate_slow_map
+from rocknroller.analysis.slow.family import first_maximum, rest_energy
+# The stages' public names are re-exported (``prediction.load_or_build_table`` etc., module docstring); pyflakes
+# reports those this module does not use itself as unused.
+from rocknroller.analysis.slow.limits import (K_PERIOD_DOUBLING, MAX_MAXIMA, THETA0_RANGE,  # noqa: F401
+                                              AveragingRangeError, AveragingValidityWarning, check_map_theta0,
+                                              check_release_theta0, check_t_end, eps_period_doubling, t_end_limit)
+from rocknroller.analysis.slow.orbit import symmetric_data
+from rocknroller.analysis.slow.table import (REGION_TABLE_ACCURACY, TableNotCachedError, build_table,  # noqa: F401
+                                             load_or_build_table)
+
+if TYPE_CHECKING:
+    from rocknroller.analysis.slow.chart import SecondOrderTable
+
+
+#: Defined here; the tables' and the map's public names (``SlowMapTable``, ``build_table``, ``load_or_build_table``,
+#: ``iterate_slow_map``, ...) and the limits' (``THETA0_RANGE``, ``AveragingRangeError``, ...) are importable from
+#: here too, and documented in their own modules.
+__all__ = [
+    "max_t_end",
+    "SlowPrediction",
+    "predict_slow_motion",
+    "line_slope",
+    "critical_regions",
+    "rocks_per_region",
+    "releases_on_region_tables",
+]
+
+
+def rocks_per_region(runs: list[tuple[str, int, float]] | None) -> dict[str, int]:
+    """Total number of rocks (maxima) in each critical region, from the runs of :func:`critical_regions`."""
+    out: dict[str, int] = {}
+    for lab, n, _ in runs or []:
+        out[lab] = out.get(lab, 0) + n
+    return out
+
+
+# ----------------------------------------------------------------------------- small helpers
+def max_t_end(body: Body, theta0: float) -> float:
+    """Largest t_end accepted by :func:`predict_slow_motion` for (body, θ0): ``MAX_MAXIMA`` · T_θ(0)/2, with T_θ(0)
+    the time between maxima of pure rocking (quadrature)."""
+    theta0 = check_map_theta0(theta0)
+    sym = body.symmetric()
+    return t_end_limit(_rocking_period(sym, rest_energy(sym, theta0)))
+
+
+@functools.lru_cache(maxsize=256)
+def _rocking_period(sym: Body, E: float) -> float:
+    """T_θ(0), the time between maxima of pure rocking at energy E (Q = 0; quadrature, ~10 ms; remembered)."""
+    return float(symmetric_data(sym, E, 0.0, 0.0)[0])
+
+
+def line_slope(QR: ArrayLike, QJ: ArrayLike) -> float | None:
+    """Slope dQ_J/dQ_R of the straight line through turning-point samples (total least squares).
+
+    The line's direction is the principal axis of the samples' 2×2 scatter matrix S, at the angle
+    α = ½ atan2(2 S_RJ, S_RR − S_JJ); the slope is tan α.  None (undefined) for fewer than two samples or
+    samples that all coincide (S = 0: no line, e.g. pure rocking at Q = 0).
+    """
+    x, y = np.asarray(QR, float), np.asarray(QJ, float)
+    if x.size < 2:
+        return None
+    x, y = x - x.mean(), y - y.mean()
+    sxx, syy, sxy = float(x @ x), float(y @ y), float(x @ y)
+    if sxx == 0.0 and syy == 0.0:
+        return None
+    return math.tan(0.5 * math.atan2(2.0 * sxy, sxx - syy))
+
+
+@dataclass(frozen=True)
+class SlowPrediction:
+    """Averaged prediction of the slow motion of a body released from rest at (θ0, ψ0).
+
+    Attributes
+    ----------
+    eps, theta0, psi0, t_end : inputs (θ0 and ψ0 of the initial state, for a start with velocity).
+    K : ε κ, the standard-map parameter near pure rocking.
+    slow_period : period of Θ = 2ψ at the maxima; None if undefined (pure rocking) or not measurable
+        within t_end (fewer than two crossings of the mean).
+    QR_extent, QJ_extent : max − min of Q_R, Q_J at the maxima within t_end.
+    Phi : span of φ mod π at the maxima within t_end.
+    line_slope : dQ_J/dQ_R of the line through the samples; None if undefined (:func:`line_slope`).
+    series : SlowSeries.
+    regions, region_runs, crossings : critical region of each sample, runs of consecutive rocks in
+        one region, and the crossings of the critical lines (:func:`critical_regions`).
+    pure_rocking : True for ε = 0 (Routh's sphere released from rest): Q_R = Q_J = 0 exactly at every
+        maximum, the intersection of both critical lines, and Θ, φ mod π are constant.  Then every
+        sample's region is ``criticality.ON_BOTH``, there are no region runs or crossings, the extents
+        and Φ are 0 and the slow period and line slope are None.
+    start : the initial state of a start with velocity (None for a release from rest).
+    order : the map's order in ε (1 or 2).
+    """
+
+    eps: float
+    theta0: float
+    psi0: float
+    t_end: float
+    K: float
+    slow_period: float | None
+    QR_extent: float
+    QJ_extent: float
+    Phi: float
+    line_slope: float | None
+    series: SlowSeries = field(repr=False)
+    regions: Any = field(default=None, repr=False)
+    region_runs: list[tuple[str, int, float]] | None = field(default=None, repr=False)
+    crossings: list[tuple[float, str, str, str]] | None = field(default=None, repr=False)
+    pure_rocking: bool = False
+    start: EulerState | None = field(default=None, repr=False)
+    order: int = 1
+
+    @property
+    def rocks_per_region(self) -> dict[str, int]:
+        """Total number of rocks (maxima) in each critical region within t_end."""
+        return rocks_per_region(self.region_runs)
+
+    def to_dataframe(self) -> "pandas.DataFrame":  # noqa: F821
+        """The series at the maxima (:meth:`SlowSeries.to_dataframe`) with each maximum's critical region."""
+        frame = self.series.to_dataframe()
+        if self.regions is not None:
+            frame["region"] = np.asarray(self.regions)
+        return frame
+
+    def plot(self, ax: Any = None) -> Any:
+        """Draw the predicted (Q_R, Q_J) at the θ-maxima on ``ax`` (a new pyplot figure without one); returns
+        the axes.  Over the critical lines: :func:`rocknroller.papers.plotting.draw_critical_lines`."""
+        if ax is None:
+            import matplotlib.pyplot as plt
+
+            _, ax = plt.subplots(figsize=(5, 4))
+        ax.plot(self.series.QR, self.series.QJ, ".", ms=3, color="k", label="averaged map (maxima)")
+        ax.set_xlabel("$Q_R$")
+        ax.set_ylabel("$Q_J$")
+        return ax
+
+
+def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | None = None,
+                        t_end: float = 1000.0, *,
+                        table: SlowMapTable | None = None, build: bool = True, order: int = 1,
+                        second: "SecondOrderTable | None" = None) -> SlowPrediction:
+    """Predict the slow (Q_R, Q_J) motion of ``body`` released from rest at θ0 with spin angle ψ0, or from any
+    initial state.
+
+    Parameters
+    ----------
+    body : Body
+        The asymmetric body (ε = body.epsilon ≥ 0).
+    theta0 : float or EulerState
+        Release tilt, 0 < θ0 ≤ 0.999π: in ``THETA0_RANGE`` = [0.75π, 0.999π] the release tables (validated
+        against the direct ODE, docs/averaging.md); below, the region tables of the release's energy (as for an
+        EulerState from rest); other values are refused (ValueError).
+        Or an initial state (the one ``simulate`` takes): it is carried to its first θ-maximum by a short
+        direct integration (:func:`rocknroller.analysis.slow.family.first_maximum`) and the map is iterated from
+        there on the region tables of its energy (:mod:`rocknroller.analysis.slow.region`); then ``psi0`` is
+        not given and ``table`` is a region table of that energy, if given.
+    psi0 : float
+        Release spin angle (Θ0 = 2ψ0).
+    t_end : float
+        Time span, 0 < t_end ≤ ``MAX_MAXIMA`` · T_θ(0)/2 (:func:`max_t_end`; 6.6e6 at θ0 = 0.95π): checked
+        before anything is built.
+    table : SlowMapTable, optional
+        Precomputed tables of (body, θ0); by default :func:`load_or_build_table`.
+    build : bool
+        Build the tables if they are not cached (else ValueError).
+    order : {1, 2}
+        The map's order in ε.  Order 2 adds the second-order kick k₂ (:mod:`rocknroller.analysis.slow.second_order`,
+        tables built once per (body, θ0) for a release in ``THETA0_RANGE``, ~60 s on 2 cores, or per (body, E) on
+        the default region tables for any other start, 1–3 min, and cached).
+    second : SecondOrderTable, optional
+        Precomputed second-order tables of (body, θ0), or of (body, E) for a start on the region tables.
+
+    Returns
+    -------
+    SlowPrediction
+        For ε = 0 (Routh's sphere) the exact pure rocking (``pure_rocking``): no slow motion, Q = 0 on
+        both critical lines, no region runs; the slow period and line slope are None.
+
+    Raises
+    ------
+    ValueError
+        θ0, ψ0, t_end or order out of range (naming it), or a table for another (body, θ0).
+
+    Warns
+    -----
+    AveragingValidityWarning
+        If K = ε κ > 4 (pure rocking about the stable axis has period-doubled).
+    """
+    if order not in (1, 2) or isinstance(order, bool):
+        raise ValueError(f"order must be 1 or 2, got order={order!r}")
+    if isinstance(theta0, EulerState):
+        if psi0 is not None:
+            raise ValueError("psi0 is part of the initial state: give either (theta0, psi0) or an EulerState")
+        return _predict_from_state(body, theta0, t_end, table=table, build=build, order=order, second=second)
+    if psi0 is None:
+        raise ValueError("psi0 must be given with a release angle theta0")
+    theta0 = check_release_theta0(theta0)
+    if table is None and releases_on_region_tables(theta0):
+        return _predict_from_state(body, EulerState(float(theta0), 0.0, float(psi0)), t_end, table=None, build=build,
+                                   order=order, second=second)
+    theta0 = check_map_theta0(theta0)
+    eps, psi0 = body.epsilon, float(psi0)
+    if not math.isfinite(psi0):
+        raise ValueError(f"psi0 must be finite, got psi0={psi0!r}")
+    if table is None:
+        sym = body.symmetric()
+        check_t_end(t_end, _rocking_period(sym, rest_energy(sym, theta0)))
+        table = load_or_build_table(body, theta0, build=build)
+    elif abs(table.theta0 - theta0) > 1e-15:
+        raise ValueError(f"the table is for theta0={table.theta0!r}, not {theta0!r}")
+    elif table.body != body.symmetric():
+        raise ValueError(f"the table is for the body {table.body.describe()}, not {body.symmetric().describe()}")
+    K = eps * table.kappa
+    _warn_validity(eps, table)
+    if eps == 0.0:  # Routh's sphere from rest: rocking in a fixed vertical plane, Q ≡ 0, ψ and φ mod π fixed
+        from rocknroller.analysis.criticality.lines import ON_BOTH
+
+        T0 = _fast(table).values(0.0, 0.0)[_N_KICK]
+        t = T0 * np.arange(1, int(check_t_end(t_end, T0) // T0) + 1)
+        zero = np.zeros_like(t)
+        return SlowPrediction(
+            eps=eps, theta0=theta0, psi0=psi0, t_end=float(t_end), K=0.0, slow_period=None, QR_extent=0.0,
+            QJ_extent=0.0, Phi=0.0, line_slope=None,
+            series=SlowSeries(t=t, QR=zero, QJ=zero.copy(), Theta=np.full_like(t, 2.0 * psi0), phi=zero.copy()),
+            regions=np.full(t.size, ON_BOTH, dtype=object), region_runs=[], crossings=[], pure_rocking=True,
+            order=order)
+    if order == 2:
+        from rocknroller.analysis.slow.second_order import load_or_build_second_order_table
+
+        if second is None:
+            second = load_or_build_second_order_table(body, theta0, build=build)
+        elif abs(second.theta0 - theta0) > 1e-15 or second.E0 != table.E0:
+            raise ValueError(f"the second-order table is for theta0={second.theta0!r}, not {theta0!r}")
+    series = iterate_slow_map(table, eps, psi0, t_end, second=second if order == 2 else None)
+    return replace(_prediction(eps, theta0, psi0, t_end, K, series, table.body), order=order)
+
+
+def _warn_validity(eps: float, table: SlowMapTable) -> None:
+    """AveragingValidityWarning if K = ε κ exceeds 4 or a region table interpolates worse than its accuracy."""
+    K = eps * table.kappa
+    if abs(K) > K_PERIOD_DOUBLING:
+        warnings.warn(
+            f"K = eps*kappa = {K:.3g} > {K_PERIOD_DOUBLING:g}: pure rocking about the stable principal axis is "
+            f"unstable (period doubling at eps = {eps_period_doubling(table.kappa):.4g}); the first-order "
+            f"averaging is expected to hold for K < {K_PERIOD_DOUBLING:g}", AveragingValidityWarning, stacklevel=3)
+    if table.delta_min > 0.0 and table.interp_error > REGION_TABLE_ACCURACY:
+        warnings.warn(
+            f"the region tables of E={table.E0:.6g} interpolate the map's coefficients only to {table.interp_error:.1e} "
+            f"(> {REGION_TABLE_ACCURACY:g}): their grid is too coarse for where W turns by ~2 pi across Q_J,pi^crit "
+            "(the band chart, the default from the energy of a release at 0.65 pi, follows that layer; "
+            "docs/averaging.md, 'Starts with velocity'); the prediction carries that error", AveragingValidityWarning,
+            stacklevel=3)
+
+
+def releases_on_region_tables(theta0: float) -> bool:
+    """True for release angles 0 < θ0 < ``THETA0_RANGE[0]``, which the region tables serve (the release tables'
+    rectangle would leave the region of motion there)."""
+    return isinstance(theta0, (int, float)) and 0.0 < float(theta0) < THETA0_RANGE[0]
+
+
+def _prediction(eps: float, theta0: float, psi0: float, t_end: float, K: float, series: SlowSeries,
+                sym: Body, start: EulerState | None = None) -> SlowPrediction:
+    """The diagnostics of a series of maxima."""
+    regions, runs, crossings = critical_regions(series.QR, series.QJ, series.t, sym)
+    return SlowPrediction(
+        eps=eps, theta0=theta0, psi0=float(psi0), t_end=float(t_end), K=K,
+        slow_period=slow_period(series.t, series.Theta) if series.t.size >= 3 else None,
+        QR_extent=span(series.QR), QJ_extent=span(series.QJ), Phi=azimuth_span(series.phi),
+        line_slope=line_slope(series.QR, series.QJ),
+        series=series, regions=regions, region_runs=runs, crossings=crossings, start=start)
+
+
+def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: SlowMapTable | None,
+                        build: bool, order: int = 1, second: "SecondOrderTable | None" = None) -> SlowPrediction:
+    """predict_slow_motion from an initial state: its first maximum, then the map on the region tables (and for
+    order 2 the second-order tables on their chart)."""
+    from rocknroller.analysis.routh.steady_rolling import boundary_distance
+    from rocknroller.analysis.slow.region import DELTA_MIN_DEFAULT, load_or_build_region_table, region_options
+
+    t_end = float(t_end)
+    if not (math.isfinite(t_end) and t_end > 0.0):
+        raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}")
+    fm = first_maximum(body, start)
+    if fm.t >= t_end:
+        raise ValueError(f"t_end={t_end!r} ends before the first maximum of theta (t = {fm.t:.6g})")
+    if table is None:
+        try:
+            table = load_or_build_region_table(body, fm.E, build=False)
+        except TableNotCachedError:
+            # before a build of seconds: a start nearer steady rolling than the tables reach (with tables at hand the
+            # map itself says so, naming the distance, and this 7 ms check is skipped), and a t_end over the limit
+            delta = float(boundary_distance(body, fm.E, fm.QR, fm.QJ))
+            if delta < DELTA_MIN_DEFAULT:
+                raise AveragingRangeError(
+                    f"the start's first maximum of theta is at distance (E - min U)/E = {delta:.3g} from steady "
+                    f"rolling (Q=({fm.QR:.6g}, {fm.QJ:.6g}), E={fm.E:.6g}); the region tables cover distances >= "
+                    f"{DELTA_MIN_DEFAULT:g}: nearer steady rolling the oscillation of theta is too small to average "
+                    "over; run this start by the direct ODE (rocknroller simulate)") from None
+            # the map's limit on t_end (checked again on the table), from T_θ at Q = 0 of this energy
+            check_t_end(t_end - fm.t, _rocking_period(body.symmetric(), fm.E))
+            if not build:
+                raise
+            table = load_or_build_region_table(body, fm.E, build=True)
+    elif abs(table.E0 - fm.E) > 8.0 * math.ulp(fm.E) or table.delta_min == 0.0:  # E from two formulas: rounding
+        raise ValueError(f"the table is not the region table of this start's energy E={fm.E!r}")
+    elif table.body != body.symmetric():
+        raise ValueError(f"the table is for the body {table.body.describe()}, not {body.symmetric().describe()}")
+    if order == 2:
+        from rocknroller.analysis.slow.second_order import load_or_build_second_order_region_table
+
+        if (table.coef.shape[1:] != region_options(body, fm.E)[1:]  # cheap first: another grid
+                or not table.same_chart(load_or_build_region_table(body, fm.E, build=build))):
+            raise ValueError("order=2 uses the second-order tables on the default region tables of the start's "
+                             "energy (axis 'auto', the default grid); this table has another chart or grid")
+        if second is None:
+            second = load_or_build_second_order_region_table(body, fm.E, build=build)
+        elif second.E0 != table.E0:
+            raise ValueError(f"the second-order table is for E={second.E0!r}, not this start's E={fm.E!r}")
+    eps = body.epsilon
+    _warn_validity(eps, table)
+    rest = iterate_slow_map(table, eps, fm.psi, t_end - fm.t, Q0=(fm.QR, fm.QJ), phi0=fm.phi,
+                            second=second if order == 2 else None)
+    first = [fm.t > 0.0]  # a start that is itself a maximum is not a sample (the ODE reports none at t = 0)
+    series = SlowSeries(t=np.concatenate([[fm.t][: sum(first)], fm.t + rest.t]),
+                        QR=np.concatenate([[fm.QR][: sum(first)], rest.QR]),
+                        QJ=np.concatenate([[fm.QJ][: sum(first)], rest.QJ]),
+                        Theta=unwrap_phase(np.concatenate([[2.0 * fm.psi][: sum(first)], rest.Theta])),
+                        phi=np.concatenate([[fm.phi][: sum(first)], rest.phi]))
+    return replace(_prediction(eps, float(start.theta), float(start.psi), t_end, eps * table.kappa, series,
+                               table.body, start=start), order=order)
+
+
+def critical_regions(QR: ArrayLike, QJ: ArrayLike, t: ArrayLike, body: Body):
+    """Critical region of each turning-point sample, the runs of consecutive rocks in one region, and
+    the crossings of the critical lines.
+
+    Returns
+    -------
+    (regions, runs, crossings)
+        regions: array of "I".."IV"; runs: list of (region, number of rocks, time of the first);
+        crossings: list of (t, from, to, line) with line "QJ0crit" (full-angle reversal) and/or
+        "QJpicrit" (visible-angle reversal).  A sample exactly on a line (u = 0) counts as above it.
+    """
+    from rocknroller.analysis.criticality.lines import region_from_offsets, side_code  # imported here: it loads sympy
+
+    u0, upi = u_ends(QR, QJ, body.symmetric())
+    regions = region_from_offsets(u0, upi).astype(object)
+    side = side_code(u0, upi)
+    starts = np.flatnonzero(np.concatenate([[True], side[1:] != side[:-1]]))[: side.size].tolist()
+    labels, sides, times = regions.tolist(), side.tolist(), np.asarray(t, float).tolist()
+    runs = [(labels[i], j - i, times[i]) for i, j in zip(starts, starts[1:] + [len(labels)])]
+    crossings = []
+    for i in starts[1:]:
+        flip = sides[i] ^ sides[i - 1]  # the lines crossed (bits of side_code)
+        lines = "+".join(name for name, bit in (("QJ0crit", 2), ("QJpicrit", 1)) if flip & bit)
+        crossings.append((times[i], labels[i - 1], labels[i], lines))
+    return regions, runs, crossings

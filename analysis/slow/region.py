@@ -1,0 +1,344 @@
+"""The region tables: the averaged slow map over the whole (Q_R, Q_J) region of one energy, for starts with velocity.
+It holds the tables' two charts (:func:`region_frame`, :func:`region_axis`: the "spindle" along Q_J,0^crit, paper
+eq. QJcrit_0, and the "band" along Q_J,π^crit, paper eq. QJcrit_pi), their build from variational orbits on one or
+more processes (:func:`build_region_table`), their check against direct orbits (:func:`region_interpolation_error`)
+and cache (:func:`load_or_build_region_table`), and the bound on the energy, below that of the upright position
+(:func:`check_below_top`: E < 2 g a, paper eq. energy).
+
+At energy E the set of (Q_R, Q_J) for which θ oscillates (F > 0 between two simple roots, paper eq.
+thetadotsq) is {Q : min_θ U(θ; Q) < E}.  U is a positive quadratic form in Q plus g a (1 − cos θ) for each θ,
+so the set is star-shaped about Q = 0; it is a spindle along the critical line Q_J,0^crit (paper eq.
+QJcrit_0), whose tips are the sleeping top at θ = 0 spinning with all of E, and its boundary is steady
+rolling (a double root of F).
+
+Chart.  The tables use the frame e along Q_J,0^crit, n ⟂ e, and Q = x U e + (c(x) + τ w(x)) n with
+coordinates |x|, |τ| ≤ 1 (:class:`rocknroller.analysis.slow.chart.SlowMapTable`): across the line, τ = ±1 is
+the level set (E − min U)/E = δ_min of the distance to steady rolling; along it, U = ``tip_fraction`` times the tip
+of that level set.  The coefficient functions are analytic inside the region but not at the tips (Chebyshev
+coefficients along x decay like 1.2^−n when the chart reaches 97 % of the tip), hence the tip fraction.  c (odd)
+and w (even) are Chebyshev fits of the level set's two sides, so Q → −Q is (x, τ) → (−x, −τ): the parities that
+make the map reversible hold on the grid.  This "spindle" chart fails at high amplitude: there W turns by 2π across
+Q_J,π^crit (paper eq. QJcrit_pi) within a layer (width 0.0024 at Q = 0 for the energy of a release from 0.95π,
+0.03 near its ends) that crosses the spindle diagonally, and no stretch along or across the spindle follows it.
+The "band" chart takes e along Q_J,π^crit instead, c(x) the measured centre of the layer (where W turns fastest;
+it bends off the line by up to 0.03) and w(x) the largest half-width about it inside the level set: the sinh
+stretch across (β from |∂W/∂v(0)|) then sits on the layer all along it.  It covers the band about Q_J,π^crit, not
+the spindle's tips.  ``region_axis`` picks it from the energy of a release at ``BAND_FROM_THETA0`` up.
+
+Data.  T_θ, W = 2(Δψ − π) mod 2π and Δφ mod π come from the same variational orbits as the ε-responses
+(:func:`rocknroller.analysis.slow.orbit.harmonic_steps`), not from the quadratures: those lose their
+double-precision accuracy near steady rolling and at small amplitude, where these tables reach.
+:func:`rocknroller.analysis.slow.table.fit_table` lifts W and Δφ to continuous branches and builds the
+drift–kick–drift form.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.diagnostics import wrap_angle
+from rocknroller.analysis.routh.reduction import E_MAX, NoMotionError
+from rocknroller.analysis.routh.turning_points import min_potential, solve_turning_points
+from rocknroller.analysis.slow.chart import CHART_TERMS, TABLE_FUNCTIONS, SlowMapTable, _cheb_nodes
+from rocknroller.analysis.slow.limits import AveragingRangeError
+from rocknroller.analysis.slow.orbit import FIRST_ORDER_NAMES, harmonic_steps, symmetric_data
+from rocknroller.analysis.slow.table import REGION_TABLE_ACCURACY, cached_table, check_grid, fit_and_check, kick_at_rest
+from rocknroller.numerics.parallel import check_processes, map_blocks
+
+__all__ = [
+    "check_below_top", "region_axis", "region_options", "region_frame", "build_region_table",
+    "region_interpolation_error", "load_or_build_region_table", "DELTA_MIN_RANGE", "DELTA_MIN_DEFAULT",
+    "TIP_FRACTION_RANGE", "AXES", "BAND_FROM_THETA0", "DEFAULT_GRID"
+]
+
+#: Allowed least distances (E − min U)/E to steady rolling of a region table, and the default one (the tables of
+#: ``load_or_build_region_table`` and of the predictions): nearer steady rolling θ hardly oscillates.
+DELTA_MIN_RANGE = (1e-3, 0.5)
+DELTA_MIN_DEFAULT = 0.05
+#: Allowed fractions of the tip covered along the critical line.
+TIP_FRACTION_RANGE = (0.1, 0.95)
+#: Nodes of the fit of the level set's sides, and the degree of the chart's c(x) and w(x).
+_PROFILE_NODES = CHART_TERMS
+_CHART_DEGREE = 8
+#: Doublings that bracket the region's edge on a ray, and bisections that then resolve it (2^-60 of the bracket).
+_BRACKET_DOUBLINGS = 64
+_BISECTIONS = 60
+
+
+def _check_energy(E: float) -> float:
+    E = float(E)
+    if not (math.isfinite(E) and 0.0 < E <= E_MAX):
+        raise ValueError(f"E must be a finite number in (0, {E_MAX:g}], got E={E!r}")
+    return E
+
+
+#: Charts of the region tables: "spindle" along Q_J,0^crit over the whole region, "band" along Q_J,π^crit.
+AXES = ("spindle", "band")
+#: "auto" takes the band from the energy of a release from rest at this θ0 up (measured: docs/averaging.md).
+BAND_FROM_THETA0 = 0.65 * math.pi
+#: Default Chebyshev nodes (along, across) of each chart.
+DEFAULT_GRID = {"spindle": (128, 64), "band": (80, 96)}
+#: Degree of the band's centre and half-width fits (odd and even parts).
+_BAND_DEGREE = 12
+#: Layer search across the band: geometric steps (relative), and the points of the refining grid.
+_LAYER_STEP, _LAYER_REFINE = 0.04, 201
+
+
+def check_below_top(body: Body, E: float) -> float:
+    """E, or an AveragingRangeError if E ≥ 2 g a, the energy of the upright position θ = π at rest (paper eq.
+    energy): from there up, the orbits on Q_J,π^crit pass through the upright position (F(π) ≥ 0 on it), where the
+    advance W of the spin is discontinuous, and no table of the energy can hold the map across that line."""
+    E, top = _check_energy(E), 2.0 * body.g * body.a
+    if E >= top:
+        raise AveragingRangeError(
+            f"the region tables need an energy below that of the upright position, E < 2 g a = {top:.6g}, got "
+            f"E={E:.6g}: above it the orbits on the critical line Q_J,pi^crit pass through theta = pi, where the "
+            f"averaged map's twist is discontinuous; run this start by the direct ODE (rocknroller simulate)")
+    return E
+
+
+def region_axis(body: Body, E: float) -> str:
+    """The chart "auto" picks for (body, E): "band" from the energy of a release from rest at ``BAND_FROM_THETA0``
+    up (where W turns by 2π across Q_J,π^crit within a layer the spindle's stretch cannot follow), else "spindle"."""
+    from rocknroller.analysis.slow.family import rest_energy
+
+    return "band" if _check_energy(E) >= rest_energy(body.symmetric(), BAND_FROM_THETA0) else "spindle"
+
+
+def region_options(body: Body, E: float, axis: str = "auto", nu: int | None = None,
+                   nv: int | None = None) -> tuple[str, int, int]:
+    """(axis, nu, nv) with "auto" and the grid's defaults resolved (``region_axis``, ``DEFAULT_GRID``)."""
+    if axis == "auto":
+        axis = region_axis(body, E)
+    if axis not in AXES:
+        raise ValueError(f"axis must be one of {('auto',) + AXES}, got axis={axis!r}")
+    dnu, dnv = DEFAULT_GRID[axis]
+    return axis, dnu if nu is None else nu, dnv if nv is None else nv
+
+
+def _layer_centres(sym: Body, E: float, points: NDArray[np.float64], n: NDArray[np.float64],
+                   lo: NDArray[np.float64], up: NDArray[np.float64], width: float) -> NDArray[np.float64]:
+    """Offsets s along n from each point at which W (the quadrature's, paper eq. psidotCJQR) turns fastest across
+    Q_J,π^crit, searched within [lo/2, up/2]: a grid geometric about s = 0 (steps ``_LAYER_STEP`` relative, from
+    the layer's width at Q = 0), then a uniform one over the steepest cell and its neighbours, and a parabola
+    through the largest slope and its two neighbours."""
+    from rocknroller.analysis.routh.quadrature import precession
+
+    def W_along(s: NDArray[np.float64]) -> NDArray[np.float64]:
+        Q = points[:, None, :] + s[..., None] * n
+        pr = precession(E, Q[..., 0].ravel(), Q[..., 1].ravel(), sym, rtol=1e-10)
+        if np.any(np.asarray(pr.status) != 0):  # pragma: no cover - the search stays inside δ >= delta_min / 2
+            raise AveragingRangeError(f"the quadrature failed while locating the layer of W at E={E!r}")
+        return np.unwrap(2.0 * np.asarray(pr.delta_psi).reshape(s.shape), axis=1)
+
+    k = np.arange(1, int(math.ceil(math.log(float(np.max(up - lo)) / width) / _LAYER_STEP)) + 1)
+    side = width * np.expm1(_LAYER_STEP * k)
+    grid = np.concatenate([-side[::-1], [0.0], side])
+    s = np.clip(grid[None, :], 0.5 * lo[:, None], 0.5 * up[:, None])
+    slope = np.abs(np.diff(W_along(s), axis=1)) / np.maximum(np.diff(s, axis=1), 1e-300)
+    j = np.clip(np.argmax(slope, axis=1), 1, s.shape[1] - 3)
+    rows = np.arange(len(points))
+    fine = np.linspace(s[rows, j - 1], s[rows, j + 2], _LAYER_REFINE, axis=1)
+    d = np.abs(np.diff(W_along(fine), axis=1))
+    m = np.clip(np.argmax(d, axis=1), 1, _LAYER_REFINE - 3)
+    y0, y1, y2 = d[rows, m - 1], d[rows, m], d[rows, m + 1]
+    h = fine[:, 1] - fine[:, 0]
+    curv = y0 - 2.0 * y1 + y2
+    shift = np.where(curv < 0.0, 0.5 * (y0 - y2) / np.where(curv < 0.0, curv, -1.0), 0.0)
+    return 0.5 * (fine[rows, m] + fine[rows, m + 1]) + h * shift
+
+
+def region_frame(body: Body, E: float, *, axis: str = "auto", nu: int | None = None, nv: int | None = None,
+                 delta_min: float = DELTA_MIN_DEFAULT, tip_fraction: float = 0.8) -> SlowMapTable:
+    """The chart of the region tables of (body, E) (module docstring), as a SlowMapTable without coefficients.
+
+    Raises
+    ------
+    ValueError
+        E, axis, delta_min or tip_fraction out of range (naming it and the range).
+    """
+    E = check_below_top(body, E)
+    axis, nu, nv = region_options(body, E, axis, nu, nv)
+    check_grid(nu, nv)
+    for name, val, (lo, hi) in (("delta_min", delta_min, DELTA_MIN_RANGE), ("tip_fraction", tip_fraction,
+                                                                           TIP_FRACTION_RANGE)):
+        if not lo <= val <= hi:
+            raise ValueError(f"{name} must lie in [{lo:g}, {hi:g}], got {name}={val!r}")
+    sym = body.symmetric()
+    from rocknroller.analysis.criticality.lines import QJ_crit_0, QJ_crit_pi  # imported here: it loads sympy
+
+    e = np.array([1.0, float((QJ_crit_0 if axis == "spindle" else QJ_crit_pi)(1.0, sym))])
+    e /= np.linalg.norm(e)
+    n = np.array([-e[1], e[0]])
+    level = E * (1.0 - delta_min)
+
+    def edge(origins: NDArray[np.float64], directions: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Distances r from each origin (inside) along each direction to the level set min U = level:
+        bracketed by doubling, then bisected to the resolution of r (min U increases along each ray from Q = 0,
+        and the chart's rays start on the line through it)."""
+        def inside(r: NDArray[np.float64]) -> NDArray[np.bool_]:
+            Q = origins + r[:, None] * directions
+            return min_potential(Q[:, 0], Q[:, 1], sym) <= level
+
+        lo, hi = np.zeros(len(origins)), np.full(len(origins), math.sqrt(E))
+        for _ in range(_BRACKET_DOUBLINGS):
+            out = ~inside(hi)
+            if out.all():
+                break
+            lo, hi = np.where(out, lo, hi), np.where(out, hi, 2.0 * hi)
+        else:  # pragma: no cover - min U grows like |Q|²: the set is bounded
+            raise RuntimeError("the region of oscillation is unbounded")
+        for _ in range(_BISECTIONS):
+            mid = 0.5 * (lo + hi)
+            ok = inside(mid)
+            lo, hi = np.where(ok, mid, lo), np.where(ok, hi, mid)
+        return lo
+
+    # near Q = 0, W ≈ ∇W(0)·Q turns by O(1) over 1/|∂W/∂u| along e and 1/|∂W/∂v| across
+    hq = 1e-7
+    W = symmetric_data(sym, E, hq * np.array([e[0], -e[0], n[0], -n[0]]), hq * np.array([e[1], -e[1], n[1], -n[1]]))[1]
+    dW_du, dW_dv = abs(W[0] - W[1]) / (2.0 * hq), abs(W[2] - W[3]) / (2.0 * hq)
+    tip = float(edge(np.zeros((1, 2)), e[None, :])[0])
+    U = tip_fraction * tip
+    xs = _cheb_nodes(_PROFILE_NODES)
+    on_line = xs[:, None] * U * e[None, :]
+    up = edge(on_line, np.tile(n, (len(xs), 1)))
+    lo = -edge(on_line, np.tile(-n, (len(xs), 1)))
+    cheb = np.polynomial.chebyshev
+    c_coef, w_coef = np.zeros(CHART_TERMS), np.zeros(CHART_TERMS)
+    if axis == "spindle":
+        # c, w: the level set's two sides; a low-degree chart: the tabulated functions of (x, τ) are resolved with
+        # few more nodes than the functions of Q themselves need (a chart of high degree would multiply their
+        # Chebyshev content)
+        c, w, degree = 0.5 * (up + lo), 0.5 * (up - lo), _CHART_DEGREE
+    else:
+        # c: the centre of the layer in which W turns by 2π across Q_J,π^crit (it bends off the line), w: the
+        # largest half-width about it inside the level set; the stretch across then follows the layer everywhere
+        c = _layer_centres(sym, E, on_line, n, lo, up, 2.0 / max(dW_dv, 1e-300))
+        w, degree = np.minimum(up - c, c - lo), _BAND_DEGREE
+    c_coef[:degree + 1] = cheb.chebfit(xs, 0.5 * (c - c[::-1]), degree)
+    w_coef[:degree + 1] = cheb.chebfit(xs, 0.5 * (w + w[::-1]), degree)
+    c_coef[0::2] = 0.0  # exactly odd
+    w_coef[1::2] = 0.0  # exactly even
+    cf, wf = cheb.chebval(xs, c_coef), cheb.chebval(xs, w_coef)
+    w_coef *= min(1.0, float(np.min(np.minimum(up - cf, cf - lo) / wf)))  # inside the level set at the nodes
+    scales = (dW_du * U, dW_dv * float(cheb.chebval(0.0, w_coef)))
+    alpha, beta = (math.asinh(s) if s > 1.0 else 0.0 for s in scales)
+    cos_theta0 = 1.0 - E / (sym.g * sym.a)
+    theta0 = math.acos(cos_theta0) if -1.0 < cos_theta0 < 1.0 else math.nan
+    return SlowMapTable(a=sym.a, I1=sym.I1, I3=sym.I3, g=sym.g, theta0=theta0, E0=E, e=e, n=n, U=U,
+                        c_coef=c_coef, w_coef=w_coef, coef=np.zeros((len(TABLE_FUNCTIONS), nu, nv)),
+                        C0=kick_at_rest(sym, E), kappa=0.0, interp_error=0.0, delta_min=float(delta_min), alpha=alpha,
+                        beta=beta)
+
+
+def _node_block(sym: Body, E: float, nodes: list[tuple[float, float, float]]) -> NDArray[np.float64]:
+    """Rows (T, W mod 2π, Δφ mod π, the harmonics of the ε-responses) at nodes (Q_R, Q_J, θ_X): three orbits
+    each, all run through the batch integrator's lanes."""
+    QR, QJ, thX = np.array(nodes, float).T
+    steps, resp = harmonic_steps(sym, E, QR, QJ, thX)
+    out = np.empty((len(nodes), 3 + 3 * len(FIRST_ORDER_NAMES)))
+    out[:, 0] = steps.T.mean(axis=1)
+    out[:, 1] = wrap_angle(2.0 * steps.dpsi[:, 0])
+    out[:, 2] = steps.dphi[:, 0]
+    out[:, 3:] = np.moveaxis(resp, 0, 1).reshape(len(nodes), -1)
+    return out
+
+
+#: Nodes per task of a parallel table build.
+_BLOCK_NODES = 64
+
+
+def _orbit_data(sym: Body, E: float, QR: NDArray, QJ: NDArray, progress: bool = False, workers: int = 1):
+    """T, W mod 2π, Δφ mod π and the harmonics of the ε-responses at each Q, from three variational orbits
+    per node; ``workers`` processes share the nodes (each node's numbers do not depend on how many)."""
+    tp = solve_turning_points(E, QR, QJ, sym)
+    if np.any(np.asarray(tp.status) != 0):
+        raise AveragingRangeError(f"some nodes of the region tables of E={E!r} have no oscillation of theta")
+    nodes = list(zip(np.ravel(QR).tolist(), np.ravel(QJ).tolist(), np.ravel(tp.theta_X).tolist()))
+    blocks = [nodes[i:i + _BLOCK_NODES] for i in range(0, len(nodes), _BLOCK_NODES)]
+    rows = map_blocks(_node_block, [(sym, E, block) for block in blocks], [len(b) for b in blocks],
+                      processes=workers, desc="region tables", unit="node", progress=progress)
+    data = np.concatenate(rows).reshape(np.shape(QR) + (-1,))
+    resp = np.moveaxis(data[..., 3:].reshape(np.shape(QR) + (len(FIRST_ORDER_NAMES), 3)), -2, 0)
+    return data[..., 0], data[..., 1], data[..., 2], resp
+
+
+#: Off-grid chart points (x, τ) at which a new region table is checked against direct orbits.
+_CHECK_POINTS = ((0.37, 0.3), (-0.81, -0.55), (0.93, 0.8), (0.05, -0.97))
+
+
+def region_interpolation_error(table: SlowMapTable) -> float:
+    """Largest error of a region table against direct orbits at ``_CHECK_POINTS``: relative for T_θ, in
+    radians for W and Δφ, and relative to the largest harmonic for k_Q (ΔQ with its phase advanced by W/2)."""
+    sym, worst = table.body, 0.0
+    x, y = np.array(_CHECK_POINTS).T
+    QR, QJ = table.chart(x, y)
+    T, W, dphi, resp = _orbit_data(sym, table.E0, QR, QJ)
+    for k in range(len(x)):
+        vals = dict(zip(TABLE_FUNCTIONS, table.evaluate((QR[k], QJ[k]))))
+        errs = [abs(vals["T"] / T[k] - 1.0), abs(float(wrap_angle(vals["W"] - W[k]))),
+                abs(float(wrap_angle(vals["dphi"] - dphi[k], math.pi)))]
+        w = 0.5 * vals["W"]
+        for j, name in enumerate(("QR", "QJ")):
+            c0, c1, s1 = (vals[f"k{name}_{h}"] for h in ("c0", "c1", "s1"))
+            scale = float(np.max(np.abs(resp[j, k])))
+            back = (c0, c1 * math.cos(w) + s1 * math.sin(w), -c1 * math.sin(w) + s1 * math.cos(w))
+            errs += [abs(b - a) / scale for b, a in zip(back, resp[j, k])]
+        worst = float(np.max([worst, *errs]))  # a NaN propagates (max() would drop it)
+    return float(worst)
+
+
+def build_region_table(body: Body, E: float, *, axis: str = "auto", nu: int | None = None, nv: int | None = None,
+                       delta_min: float = DELTA_MIN_DEFAULT, tip_fraction: float = 0.8, progress: bool = False,
+                       workers: int = 1) -> SlowMapTable:
+    """Tabulate the reversible first-order slow map of (body, E) over the region of oscillation.
+
+    Parameters
+    ----------
+    body : Body
+        Its symmetric part is used (the tables do not depend on ε).
+    E : float
+        The energy, > 0 (exact, conserved: the energy of the asymmetric body's start).
+    axis : {"auto", "spindle", "band"}
+        The chart: along Q_J,0^crit over the whole region ("spindle"), or along Q_J,π^crit over the band about it
+        whose stretch follows the layer of W ("band", the one accurate at high amplitude); "auto": ``region_axis``.
+    nu, nv : int, optional
+        Chebyshev nodes along and across the chart's line (even, ≥ 4); default ``DEFAULT_GRID[axis]``.
+    delta_min : float
+        Least distance (E − min U)/E to steady rolling covered, in ``DELTA_MIN_RANGE``.
+    tip_fraction : float
+        Part of the spindle's half-length covered along the critical line, in ``TIP_FRACTION_RANGE``.
+    progress : bool
+        A tqdm progress bar over the nodes (3 variational orbits each).
+    workers : int
+        Processes that share the nodes, 1 ≤ workers ≤ ``parallel.MAX_PROCESSES``; the table does not depend on it.  More
+        than one starts a pool of "spawn" processes, which import the calling script: a script that asks for
+        workers must guard its top level with ``if __name__ == "__main__":`` (the ``rocknroller`` command does).
+    """
+    workers = check_processes(workers, "workers")
+    frame = region_frame(body, E, axis=axis, nu=nu, nv=nv, delta_min=delta_min, tip_fraction=tip_fraction)
+    QR, QJ = frame.nodes()
+    nu, nv = frame.coef.shape[1:]
+    try:
+        T, W, dphi, resp = _orbit_data(body.symmetric(), frame.E0, QR, QJ, progress, workers)
+    except NoMotionError as exc:  # pragma: no cover - the chart lies inside the level set δ = delta_min
+        raise AveragingRangeError(str(exc)) from None
+    return fit_and_check(frame, T, W, dphi, resp, region_interpolation_error, REGION_TABLE_ACCURACY,
+                         f"the region tables of E={E!r} interpolate the coefficients only to {{err:.1e}}; use more "
+                         f"nodes (nu={nu}, nv={nv}) or a smaller tip_fraction")
+
+
+def load_or_build_region_table(body: Body, E: float, *, build: bool = True, use_cache: bool = True,
+                               **grid) -> SlowMapTable:
+    """The region tables of (body, E): from memory, from the disk cache, or built (and cached), as
+    :func:`rocknroller.analysis.slow.prediction.load_or_build_table` does for a release; ``grid``: the options of
+    :func:`build_region_table`."""
+    E = check_below_top(body, E)
+    axis, nu, nv = region_options(body, E, grid.pop("axis", "auto"), grid.pop("nu", None), grid.pop("nv", None))
+    return cached_table(build_region_table, body, E, f"E={E!r}", build=build, use_cache=use_cache, axis=axis, nu=nu,
+                        nv=nv, **grid)

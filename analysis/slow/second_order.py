@@ -1,0 +1,276 @@
+"""The second-order kick k₂ of the drift–kick–drift slow map, at a point and in tables.  It holds k₂ at a point from
+the step's second ε-derivatives and a first-order table (:func:`second_order_kick`, with the table's first-order
+kick and drifts: :func:`first_order_kick`, :func:`drift_derivatives`), its harmonics in Θ_a
+(:func:`k2_harmonics`), the check of the formula against the exact step (:func:`dkd_residual`), and the tables of
+k₂ on the chart of a release table (:func:`build_second_order_table`, :func:`load_or_build_second_order_table`) or
+of the region table of an energy (:func:`build_second_order_region_table`,
+:func:`load_or_build_second_order_region_table`).
+
+The first-order map (:mod:`rocknroller.analysis.slow.prediction`) is D(W/2) ∘ K ∘ D(W/2): half twists
+Θ += W(Q)/2 around an implicit-midpoint kick x_b = x_a + ε k(m), m = (x_a + x_b)/2, x = (Q, Θ), with the time and
+φ advanced by ½ (T_θ(Q) + T_θ(Q')) + ε k_t(m) and ½ (Δφ(Q) + Δφ(Q')) + ε k_φ(m).  Carried to second order,
+k = k₁ + ε k₂.  The exact step at fixed (E, Q_n, Θ_n) is Q' = Q + ε A₁ + ε² A₂ + …, Θ' = Θ + W + ε B₁ + ε² B₂ + …
+(and C for t, D for φ); expanding the composition (all functions at (Q, Θ_a = Θ + W/2)) and matching gives
+
+    k₂_Q = A₂ − ½ [(∂_Q k₁_Q) k₁_Q + (∂_Θ k₁_Q) k₁_Θ],
+    k₂_X = X₂ − ½ ∇F·A₂ − ¼ k₁_Qᵀ (∇²F) k₁_Q − ½ [(∂_Q k₁_X)·k₁_Q + (∂_Θ k₁_X) k₁_Θ],
+
+for X = Θ, t, φ with F = W, T_θ, Δφ.  The ½ ∇F·A₂ and ¼ k₁ᵀ∇²F k₁ terms are what the second half-drift already
+produces when evaluated at the kicked Q: near Q = 0, where W turns by ~2π over a width ~2/|∇W(0)|, they carry most
+of the exact step's large second derivative (docs/averaging.md, "The exact one-step map").
+
+A₂ … D₂ are half the second ε-derivatives of the step at fixed (E, Q, ψ), from the second-order variational
+equations (:func:`rocknroller.analysis.slow.orbit.second_order_step`; checked against extrapolated differences of
+the exact step, :func:`~rocknroller.analysis.slow.exact_step.eps_derivatives`), k₁ and its derivatives and the
+drifts' gradients and Hessians come from a first-order table (:class:`rocknroller.analysis.slow.chart.SlowMapTable`).
+:func:`dkd_residual` checks the formula: the exact step minus one step of the first-order map, over ε², tends to
+k₂ (plus ½ ∇F·k₂_Q for X = Θ, t, φ) as ε → 0 (``tests/analysis/slow/test_second_order.py``).
+:class:`rocknroller.analysis.slow.chart.SecondOrderTable` holds k₂'s harmonics 0, 1, 2 in Θ_a on the chart of a
+release table, or of the region table of an energy (starts with velocity); the compiled kernel adds ε k₂ to the
+kick (:func:`rocknroller.analysis.slow.compiled_map.iterate_slow_map` with ``second=``).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.diagnostics import wrap_angle
+from rocknroller.analysis.slow.chart import (_HARM, _IDX, _ODD, SecondOrderTable, SlowMapTable, _basis,
+                                             _cheb_fit_matrix, _cheb_nodes)
+from rocknroller.analysis.slow.exact_step import STEP_NAMES, exact_step
+from rocknroller.analysis.slow.orbit import second_order_step
+from rocknroller.analysis.slow.table import cached_table, load_or_build_table
+from rocknroller.numerics.parallel import check_processes, map_blocks
+
+__all__ = [
+    "first_order_kick", "drift_derivatives", "second_order_kick", "dkd_residual", "K2_HARMONICS", "K2_FUNCTIONS",
+    "K2_ACCURACY", "k2_harmonics", "build_second_order_table", "load_or_build_second_order_table",
+    "build_second_order_region_table", "load_or_build_second_order_region_table"
+]
+
+#: Table prefix of each kick component, in ``STEP_NAMES`` order (Q_R, Q_J, Θ, t, φ), and the drift of the last three.
+_PREFIX = ("kQR", "kQJ", "kTh", "dt", "dphi1")
+_DRIFT = ("W", "T", "dphi")
+#: Step of the central differences of the drifts' gradients (the table's Chebyshev interpolant is smooth on the
+#: scale of the layer of W, ≳ 5e-3 at θ0 ≤ 0.97π: truncation ~(1e-6/5e-3)² relative).
+_H_HESSIAN = 1e-6
+
+
+def _q_gradient(table: SlowMapTable, name: str, Q: NDArray[np.float64]) -> NDArray[np.float64]:
+    """(∂/∂Q_R, ∂/∂Q_J) of a table function: its (∂/∂u, ∂/∂v) turned by the frame (Q = u e + v n)."""
+    gu, gv = (float(g) for g in table.gradient(name, Q))
+    return gu * np.asarray(table.e, float) + gv * np.asarray(table.n, float)
+
+
+def first_order_kick(table: SlowMapTable, Q: ArrayLike,
+                     theta_a: float) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """k₁ at (Q, Θ_a) for the components of ``STEP_NAMES`` (Q_R, Q_J, Θ, t, φ), its Q-gradient (5, 2) and its
+    Θ-derivative (5,), from the table's harmonics c0 + c1 cos Θ_a + s1 sin Θ_a."""
+    Q = np.asarray(Q, float)
+    vals = table.evaluate(Q)
+    c, s = math.cos(theta_a), math.sin(theta_a)
+    k, dk_dq, dk_dth = np.zeros(5), np.zeros((5, 2)), np.zeros(5)
+    for i, pre in enumerate(_PREFIX):
+        c0, c1, s1 = (float(vals[_IDX[f"{pre}_{h}"]]) for h in _HARM)
+        k[i] = c0 + c1 * c + s1 * s
+        dk_dth[i] = -c1 * s + s1 * c
+        g0, g1, g2 = (_q_gradient(table, f"{pre}_{h}", Q) for h in _HARM)
+        dk_dq[i] = g0 + g1 * c + g2 * s
+    return k, dk_dq, dk_dth
+
+
+def drift_derivatives(table: SlowMapTable, name: str, Q: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Gradient (2,) and Hessian (2, 2) in (Q_R, Q_J) of the drift ``name`` (W, T or dphi): the gradient by the
+    chain rule through the chart, the Hessian by central differences of it (symmetrised)."""
+    Q = np.asarray(Q, float)
+    g = _q_gradient(table, name, Q)
+    H = np.zeros((2, 2))
+    for j in range(2):
+        e = np.zeros(2)
+        e[j] = _H_HESSIAN
+        H[:, j] = (_q_gradient(table, name, Q + e) - _q_gradient(table, name, Q - e)) / (2.0 * _H_HESSIAN)
+    return g, 0.5 * (H + H.T)
+
+
+def second_order_kick(table: SlowMapTable, Q: ArrayLike, theta_a: float) -> NDArray[np.float64]:
+    """k₂ at (Q, Θ_a) for the components of ``STEP_NAMES`` (module docstring), at the table's energy; the exact
+    step's second derivatives by the second-order variational equations (one orbit)."""
+    Q = np.asarray(Q, float)
+    W = float(table.evaluate(Q)[_IDX["W"]])
+    theta = theta_a - 0.5 * W
+    d2 = second_order_step(table.body, table.E0, float(Q[0]), float(Q[1]), 0.5 * theta)
+    A2 = 0.5 * np.array([d2[k] for k in STEP_NAMES])
+    k1, dk_dq, dk_dth = first_order_kick(table, Q, theta_a)
+    kq = k1[:2]
+    k2 = A2 - 0.5 * (dk_dq @ kq + dk_dth * k1[2])
+    for i, drift in zip((2, 3, 4), _DRIFT):
+        g, H = drift_derivatives(table, drift, Q)
+        k2[i] -= 0.5 * g @ A2[:2] + 0.25 * kq @ H @ kq
+    return k2
+
+
+def dkd_residual(table: SlowMapTable, eps: float, Q: ArrayLike, theta: float) -> NDArray[np.float64]:
+    """(exact step − one step of the first-order map)/ε² from the maximum (Q, Θ) at the table's energy, for the
+    components of ``STEP_NAMES`` (angle differences wrapped): → k₂_Q and k₂_X + ½ ∇F·k₂_Q as ε → 0."""
+    from rocknroller.analysis.slow.compiled_map import iterate_slow_map
+
+    Q = np.asarray(Q, float)
+    exact = exact_step(table.body, eps, table.E0, float(Q[0]), float(Q[1]), 0.5 * theta)
+    s = iterate_slow_map(table, eps, 0.5 * theta, 1e6, Q0=Q, n_steps=1)
+    first = np.array([s.QR[0], s.QJ[0], s.Theta[0], s.t[0], s.phi[0]])
+    r = exact - first
+    r[2] = float(wrap_angle(r[2]))
+    r[4] = float(wrap_angle(r[4], math.pi))  # the map's φ is continued modulo its jumps of π
+    return r / (eps * eps)
+
+
+# ----------------------------------------------------------------------------- tables of k₂
+#: Harmonics of k₂ in Θ_a: the second-order response holds the harmonics 0, 2 and 4 of ψ (0, 1, 2 of Θ = 2ψ).
+K2_HARMONICS = ("c0", "c1", "s1", "c2", "s2")
+#: The tabulated functions, component-major (``STEP_NAMES`` order).
+K2_FUNCTIONS = tuple(f"{p}_{h}" for p in _PREFIX for h in K2_HARMONICS)
+#: Θ_a of the five evaluations that fix the harmonics (a discrete Fourier transform).
+_K2_THETA_A = tuple(2.0 * math.pi * k / 5.0 for k in range(5))
+#: Components odd in Q (reversibility: (Q, Θ) → (−Q, Θ)), as for k₁; the others are even.
+_K2_ODD = tuple(f"{p}_c0" in _ODD for p in _PREFIX)
+#: Off-grid chart points (ξ, η) where a new table is checked against direct evaluations, and the largest error
+#: (relative to each component's largest harmonic on the grid) accepted without a warning: k₂ enters the step
+#: multiplied by ε², so 1e-3 of it is 1e-7 of a step at ε = 1e-2, below the map's O(ε³) error.
+_K2_CHECK_POINTS = ((0.37, 0.3), (-0.81, -0.55), (0.93, 0.8))
+K2_ACCURACY = 1e-3
+
+
+def k2_harmonics(table: SlowMapTable, Q: ArrayLike) -> NDArray[np.float64]:
+    """The harmonics ``K2_HARMONICS`` of k₂ in Θ_a at Q, shape (5 components, 5 harmonics), from
+    :func:`second_order_kick` at five Θ_a (five second-order variational orbits and the starts' 25 solves)."""
+    vals = np.array([second_order_kick(table, Q, ta) for ta in _K2_THETA_A])
+    return np.linalg.solve(_basis(np.array(_K2_THETA_A)), vals).T
+
+
+def _first_table(body: Body, where: float, kind: str) -> SlowMapTable:
+    """The first-order table whose chart a second-order table uses: the release table of θ0 = ``where`` or the
+    (default) region table of the energy E = ``where``."""
+    if kind == "release":
+        return load_or_build_table(body, where)
+    from rocknroller.analysis.slow.region import load_or_build_region_table
+
+    return load_or_build_region_table(body, where)
+
+
+def _k2_block(body: Body, where: float, kind: str, nodes: list[tuple[float, float]]) -> NDArray[np.float64]:
+    table = _first_table(body, where, kind)
+    return np.array([k2_harmonics(table, q).ravel() for q in nodes])
+
+
+def _build_k2(body: Body, where: float, kind: str, nu: int, nv: int, workers: int,
+              progress: bool) -> SecondOrderTable:
+    """k₂ on the chart of the first-order table (:func:`_first_table`): half the nodes computed, the others by the
+    parity (module docstring of :func:`build_second_order_table`), checked at off-grid points."""
+    from rocknroller.analysis.slow.limits import AveragingRangeError, AveragingValidityWarning
+
+    if isinstance(nu, bool) or int(nu) != nu or nu % 2 or not 8 <= nu <= 256:
+        raise ValueError(f"nu must be an even integer in [8, 256], got nu={nu!r}")
+    workers = check_processes(workers, "workers")
+    first = _first_table(body, where, kind)
+    if isinstance(nv, bool) or int(nv) != nv or not 2 <= nv <= first.coef.shape[2]:
+        raise ValueError(f"nv must be an integer in [2, {first.coef.shape[2]}] (the first-order table's terms "
+                         f"across), got nv={nv!r}")
+    XI, ETA = np.meshgrid(_cheb_nodes(nu), _cheb_nodes(nv), indexing="ij")
+    QR, QJ = first.chart(XI, ETA)
+    half = [(float(QR[i, j]), float(QJ[i, j])) for i in range(nu // 2) for j in range(nv)]
+    size = 16
+    blocks = [half[k:k + size] for k in range(0, len(half), size)]
+    rows = map_blocks(_k2_block, [(body.symmetric(), float(where), kind, b) for b in blocks],
+                      [len(b) for b in blocks], processes=workers, desc="second-order tables", unit="node",
+                      progress=progress)
+    data = np.empty((nu, nv, 5, 5))
+    data[: nu // 2] = np.concatenate(rows).reshape(nu // 2, nv, 5, 5)
+    sign = np.where(np.array(_K2_ODD), -1.0, 1.0)[:, None]
+    data[nu // 2:] = sign * data[: nu // 2][::-1, ::-1]
+    if not np.all(np.isfinite(data)):
+        raise AveragingRangeError(f"the second-order orbits of {np.count_nonzero(~np.isfinite(data).all(axis=(2, 3)))} "
+                                  f"of the {nu * nv} nodes gave non-finite data; the tables are not built")
+    Au, Av = _cheb_fit_matrix(nu), _cheb_fit_matrix(nv)
+    flat = data.reshape(nu, nv, 25)
+    coef = np.stack([Au @ flat[:, :, k] @ Av.T for k in range(25)])
+    table = SecondOrderTable(theta0=float(first.theta0) if kind == "release" else math.nan, E0=float(first.E0),
+                             coef=coef)
+    scale = np.abs(data).max(axis=(0, 1, 3))  # per component
+    err = 0.0
+    for x, y in _K2_CHECK_POINTS:
+        q = np.array([float(c) for c in first.chart(x, y)])
+        diff = np.abs(table.harmonics(first, q) - k2_harmonics(first, q)).max(axis=1)
+        err = float(np.max([err, (diff / scale).max()]))  # a NaN propagates (max() would drop it)
+    if not math.isfinite(err):
+        raise AveragingRangeError(f"the check of the second-order tables against direct orbits gave {err!r}; the "
+                                  "tables are not used")
+    if err > K2_ACCURACY:
+        what = f"theta0={where!r}" if kind == "release" else f"E={where!r}"
+        warnings.warn(f"the second-order tables for {what} interpolate k2 only to {err:.1e} (relative); use more "
+                      f"nodes (nu={nu}, nv={nv})", AveragingValidityWarning, stacklevel=3)
+    return replace(table, interp_error=err)
+
+
+def build_second_order_table(body: Body, theta0: float, *, nu: int = 64, nv: int = 6,
+                             workers: int = 1, progress: bool = False) -> SecondOrderTable:
+    """Tabulate k₂ on the chart of the release table of (body, θ0) (built and cached if needed).
+
+    Only half the Chebyshev nodes are computed: the grid is symmetric under (ξ, η) → (−ξ, −η), Q → −Q, where each
+    component keeps or flips its sign (``_K2_ODD``), which makes the map reversible.  ``workers`` processes share
+    the nodes (the table does not depend on how many).  Checked at off-grid points against direct evaluations;
+    above ``K2_ACCURACY`` an AveragingValidityWarning.  Cost: five second-order variational orbits per computed node.
+
+    Raises
+    ------
+    ValueError
+        θ0 outside ``THETA0_RANGE``, or nu (even, 8–256), nv (2–6, the release table's terms across) or workers out
+        of range, naming them.
+    """
+    return _build_k2(body, theta0, "release", nu, nv, workers, progress)
+
+
+def build_second_order_region_table(body: Body, E: float, *, nu: int = 16, nv: int = 32, workers: int = 1,
+                                    progress: bool = False) -> SecondOrderTable:
+    """Tabulate k₂ on the chart of the default region table of (body, E) (a start with velocity), as
+    :func:`build_second_order_table` does on a release table's; nv up to that table's terms across.
+
+    On the band chart of the paper's reversal starts the default 16 × 32 nodes (256 computed, ~60 s on 2 cores)
+    interpolate k₂ to ~8e-3 of each component's largest harmonic, and more nodes do not go below ~5e-3 (16 × 48,
+    32 × 32, 16 × 64 measured): the direct values carry that much from the first-order table's differenced Hessians
+    near the layer of W, so the build warns (``K2_ACCURACY``).  k₂ enters a step as ε² k₂: 1e-2 of it is 1e-8 of a
+    step at ε = 1e-3, below the second-order map's error there (docs/averaging.md, "Second order in ε")."""
+    return _build_k2(body, E, "region", nu, nv, workers, progress)
+
+
+def load_or_build_second_order_table(body: Body, theta0: float, *, build: bool = True, use_cache: bool = True,
+                                     **grid: Any) -> SecondOrderTable:
+    """The second-order table of (body, θ0) from memory, the disk cache, or built (:func:`build_second_order_table`,
+    options ``grid``) and cached, as :func:`rocknroller.analysis.slow.table.load_or_build_table` does."""
+    from rocknroller.analysis.slow.limits import check_map_theta0
+
+    theta0 = check_map_theta0(theta0)
+
+    return cached_table(build_second_order_table, body, theta0, f"theta0={theta0!r}", build=build,
+                        use_cache=use_cache, table_type=SecondOrderTable, spec_of=_k2_spec, **grid)
+
+
+def load_or_build_second_order_region_table(body: Body, E: float, *, build: bool = True, use_cache: bool = True,
+                                            **grid: Any) -> SecondOrderTable:
+    """The second-order table on the region table of (body, E), from memory, the disk cache, or built
+    (:func:`build_second_order_region_table`) and cached."""
+    from rocknroller.analysis.slow.region import check_below_top
+
+    E = check_below_top(body, E)
+    return cached_table(build_second_order_region_table, body, E, f"E={E!r}", build=build, use_cache=use_cache,
+                        table_type=SecondOrderTable, spec_of=_k2_spec, **grid)
+
+
+def _k2_spec(opts: dict[str, Any]) -> dict[str, tuple[int, ...]]:
+    return {"theta0": (), "E0": (), "coef": (len(K2_FUNCTIONS), opts["nu"], opts["nv"]), "interp_error": ()}

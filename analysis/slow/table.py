@@ -1,0 +1,340 @@
+"""Building, fitting, checking and caching the tables of the averaged slow map's coefficient functions.  It holds the
+release tables of a release from rest at θ0 in ``THETA0_RANGE`` (:func:`build_table`, with the kick at Q = 0:
+:func:`kick_at_rest`), the fit that every first-order table shares (:func:`fit_table`, :func:`fit_and_check`:
+continuous branches of W and Δφ, the drift–kick–drift form, the parities in Q, the Chebyshev series and the check
+against direct orbits at off-grid points), and the memory and disk cache of every kind of table
+(:func:`load_or_build_table` for the release tables, :func:`cached_table` for all).
+
+The coefficient functions of one step of the first-order map (:mod:`rocknroller.analysis.slow.prediction`: T_θ, W,
+Δφ and the harmonics 0 and 1 in Θ of the kicks) are tabulated once per (body, θ0) or (body, energy) at the
+Chebyshev nodes of a chart of the (Q_R, Q_J) plane (:mod:`rocknroller.analysis.slow.chart`); they depend on
+neither ε nor ψ0.  Release tables (:func:`build_table`) cover a strip along the kick direction at Q = 0, with T_θ,
+W and Δφ from the quadratures (:func:`rocknroller.analysis.slow.orbit.symmetric_data`) and the kicks from three
+variational orbits per node (:func:`rocknroller.analysis.slow.orbit.harmonic_steps`); region tables
+(:mod:`rocknroller.analysis.slow.region`) cover the whole region of an energy, and second-order tables
+(:mod:`rocknroller.analysis.slow.second_order`) hold k₂ on the chart of a first-order table.
+
+Drift–kick–drift form.  With the responses ΔX(Q, Θ) of one step (X = Q, Θ, t, φ) tabulated as harmonics in Θ, the
+kick is k_Q(Q, Θ') = ΔQ(Q, Θ' − W/2) and k_X(Q, Θ') = ΔX(Q, Θ' − W/2) − ½ ∇F·k_Q(Q, Θ') for X = Θ, t, φ with
+F = W, T_θ, Δφ: the part of each response received after the kick is carried by the second half-drift.
+
+Cache.  Each table is cached on disk (``rocknroller.numerics.cache.cache_dir()/averaging``, plain float64 arrays
+with their key and checksum, checked on load; a file that fails a check is rebuilt and replaced) and the most
+recently used in memory (``TABLE_CACHE_BYTES``).  The key holds the table version, the builder, the body, θ0 or E
+and the builder's options.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import inspect
+import math
+import os
+import warnings
+from typing import Any, Callable
+
+import numpy as np
+from numpy.typing import NDArray
+
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.diagnostics import wrap_angle
+from rocknroller.analysis.slow.chart import (_EVEN, _ODD, CHART_TERMS, TABLE_FUNCTIONS, SlowMapTable, _cheb_fit_matrix,
+                                             _cheb_nodes)
+from rocknroller.analysis.slow.family import rest_energy
+from rocknroller.analysis.slow.limits import (K_PERIOD_DOUBLING, AveragingRangeError, AveragingValidityWarning,
+                                              check_map_theta0)
+from rocknroller.analysis.slow.orbit import FIRST_ORDER_NAMES, harmonic_steps, step_coefficients, symmetric_data
+from rocknroller.numerics.cache import CacheWarning, MemoryCache, cache_dir, load_arrays, save_arrays, warn_unwritable
+
+__all__ = [
+    "REGION_TABLE_ACCURACY", "build_table", "check_grid", "kick_at_rest", "fit_table", "fit_and_check",
+    "load_or_build_table", "cached_table", "TableNotCachedError"
+]
+
+#: Bump when the table construction or its file format changes (part of the cache key).
+_TABLE_VERSION = "5"
+
+
+class TableNotCachedError(ValueError):
+    """The tables asked for with ``build=False`` are neither in memory nor in the disk cache."""
+
+
+#: Bytes of tables this process keeps in memory (the most recently used; each is also on disk): 256 MiB, ~250
+#: region tables or ~2500 release tables.
+TABLE_CACHE_BYTES = 1 << 28
+_TABLES = MemoryCache(TABLE_CACHE_BYTES)
+
+#: Largest interpolation error of a region table for which its predictions are given without a warning: the
+#: map's own error is O(ε) of the slow motion, and a table error δ adds ~N δ over N rocks (N ≲ 10³ in 10⁴ t.u.).
+REGION_TABLE_ACCURACY = 1e-6
+
+
+def _table_key(builder: str, sym: Body, where: float, opts: dict[str, Any]) -> str:
+    """The cache key of a table: version, builder, body, θ0 or E, and grid options (stored in the file; its SHA-256
+    names it)."""
+    return f"slowmap|{_TABLE_VERSION}|{builder}|{sym.params!r}|{where!r}|" + "|".join(
+        f"{k}={opts[k]!r}" for k in sorted(opts))
+
+
+def _table_spec(nu: int, nv: int) -> dict[str, tuple[int, ...]]:
+    """Fields of a SlowMapTable file in checksum order, each float64 with this shape."""
+    shapes = {"e": (2,), "n": (2,), "C0": (2,), "c_coef": (CHART_TERMS,), "w_coef": (CHART_TERMS,),
+              "coef": (len(TABLE_FUNCTIONS), nu, nv)}
+    return {name: shapes.get(name, ()) for name in SlowMapTable.__dataclass_fields__}
+
+
+def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_factor: float = 2.5,
+                v_ratio: float = 0.002) -> SlowMapTable:
+    """Tabulate the reversible first-order slow map of (body, θ0).
+
+    Parameters
+    ----------
+    body : Body
+        Its symmetric part is used (the tables do not depend on ε).
+    theta0 : float
+        Release angle in ``THETA0_RANGE``; E = U(θ0; 0, 0).
+    nu, nv : int
+        Chebyshev nodes along and across the kick direction (even, ≥ 4).
+    u_factor : float
+        U = u_factor · 4/|∂W/∂u|(0): the libration amplitude of the standard map at K = 4, times u_factor.
+    v_ratio : float
+        V = v_ratio · U.
+
+    Raises
+    ------
+    ValueError
+        θ0 outside ``THETA0_RANGE`` or bad grid options; AveragingRangeError if the energy of the release
+        admits no motion somewhere on the table rectangle (possible for bodies other than the paper's).
+    """
+    theta0 = check_map_theta0(theta0)
+    check_grid(nu, nv)
+    if not (u_factor > 0 and 0 < v_ratio <= 1):
+        raise ValueError(f"u_factor must be > 0 and v_ratio in (0, 1], got {u_factor!r}, {v_ratio!r}")
+    sym = body.symmetric()
+    E0 = rest_energy(sym, theta0)
+    C0 = kick_at_rest(sym, E0)
+    e = C0 / np.linalg.norm(C0)
+    nvec = np.array([-e[1], e[0]])
+    hq = 1e-7
+    Wp = symmetric_data(sym, E0, np.array([hq * e[0], -hq * e[0]]), np.array([hq * e[1], -hq * e[1]]))[1]
+    dW_du = (Wp[0] - Wp[1]) / (2 * hq)
+    U = u_factor * K_PERIOD_DOUBLING / abs(dW_du)
+    c_coef, w_coef = np.zeros(CHART_TERMS), np.zeros(CHART_TERMS)
+    w_coef[0] = v_ratio * U
+    frame = SlowMapTable(a=sym.a, I1=sym.I1, I3=sym.I3, g=sym.g, theta0=theta0, E0=E0, e=e, n=nvec, U=U,
+                         c_coef=c_coef, w_coef=w_coef, coef=np.zeros((len(TABLE_FUNCTIONS), nu, nv)), C0=C0,
+                         kappa=0.0, interp_error=0.0)
+    QRg, QJg = frame.nodes()
+    try:
+        T, W, dphi, thX = symmetric_data(sym, E0, QRg, QJg)
+    except ValueError as exc:
+        raise AveragingRangeError(
+            f"the averaging tables of theta0={theta0!r} cannot be built for this body ({sym.describe()}): on their "
+            f"rectangle |u| <= {U:.4g} (2.5 times the libration amplitude at K = 4) {exc}") from None
+    resp = harmonic_steps(sym, E0, QRg, QJg, thX)[1].reshape(len(FIRST_ORDER_NAMES), nu, nv, 3)
+    return fit_and_check(frame, T, W, dphi, resp, _interpolation_error, _INTERP_WARN,
+                         f"the averaging tables for theta0={theta0!r} interpolate the coefficients only to {{err:.1e}} "
+                         f"(relative); use more nodes (nu={nu}, nv={nv})")
+
+
+def check_grid(nu: int, nv: int) -> None:
+    """ValueError unless nu and nv are even integers ≥ 4 (and nv ≤ 128, the compiled kernel's limit)."""
+    for name, val, top in (("nu", nu, 4096), ("nv", nv, 128)):
+        if int(val) != val or not 4 <= val <= top or val % 2:
+            raise ValueError(f"{name} must be an even integer in [4, {top}], got {name}={val!r}")
+
+
+def kick_at_rest(sym: Body, E: float) -> NDArray[np.float64]:
+    """C0 with ΔQ(0, Θ) = C0 sin Θ: the kick at Q = 0 from the three variational orbits at energy E."""
+    resp = harmonic_steps(sym, E, 0.0, 0.0)[1]
+    return np.array([resp[FIRST_ORDER_NAMES.index(k), 0, 2] for k in ("QR", "QJ")])
+
+
+def fit_table(frame: SlowMapTable, T: NDArray, W: NDArray, dphi: NDArray, resp: NDArray) -> SlowMapTable:
+    """The table on ``frame``'s chart from the data at its Chebyshev nodes (x_i, τ_j).
+
+    T, W, Δφ (mod π) of the symmetric orbit and ``resp`` (len(FIRST_ORDER_NAMES), nu, nv, 3), the harmonics of
+    the ε-responses.  W and Δφ are lifted to continuous branches (along τ, then along x through the middle of
+    the chart, odd in Q); the kick is put in drift–kick–drift form (module docstring) with ∇F by the chain
+    rule through the chart; each function gets its parity in Q ((x, τ) → (−x, −τ)) and its Chebyshev series.
+    ``frame`` supplies everything but ``coef`` and ``kappa``.
+    """
+    nu, nv = T.shape
+    xu, xv = _cheb_nodes(nu), _cheb_nodes(nv)  # ξ, η
+    W, dphi = _lift(W, 2.0 * math.pi), _lift(dphi, math.pi)
+    Au, Av = _cheb_fit_matrix(nu), _cheb_fit_matrix(nv)
+    cheb = np.polynomial.chebyshev
+    e, nvec = frame.e, frame.n
+    dxi_du, deta_du, deta_dv = frame.inverse_jacobian(*np.meshgrid(xu, xv, indexing="ij"))
+
+    def parity(F: NDArray, kind: str) -> NDArray:
+        flipped = F[::-1, ::-1]
+        return 0.5 * (F + flipped) if kind == "even" else 0.5 * (F - flipped) if kind == "odd" else F
+
+    def fit(F: NDArray) -> NDArray:
+        return Au @ F @ Av.T
+
+    half = 0.5 * parity(W, "odd")
+    cw, sw = np.cos(half), np.sin(half)
+
+    def rotate(h: NDArray) -> NDArray:  # harmonics of F(Θ' − W/2) from those of F(Θ)
+        c0, c1, s1 = h[..., 0], h[..., 1], h[..., 2]
+        return np.stack([c0, c1 * cw - s1 * sw, c1 * sw + s1 * cw], axis=-1)
+
+    kQR, kQJ = rotate(resp[0]), rotate(resp[1])
+
+    def gradient(F: NDArray, kind: str) -> tuple[NDArray, NDArray]:
+        """(∂F/∂u, ∂F/∂v) at the nodes, F a symmetric-orbit function fitted on the grid."""
+        c = fit(parity(F, kind))
+        f_xi, f_eta = (cheb.chebgrid2d(xu, xv, cheb.chebder(c, axis=k)) for k in (0, 1))
+        return f_xi * dxi_du + f_eta * deta_du, f_eta * deta_dv
+
+    def half_grad_dot_kQ(F: NDArray, kind: str) -> NDArray:
+        """½ ∇F·k_Q at the nodes (harmonics)."""
+        gu, gv = gradient(F, kind)
+        return 0.5 * (gu[..., None] * (e[0] * kQR + e[1] * kQJ) + gv[..., None] * (nvec[0] * kQR + nvec[1] * kQJ))
+
+    # the part of each response received after the kick is carried by the second half-drift
+    kTh = rotate(resp[2]) - half_grad_dot_kQ(W, "odd")
+    kT = rotate(resp[3]) - half_grad_dot_kQ(T, "even")
+    kP = rotate(resp[4]) - half_grad_dot_kQ(dphi, "odd")
+    data = {"T": T, "W": W, "dphi": dphi}
+    for pre, arr in (("kQR", kQR), ("kQJ", kQJ), ("kTh", kTh), ("dt", kT), ("dphi1", kP)):
+        for m, suf in enumerate(("c0", "c1", "s1")):
+            data[f"{pre}_{suf}"] = arr[..., m]
+    coef = np.empty((len(TABLE_FUNCTIONS), nu, nv))
+    for k, name in enumerate(TABLE_FUNCTIONS):
+        kind = "odd" if name in _ODD else "even" if name in _EVEN else "none"
+        coef[k] = fit(parity(np.asarray(data[name], float), kind))
+    table = dataclasses.replace(frame, coef=coef)
+    gu, gv = (float(g) for g in table.gradient("W", (0.0, 0.0)))
+    return dataclasses.replace(table, kappa=gu * frame.C0 @ e + gv * frame.C0 @ nvec)
+
+
+def fit_and_check(frame: SlowMapTable, T: NDArray, W: NDArray, dphi: NDArray, resp: NDArray,
+                  error_of: Callable[[SlowMapTable], float], limit: float, message: str) -> SlowMapTable:
+    """:func:`fit_table`, then its interpolation error ``error_of(table)`` recorded in the table; above ``limit`` an
+    :class:`AveragingValidityWarning` with ``message`` (``{err:.1e}`` in it replaced by the error)."""
+    finite = np.isfinite(T) & np.isfinite(W) & np.isfinite(dphi) & np.all(np.isfinite(resp), axis=(0, -1))
+    if not finite.all():
+        raise AveragingRangeError(f"the orbits of {np.count_nonzero(~finite)} of the {finite.size} nodes of the tables "
+                                  f"of E={frame.E0!r} gave non-finite data; the tables are not built")
+    table = fit_table(frame, T, W, dphi, resp)
+    err = error_of(table)
+    if not math.isfinite(err):
+        raise AveragingRangeError(f"the check of the tables of E={frame.E0!r} against direct orbits gave {err!r}; "
+                                  "the tables are not used")
+    if err > limit:
+        warnings.warn(message.format(err=err), AveragingValidityWarning, stacklevel=3)
+    return dataclasses.replace(table, interp_error=err)
+
+
+def _lift(F: NDArray, period: float) -> NDArray:
+    """F (given modulo ``period`` on the nodes) on a continuous branch: along τ (axis 1), then the middle
+    column along x, and the multiple of ``period`` that makes F odd under (x, τ) → (−x, −τ)."""
+    F = np.unwrap(F, axis=1, period=period)
+    mid = F[:, F.shape[1] // 2]
+    F = F + (np.unwrap(mid, period=period) - mid)[:, None]
+    return F - period * np.round(np.mean(F + F[::-1, ::-1]) / (2.0 * period))
+
+
+#: Off-grid points (u/U, v/V) at which a new table is checked against direct coefficients.
+_CHECK_POINTS = ((0.37, 0.3), (-0.81, -0.55), (0.93, 0.8))
+_INTERP_WARN = 1e-7
+
+
+def _interpolation_error(table: SlowMapTable) -> float:
+    """Largest relative error of the table against :func:`step_coefficients` at ``_CHECK_POINTS``."""
+    sym, worst = table.body, 0.0
+    for x, y in _CHECK_POINTS:
+        Q = np.array(table.chart(x, y))
+        sc = step_coefficients(sym, table.E0, float(Q[0]), float(Q[1]))
+        vals = dict(zip(TABLE_FUNCTIONS, table.evaluate(Q)))
+        w = 0.5 * vals["W"]
+        errs = [abs(vals["T"] / sc.T - 1.0), abs(float(wrap_angle(vals["W"] - sc.W))) / max(abs(sc.W), 1e-300)]
+        for name in ("QR", "QJ"):  # k_Q is ΔQ with its phase advanced by W/2; relative to the largest harmonic
+            c0, c1, s1 = (vals[f"k{name}_{h}"] for h in ("c0", "c1", "s1"))
+            scale = max(abs(v) for v in sc.harmonics[name])
+            back = (c0, c1 * math.cos(w) + s1 * math.sin(w), -c1 * math.sin(w) + s1 * math.cos(w))
+            errs += [abs(b - a) / scale for b, a in zip(back, sc.harmonics[name])]
+        worst = float(np.max([worst, *errs]))  # a NaN propagates (max() would drop it)
+    return float(worst)
+
+
+def load_or_build_table(body: Body, theta0: float, *, build: bool = True, use_cache: bool = True,
+                        **grid: Any) -> SlowMapTable:
+    """The tables of (body, θ0): from memory, from the disk cache, or built (and cached).
+
+    The cache file holds plain float64 arrays, the key and a SHA-256 checksum (``rocknroller.numerics.cache``; read with
+    ``allow_pickle=False``).  A file that fails any check is never used: it is rebuilt and replaced, with a
+    ``CacheWarning``; an unwritable cache directory gives one ``CacheWarning`` per process (docs/averaging.md).
+
+    Parameters
+    ----------
+    body : Body
+        Its symmetric part is used.
+    theta0 : float
+        Release angle in ``THETA0_RANGE``.
+    build : bool
+        If False and no valid cached table exists, raise ValueError instead of building.
+    use_cache : bool
+        Read and write the disk cache (``rocknroller.numerics.cache.cache_dir()/averaging``).
+    grid : keyword arguments of :func:`build_table`.
+    """
+    theta0 = check_map_theta0(theta0)
+    return cached_table(build_table, body, theta0, f"theta0={theta0!r}", build=build, use_cache=use_cache, **grid)
+
+
+#: Options of a table builder that change how it runs, not the table (not part of the cache key).
+_RUN_OPTIONS = ("progress", "workers")
+
+
+def cached_table(builder: Callable[..., Any], body: Body, where: float, what: str, *, build: bool = True,
+                 use_cache: bool = True, table_type: type = SlowMapTable,
+                 spec_of: Callable[[dict[str, Any]], dict[str, tuple[int, ...]]] | None = None, **grid: Any) -> Any:
+    """``builder(body.symmetric(), where, **grid)`` from memory, from the disk cache, or built (and cached).
+
+    ``what`` names ``where`` in messages.  The key holds the table version, the builder, the body, ``where`` and every
+    keyword-only option of the builder (defaults filled in); see :func:`load_or_build_table`.  ``table_type`` is the
+    frozen dataclass built, whose fields ``spec_of(options)`` lists with their shapes (default: a SlowMapTable's).
+    """
+    sym = body.symmetric()
+    params = inspect.signature(builder).parameters
+    opts = {name: p.default for name, p in params.items() if p.kind is p.KEYWORD_ONLY and name not in _RUN_OPTIONS}
+    unknown = set(grid) - set(opts) - set(_RUN_OPTIONS)
+    if unknown:
+        raise ValueError(f"unknown table options {sorted(unknown)}; allowed: {sorted(opts)}")
+    run = {name: grid.pop(name) for name in _RUN_OPTIONS if name in grid and name in params}
+    opts.update(grid)
+    key = _table_key(builder.__name__, sym, where, opts)
+    table = _TABLES.get(key)
+    if table is not None:
+        return table
+    directory = os.path.join(str(cache_dir()), "averaging")
+    path = os.path.join(directory, f"slowmap-{hashlib.sha256(key.encode()).hexdigest()[:20]}.npz")
+    spec = spec_of(opts) if spec_of is not None else _table_spec(opts["nu"], opts["nv"])
+    table = None
+    if use_cache and os.path.lexists(path):
+        arrays, reason = load_arrays(path, key, spec)
+        if arrays is None:
+            warnings.warn(f"the cached averaging table {path} is not used ({reason}); it is rebuilt", CacheWarning,
+                          stacklevel=3)
+        else:
+            table = table_type(**{k: (a if a.ndim else float(a)) for k, a in arrays.items()})
+    if table is None:
+        if not build:
+            raise TableNotCachedError(
+                f"no averaging tables for {what} and this body ({sym.describe()}); they are built "
+                "on first use: call without build=False / --cached-only")
+        table = builder(sym, where, **opts, **run)
+        if use_cache:
+            try:
+                save_arrays(path, key, {k: getattr(table, k) for k in spec})
+            except OSError as exc:
+                warn_unwritable(directory, exc, f"the averaging tables are rebuilt in every process (for each body "
+                                f"and {what.split('=')[0]})")
+    _TABLES[key] = table
+    return table
+
+

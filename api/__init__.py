@@ -1,0 +1,58 @@
+"""rocknroller: Routh's sphere and the rock'n'roller.
+
+The public API, re-exported from the subpackages of :mod:`rocknroller.analysis`, from :mod:`rocknroller.numerics`
+and :mod:`rocknroller.papers` (no physics lives here); the command line is :mod:`rocknroller.cli`.  Q_R comes before Q_J in every signature; where the paper orders them the other way (V_φ, V_ψ), they are
+keyword-only::
+
+    import rocknroller as rr
+
+    body = rr.Body.paper(epsilon=1e-3)
+    traj = rr.simulate(body, rr.EulerState.from_omega(0.95 * 3.141592653589793, 0, 0, (0, 1e-3, -1e-3)), 100.0)
+    rr.region(traj.maxima.QR, traj.maxima.QJ, body)
+"""
+
+from rocknroller.analysis.criticality.laurent import laurent_coefficients, laurent_function, laurent_series
+from rocknroller.analysis.criticality.lines import QJ_crit, QJ_crit_0, QJ_crit_pi, region
+from rocknroller.analysis.criticality.reversals import reversal_analysis
+from rocknroller.analysis.criticality.starts import CriticalStart, critical_start
+from rocknroller.analysis.criticality.theta_z import (cos_theta_z, delta_bound_coefficients, delta_of, theta_e, theta_z,
+                                                      theta_z_expansion)
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.diagnostics import azimuth_span
+from rocknroller.analysis.model.equations import EulerState
+from rocknroller.analysis.model.invariants import V_phi, V_psi
+from rocknroller.analysis.routh.quadrature import Precession, precession, precession_from_turning_point
+from rocknroller.analysis.routh.quadrature_mp import precession_mp
+from rocknroller.analysis.routh.reduction import (F, NoMotionError, SteadyRollingError, effective_potential,
+                                                  invariants_from_euler, state_from_turning_point)
+from rocknroller.analysis.routh.turning_points import solve_turning_points, turning_points
+from rocknroller.analysis.slow.atlas import Atlas, AtlasCheck, atlas_from_rest, atlas_of_rates, confirm_atlas
+from rocknroller.analysis.slow.pendulum import PendulumConstants, pendulum_constants, pendulum_prediction
+from rocknroller.analysis.slow.period_doubling import PeriodDoubling, period_doubling
+from rocknroller.analysis.slow.prediction import SlowPrediction, predict_slow_motion
+from rocknroller.numerics.ensemble import Job, RunSummary, run_ensemble
+from rocknroller.numerics.integrate import AccuracyError, AccuracyWarning, simulate
+from rocknroller.numerics.provenance import __version__
+from rocknroller.numerics.trajectory import Trajectory, TurningPointRun, TurningPoints
+from rocknroller.papers.citation import cite
+
+__all__ = [
+    "__version__", "cite",
+    # the body and the direct ODE
+    "Body", "EulerState", "simulate", "Trajectory", "TurningPointRun", "TurningPoints", "AccuracyError",
+    "AccuracyWarning",
+    # many direct runs: in this process or on a dask.distributed cluster
+    "Job", "RunSummary", "run_ensemble",
+    # Routh's sphere: the reduction and the precession quadratures
+    "F", "effective_potential", "turning_points", "solve_turning_points", "invariants_from_euler", "state_from_turning_point",
+    "V_phi", "V_psi", "precession", "precession_from_turning_point", "precession_mp", "Precession",
+    "NoMotionError", "SteadyRollingError",
+    # criticality
+    "QJ_crit_0", "QJ_crit_pi", "QJ_crit", "region", "cos_theta_z", "theta_z", "theta_e", "delta_of",
+    "delta_bound_coefficients", "theta_z_expansion", "critical_start", "CriticalStart", "reversal_analysis",
+    "laurent_coefficients", "laurent_series", "laurent_function",
+    # the slow motion of the rock'n'roller
+    "predict_slow_motion", "SlowPrediction", "pendulum_constants", "pendulum_prediction", "PendulumConstants",
+    "period_doubling", "PeriodDoubling",
+    "azimuth_span", "atlas_from_rest", "atlas_of_rates", "confirm_atlas", "Atlas", "AtlasCheck",
+]

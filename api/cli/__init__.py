@@ -1,0 +1,79 @@
+"""The ``rocknroller`` console script: a thin dispatcher over its subcommands, one module each in this package.
+
+Each subcommand lives in ``api/cli/<name>.py`` (``rocknroller.cli.<name>``) and defines
+``register(subparsers)`` (adds its parser, with ``--help`` text) and
+``run(args) -> int``.  Exit status: 0 success; 1 a computation failed its own
+check (``--strict`` accuracy, ``verify``); 2 bad input (a ``ValueError``) or an
+output that cannot be written (an ``OSError``), printed as one line without a
+traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import re
+import sys
+
+from rocknroller.cli.options import accept_negative_values
+from rocknroller.numerics.provenance import __version__
+
+COMMANDS = ("reproduce", "simulate", "animate", "table", "diagram", "slow", "atlas", "verify", "cite")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The ``rocknroller`` argument parser with every subcommand of :data:`COMMANDS`."""
+    parser = argparse.ArgumentParser(
+        prog="rocknroller",
+        description="Routh's sphere and the rock'n'roller: direct ODE, precession quadratures, "
+        "critical Jellett lines, epsilon-averaged slow dynamics, and the reproduction of "
+        "Lynch & Bustamante, 'Precession and recession of the rock'n'roller'.",
+    )
+    parser.add_argument("--version", action="version", version=f"rocknroller {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name in COMMANDS:
+        importlib.import_module(f"rocknroller.cli.{name}").register(sub)
+    for p in (parser, *sub.choices.values()):
+        accept_negative_values(p)
+    return parser
+
+
+#: API parameter names and the options that set them, for error messages (the user gave the option).
+_OPTION_OF = {"t_end": "--t-end", "dt": "--dt", "theta0": "--theta0", "phi0": "--phi0", "psi0": "--psi0",
+              "theta_dot": "--theta-dot0", "phi_dot": "--phi-dot0", "psi_dot": "--psi-dot0", "omega": "--omega",
+              "epsilon": "--eps", "a": "--a", "I1": "--I1", "I2": "--I2", "I3": "--I3", "g": "--g",
+              "QR_max": "--QR-max", "workers": "--workers", "nu": "--nodes", "nv": "--nodes", "fps": "--fps",
+              "duration": "--duration", "processes": "--processes"}
+_PARAMETER = re.compile(r"(?<![-\w])(" + "|".join(_OPTION_OF) + r")\b(?=( must|=))")  # not inside an option
+
+
+def option_names(message: str, argv: list[str]) -> str:
+    """``message`` with API parameter names (``t_end must ...``, ``theta0=...``) replaced by the options that set
+    them, where the user gave that option (a value derived from other options keeps its own name)."""
+    given = {a.split("=", 1)[0] for a in argv if a.startswith("--")}
+    return _PARAMETER.sub(lambda m: _OPTION_OF[m.group(1)] if _OPTION_OF[m.group(1)] in given else m.group(1),
+                          message)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the console script on ``argv`` (default ``sys.argv[1:]``); returns the exit status (see the module)."""
+    parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    args = parser.parse_args(argv)
+    if args.command is None:
+        parser.print_help()
+        return 2
+    from rocknroller.numerics.integrate import AccuracyError
+
+    try:
+        return int(args.run(args) or 0)
+    except ValueError as exc:
+        print(f"rocknroller {args.command}: error: {option_names(str(exc), argv)}", file=sys.stderr)
+        return 2
+    except AccuracyError as exc:
+        print(f"rocknroller {args.command}: check failed: {exc}", file=sys.stderr)
+        return 1
+    except OSError as exc:
+        where = f" {exc.filename!r}" if getattr(exc, "filename", None) else ""
+        print(f"rocknroller {args.command}: error: cannot write{where}: {exc.strerror or exc}", file=sys.stderr)
+        return 2

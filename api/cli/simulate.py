@@ -1,0 +1,136 @@
+"""``rocknroller simulate``: integrate the direct equations of motion and report the turning points."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import warnings
+from pathlib import Path
+
+from rocknroller.cli.options import (add_body_options, add_force_option, add_initial_state_options, body_from_args,
+                                     initial_state_from_args, prepare_output_dir, print_json, start_with_default_rates)
+from rocknroller.papers.lynch_bustamante import fig5_symmetry_breaking as fig5
+
+#: Files written to --out (with samples), and with --turning-points-only.
+OUTPUTS = ("samples.csv", "turning_points.csv", "contact_track.png", "contact_track.pdf", "phi_at_maxima.png",
+           "phi_at_maxima.pdf", "QR_QJ_orbit.png", "QR_QJ_orbit.pdf")
+OUTPUTS_TURNING_POINTS = ("turning_points.csv", "phi_at_maxima.png", "phi_at_maxima.pdf", "QR_QJ_orbit.png",
+                          "QR_QJ_orbit.pdf")
+_TP_COLUMNS = ("kind", "t", "theta", "phi", "psi", "Q_R", "Q_J", "X", "Y")
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``simulate`` subcommand and its ``--help`` to ``sub``."""
+    eps = fig5.EPSILONS[1]
+    p = sub.add_parser(
+        "simulate",
+        help="integrate the direct ODE (default: the paper's figure-5 run)",
+        description="Integrate the rock'n'roller's equations of motion (singularity-free body frame; heyoka "
+        "Taylor integrator or scipy DOP853) and find every turning point of the tilt theta. Defaults: the "
+        f"paper's body with eps={eps:g} and the figure-5 start theta0=0.95pi, omega=(0, 0.001, -0.001) "
+        "(used only when no rate option is given). Runs are limited to what fits in memory and time "
+        "(rocknroller.numerics.integrate: MAX_SAMPLES samples, MAX_DENSE_RADIANS with samples, MAX_RADIANS without); "
+        "--turning-points-only streams the turning points and keeps no samples.",
+    )
+    add_body_options(p, eps_default=eps)
+    add_initial_state_options(p, rates_note="with none of --theta-dot0/--phi-dot0/--psi-dot0/--omega given, "
+                              "simulate starts with the figure-5 omega = (0, 0.001, -0.001)")
+    p.add_argument("--t-end", type=float, default=1500.0, help="final time (default 1500)")
+    p.add_argument("--method", choices=("heyoka", "scipy"), default="heyoka", help="integrator (default heyoka)")
+    p.add_argument("--dt", type=float, default=None,
+                   help="output spacing (default 0.15/Lambda, about 0.05 for the paper's runs; Lambda bounds |omega|)")
+    p.add_argument("--turning-points-only", action="store_true",
+                   help="keep only the turning points and the invariants there (memory does not grow with t_end); "
+                        "with --out, turning_points.csv is written as the run goes")
+    p.add_argument("--strict", action="store_true",
+                   help="fail (exit 1) instead of warning when the energy error exceeds what the integrator's "
+                        "tolerance allows")
+    p.add_argument("--out", type=Path, default=None, metavar="DIR",
+                   help="write samples.csv, turning_points.csv and PNG+PDF plots to DIR (created if missing; "
+                        "existing files are not overwritten without --force)")
+    add_force_option(p)
+    p.add_argument("--json", action="store_true", help="print a one-object JSON summary on stdout")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(run=run)
+
+
+def _header(method: str, body, initial) -> list[str]:
+    return [f"rocknroller simulate ({method})", f"body: {body.describe()}", f"initial: {initial}"]
+
+
+def _turning_point_columns(maxima, minima) -> dict[str, list]:
+    cols: dict[str, list] = {"kind": ["max"] * len(maxima) + ["min"] * len(minima)}
+    for name, attr in (("t", "t"), ("theta", "theta"), ("phi", "phi"), ("psi", "psi"), ("Q_R", "QR"), ("Q_J", "QJ")):
+        cols[name] = [*getattr(maxima, attr), *getattr(minima, attr)]
+    cols["X"] = [*maxima.states[:, 9], *minima.states[:, 9]]
+    cols["Y"] = [*maxima.states[:, 10], *minima.states[:, 10]]
+    return cols
+
+
+def _plots(traj, body, out: Path, names: tuple[str, ...]) -> list[Path]:
+    from rocknroller.numerics.trajectory_plots import plot_contact_track, plot_invariant_orbit, plot_phi_at_maxima
+    from rocknroller.papers.output import save_figure
+
+    written = []
+    for name, plot in (("contact_track", plot_contact_track), ("phi_at_maxima", plot_phi_at_maxima),
+                       ("QR_QJ_orbit", plot_invariant_orbit)):
+        if f"{name}.png" in names:
+            ax = plot(traj)
+            ax.set_title(f"a={body.a:g}, I1={body.I1:g}, I3={body.I3:g}, eps={body.epsilon:.3g}", fontsize=9)
+            written += save_figure(ax.figure, out, name)
+    return written
+
+
+def _write_outputs(traj, body, initial, out: Path) -> list[Path]:
+    from rocknroller.papers.output import write_csv
+
+    header = _header(traj.method, body, initial)
+    w1, w2, w3 = traj.omega
+    written = [write_csv(out / "samples.csv", {
+        "t": traj.t, "theta": traj.theta, "phi": traj.phi, "psi": traj.psi, "w1": w1, "w2": w2, "w3": w3,
+        "E": traj.E, "Q_J": traj.QJ, "Q_R": traj.QR, "X": traj.X, "Y": traj.Y}, header)]
+    written.append(write_csv(out / "turning_points.csv", _turning_point_columns(traj.maxima, traj.minima), header))
+    return written + _plots(traj, body, out, OUTPUTS)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run ``rocknroller simulate`` with the parsed ``args``; returns the exit status."""
+    from rocknroller.numerics.integrate import AccuracyWarning, simulate
+    from rocknroller.papers.output import CsvStream
+
+    body = body_from_args(args)
+    initial = initial_state_from_args(args)
+    initial = start_with_default_rates(args, initial)
+    tp_only = args.turning_points_only
+    if args.out is not None:
+        prepare_output_dir(args.out, "--out", args.force, OUTPUTS_TURNING_POINTS if tp_only else OUTPUTS)
+    kw = dict(method=args.method, dt=args.dt, progress=None if not args.quiet else False, strict=args.strict)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", AccuracyWarning)
+        if tp_only and args.out is not None:
+            with CsvStream(args.out / "turning_points.csv", _TP_COLUMNS,
+                           _header(args.method, body, initial) + ["rows: the turning points of each stretch, "
+                                                                  "maxima then minima"]) as stream:
+                traj = simulate(body, initial, args.t_end, samples=False,
+                                on_turning_points=lambda mx, mn: stream.write(_turning_point_columns(mx, mn)), **kw)
+            written = [stream.path] + _plots(traj, body, args.out, OUTPUTS_TURNING_POINTS)
+        else:
+            traj = simulate(body, initial, args.t_end, samples=not tp_only, **kw)
+            written = _write_outputs(traj, body, initial, args.out) if args.out is not None else []
+    messages = [str(w.message) for w in caught if issubclass(w.category, AccuracyWarning)]
+    summary = {"energy_rel_error": traj.energy_rel_error, "energy_tolerance": traj.energy_tolerance,
+               "n_maxima": len(traj.maxima), "n_minima": len(traj.minima), "Phi": traj.Phi, "t_end": args.t_end,
+               "n_steps": traj.n_steps, "warnings": messages}
+    for msg in messages:
+        print(f"rocknroller simulate: warning: {msg}", file=sys.stderr)
+    if args.json:
+        print_json(summary)
+    else:
+        print(f"body: {body.describe()}")
+        print(f"initial: {initial}")
+        print(f"method={traj.method}  t_end={args.t_end:g}  maxima={summary['n_maxima']}  "
+              f"minima={summary['n_minima']}  Phi={summary['Phi']:.6f} rad  "
+              f"energy_rel_error={summary['energy_rel_error']:.2e} (E(0) + g a scale)")
+    for path in written:
+        print(f"wrote {path}", file=sys.stderr)
+    return 0

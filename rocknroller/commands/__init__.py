@@ -1,1 +1,0 @@
-"""One module per ``rocknroller`` subcommand: ``register(subparsers)`` and ``run(args)``."""

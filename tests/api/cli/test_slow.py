@@ -1,0 +1,303 @@
+"""``rocknroller slow``: JSON keys, --check against the ODE, warnings and errors outside the valid regime."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.slow import prediction as av
+from rocknroller.analysis.slow import table as slow_table
+from rocknroller.analysis.slow.pendulum import pendulum_constants
+from rocknroller.cli import main
+
+
+@pytest.fixture(scope="module")
+def fresh_cache(tmp_path_factory):
+    """An empty cache directory (shared by this module): the command must build its tables itself."""
+    path = tmp_path_factory.mktemp("cache")
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("ROCKNROLLER_CACHE", str(path))
+        mp.setattr(slow_table, "_TABLES", {})
+        yield path
+
+
+def test_json_and_check(fresh_cache, capsys):
+    """The first-order map in a fresh cache (the tests here use --order 1 so that each builds only the first-order
+    tables; test_slow_order_option covers the default, order 2)."""
+    assert main(["slow", "--order", "1", "--eps", "1e-3", "--psi0", "3pi/8", "--t-end", "400", "--json", "--check"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    for key in ("slow_period", "QR_extent", "QJ_extent", "Phi", "pendulum", "ode", "rel_error"):
+        assert key in out
+    for key in ("slow_period", "QR_extent", "QJ_extent", "Phi", "kappa", "eps_period_doubling"):
+        assert key in out["pendulum"]
+    # first-order map at eps = 1e-3: relative errors O(eps) (docs/averaging.md)
+    for q in ("slow_period", "QR_extent", "Phi"):
+        assert abs(out["rel_error"][q]) < 5e-3, (q, out["rel_error"][q])
+    assert out["rocks_per_region"] == out["ode"]["rocks_per_region"]
+    assert out["warnings"] == []
+    # the tables were built and cached
+    assert list((fresh_cache / "averaging").glob("slowmap-*.npz"))
+
+
+def test_plain_output_and_plot(fresh_cache, tmp_path, capsys):
+    assert main(["slow", "--order", "1", "--t-end", "200", "--plot", str(tmp_path / "fig")]) == 0
+    captured = capsys.readouterr()
+    assert "slow_period" in captured.out and "period doubling" in captured.out
+    for ext in ("png", "pdf"):
+        f = tmp_path / "fig" / f"slow_orbit.{ext}"
+        assert f.exists() and f.stat().st_size > 1000
+
+
+def test_outside_valid_regime(fresh_cache, capsys):
+    assert main(["slow", "--eps=-1e-3"]) == 2
+    assert "eps" in capsys.readouterr().err
+    assert main(["slow", "--theta0", "1.2pi"]) == 2
+    assert "theta0" in capsys.readouterr().err
+    assert main(["slow", "--theta0", "0.9pi", "--cached-only"]) == 2
+    assert "no averaging tables" in capsys.readouterr().err
+    assert main(["slow", "--order", "1", "--eps", "1.1e-2", "--t-end", "100", "--json"]) == 0
+    captured = capsys.readouterr()
+    eps_pd = pendulum_constants(Body.paper(1.1e-2), 0.95 * math.pi).eps_period_doubling
+    assert "K = eps*kappa" in captured.err and f"eps < {eps_pd:.4g} " in captured.err
+    assert json.loads(captured.out)["warnings"]
+
+
+# ----------------------------------------------------------------------------- limits and validity (issue 10)
+def _strict_json(text: str):
+    """json.loads that refuses NaN and Infinity (not JSON)."""
+    def refuse(name):
+        raise ValueError(f"not JSON: {name}")
+
+    return json.loads(text, parse_constant=refuse)
+
+
+def test_t_end_limit_is_checked_up_front(fresh_cache, capsys):
+    """t_end is refused before any table is built or loaded (it used to run until memory ran out)."""
+    assert main(["slow", "--t-end", "1e300", "--theta0", "0.8pi", "--cached-only"]) == 2
+    err = capsys.readouterr().err
+    assert "--t-end" in err and "(0, " in err and "1e+06" in err and "no averaging tables" not in err
+    assert main(["slow", "--t-end", "nan"]) == 2 and "--t-end" in capsys.readouterr().err
+    # the API: the same check, naming t_end, before building (build=False would otherwise raise "no tables")
+    limit = av.max_t_end(Body.paper(1e-3), 0.8 * math.pi)
+    assert limit == pytest.approx(0.5 * av.MAX_MAXIMA * pendulum_constants(Body.paper(0.0), 0.8 * math.pi).T0,
+                                  rel=1e-9)
+    for t_end in (1e300, 1.0001 * limit, math.inf, math.nan, 0.0, -1.0):
+        with pytest.raises(ValueError, match=r"^t_end must be a finite number in \(0, "):
+            av.predict_slow_motion(Body.paper(1e-3), 0.8 * math.pi, math.pi / 4, t_end, build=False)
+
+
+def test_t_end_and_n_steps_limits_of_the_map(fresh_cache):
+    table = av.load_or_build_table(Body.paper(0.0), 0.95 * math.pi)
+    T0 = pendulum_constants(Body.paper(0.0), 0.95 * math.pi).T0
+    with pytest.raises(ValueError, match="t_end must be"):
+        av.iterate_slow_map(table, 1e-3, 0.5, 1e300)
+    with pytest.raises(ValueError, match="n_steps must be an integer in"):
+        av.iterate_slow_map(table, 1e-3, 0.5, 100.0, n_steps=av.MAX_MAXIMA + 1)
+    # with n_steps the run is bounded by it, whatever t_end
+    assert av.iterate_slow_map(table, 1e-3, 0.5, 1e300, n_steps=5).t.size == 5
+    # at the limit the run is accepted; it produces fewer maxima than the bound (T_theta >= 0.7 T_theta(0))
+    s = av.iterate_slow_map(table, 1e-3, 0.5, 0.5 * av.MAX_MAXIMA * T0 * 0.999 / 50)
+    assert s.t.size <= av.MAX_MAXIMA / 50
+
+
+def test_theta0_outside_supported_range_is_refused(fresh_cache, capsys):
+    for theta0 in ("0.9999pi", "1.2pi", "-0.5pi", "0"):
+        assert main(["slow", f"--theta0={theta0}", "--t-end", "100"]) == 2
+        err = capsys.readouterr().err
+        assert "error: --theta0 must lie in (0, 0.999pi] for a release from rest" in err, (theta0, err)
+        assert "Traceback" not in err and "numpy" not in err
+    # releases below the release tables' range are served by the region tables of their energy
+    for theta0 in ("0.7pi", "0.5pi", "0.1"):
+        assert main(["slow", f"--theta0={theta0}", "--t-end", "100", "--cached-only"]) == 2
+        assert "no averaging tables for E=" in capsys.readouterr().err
+    lo, hi = av.THETA0_RANGE
+    assert (lo, hi) == (0.75 * math.pi, 0.999 * math.pi)
+    for theta0 in (0.7 * math.pi, math.nextafter(lo, 0.0), math.nextafter(hi, 4.0), math.nan):
+        for call in (lambda th: av.build_table(Body.paper(0.0), th, nu=8, nv=4),
+                     lambda th: av.load_or_build_table(Body.paper(0.0), th, build=False)):
+            with pytest.raises(ValueError, match=r"^theta0 must lie in \[0.75pi, 0.999pi\]"):
+                call(theta0)
+    for theta0 in (math.nextafter(hi, 4.0), math.nan, -0.1, 0.0):
+        with pytest.raises(ValueError, match=r"^theta0 must lie in \(0, 0.999pi\] for a release from rest"):
+            av.predict_slow_motion(Body.paper(1e-3), theta0, 0.5, 100.0, build=False)
+    with pytest.raises(ValueError, match="no averaging tables for E="):
+        av.predict_slow_motion(Body.paper(1e-3), 0.7 * math.pi, 0.5, 100.0, build=False)
+
+
+def test_help_states_limits(capsys):
+    with pytest.raises(SystemExit):
+        main(["slow", "--help"])
+    out = " ".join(capsys.readouterr().out.split())
+    assert "[0.75pi, 0.999pi]" in out and "at most 1e+06 maxima" in out and "null" in out
+
+
+def test_eps_zero_is_pure_rocking(fresh_cache, capsys):
+    """eps = 0: Routh's sphere from rest rocks in a plane with Q = 0 exactly, on both critical lines: no region
+    runs or crossings (they used to be printed from round-off), Phi = 0, undefined quantities null."""
+    assert main(["slow", "--eps", "0", "--t-end", "200", "--json"]) == 0
+    out = _strict_json(capsys.readouterr().out)
+    assert out["pure_rocking"] is True
+    assert out["region_runs"] == [] and out["crossings"] == [] and out["rocks_per_region"] == {}
+    assert out["slow_period"] is None and out["line_slope"] is None and out["pendulum"]["slow_period"] is None
+    assert out["QR_extent"] == out["QJ_extent"] == out["Phi"] == 0.0 and out["n_maxima"] == 15
+    assert main(["slow", "--eps", "0", "--t-end", "200"]) == 0
+    text = capsys.readouterr().out
+    assert "pure rocking" in text and "both critical lines" in text and "rocks per critical region" not in text
+    pred = av.predict_slow_motion(Body.paper(0.0), 0.95 * math.pi, 0.3, 200.0)
+    assert pred.pure_rocking and pred.region_runs == [] and pred.crossings == [] and pred.rocks_per_region == {}
+    assert set(pred.regions) == {"origin"} and pred.slow_period is None and pred.line_slope is None
+    assert not pred.series.QR.any() and not pred.series.QJ.any() and pred.Phi == 0.0
+    assert not av.predict_slow_motion(Body.paper(1e-3), 0.95 * math.pi, 0.3, 200.0).pure_rocking
+
+
+@pytest.mark.parametrize("argv", [
+    [],                                      # the default run
+    ["--eps", "0"],                          # pure rocking
+    ["--t-end", "10"],                       # shorter than one rock: no maxima
+    ["--t-end", "20"],                       # one maximum: no line, no period
+    ["--psi0", "0"],                         # the unstable equilibrium of the closed form
+    ["--eps", "1.1e-2", "--t-end", "100"],   # K > 4: a warning
+    ["--eps", "0", "--t-end", "100", "--check"],
+])
+def test_json_is_strict_without_the_guard(fresh_cache, capsys, monkeypatch, argv):
+    """--json passes json.loads(parse_constant=raise), and no NaN or inf reaches the last guard: undefined
+    quantities are null because they are None, not because a NaN was replaced."""
+    from rocknroller.cli import options
+
+    guard = options.finite_or_none
+
+    def strict(x):
+        if isinstance(x, float):
+            assert math.isfinite(x), x
+        if isinstance(x, dict):
+            [strict(v) for v in x.values()]
+        if isinstance(x, (list, tuple)):
+            [strict(v) for v in x]
+        return guard(x)
+
+    monkeypatch.setattr(options, "finite_or_none", strict)
+    assert main(["slow", "--json", "--order", "1", *argv]) == 0
+    out = _strict_json(capsys.readouterr().out)
+    if argv[:2] == ["--t-end", "20"]:
+        assert out["n_maxima"] == 1 and out["line_slope"] is None and out["slow_period"] is None
+    assert av.line_slope([0.1], [0.2]) is None and av.line_slope([0.1, 0.1], [0.2, 0.2]) is None
+
+
+@pytest.mark.parametrize("argv, flag", [
+    (["--eps", "0.5"], "--eps"),
+    (["--eps", "inf"], "--eps"),
+    (["--eps=-1e-3"], "--eps"),
+    (["--polar-cap", "0.5", "--eps", "0.9"], "--eps"),
+    (["--I2", "0.5"], "--I2"),
+    (["--I2", "0.3"], "--I2"),
+    (["--a", "0.9"], "--a"),
+    (["--g", "-1"], "--g"),
+    (["--I2", "0.36", "--eps", "1e-3"], "--I2"),
+    (["--polar-cap", "0.999"], "--eps"),  # the default eps 1e-3 is too large for this body
+    (["--theta0", "abc"], "--theta0"),
+    (["--theta0", "0.9999pi"], "--theta0"),
+    (["--psi0", "nan"], "--psi0"),
+    (["--t-end", "-5"], "--t-end"),
+])
+def test_errors_name_the_option_given(fresh_cache, capsys, argv, flag):
+    assert main(["slow", "--cached-only", *argv]) == 2
+    err = capsys.readouterr().err
+    assert flag in err, err
+    assert "Traceback" not in err
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("frac, K", [(0.75, None), (0.999, 0.4)])
+def test_map_at_the_ends_of_the_theta0_range(frac, K):
+    """The ends of THETA0_RANGE: the tables build (interpolation error < 1e-7) and the map agrees with the
+    direct ODE to < 5e-3 at eps = 1e-3 (0.75pi; K = 0.018) or K = 0.4 (0.999pi, eps = 3.8e-7); docs/averaging.md."""
+    from rocknroller.papers.averaging_check import ode_slow_summary, relative_errors
+
+    theta0 = frac * math.pi
+    table = av.build_table(Body.paper(0.0), theta0)
+    assert table.interp_error < 1e-7
+    eps = 1e-3 if K is None else K / table.kappa
+    pred = av.predict_slow_motion(Body.paper(eps), theta0, math.pi / 4, 1000.0, table=table)
+    ref = ode_slow_summary(Body.paper(eps), theta0, math.pi / 4, 1000.0)
+    errs = relative_errors(pred, ref)
+    for q in ("slow_period", "QR_extent", "Phi"):
+        assert abs(errs[q]) < 5e-3, (q, errs)
+    assert [r[:2] for r in pred.region_runs] == [r[:2] for r in ref.region_runs]
+
+
+def test_plot_directory_is_checked_before_computing(tmp_path, capsys):
+    (tmp_path / "slow_orbit.png").write_bytes(b"keep")
+    assert main(["slow", "--plot", str(tmp_path)]) == 2
+    assert "--force" in capsys.readouterr().err and (tmp_path / "slow_orbit.png").read_bytes() == b"keep"
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    assert main(["slow", "--plot", str(blocker / "sub")]) == 2
+    assert "cannot write" in capsys.readouterr().err
+
+
+# ----------------------------------------------------------------------------- starts with velocity
+#: Coarse region tables (16 × 8 nodes, ~2 s): these tests check the command's plumbing, not the map's accuracy
+#: (tests/analysis/slow/test_region.py compares the default tables with the direct ODE); the command says they are coarse.
+COARSE = ["--nodes", "16", "8", "--workers", "1"]
+
+
+def test_start_with_velocity(fresh_cache, tmp_path, capsys):
+    argv = ["slow", "--eps", "1e-3", "--theta0", "0.6pi", "--psi0", "0.3", "--phi-dot0", "0.05", "--t-end", "200",
+            "--json", "--check", "--plot", str(tmp_path / "fig"), *COARSE]
+    assert main(argv) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["start"]["phi_dot"] == 0.05 and out["pendulum"] is None
+    assert out["n_maxima"] > 10
+    assert any("interpolate the map's coefficients only" in w for w in out["warnings"])  # coarse tables: said so
+    assert out["rocks_per_region"] == out["ode"]["rocks_per_region"]
+    assert (tmp_path / "fig" / "slow_orbit.png").stat().st_size > 1000
+
+
+def test_start_on_a_critical_line(fresh_cache, capsys):
+    """The paper's fig. 8 start (on Q_J,pi^crit, psi_dot0 = 0.002) through the command."""
+    assert main(["slow", "--critical-line", "pi", "--psi-dot0", "0.002", "--t-end", "100", "--json", *COARSE]) == 0
+    out = json.loads(capsys.readouterr().out)
+    # the start is built from omega (EulerState.from_omega): its rates carry the conversion's few roundings
+    assert out["start"]["psi_dot"] == pytest.approx(0.002, rel=1e-14)
+    assert abs(out["start"]["theta_dot"]) < 1e-18
+    assert out["first_maximum"]["t"] == 0.0  # a turning-point start at which theta falls: its own first maximum
+    assert out["chart"] == "band"  # the energy of a release from 0.95pi: the band about Q_J,pi^crit
+
+
+def test_chart_option(fresh_cache, capsys):
+    argv = ["slow", "--theta0", "0.6pi", "--phi-dot0", "0.05", "--t-end", "50", "--json", *COARSE]
+    assert main(argv + ["--chart", "band"]) == 0
+    assert json.loads(capsys.readouterr().out)["chart"] == "band"
+    assert main(argv) == 0
+    assert json.loads(capsys.readouterr().out)["chart"] == "spindle"  # auto below the energy of a release from 0.65pi
+    with pytest.raises(SystemExit) as exc:  # argparse's choices
+        main(argv + ["--chart", "pi"])
+    assert exc.value.code == 2 and "--chart" in capsys.readouterr().err
+
+
+def test_start_options_are_checked(fresh_cache, capsys):
+    assert main(["slow", "--QR", "0.1"]) == 2
+    assert "--QR needs --critical-line" in capsys.readouterr().err
+    assert main(["slow", "--phi-dot0", "0.05", "--workers", "0", "--nodes", "16", "8"]) == 2
+    assert "--workers" in capsys.readouterr().err
+    assert main(["slow", "--phi-dot0", "0.05", "--nodes", "16", "7"]) == 2
+    assert "--nodes" in capsys.readouterr().err
+
+
+def test_slow_period_doubling_option(capsys):
+    """--period-doubling adds the exact one-step map's ε_pd (what rr.period_doubling computes) beside 4/κ; a start
+    with velocity is refused, naming the option."""
+    from rocknroller.analysis.slow.period_doubling import period_doubling
+
+    assert main(["slow", "--theta0", "0.95pi", "--order", "1", "--period-doubling", "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)["period_doubling"]
+    ref = period_doubling(Body.paper(1e-3), 0.95 * math.pi)
+    assert got["eps_exact"] == ref.eps_exact and got["eps_first_order"] == ref.eps_first_order
+    assert main(["slow", "--theta0", "0.95pi", "--order", "1", "--period-doubling"]) == 0
+    assert "exact one-step map: period doubling at eps = " in capsys.readouterr().out
+    assert main(["slow", "--theta0", "0.5pi", "--phi-dot0", "0.1", "--period-doubling"]) == 2
+    assert "--period-doubling applies to releases from rest" in capsys.readouterr().err
+

@@ -1,0 +1,102 @@
+"""The public namespace ``import rocknroller as rr``: what it exports, tables as DataFrames, plots on given axes."""
+
+from __future__ import annotations
+
+import math
+import sys
+
+import numpy as np
+import pandas as pd
+import pytest
+from matplotlib.figure import Figure
+
+import rocknroller as rr
+
+
+def test_namespace_exports_what_a_researcher_uses():
+    assert len(rr.__all__) == len(set(rr.__all__))
+    for name in rr.__all__:
+        assert getattr(rr, name) is not None, name
+    for name in ("Body", "EulerState", "simulate", "F", "turning_points", "precession", "QJ_crit_0", "QJ_crit_pi",
+                 "region", "cos_theta_z", "delta_of", "delta_bound_coefficients", "laurent_function",
+                 "predict_slow_motion", "pendulum_constants", "cite"):
+        assert name in rr.__all__, name
+
+
+def test_precession_table_as_dataframe_keeps_missing_values_missing():
+    """A point without motion is a missing value in the frame, not NaN, and the others equal the arrays."""
+    body = rr.Body.paper(0.0)
+    tp = rr.solve_turning_points(np.array([1.0, 0.0]), np.array([0.01, 0.0]), np.array([0.02, 0.0]), body)
+    pr, _ = rr.precession_from_turning_point(np.array([0.9 * math.pi, 0.9 * math.pi]), np.array([0.01, 0.02]),
+                                             np.array([0.02, 0.0]), body)
+    frame = pr.to_dataframe()
+    assert list(frame["QR"]) == [0.01, 0.02] and frame.shape[0] == 2
+    np.testing.assert_array_equal(frame["T_theta"].to_numpy(float), np.ma.getdata(pr.T_theta))
+    assert set(frame["status_text"]) <= set(rr.analysis.routh.quadrature.QUADRATURE_STATUS_TEXT.values())
+    tpf = tp.to_dataframe()
+    assert tpf["theta_X"].dtype == "Float64" and tpf["theta_X"].isna().tolist() == list(np.ma.getmaskarray(tp.theta_X))
+    assert not np.isnan(tpf["theta_X"].to_numpy(float, na_value=0.0)).any()
+
+
+def test_trajectory_tables_and_plots(fig5_initial):
+    traj = rr.simulate(rr.Body.paper(1e-3), fig5_initial, 60.0)
+    frame = traj.to_dataframe()
+    assert frame.shape == (traj.t.size, 9)
+    np.testing.assert_array_equal(frame["QJ"].to_numpy(), traj.QJ)
+    tps = traj.turning_points_dataframe()
+    assert len(tps) == len(traj.maxima) + len(traj.minima) and tps["t"].is_monotonic_increasing
+    assert set(tps["kind"]) == {"max", "min"}
+    run = rr.simulate(rr.Body.paper(1e-3), fig5_initial, 60.0, samples=False)
+    pd.testing.assert_frame_equal(run.to_dataframe(), tps)  # the same turning points, bit for bit
+    fig = Figure()
+    for kind in ("orbit", "phi", "track"):
+        ax = fig.add_subplot()
+        assert traj.plot(ax=ax, kind=kind) is ax and ax.lines
+    with pytest.raises(ValueError, match="kind must be one of"):
+        run.plot(ax=fig.add_subplot(), kind="track")  # no samples, no contact track
+
+
+def test_slow_prediction_table_and_plot():
+    pred = rr.predict_slow_motion(rr.Body.paper(1e-3), 0.95 * math.pi, math.pi / 4, 200.0)
+    frame = pred.to_dataframe()
+    assert list(frame.columns) == ["t", "QR", "QJ", "Theta", "phi", "region"]
+    np.testing.assert_array_equal(frame["QR"].to_numpy(), pred.series.QR)
+    ax = Figure().add_subplot()
+    assert pred.plot(ax=ax) is ax and ax.lines[0].get_xdata().size == pred.series.t.size
+
+
+def test_to_dataframe_says_pandas_is_missing(monkeypatch):
+    monkeypatch.setitem(sys.modules, "pandas", None)
+    with pytest.raises(ImportError, match="pip install pandas"):
+        rr.precession_from_turning_point(0.9 * math.pi, 0.01, 0.02, rr.Body.paper(0.0))[0].to_dataframe()
+
+
+#: The public namespace, as it stood before the package was laid out by subject (issue 22): the restructuring moved
+#: modules, not names.  A name added to ``rr`` on purpose is added here too.
+PUBLIC_NAMES = [
+    "AccuracyError", "AccuracyWarning", "Atlas", "AtlasCheck", "Body", "CriticalStart", "EulerState", "F", "Job",
+    "NoMotionError", "PendulumConstants", "PeriodDoubling", "Precession", "QJ_crit", "QJ_crit_0", "QJ_crit_pi",
+    "RunSummary", "SlowPrediction", "SteadyRollingError", "Trajectory", "TurningPointRun", "TurningPoints", "V_phi",
+    "V_psi", "atlas_from_rest", "atlas_of_rates", "azimuth_span", "cite", "confirm_atlas", "cos_theta_z",
+    "critical_start", "delta_bound_coefficients", "delta_of", "effective_potential", "invariants_from_euler",
+    "laurent_coefficients", "laurent_function", "laurent_series", "pendulum_constants", "pendulum_prediction",
+    "period_doubling", "precession", "precession_from_turning_point", "precession_mp", "predict_slow_motion", "region",
+    "reversal_analysis", "run_ensemble", "simulate", "solve_turning_points", "state_from_turning_point", "theta_e",
+    "theta_z", "theta_z_expansion", "turning_points",
+]
+
+
+def test_public_namespace_is_the_stated_list():
+    """``dir(rocknroller)`` after a fresh import: the stated names (each also in ``__all__``, with ``__version__``),
+    and as modules only the three folders the front door imports from."""
+    import json
+    import subprocess
+
+    code = ("import inspect, json, rocknroller as rr; d = [n for n in dir(rr) if not n.startswith('_')]; "
+            "print(json.dumps([sorted(n for n in d if not inspect.ismodule(getattr(rr, n))), "
+            "sorted(n for n in d if inspect.ismodule(getattr(rr, n))), rr.__all__]))")
+    names, modules, exported = json.loads(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                                                         check=True).stdout)
+    assert names == sorted(PUBLIC_NAMES)
+    assert sorted(exported) == sorted(PUBLIC_NAMES + ["__version__"])
+    assert modules == ["analysis", "numerics", "papers"]
