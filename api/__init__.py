@@ -11,7 +11,6 @@ keyword-only::
     rr.region(traj.maxima.QR, traj.maxima.QJ, body)
 """
 
-from rocknroller.analysis.criticality.laurent import laurent_coefficients, laurent_function, laurent_series
 from rocknroller.analysis.criticality.lines import QJ_crit, QJ_crit_0, QJ_crit_pi, region
 from rocknroller.analysis.criticality.reversals import reversal_analysis
 from rocknroller.analysis.criticality.starts import CriticalStart, critical_start
@@ -56,3 +55,18 @@ __all__ = [
     "period_doubling", "PeriodDoubling",
     "azimuth_span", "atlas_from_rest", "atlas_of_rates", "confirm_atlas", "Atlas", "AtlasCheck",
 ]
+
+#: Loaded on first use (PEP 562): the Laurent expansions are symbolic, and sympy takes ~0.3 s to import.
+_LAURENT = ("laurent_coefficients", "laurent_function", "laurent_series")
+
+
+def __getattr__(name: str) -> object:
+    if name in _LAURENT:
+        from rocknroller.analysis.criticality import laurent
+
+        return getattr(laurent, name)
+    raise AttributeError(f"module 'rocknroller' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAURENT))

@@ -47,10 +47,10 @@ def main() -> None:
     t_build = time.perf_counter() - t0
     consts = pendulum_constants(body, THETA0)
     simulate(body, EulerState(THETA0, 0.0, PSI0), 10.0)  # compile / load the integrator
-    av.predict_slow_motion(body, THETA0, PSI0, T_END, table=table)  # run-time form of the table
+    av.predict_slow_motion(body, THETA0, PSI0, T_END, table=table, order=1)  # run-time form of the table
     t_ode = best_of(lambda: ode_slow_summary(body, THETA0, PSI0, T_END))
     t_sim = best_of(lambda: simulate(body, EulerState(THETA0, 0.0, PSI0), T_END, dt=100.0))
-    t_map = best_of(lambda: av.predict_slow_motion(body, THETA0, PSI0, T_END, table=table), n=20)
+    t_map = best_of(lambda: av.predict_slow_motion(body, THETA0, PSI0, T_END, table=table, order=1), n=20)
     n_steps = av.iterate_slow_map(table, EPS, PSI0, T_END).t.size + 1  # the step past t_end included
     t_loop = best_of(lambda: av.iterate_slow_map(table, EPS, PSI0, T_END), n=20)
     t_cf = best_of(lambda: pendulum_prediction(body, THETA0, PSI0, T_END, constants=consts))
@@ -70,7 +70,7 @@ def main() -> None:
         ratios = []
         for psi0 in PSI0_GRID.values():
             t_o = best_of(lambda: ode_slow_summary(b, THETA0, psi0, T_END), n=3)
-            t_m = best_of(lambda: av.predict_slow_motion(b, THETA0, psi0, T_END, table=table), n=10)
+            t_m = best_of(lambda: av.predict_slow_motion(b, THETA0, psi0, T_END, table=table, order=1), n=10)
             ratios.append(t_o / t_m)
         print(f"  {eps:7.0e}  " + "".join(f"{r:9.1f}x" for r in ratios))
 

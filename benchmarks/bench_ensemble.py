@@ -68,7 +68,7 @@ def main() -> None:
     try:
         import distributed
     except ImportError:
-        print('(dask.distributed not installed: pip install "rocknroller[distributed]" for the cluster rows)')
+        print('(dask.distributed not installed: python -m pip install -e ".[distributed]" in a clone for the cluster rows)')
     else:
         t, out = best_of(lambda: run_ensemble(jobs, workers=2, progress=False), 1)
         rows.append(("run_ensemble, workers=2 (LocalCluster start included)", t, identical(out, ref)))

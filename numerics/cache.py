@@ -128,12 +128,13 @@ def probe_writable(directory: str | os.PathLike) -> OSError | None:
 
 def warn_unwritable(directory: str | os.PathLike, error: BaseException, consequence: str,
                     fix: str = "set ROCKNROLLER_CACHE to a writable folder to keep the cache") -> None:
-    """One :class:`CacheWarning` per process and directory: the cache at ``directory`` cannot be written.
+    """One :class:`CacheWarning` per process and directory: the cache at ``directory`` cannot be used (it cannot be
+    created or written, or holds files that cannot be read).
 
     Parameters
     ----------
     directory : path
-        The cache directory that could not be created or written.
+        The cache directory that could not be used.
     error : exception
         What went wrong (its message is quoted).
     consequence : str
@@ -145,7 +146,7 @@ def warn_unwritable(directory: str | os.PathLike, error: BaseException, conseque
     if key in _WARNED_DIRS:
         return
     _WARNED_DIRS.add(key)
-    warnings.warn(f"the cache directory {key} is not writable ({error}): {consequence}; {fix}", CacheWarning,
+    warnings.warn(f"the cache directory {key} cannot be used ({error}): {consequence}; {fix}", CacheWarning,
                   stacklevel=3)
 
 

@@ -17,7 +17,8 @@ Where the jobs run
 * ``scheduler="tcp://host:port"``: the workers of an existing dask.distributed cluster (``dask scheduler``, then
   ``dask worker tcp://host:port`` on each machine); the cluster is left running.
 
-dask and distributed are an optional extra: ``pip install "rocknroller[distributed]"``.
+dask and distributed are an optional extra: ``python -m pip install -e ".[distributed]"`` in a clone of the
+repository (rocknroller is not on PyPI).
 
 Worker environment
 ------------------
@@ -31,6 +32,7 @@ directory lets one machine's compilation serve all).
 
 from __future__ import annotations
 
+import re
 import sys
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass
@@ -52,8 +54,11 @@ MAX_JOBS = 100_000
 MAX_WORKERS = 256
 #: Most threads of the in-process path (``threads=``).
 MAX_THREADS = 256
+#: A scheduler address rocknroller can connect to: TCP, with an optional ``tcp://``, a host name or IPv4 address or a
+#: bracketed IPv6 address, and a port.
+_TCP_ADDRESS = re.compile(r"(?:tcp://)?(?P<host>\[[0-9A-Fa-f:.]+\]|[^\s/:\[\]@]+):(?P<port>[0-9]{1,5})")
 #: How to install the optional dependencies of the cluster path.
-DISTRIBUTED_HINT = 'pip install "rocknroller[distributed]"'
+DISTRIBUTED_HINT = 'python -m pip install -e ".[distributed]" in a clone of the repository (rocknroller is not on PyPI)'
 
 
 @dataclass(frozen=True)
@@ -154,7 +159,8 @@ def check_cluster(scheduler: Any = None, workers: Any = None, threads: Any = Non
     Parameters
     ----------
     scheduler : str, optional
-        Address of an existing dask scheduler, such as ``"tcp://10.0.0.5:8786"``.
+        TCP address of an existing dask scheduler, ``"tcp://host:port"`` or ``"host:port"``, such as
+        ``"tcp://10.0.0.5:8786"`` (the only protocol rocknroller connects with).
     workers : int, optional
         Number of worker processes of a local cluster, in [1, ``MAX_WORKERS``].
     threads : int, optional
@@ -170,13 +176,17 @@ def check_cluster(scheduler: Any = None, workers: Any = None, threads: Any = Non
     Raises
     ------
     ValueError
-        Naming the parameter: an empty or non-string scheduler, a count out of range, or two of them given.
+        Naming the parameter: a scheduler that is not a TCP address, a count out of range, or two of them given.
     """
     s_name, w_name, t_name = (prefix + name for name in ("scheduler", "workers", "threads"))
     if scheduler is not None:
-        if not isinstance(scheduler, str) or not scheduler.strip():
-            raise ValueError(f"{s_name} must be the address of a dask scheduler such as 'tcp://host:8786', "
-                             f"got {s_name} {scheduler!r}")
+        match = _TCP_ADDRESS.fullmatch(scheduler.strip()) if isinstance(scheduler, str) else None
+        if match is None or not 1 <= int(match["port"]) <= 65535:
+            raise ValueError(f"{s_name} must be the address of a dask scheduler over TCP, 'tcp://host:port' or "
+                             f"'host:port' with a port in [1, 65535], such as 'tcp://10.0.0.5:8786' (rocknroller "
+                             f"connects over TCP only: tls:// needs security settings, ucx:// the ucx-py package, "
+                             f"inproc:// a scheduler in this process, none of which it passes), got {s_name} "
+                             f"{scheduler!r}")
         scheduler = scheduler.strip()
     workers = _check_count(workers, w_name, MAX_WORKERS)
     threads = _check_count(threads, t_name, MAX_THREADS)
@@ -219,8 +229,8 @@ def run_ensemble(jobs: Sequence[Job], *, scheduler: str | None = None, workers: 
     ValueError
         Naming the parameter: too many jobs, an element that is not a :class:`Job`, a bad ``scheduler``,
         ``workers`` or ``threads`` (:func:`check_cluster`); a cluster requested without dask.distributed installed
-        (``pip install "rocknroller[distributed]"``), a scheduler that cannot be reached, or workers whose versions
-        of rocknroller, heyoka or numpy differ from this process's.
+        (``python -m pip install -e ".[distributed]"`` in a clone), a scheduler that cannot be reached, or workers
+        whose versions of rocknroller, heyoka or numpy differ from this process's.
     """
     scheduler, workers = check_cluster(scheduler, workers, threads)
     if isinstance(jobs, (str, bytes)) or not isinstance(jobs, Sequence):

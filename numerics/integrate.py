@@ -8,11 +8,20 @@ Backends
     copied once per thread (the same machine code, so every thread gives the same results bit for bit);
     heyoka's own on-disk JIT cache (heyoka ≥ 7.10, ``HEYOKA_CACHE_DIR``, process-safe) makes a build
     after the first one on a machine take a fraction of a second instead of ~6 s.  Nothing is
-    unpickled from disk.  Turning points are non-terminal events on dγ3/dt = 0, located by heyoka on
-    the Taylor polynomials to round-off.  ``precision="extended"`` uses 80-bit long double (x86-64),
-    for reference runs.
+    unpickled from disk (a cache heyoka cannot use is switched off for the process, with one
+    :class:`CacheWarning`, so that heyoka logs nothing on stdout).  Turning points are non-terminal events on
+    dγ3/dt = 0.  ``precision="extended"`` uses 80-bit long double (x86-64), for reference runs.
 ``scipy``
     scipy's DOP853 on the same right-hand side with a numpy implementation, as an independent check.
+
+Turning points
+--------------
+The integrator's events are checked against the sign of dγ3/dt on the dense output between them and located
+there (a safeguarded Newton method, to the rounding of t); an interval where the check fails is scanned on the
+dense output (``_turning_points``: near the pole heyoka's event polynomial misplaces, repeats or drops a root at the
+end of a step).  A start that is itself a turning point to its rounding (:func:`start_turning_point`) is not
+reported.  Motions whose tilt stays below ``THETA_MIN`` = 2¹⁰ u ≈ 1.1e-13 rad are refused: there the state's
+round-off is no longer small against the tilt (before the run when the energy confines the tilt, else after it).
 
 Limits (checked before any work; a ``ValueError`` names the parameter and the limit)
 --------------------------------------------------------------------------------------
@@ -26,7 +35,12 @@ about one step per radian of Λ t (0.8 measured on the paper's runs).
   enforced while integrating;
 * ``MAX_RADIANS`` of Λ·t_end for any run (``samples=False`` streams the turning points, so only time
   grows: about 3 s per 10⁶ radians here), and with ``samples=False`` at most ``MAX_GRID_POINTS`` points
-  t_end/dt of the grid on which the angles are unwrapped (≈ 1 µs each; the grid is not kept).
+  t_end/dt of the grid on which the angles are unwrapped (≈ 0.3 µs each; the grid is not kept, but sampled in
+  pieces of ``GRID_CHUNK_POINTS``: with ``samples=False`` a run holds one stretch's dense output, ≈ 40 MB, one piece
+  of the grid, ≤ ``GRID_CHUNK_POINTS`` × ``GRID_BYTES_PER_POINT`` = 64 MB, and its turning points, whatever dt).
+
+A start without motion is refused: at rest in an equilibrium, or with Λ = 0 (no gravity, a = 0, and rates so
+small that the kinetic energy underflows to 0).
 
 Accuracy ranges (dimensionless, unit mass and radius; outside them the run is refused)
 --------------------------------------------------------------------------------------
@@ -35,7 +49,8 @@ Accuracy ranges (dimensionless, unit mass and radius; outside them the run is re
   units: 6e-16 at I ~ 0.4, 4e-14 at 4e-4, 3e-11 at 4e-7, 3e-9 at 4e-9);
 * g in ``G_RANGE`` = [1e-12, 1e12]: g only sets the unit of time, but products of g with the rates
   squared must stay far from overflow and underflow;
-* E/g ≤ ``MAX_ENERGY_OVER_G`` = 1e12 (the energy in units of m g R), for the same reason.
+* E/g ≤ ``MAX_ENERGY_OVER_G`` = 1e12 (the energy in units of m g R), for the same reason;
+* the amplitude of θ at least ``THETA_MIN`` (see "Turning points").
 
 Every run's energy error is checked against the tolerance asked for
 (:func:`rocknroller.numerics.trajectory.energy_error_bound`): a run that misses it warns
@@ -52,7 +67,7 @@ import warnings
 from typing import Any, Callable, NamedTuple
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import STATE_SIZE, EulerState, body_frame_rhs, turning_point_function
@@ -63,8 +78,9 @@ from rocknroller.numerics.trajectory import (DenseOutput, Trajectory, TurningPoi
                                              energy_scale)
 
 __all__ = ["simulate", "check_run", "RunPlan", "heyoka_integrator", "default_dt", "cache_dir", "rate_bound",
-           "AccuracyWarning", "AccuracyError", "CacheWarning", "MAX_SAMPLES", "MAX_DENSE_RADIANS", "MAX_DENSE_STEPS", "MAX_RADIANS", "MAX_GRID_POINTS",
-           "MOMENT_RANGE", "G_RANGE", "MAX_ENERGY_OVER_G"]
+           "start_turning_point", "StartRoot", "AccuracyWarning", "AccuracyError", "CacheWarning", "MAX_SAMPLES",
+           "MAX_DENSE_RADIANS", "MAX_DENSE_STEPS", "MAX_RADIANS", "MAX_GRID_POINTS", "GRID_CHUNK_POINTS",
+           "GRID_BYTES_PER_POINT", "MOMENT_RANGE", "G_RANGE", "MAX_ENERGY_OVER_G", "THETA_MIN", "START_ROOT_ULPS"]
 
 _METHODS = ("heyoka", "scipy")
 _PRECISIONS = ("double", "extended")
@@ -86,6 +102,24 @@ MAX_ENERGY_OVER_G = 1e12
 DT_RADIANS = 0.15
 #: Radians of Λ integrated per stretch when only the turning points are kept (≈ 2·10⁴ steps, ≈ 40 MB).
 CHUNK_RADIANS = 2.0e4
+#: Most points of the unwrapping grid sampled at once with ``samples=False`` (pieces of a stretch's grid): at most
+#: ``GRID_CHUNK_POINTS`` × ``GRID_BYTES_PER_POINT`` = 64 MB of arrays, whatever dt.
+GRID_CHUNK_POINTS = 2**16
+#: Bound on the bytes of numpy arrays alive per point of a piece of the grid: the states (88 bytes), their angles,
+#: the unwrapping steps and the temporaries of E, measured at a peak of 0.47 kB per point (tracemalloc); × 2 for
+#: the points the unwrapping inserts near passages through the pole.
+GRID_BYTES_PER_POINT = 1024
+#: Unit round-off of double precision, u = 2⁻⁵³.
+_U = float(np.finfo(float).eps) / 2.0
+#: Smallest amplitude of θ at which the turning points are resolved (2¹⁰ u ≈ 1.1e-13 rad).  The integrator keeps
+#: its state to an absolute error of about u per step: its tolerance applies to max(1, ‖y‖∞), and the unit vectors
+#: γ and e_X make ‖y‖∞ ≈ 1.  Near the pole the tilt lives in γ1, γ2 ≈ θ, so the turning points, the roots of
+#: dγ3/dt = γ1 ω2 − γ2 ω1 ≈ −θ θ̇ (whose terms are of order θ_X² Ω), and every quantity sampled there carry a
+#: relative error ≈ u/θ_X (their times ≈ u/(θ_X Ω)); at θ_X ≥ 2¹⁰ u this is ≤ 2⁻¹⁰ ≈ 1e-3.  Measured on 60 time
+#: units from rest against 80-bit extended precision: time errors 6.6e-18/θ0 (6.6e-8 at θ0 = 1e-10, 1.5e-6 at
+#: 1e-13, 3.5e-4 at 1e-14), θ at the maxima to 5e-5 of θ0 at 1e-13.  (γ3 = cos θ rounds to 1 below θ ≈ 1.5e-8,
+#: but dγ3/dt is computed from γ1, γ2 and ω, which keep their relative precision.)
+THETA_MIN = 1024.0 * _U
 
 
 class AccuracyWarning(UserWarning):
@@ -142,14 +176,27 @@ def heyoka_integrator(precision: str = "double") -> Any:
 
 def _compile(precision: str) -> Any:
     """Build the integrator of ``precision`` (from heyoka's disk cache when it holds it), after checking that the
-    cache can be written."""
+    cache can be used.
+
+    A cache heyoka cannot use (a directory that cannot be written or created, a ``cache.db`` that is not a database)
+    makes heyoka log a ``[warning]`` line on stdout at every lookup and insertion, where it would corrupt the
+    JSON of ``rocknroller ... --json``.  Such a cache is switched off for this process instead (its warnings are then
+    never logged), and one :class:`CacheWarning` says so.  heyoka's own logger is left as the user set it.
+    """
     import heyoka as hy
 
     if hy.llvm_state.get_diskcache_enabled():
         path = hy.llvm_state.get_diskcache_path()
-        error = probe_writable(path)
+        error: BaseException | None = probe_writable(path)
+        if error is None:
+            try:
+                hy.llvm_state.get_diskcache_size()  # opens the cache's database: raises if heyoka cannot use it
+            except RuntimeError as exc:
+                error = exc
         if error is not None:
-            warn_unwritable(path, error, "every process compiles the integrator (~6 s)",
+            hy.llvm_state.set_diskcache_enabled(False)
+            warn_unwritable(path, error, "heyoka's compilation cache is switched off, and every process compiles the "
+                            "integrator (~6 s)",
                             fix="point HEYOKA_CACHE_DIR at a writable folder to keep heyoka's compilation cache")
     return _build_heyoka(float if precision == "double" else np.longdouble)
 
@@ -193,7 +240,37 @@ def _validate(body: Body, initial: EulerState, t_end: float) -> tuple[NDArray[np
         raise ValueError(
             "the initial state has no motion: the body is at rest in an equilibrium (theta0 = 0 or pi, or any "
             "theta0 when a = 0); give theta0 in (0, pi) with a > 0, or a non-zero rate")
+    if not E + body.g * body.a > 0.0:
+        # Λ = 0: T = ½ ωᵀKω ≥ ½ I_min |ω|² (K ≥ I_min) underflows to 0 when ½ I_min |ω|² is below half the smallest
+        # subnormal number, i.e. |ω| < √(2⁻¹⁰⁷⁴/I_min); with g a = 0 nothing else moves the body
+        w_min = math.sqrt(math.ulp(0.0) / min(body.I1, body.I2, body.I3))
+        raise ValueError(
+            f"the initial state has no motion to resolve: {initial} has the kinetic energy E = {E!r} in double "
+            f"precision (its rates, max |omega_i| = {float(np.max(np.abs(y0[3:6]))):.3g}, are below about {w_min:.2g}, "
+            f"where (1/2) I_min |omega|^2 underflows) and g a = {body.g * body.a!r}; give a > 0 or larger rates")
+    _check_tilt_resolved(body, initial, y0, E)
     return y0, rate_bound(body, y0)
+
+
+def _check_tilt_resolved(body: Body, initial: EulerState, y0: NDArray[np.float64], E: float) -> None:
+    """Refuse a motion whose energy keeps its tilt below ``THETA_MIN`` (see there).
+
+    V = g a (1 − cos θ) ≤ E bounds the tilt by θ_E, 2 g a sin²(θ_E/2) = E = T + V; in the upper hemisphere V is taken
+    as g a (γ1² + γ2²)/(1 + γ3), which keeps its digits where 1 − γ3 rounds to 0 (θ < 1.5e-8), and T = E − g a (1 − γ3)
+    exactly as ``energy`` adds it up.  Without gravity (a = 0) the energy bounds no tilt.
+    """
+    if body.a == 0.0:
+        return
+    ga = body.g * body.a
+    one_minus_c = (y0[0] ** 2 + y0[1] ** 2) / (1.0 + y0[2]) if y0[2] > 0.0 else 1.0 - y0[2]
+    s2 = ((E - ga * (1.0 - y0[2])) + ga * one_minus_c) / (2.0 * ga)  # sin²(θ_E/2)
+    if s2 < math.sin(0.5 * THETA_MIN) ** 2:
+        theta_E = 2.0 * math.asin(math.sqrt(max(s2, 0.0)))
+        raise ValueError(
+            f"theta0={initial.theta!r}: the start's energy keeps its tilt within theta_E = {theta_E:.3g} rad of the "
+            f"pole, below THETA_MIN = {THETA_MIN:.3g} rad, the smallest amplitude at which the integrator resolves "
+            f"the turning points of theta (its state carries an absolute round-off of u = {_U:.3g}); give "
+            f"theta0 >= {THETA_MIN:.3g} or larger rates")
 
 
 def _progress(total: float, enabled: bool | None):
@@ -205,45 +282,176 @@ def _progress(total: float, enabled: bool | None):
                 bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} time units [{elapsed}<{remaining}]")
 
 
-def _locate_missed_start_roots(t_a: float, t_hi: float, n_missing: int,
-                               dense: DenseOutput) -> list[tuple[float, int]]:
-    """Roots of dγ3/dt in (t_a, t_hi) that the event finder reported at t_a, located on the dense output.
+# ---------------------------------------------------------------------------------------------- turning points
+#: A start is itself a turning point of θ (θ̇0 = 0 to its rounding) when |h0| ≤ START_ROOT_ULPS · u ·
+#: (|γ1 ω2| + |γ2 ω1|), h = dγ3/dt = γ1 ω2 − γ2 ω1.  Derivation: from Euler rates with θ̇0 = 0,
+#: ``omega_from_rates`` gives ω1 = fl(γ1 φ̇), ω2 = fl(γ2 φ̇) from the same rounded γ1 = fl(s sin ψ), γ2 = fl(s cos ψ),
+#: so each product γ1 ω2, γ2 ω1 is γ1 γ2 φ̇ with two roundings and h0 = fl(difference) ≤ 2 γ_2 |γ1 γ2 φ̇| ≈
+#: 2 u (|γ1 ω2| + |γ2 ω1|); × 4 (margin, which also covers a start whose ω was given to a few ulps).
+#: ``rocknroller.analysis.slow.family.first_maximum`` classifies a start by the same bound.
+START_ROOT_ULPS = 8.0
 
-    heyoka's root finder returns the lower end of an isolating interval whose polynomial vanishes
-    exactly there: when a stretch starts exactly at a turning point (θ̇0 = 0), another root inside
-    the same step is reported at the start, with the start's direction.  The step's dense output is
-    scanned for the sign changes (finer until ``n_missing`` are found) and each is refined by Brent's
-    method; there are no other roots before ``t_hi``, the next reported event.
+
+class StartRoot(NamedTuple):
+    """A start that is itself a turning point of θ (:func:`start_turning_point`)."""
+
+    kind: int
+    """+1 a maximum (dγ3/dt rising through 0), −1 a minimum, 0 neither to first order (d²γ3/dt² = 0 too)."""
+    window: float
+    """Roots of dγ3/dt in (0, window] with direction ``kind`` are the start's own, not reported."""
+
+
+def _h_and_rate(y: NDArray[np.float64], params: tuple[float, ...]) -> tuple[NDArray, NDArray]:
+    """h = dγ3/dt and dh/dt = γ̇1 ω2 + γ1 ω̇2 − γ̇2 ω1 − γ2 ω̇1 at states ``y`` of shape (11, ...) (exact: h is
+    bilinear in γ and ω)."""
+    f = body_frame_rhs(y, params)
+    return turning_point_function(y), f[0] * y[4] + y[0] * f[4] - f[1] * y[3] - y[1] * f[3]
+
+
+def start_turning_point(body: Body, y0: ArrayLike) -> StartRoot | None:
+    """Whether a start is itself a turning point of θ (θ̇0 = 0 to its rounding, ``START_ROOT_ULPS``), and of which kind.
+
+    Such a start is not reported as a turning point (:func:`simulate`): the root of dγ3/dt that its rounding puts
+    at t = ±1e-17 or so is the start's own.
+
+    Parameters
+    ----------
+    body : Body
+    y0 : array (11,)
+        The initial body-frame state.
+
+    Returns
+    -------
+    StartRoot or None
+        None if the start is not a turning point.  Otherwise its kind (the sign of d²γ3/dt²) and the window after
+        t = 0 in which the integrator may place the start's own root: the root of h0 + ḣ0 t lies within
+        |h0|/|ḣ0| ≤ B/|ḣ0| of the start (B the bound above), and the integrator evaluates h0 with another rounding
+        (≤ B/4); × 4 (margin, and the curvature of h over so short a time) gives 4 B/|ḣ0|.
     """
-    from scipy.optimize import brentq
+    y0 = np.asarray(y0, float)
+    bound = START_ROOT_ULPS * _U * (abs(y0[0] * y0[4]) + abs(y0[1] * y0[3]))
+    h0, rate = (float(v) for v in _h_and_rate(y0, body.params))
+    if not abs(h0) <= bound:
+        return None
+    kind = int(np.sign(rate))
+    return StartRoot(kind, 4.0 * bound / abs(rate) if kind else 0.0)
 
-    def h(t: Any) -> Any:
-        return turning_point_function(dense(np.atleast_1d(t)).T)
 
-    for n in (64, 1024, 16384, 262144):
-        ts = np.linspace(t_a, t_hi, n + 2)[1:-1]
-        hs = h(ts)
-        idx = np.flatnonzero(np.sign(hs[1:]) * np.sign(hs[:-1]) < 0)
-        if idx.size >= n_missing:
+#: Most points of a grid on which dγ3/dt is scanned for the roots in one interval (a refinement step past it fails).
+_MAX_SCAN = 2**18
+#: Most iterations of the safeguarded Newton method that locates a root of dγ3/dt in its bracket (Newton takes 1 to 3
+#: from the integrator's event; bisection alone, log2(width/(4 u t)): 53 for a bracket of a few time units at t ≈ 1).
+_MAX_POLISH = 100
+
+
+#: dγ3/dt from a dense-output state is resolved (its sign known) where |h| > H_ROUND_ULPS · u · (|γ1| + |γ2|)
+#: (|ω1| + |ω2|).  Derivation: each component is a Taylor polynomial of order p = 20 evaluated by Horner's rule, which
+#: rounds by ≤ γ_2p Σ|c_k Δ^k| ≈ 2p u × the component's scale (|γ1| + |γ2| for γ1, γ2, the scale of the tilt; the
+#: same for ω), so each product in h = γ1 ω2 − γ2 ω1 carries ≤ (4p + 1) u of (|γ1| + |γ2|)(|ω1| + |ω2|) and h twice
+#: that, 162 u; × 4 (margin).  Below it the sign is round-off: steady rolling, θ constant to the last digits, has no
+#: turning points (the integrator reported a dozen per 50 time units there).
+H_ROUND_ULPS = 648.0
+
+
+def _resolved_sign(y: NDArray[np.float64]) -> NDArray[np.int_]:
+    """The sign of dγ3/dt at states ``y`` (shape (11, N)), 0 where it is round-off (``H_ROUND_ULPS``)."""
+    h = turning_point_function(y)
+    noise = H_ROUND_ULPS * _U * (np.abs(y[0]) + np.abs(y[1])) * (np.abs(y[3]) + np.abs(y[4]))
+    return np.where(np.abs(h) > noise, np.sign(h), 0.0).astype(int)
+
+
+def _sign_changes(t: NDArray[np.float64], s: NDArray[np.int_]) -> tuple[NDArray, NDArray, NDArray]:
+    """Brackets (lo, hi) and directions of the changes of the signs ``s`` sampled at ``t``, zeros skipped."""
+    nz = np.flatnonzero(s)
+    i = np.flatnonzero(s[nz][1:] != s[nz][:-1])
+    return t[nz[i]], t[nz[i + 1]], s[nz[i + 1]]
+
+
+def _scan(lo: float, hi: float, dense: DenseOutput) -> tuple[NDArray, NDArray, NDArray]:
+    """Every sign change of dγ3/dt in (lo, hi) on the dense output: grids of 64, 1024, ... points until two
+    successive ones find the same number (roots are spaced by a fraction of a rocking period, far above the
+    grid spacing at which the count settles)."""
+    found, n = None, 64
+    while True:
+        t = np.linspace(lo, hi, n + 1)
+        brackets = _sign_changes(t, _resolved_sign(dense(t).T))
+        if found is not None and brackets[0].size == found[0].size:
+            return brackets
+        if n >= _MAX_SCAN:
+            raise RuntimeError(f"could not resolve the turning points of theta in ({lo!r}, {hi!r}) on {n} points")
+        found, n = brackets, 16 * n
+
+
+def _locate(lo: NDArray, hi: NDArray, d: NDArray, guess: NDArray, dense: DenseOutput,
+            params: tuple[float, ...]) -> NDArray[np.float64]:
+    """The roots of dγ3/dt in the brackets (lo, hi), where it changes sign in direction d, on the dense output:
+    Newton's method from ``guess``, kept inside the shrinking bracket by bisection, to the rounding of t."""
+    lo, hi, t = lo.astype(float), hi.astype(float), np.clip(guess, lo, hi).astype(float)
+    active = np.arange(t.size)
+    for _ in range(_MAX_POLISH):
+        if active.size == 0:
             break
-    if not np.any(hs):  # θ constant (steady spin at a pole): no turning points at all
-        return []
-    if idx.size != n_missing:
-        raise RuntimeError(f"could not locate {n_missing} turning point(s) in ({t_a!r}, {t_hi!r})")
-    return [(brentq(lambda t: float(h(t)[0]), ts[i], ts[i + 1], xtol=1e-300, rtol=4 * np.finfo(float).eps,
-                    maxiter=200), 1 if hs[i + 1] > 0 else -1) for i in idx]
+        ta, da = t[active], d[active]
+        h, rate = _h_and_rate(dense(ta).T, params)
+        below = da * h < 0  # before the root
+        lo[active] = np.where(below, ta, lo[active])
+        hi[active] = np.where(da * h > 0, ta, hi[active])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            newton = ta - h / rate
+        inside = (newton >= lo[active]) & (newton <= hi[active])  # False for a NaN or infinite step
+        new = np.where(h == 0.0, ta, np.where(inside, newton, 0.5 * (lo[active] + hi[active])))
+        t[active] = new
+        tol = 4.0 * _U * np.abs(ta)
+        done = (h == 0.0) | (inside & (np.abs(new - ta) <= tol)) | (hi[active] - lo[active] <= tol)
+        active = active[~done]
+    return t
 
 
-def _clean_events(events: list[tuple[float, int]], t_a: float, t_b: float, start_is_root: bool,
-                  dense: DenseOutput) -> list[tuple[float, int]]:
-    """Events of the stretch (t_a, t_b] in time order; a root at t_a itself belongs to the previous stretch
-    (or, at t = 0, to no one: a start at rest is not reported as a turning point)."""
-    at_start = sum(1 for t, _ in events if t == t_a)
-    later = sorted((t, d) for t, d in events if t > t_a)
-    missing = at_start - (1 if start_is_root else 0)
-    if missing > 0:
-        later = sorted(later + _locate_missed_start_roots(t_a, later[0][0] if later else t_b, missing, dense))
-    return later
+def _turning_points(raw: list[tuple[float, int]], t_a: float, t_b: float, dense: DenseOutput,
+                    params: tuple[float, ...], start: StartRoot | None) -> list[tuple[float, int]]:
+    """The turning points of θ in (t_a, t_b] as (time, direction), from the integrator's events checked and located
+    on the dense output.
+
+    The integrator finds the roots of dγ3/dt on the Taylor polynomial of the event function, truncated at the
+    integrator's order.  dγ3/dt ≈ −θ θ̇ is a product of two series of the motion's frequency, so near the pole
+    (tilt θ_X ≪ 1) it varies twice as fast as the state and its truncated series errs, relative to its size, by
+    ≈ 2^(p+2) e^(−2(p+1))/θ_X (order p = 20 in double: ≈ 2.4e-12/θ_X; measured 4.9e-4 time units at θ_X = 1e-9,
+    the root at the far end of a step): roots near the end of a step are then misplaced, or reported twice, or
+    missed, across two steps (one in 10⁵ at θ_X = 1e-8).  The dense output evaluates the state's own series, as
+    accurate as the state.  So each event is checked against the sign of dγ3/dt on the dense output half way to
+    its neighbours (and at the ends of the stretch), and located there by a safeguarded Newton method; an
+    interval where the check fails is scanned on the dense output for its sign changes.  A root at t_a belongs to
+    the previous stretch; at the start of the run, the start's own root (``start``) to no one.
+    """
+    def own(t: float, d: int) -> bool:
+        return t <= t_a or (start is not None and t <= t_a + start.window and d == start.kind)
+
+    events = sorted((t, d) for t, d in raw if not own(t, d))
+    lo_edge = t_a + start.window if start is not None else t_a
+    times = np.array([t for t, _ in events], float)
+    dirs = np.array([d for _, d in events], int)
+    ends = np.concatenate([[lo_edge], 0.5 * (times[1:] + times[:-1]), [t_b]])
+    signs = _resolved_sign(dense(ends).T)
+    if start is not None:  # dγ3/dt at the start is round-off: its sign after the start's own root is the kind
+        signs[0] = start.kind
+    # brackets (lo, hi, direction, first guess): the checked events', then those of each run of neighbouring failed
+    # checks, scanned as one interval (without events: the whole stretch, if dγ3/dt changes sign over it)
+    if times.size == 0:
+        bad = np.array([signs[0] != signs[-1]])
+        parts = [(times, times, dirs, times)]
+    else:
+        ok = (signs[:-1] == -dirs) & (signs[1:] == dirs)
+        bad = ~ok
+        parts = [(ends[:-1][ok], ends[1:][ok], dirs[ok], times[ok])]
+    first = np.flatnonzero(bad & ~np.concatenate([[False], bad[:-1]]))
+    last = np.flatnonzero(bad & ~np.concatenate([bad[1:], [False]]))
+    for i, j in zip(first, last):
+        s_lo, s_hi, s_d = _scan(ends[i], ends[j + 1], dense)
+        parts.append((s_lo, s_hi, s_d, 0.5 * (s_lo + s_hi)))
+    lo, hi, d, guess = (np.concatenate(column) for column in zip(*parts))
+    roots = _locate(lo, hi, d, guess, dense, params)
+    order = np.argsort(roots, kind="stable")
+    return [(float(roots[k]), int(d[k])) for k in order]
 
 
 class _HeyokaRun:
@@ -259,11 +467,11 @@ class _HeyokaRun:
         self.log.events.clear()
         self.bar, self.max_steps, self.n_steps = bar, max_steps, 0
         self.tolerance = float(np.finfo(self.fp).eps)
+        self.params, self.start = body.params, start_turning_point(body, y0)
 
     def advance(self, t_b: float) -> tuple[DenseOutput, list[tuple[float, int]]]:
         ta, fp = self.ta, self.fp
         t_a = float(ta.time)
-        start_is_root = turning_point_function(np.asarray(ta.state, float)) == 0.0
         steps_before = self.n_steps
 
         def step_callback(ta_: Any) -> bool:
@@ -290,7 +498,8 @@ class _HeyokaRun:
         def dense(t: NDArray[np.float64]) -> NDArray[np.float64]:
             return np.asarray(c_out(np.asarray(t, dtype=fp)), dtype=float).reshape(-1, STATE_SIZE)
 
-        events = _clean_events(list(self.log.events), t_a, t_b, start_is_root, dense)
+        events = _turning_points(list(self.log.events), t_a, t_b, dense, self.params,
+                                 self.start if t_a == 0.0 else None)
         self.log.events.clear()
         return dense, events
 
@@ -301,6 +510,7 @@ class _ScipyRun:
     def __init__(self, body: Body, y0: NDArray[np.float64], rtol: float, atol: float, bar: Any):
         self.body, self.y, self.t = body, np.asarray(y0, float), 0.0
         self.rtol, self.atol, self.bar, self.n_steps, self.tolerance = rtol, atol, bar, 0, rtol
+        self.start = start_turning_point(body, y0)
 
     def advance(self, t_b: float) -> tuple[DenseOutput, list[tuple[float, int]]]:
         from scipy.integrate import solve_ivp
@@ -327,13 +537,12 @@ class _ScipyRun:
         self.n_steps += sol.t.size - 1
         self.t, self.y = t_b, sol.y[:, -1]
         bar.update(t_b - bar.n)
-        events = sorted([(float(t), 1) for t in sol.t_events[0] if t > t_a]
-                        + [(float(t), -1) for t in sol.t_events[1] if t > t_a])
+        raw = [(float(t), 1) for t in sol.t_events[0]] + [(float(t), -1) for t in sol.t_events[1]]
 
         def dense(t: NDArray[np.float64]) -> NDArray[np.float64]:
             return np.asarray(sol.sol(np.asarray(t, float))).T.reshape(-1, STATE_SIZE)
 
-        return dense, events
+        return dense, _turning_points(raw, t_a, t_b, dense, params, self.start if t_a == 0.0 else None)
 
 
 def _check_energy(run: Trajectory | TurningPointRun, strict: bool) -> None:
@@ -446,7 +655,14 @@ def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "he
     Returns
     -------
     Trajectory or TurningPointRun
-        Turning points: maxima (dγ3/dt rising through 0) and minima (falling), none reported at t = 0.
+        Turning points: maxima (dγ3/dt rising through 0) and minima (falling), none reported at t = 0 (a start with
+        θ̇0 = 0 to its rounding is itself a turning point, :func:`start_turning_point`, and is not reported).
+
+    Raises
+    ------
+    ValueError
+        Naming the parameter: a limit or an accuracy range exceeded (:func:`check_run`), no motion, a tilt that stays
+        below ``THETA_MIN``.
     """
     if method not in _METHODS:
         raise ValueError(f"method must be one of {_METHODS}, got {method!r}")
@@ -471,6 +687,10 @@ def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "he
                 [t for t, d in events if d < 0], n_steps=run.n_steps, tolerance=run.tolerance)
         else:
             result = _turning_points_only(body, method, run, y0, t_end, dt, rate, on_turning_points)
+    if np.any(result.maxima.theta < THETA_MIN):  # a motion near the pole that the energy did not confine there
+        raise ValueError(f"theta0={initial.theta!r}: theta has maxima as small as {result.maxima.theta.min():.3g} "
+                         f"rad, below THETA_MIN = {THETA_MIN:.3g} rad, the smallest amplitude at which the integrator "
+                         f"resolves the turning points of theta; give theta0 >= {THETA_MIN:.3g}")
     _check_energy(result, strict)
     return result
 
@@ -478,18 +698,37 @@ def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "he
 def _turning_points_only(body: Body, method: str, run: _HeyokaRun | _ScipyRun, y0: NDArray[np.float64],
                          t_end: float, dt: float, rate: float,
                          on_turning_points: Callable[[TurningPoints, TurningPoints], None] | None) -> TurningPointRun:
-    """Integrate stretch by stretch (``CHUNK_RADIANS`` of Λ each), keep the turning points, drop the rest."""
+    """Integrate stretch by stretch (``CHUNK_RADIANS`` of Λ each), keep the turning points, drop the rest.
+
+    Each stretch's grid (spacing ``dt``) is sampled in pieces of at most ``GRID_CHUNK_POINTS`` points that share
+    their end points, the angles unwrapped from one piece into the next: the grid is never held whole.
+    """
     E0 = float(energy(body, y0[0:3], y0[3:6]))
     stretch = max(CHUNK_RADIANS / rate, dt)
     maxima, minima, worst, start, t_a = [], [], 0.0, None, 0.0
     while t_a < t_end:
         t_b = t_end if t_end - t_a <= 1.5 * stretch else t_a + stretch
         dense, events = run.advance(t_b)
-        grid = np.linspace(t_a, t_b, int(math.ceil((t_b - t_a) / dt - 1e-9)) + 1)
-        smp = _Samples.take(dense, grid, [t for t, d in events if d > 0], [t for t, d in events if d < 0], start)
-        start = smp.angles[1:, -1]
-        worst = max(worst, float(np.max(np.abs(energy(body, smp.y[:, 0:3].T, smp.y[:, 3:6].T) - E0))))
-        mx, mn = smp.turning(body, smp.i_max), smp.turning(body, smp.i_min)
+        n = int(math.ceil((t_b - t_a) / dt - 1e-9)) + 1  # the points of np.linspace(t_a, t_b, n), piece by piece
+        step = (t_b - t_a) / (n - 1)
+        ev_t, ev_d = np.array([t for t, _ in events], float), np.array([d for _, d in events], int)
+        mx_parts, mn_parts = [], []
+        for k0 in range(0, n - 1, GRID_CHUNK_POINTS - 1):
+            k1 = min(k0 + GRID_CHUNK_POINTS - 1, n - 1)
+            grid = np.arange(k0, k1 + 1) * step + t_a  # as np.linspace computes it, its last point t_b exactly
+            if k1 == n - 1:
+                grid[-1] = t_b
+            # the events in (grid[0], grid[-1]] (all from the first piece on): one on a shared end point is the
+            # earlier piece's
+            mine = slice(0 if k0 == 0 else np.searchsorted(ev_t, grid[0], "right"),
+                         np.searchsorted(ev_t, grid[-1], "right"))
+            t_ev, d_ev = ev_t[mine], ev_d[mine]
+            smp = _Samples.take(dense, grid, t_ev[d_ev > 0], t_ev[d_ev < 0], start)
+            start = smp.angles[1:, -1]
+            worst = max(worst, float(np.max(np.abs(energy(body, smp.y[:, 0:3].T, smp.y[:, 3:6].T) - E0))))
+            mx_parts.append(smp.turning(body, smp.i_max))
+            mn_parts.append(smp.turning(body, smp.i_min))
+        mx, mn = TurningPoints.concatenate(mx_parts), TurningPoints.concatenate(mn_parts)
         maxima.append(mx)
         minima.append(mn)
         if on_turning_points is not None:

@@ -30,7 +30,8 @@ MAX_FRAMES = 3000
 #: Allowed frame rates.
 FPS_RANGE = (1, 60)
 #: How to install the MP4 encoder.
-ANIMATION_HINT = 'pip install "rocknroller[animation]" (imageio-ffmpeg ships an ffmpeg binary)'
+ANIMATION_HINT = ('python -m pip install -e ".[animation]" in a clone of the repository '
+                  "(imageio-ffmpeg ships an ffmpeg binary)")
 _CIRCLE = np.linspace(0.0, 2.0 * np.pi, 73)
 
 

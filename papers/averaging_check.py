@@ -121,7 +121,7 @@ def compare_with_ode(body: Body, theta0: float, psi0: float, t_end: float, *, ta
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", av.AveragingValidityWarning)
-        pred = av.predict_slow_motion(body, theta0, psi0, t_end, table=table)
+        pred = av.predict_slow_motion(body, theta0, psi0, t_end, table=table, order=1)
     try:
         pend = pendulum_prediction(body, theta0, psi0, t_end, constants=constants)
     except ValueError:

@@ -24,17 +24,17 @@ Paper §criticality and §range_X (eq. range_X).
 from __future__ import annotations
 
 from functools import lru_cache
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
-import sympy as sp
 from numpy.typing import ArrayLike, NDArray
-from scipy.optimize import brentq
 
-from rocknroller.analysis.criticality.laurent import SYMBOLS, V_phi_sym
-from rocknroller.analysis.criticality.lines import REGIONS, QJ_crit_pi, _finite, region, _strict_regions
+from rocknroller.analysis.criticality.lines import REGIONS, QJ_crit_pi, _finite, _strict_regions, region
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.routh.reduction import check_invariants, u_ends
+
+if TYPE_CHECKING:  # sympy (0.3 s to import) is loaded by the symbolic functions only, when called
+    import sympy as sp
 
 __all__ = [
     "cos_theta_z", "cos_theta_z_printed", "cos_theta_z_sympy", "theta_z", "theta_e", "necessary_condition", "delta_of",
@@ -90,6 +90,10 @@ def cos_theta_z_sympy() -> dict[str, sp.Expr]:
         ``closed_form``: the root selected by sgn(q), written as in :func:`cos_theta_z`;
         ``symbols``: the symbols c, q, beta.
     """
+    import sympy as sp
+
+    from rocknroller.analysis.criticality.laurent import SYMBOLS, V_phi_sym
+
     a, I1, I3 = SYMBOLS["a"], SYMBOLS["I1"], SYMBOLS["I3"]
     c, q, beta = sp.symbols("c q beta", real=True)
     th = SYMBOLS["theta"]
@@ -121,12 +125,18 @@ def theta_z(QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]:
 # ----------------------------------------------------------------------------- θ_e
 @lru_cache(maxsize=1)
 def _dV_phi_dtheta() -> Callable:
+    import sympy as sp
+
+    from rocknroller.analysis.criticality.laurent import SYMBOLS, V_phi_sym
+
     s = SYMBOLS
     expr = sp.diff(V_phi_sym(s["theta"]), s["theta"])
     return sp.lambdify((s["theta"], s["QJ"], s["QR"], s["a"], s["I1"], s["I3"]), expr, modules="math")
 
 
 def _theta_e_one(QR: float, QJ: float, body: Body) -> float:
+    from scipy.optimize import brentq
+
     d = _dV_phi_dtheta()
 
     def dv(t: float) -> float:
@@ -212,6 +222,10 @@ def delta_bound_sympy() -> dict[str, sp.Expr]:
     -------
     dict with ``C1``, ``C3``, ``k2``, ``k4`` (sympy expressions in a, I1, I3) and ``C1_paper`` (the printed form).
     """
+    import sympy as sp
+
+    from rocknroller.analysis.criticality.laurent import SYMBOLS, V_phi_sym
+
     a, I1, I3 = SYMBOLS["a"], SYMBOLS["I1"], SYMBOLS["I3"]
     th, x = SYMBOLS["theta"], SYMBOLS["x"]
     numer = sp.expand(V_phi_sym(th) * I1 * sp.sin(th) ** 2)
@@ -228,6 +242,8 @@ def delta_bound_sympy() -> dict[str, sp.Expr]:
 @lru_cache(maxsize=64)
 def delta_bound_coefficients(body: Body) -> tuple[float, float]:
     """Numeric (C₁, C₃) of :func:`delta_bound_sympy` for ``body``."""
+    from rocknroller.analysis.criticality.laurent import SYMBOLS
+
     d = delta_bound_sympy()
     vals = {SYMBOLS["a"]: body.a, SYMBOLS["I1"]: body.I1, SYMBOLS["I3"]: body.I3}
     return float(d["C1"].evalf(30, subs=vals)), float(d["C3"].evalf(30, subs=vals))

@@ -8,6 +8,7 @@ C); the principal moments about O are ``I1 <= I2 < I3`` and ``g`` is gravity.
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass, replace
 
 __all__ = [
@@ -203,4 +204,17 @@ class Body:
 
     def describe(self) -> str:
         """One-line description for CSV headers and reports."""
-        return f"a={self.a!r} I1={self.I1!r} I2={self.I2!r} I3={self.I3!r} g={self.g!r} epsilon={self.epsilon!r}"
+        return (f"a={self.a!r} I1={self.I1!r} I2={self.I2!r} I3={self.I3!r} g={self.g!r} "
+                f"epsilon={self.epsilon_text()}")
+
+    def epsilon_text(self) -> str:
+        """ε with the digits its computation resolves: ε = (I2 − I1)/I1 from the stored moments carries an absolute
+        round-off of up to u(1 + 2|ε|) (u the unit round-off: I2 rounded, then the difference and the quotient), so
+        it is shown to ⌊−log10(u(1 + 2|ε|)/|ε|)⌋ significant digits: ``Body.paper(1e-3)`` shows 0.001, not
+        0.0009999999999998899."""
+        eps = self.epsilon
+        if eps == 0.0:
+            return "0"
+        u = 0.5 * sys.float_info.epsilon
+        digits = int(math.floor(-math.log10(u * (1.0 + 2.0 * abs(eps)) / abs(eps))))
+        return f"{eps:.{min(max(digits, 1), 17)}g}"

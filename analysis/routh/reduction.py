@@ -334,9 +334,10 @@ def require_open_tilt(theta: ArrayLike, name: str = "theta0", why: str = "") -> 
     """``theta`` as a float array, or a ValueError naming ``name`` unless every value is finite and in
     [TILT_MIN, π) (the open interval (0, π) as far as double precision resolves it near θ = 0)."""
     t = np.asarray(theta, float)
-    if not np.all(np.isfinite(t)) or np.any((t < TILT_MIN) | (t >= np.pi)):
+    bad = ~(np.isfinite(t) & (t >= TILT_MIN) & (t < np.pi))
+    if np.any(bad):
         raise ValueError(f"{name} must lie in the open interval (0, pi), at least {TILT_MIN:g}{why}, "
-                         f"got {name}={theta!r}")
+                         f"got {name}={float(t[bad].flat[0])!r}")
     return t
 
 

@@ -8,11 +8,13 @@ Two planes: releases from rest over (ψ0, θ0) (:func:`atlas_from_rest`, by the 
 (φ̇0, ψ̇0) at fixed θ0, ψ0 (:func:`atlas_of_rates`, the plane of the paper's reversal starts, by the ODE: each
 of its starts has its own energy, and the map's tables are per energy).
 
-For each release angle θ0 the map runs on one table (:func:`rocknroller.analysis.slow.table.load_or_build_table`
-in ``THETA0_RANGE``, the region tables of the release's energy below it, :mod:`rocknroller.analysis.slow.region`),
-so a row of ψ0 costs one table and ~1 ms a point once the tables are cached.  Each point gives the slow period of
-Θ = 2ψ, the azimuth span Φ, the Q_R and Q_J extents and the numbers of full-angle (Q_J,0^crit) and visible-angle
-(Q_J,π^crit) reversals per 1000 time units: crossings of the critical lines by the maxima's (Q_R, Q_J), as
+For each release angle θ0 the first-order map runs on one table
+(:func:`rocknroller.analysis.slow.table.load_or_build_table` in ``THETA0_RANGE``, the region tables of the release's
+energy below it, :mod:`rocknroller.analysis.slow.region`), so a row of ψ0 costs one table and ~1 ms a point once the
+tables are cached (order 2 would add a second-order table per θ0, a minute or more each: the atlas asks for order 1
+whatever ``predict_slow_motion``'s default). Each point gives the slow period of Θ = 2ψ, the azimuth span Φ, the Q_R
+and Q_J extents and the numbers of full-angle (Q_J,0^crit) and visible-angle (Q_J,π^crit) reversals per 1000 time
+units: crossings of the critical lines by the maxima's (Q_R, Q_J), as
 :func:`rocknroller.analysis.slow.prediction.critical_regions` counts them for the map and the ODE alike.
 
 A sample of a map-made atlas's points (and any the caller names) is run by the direct ODE as an ensemble
@@ -127,7 +129,7 @@ def _rows(body: Body, theta0: NDArray[np.float64], psi0: NDArray[np.float64], t_
         for i, t0 in enumerate(theta0):
             table = None if av.releases_on_region_tables(t0) else av.load_or_build_table(body, t0, build=build)
             for j, p0 in enumerate(psi0):
-                pred = av.predict_slow_motion(body, float(t0), float(p0), t_end, table=table, build=build)
+                pred = av.predict_slow_motion(body, float(t0), float(p0), t_end, table=table, build=build, order=1)
                 for k, v in enumerate(_values(pred, t_end)):
                     mask[k, i, j] = v is None
                     out[k, i, j] = 0.0 if v is None else v

@@ -85,8 +85,8 @@ class SlowMapTable:
 
     Attributes
     ----------
-    a, I1, I3, g, theta0, E0 : the symmetric body, the release angle (NaN for a region table whose energy is
-        not that of a release from rest in (0, π)) and the energy.
+    a, I1, I3, g, theta0, E0 : the symmetric body, the release angle (for a region table that of a release from
+        rest with its energy, E0 < 2 g a) and the energy.
     e, n : unit vectors in the (Q_R, Q_J) plane.
     U : half-length of the chart along e.
     c_coef, w_coef : Chebyshev coefficients (``CHART_TERMS``) of c(x) and w(x).
@@ -231,8 +231,9 @@ def _basis(theta_a: ArrayLike) -> NDArray[np.float64]:
 
 @dataclass(frozen=True)
 class SecondOrderTable:
-    """k₂ over the chart of a first-order release table (θ0, E0): Chebyshev series in its (ξ, η), ``coef`` of
-    shape (len(K2_FUNCTIONS), nu, nv); ``interp_error`` as checked when built."""
+    """k₂ over the chart of a first-order release table (θ0, E0), or of a region table (E0; θ0 is then NaN):
+    Chebyshev series in its (ξ, η), ``coef`` of shape (len(K2_FUNCTIONS), nu, nv); ``interp_error`` as checked when
+    built."""
 
     theta0: float
     E0: float

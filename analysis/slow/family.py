@@ -22,7 +22,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.diagnostics import wrap_angle
-from rocknroller.analysis.model.equations import EulerState, body_frame_rhs, turning_point_function
+from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.model.invariants import energy, jellett, routh
 from rocknroller.analysis.routh.quadrature import precession
 from rocknroller.analysis.routh.quadrature_mp import precession_mp
@@ -32,8 +32,6 @@ from rocknroller.analysis.routh.turning_points import turning_points
 
 __all__ = ["rest_energy", "directional_derivative", "FirstMaximum", "first_maximum", "family_member", "maximum_state"]
 
-
-_U = float(np.finfo(float).eps) / 2.0
 
 
 def rest_energy(body: Body, theta0: float) -> float:
@@ -129,7 +127,7 @@ def first_maximum(body: Body, initial: EulerState) -> FirstMaximum:
         A start that ``simulate`` refuses (naming the parameter), or one whose θ has no maximum within
         ``_FIRST_MAXIMUM_PERIODS`` times the symmetric body's period T_θ at its (E, Q) (steady rolling).
     """
-    from rocknroller.numerics.integrate import simulate
+    from rocknroller.numerics.integrate import simulate, start_turning_point
 
     y0 = initial.to_body_state()
     E = float(energy(body, y0[0:3], y0[3:6]))
@@ -137,11 +135,10 @@ def first_maximum(body: Body, initial: EulerState) -> FirstMaximum:
         raise ValueError(f"the start has no motion to average over: its energy is E={E!r} in double precision (at rest "
                          f"at the bottom, or theta0={initial.theta!r} and its rates too small to register)")
     QR0, QJ0 = float(routh(body, y0[0:3], y0[3:6])), float(jellett(body, y0[0:3], y0[3:6]))
-    h0 = float(turning_point_function(y0))
-    dh0 = directional_derivative(turning_point_function, y0, np.array(body_frame_rhs(y0, body.params)))
-    # θ̇ = 0 to rounding (h = γ1 ω2 − γ2 ω1 within 8 ulps of its terms, as a start built from ω gives) and θ about
-    # to fall: the start is a maximum
-    if abs(h0) <= 8.0 * _U * (abs(y0[0] * y0[4]) + abs(y0[1] * y0[3])) and dh0 > 0.0:
+    # θ̇ = 0 to rounding and θ about to fall: the start is a maximum (the direct ODE's own criterion, so that the
+    # trajectory and the prediction start from the same sample)
+    root = start_turning_point(body, y0)
+    if root is not None and root.kind > 0:
         return FirstMaximum(t=0.0, E=E, theta=float(initial.theta), QR=QR0, QJ=QJ0, psi=float(initial.psi),
                             phi=float(initial.phi))
     sym = body.symmetric()

@@ -96,6 +96,7 @@ __all__ = [
     "critical_regions",
     "rocks_per_region",
     "releases_on_region_tables",
+    "default_order",
 ]
 
 
@@ -208,7 +209,7 @@ class SlowPrediction:
 
 def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | None = None,
                         t_end: float = 1000.0, *,
-                        table: SlowMapTable | None = None, build: bool = True, order: int = 1,
+                        table: SlowMapTable | None = None, build: bool = True, order: int | None = None,
                         second: "SecondOrderTable | None" = None) -> SlowPrediction:
     """Predict the slow (Q_R, Q_J) motion of ``body`` released from rest at θ0 with spin angle ψ0, or from any
     initial state.
@@ -234,10 +235,11 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
         Precomputed tables of (body, θ0); by default :func:`load_or_build_table`.
     build : bool
         Build the tables if they are not cached (else ValueError).
-    order : {1, 2}
+    order : {1, 2}, optional
         The map's order in ε.  Order 2 adds the second-order kick k₂ (:mod:`rocknroller.analysis.slow.second_order`,
-        tables built once per (body, θ0) for a release in ``THETA0_RANGE``, ~60 s on 2 cores, or per (body, E) on
-        the default region tables for any other start, 1–3 min, and cached).
+        tables built once per (body, θ0) for a release in ``THETA0_RANGE``, or per (body, E) on the default region
+        tables for any other start, and cached).  Default: :func:`default_order`, the same as ``rocknroller slow``'s
+        (2 for a release from rest in ``THETA0_RANGE``, 1 for any other start; the costs are stated there).
     second : SecondOrderTable, optional
         Precomputed second-order tables of (body, θ0), or of (body, E) for a start on the region tables.
 
@@ -257,6 +259,8 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
     AveragingValidityWarning
         If K = ε κ > 4 (pure rocking about the stable axis has period-doubled).
     """
+    if order is None:
+        order = default_order(theta0)
     if order not in (1, 2) or isinstance(order, bool):
         raise ValueError(f"order must be 1 or 2, got order={order!r}")
     if isinstance(theta0, EulerState):
@@ -315,12 +319,30 @@ def _warn_validity(eps: float, table: SlowMapTable) -> None:
             f"unstable (period doubling at eps = {eps_period_doubling(table.kappa):.4g}); the first-order "
             f"averaging is expected to hold for K < {K_PERIOD_DOUBLING:g}", AveragingValidityWarning, stacklevel=3)
     if table.delta_min > 0.0 and table.interp_error > REGION_TABLE_ACCURACY:
+        from rocknroller.analysis.slow.region import accuracy_cause
+
         warnings.warn(
-            f"the region tables of E={table.E0:.6g} interpolate the map's coefficients only to {table.interp_error:.1e} "
-            f"(> {REGION_TABLE_ACCURACY:g}): their grid is too coarse for where W turns by ~2 pi across Q_J,pi^crit "
-            "(the band chart, the default from the energy of a release at 0.65 pi, follows that layer; "
-            "docs/averaging.md, 'Starts with velocity'); the prediction carries that error", AveragingValidityWarning,
-            stacklevel=3)
+            f"the region tables of E={table.E0:.6g} interpolate the map's coefficients only to "
+            f"{table.interp_error:.1e} (> {REGION_TABLE_ACCURACY:g}), and the prediction carries that error: "
+            f"{accuracy_cause(table)}",
+            AveragingValidityWarning, stacklevel=3)
+
+
+def default_order(start: float | EulerState) -> int:
+    """The order of the map in ε when none is given, for a release angle θ0 or an initial state: the default of
+    :func:`predict_slow_motion` and of ``rocknroller slow`` alike.
+
+    2 for a release from rest in ``THETA0_RANGE``: the second-order release tables bring the map 10–1000× closer to
+    the direct ODE at ε ≤ 3e-3 (at the command's default release, 0.95π, ψ0 = π/4, ε = 1e-3, 1000 time units: slow
+    period within 3.5e-6 of the ODE, order 1 2.2e-4; docs/averaging.md, "Second order in ε"), for a build of 60–75 s
+    with two processes on an idle machine (``rocknroller slow --workers 2``; about twice that with the one process of
+    :func:`predict_slow_motion`) once per (body, θ0), then cached, and ~1.3× the run time of order 1.  1 for any
+    other start (an initial state, or a release below ``THETA0_RANGE``): its second-order tables are per energy,
+    1–3 min each, so order 2 is asked for explicitly there.
+    """
+    in_range = (isinstance(start, (int, float)) and not isinstance(start, bool)
+                and THETA0_RANGE[0] <= float(start) <= THETA0_RANGE[1])
+    return 2 if in_range else 1
 
 
 def releases_on_region_tables(theta0: float) -> bool:

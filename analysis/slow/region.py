@@ -41,7 +41,7 @@ from numpy.typing import NDArray
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.diagnostics import wrap_angle
-from rocknroller.analysis.routh.reduction import E_MAX, NoMotionError
+from rocknroller.analysis.routh.reduction import E_MAX, NoMotionError, u_ends
 from rocknroller.analysis.routh.turning_points import min_potential, solve_turning_points
 from rocknroller.analysis.slow.chart import CHART_TERMS, TABLE_FUNCTIONS, SlowMapTable, _cheb_nodes
 from rocknroller.analysis.slow.limits import AveragingRangeError
@@ -50,9 +50,10 @@ from rocknroller.analysis.slow.table import REGION_TABLE_ACCURACY, cached_table,
 from rocknroller.numerics.parallel import check_processes, map_blocks
 
 __all__ = [
-    "check_below_top", "region_axis", "region_options", "region_frame", "build_region_table",
-    "region_interpolation_error", "load_or_build_region_table", "DELTA_MIN_RANGE", "DELTA_MIN_DEFAULT",
-    "TIP_FRACTION_RANGE", "AXES", "BAND_FROM_THETA0", "DEFAULT_GRID"
+    "check_below_top", "region_axis", "region_options", "chart_direction", "table_chart", "region_frame",
+    "build_region_table", "region_interpolation_error", "accuracy_cause", "load_or_build_region_table",
+    "DELTA_MIN_RANGE", "DELTA_MIN_DEFAULT", "TIP_FRACTION_RANGE", "AXES", "BAND_FROM_THETA0", "DEFAULT_GRID",
+    "SMALL_AMPLITUDE_THETA0"
 ]
 
 #: Allowed least distances (E − min U)/E to steady rolling of a region table, and the default one (the tables of
@@ -120,6 +121,26 @@ def region_options(body: Body, E: float, axis: str = "auto", nu: int | None = No
     return axis, dnu if nu is None else nu, dnv if nv is None else nv
 
 
+def chart_direction(body: Body, axis: str) -> NDArray[np.float64]:
+    """The unit vector e along the line of a region chart: Q_J,0^crit (paper eq. QJcrit_0) for the spindle,
+    Q_J,π^crit (paper eq. QJcrit_pi) for the band; their slopes are −u at the ends θ = 0, π for Q = (1, 0)
+    (:func:`rocknroller.analysis.routh.reduction.u_ends`, as ``criticality.lines`` has them)."""
+    u0, upi = u_ends(1.0, 0.0, body.symmetric())
+    e = np.array([1.0, -float(u0 if axis == "spindle" else upi)])
+    return e / np.linalg.norm(e)
+
+
+def table_chart(table: SlowMapTable) -> str | None:
+    """The chart of a region table, "spindle" or "band" (its line, :func:`chart_direction`), or None for a release
+    table (along the kick direction)."""
+    if table.delta_min == 0.0:
+        return None
+    for axis in AXES:
+        if np.array_equal(table.e, chart_direction(table.body, axis)):
+            return axis
+    return None  # pragma: no cover - region tables are built on one of the charts
+
+
 def _layer_centres(sym: Body, E: float, points: NDArray[np.float64], n: NDArray[np.float64],
                    lo: NDArray[np.float64], up: NDArray[np.float64], width: float) -> NDArray[np.float64]:
     """Offsets s along n from each point at which W (the quadrature's, paper eq. psidotCJQR) turns fastest across
@@ -169,10 +190,7 @@ def region_frame(body: Body, E: float, *, axis: str = "auto", nu: int | None = N
         if not lo <= val <= hi:
             raise ValueError(f"{name} must lie in [{lo:g}, {hi:g}], got {name}={val!r}")
     sym = body.symmetric()
-    from rocknroller.analysis.criticality.lines import QJ_crit_0, QJ_crit_pi  # imported here: it loads sympy
-
-    e = np.array([1.0, float((QJ_crit_0 if axis == "spindle" else QJ_crit_pi)(1.0, sym))])
-    e /= np.linalg.norm(e)
+    e = chart_direction(sym, axis)
     n = np.array([-e[1], e[0]])
     level = E * (1.0 - delta_min)
 
@@ -228,8 +246,9 @@ def region_frame(body: Body, E: float, *, axis: str = "auto", nu: int | None = N
     w_coef *= min(1.0, float(np.min(np.minimum(up - cf, cf - lo) / wf)))  # inside the level set at the nodes
     scales = (dW_du * U, dW_dv * float(cheb.chebval(0.0, w_coef)))
     alpha, beta = (math.asinh(s) if s > 1.0 else 0.0 for s in scales)
-    cos_theta0 = 1.0 - E / (sym.g * sym.a)
-    theta0 = math.acos(cos_theta0) if -1.0 < cos_theta0 < 1.0 else math.nan
+    # the release angle of this energy, 0 < E < 2 g a (a rounded cos θ0 of ±1 at the ends kept finite: the cache
+    # stores finite values only)
+    theta0 = math.acos(min(1.0, max(-1.0, 1.0 - E / (sym.g * sym.a))))
     return SlowMapTable(a=sym.a, I1=sym.I1, I3=sym.I3, g=sym.g, theta0=theta0, E0=E, e=e, n=n, U=U,
                         c_coef=c_coef, w_coef=w_coef, coef=np.zeros((len(TABLE_FUNCTIONS), nu, nv)),
                         C0=kick_at_rest(sym, E), kappa=0.0, interp_error=0.0, delta_min=float(delta_min), alpha=alpha,
@@ -329,8 +348,32 @@ def build_region_table(body: Body, E: float, *, axis: str = "auto", nu: int | No
     except NoMotionError as exc:  # pragma: no cover - the chart lies inside the level set δ = delta_min
         raise AveragingRangeError(str(exc)) from None
     return fit_and_check(frame, T, W, dphi, resp, region_interpolation_error, REGION_TABLE_ACCURACY,
-                         f"the region tables of E={E!r} interpolate the coefficients only to {{err:.1e}}; use more "
-                         f"nodes (nu={nu}, nv={nv}) or a smaller tip_fraction")
+                         f"the region tables of E={E!r} interpolate the coefficients only to {{err:.1e}}: "
+                         + accuracy_cause(frame))
+
+
+#: Release angle below which the default spindle grid interpolates worse than ``REGION_TABLE_ACCURACY`` (paper body,
+#: measured: 1.8e-7 at 0.007π, 2.7e-6 at 0.005π, 7.8e-6 at 0.003π; docs/averaging.md, "Starts with velocity").
+SMALL_AMPLITUDE_THETA0 = 0.006 * math.pi
+
+
+def accuracy_cause(table: SlowMapTable) -> str:
+    """Why a region table may interpolate worse than ``REGION_TABLE_ACCURACY``, and what to change, by its chart:
+    the spindle's grid does not resolve the coefficients towards its tips (the sleeping top, where they are not
+    analytic), which matters at small amplitude; the band's does not resolve the layer of W across Q_J,π^crit."""
+    nu, nv = table.coef.shape[1:]
+    nodes = f"more nodes (nu, nv: now {nu}, {nv}; rocknroller slow --nodes)"
+    if table_chart(table) == "band":
+        return (f"on the band chart (along Q_J,pi^crit) the grid does not resolve the layer in which the spin advance "
+                f"W turns by 2 pi across that line; use {nodes} (docs/averaging.md, 'Band chart')")
+    small = SMALL_AMPLITUDE_THETA0 / math.pi
+    amplitude = (f", the more so at small amplitude (this is the energy of a release from rest at theta0 = "
+                 f"{table.theta0 / math.pi:.3g}pi: the default grid falls short below ~{small:g}pi)"
+                 if table.theta0 < SMALL_AMPLITUDE_THETA0 else "")
+    return (f"on the spindle chart (along Q_J,0^crit) the grid does not resolve the coefficients towards the spindle's "
+            f"tips, the sleeping top, where they are not analytic{amplitude}; use a smaller tip_fraction (the part of "
+            f"the way to the tips the chart covers, default 0.8; API) or {nodes} (docs/averaging.md, 'Starts with "
+            "velocity')")
 
 
 def load_or_build_region_table(body: Body, E: float, *, build: bool = True, use_cache: bool = True,

@@ -292,12 +292,15 @@ _RUN_OPTIONS = ("progress", "workers")
 
 def cached_table(builder: Callable[..., Any], body: Body, where: float, what: str, *, build: bool = True,
                  use_cache: bool = True, table_type: type = SlowMapTable,
-                 spec_of: Callable[[dict[str, Any]], dict[str, tuple[int, ...]]] | None = None, **grid: Any) -> Any:
+                 spec_of: Callable[[dict[str, Any]], dict[str, tuple[int, ...]]] | None = None,
+                 unstored: dict[str, float] | None = None, **grid: Any) -> Any:
     """``builder(body.symmetric(), where, **grid)`` from memory, from the disk cache, or built (and cached).
 
     ``what`` names ``where`` in messages.  The key holds the table version, the builder, the body, ``where`` and every
     keyword-only option of the builder (defaults filled in); see :func:`load_or_build_table`.  ``table_type`` is the
-    frozen dataclass built, whose fields ``spec_of(options)`` lists with their shapes (default: a SlowMapTable's).
+    frozen dataclass built, whose fields ``spec_of(options)`` lists with their shapes (default: a SlowMapTable's); the
+    file holds those fields only, each finite (``load_arrays`` refuses any other), and ``unstored`` gives the value
+    every table of this builder has in each remaining field (a region's second-order table: θ0 = NaN).
     """
     sym = body.symmetric()
     params = inspect.signature(builder).parameters
@@ -321,7 +324,7 @@ def cached_table(builder: Callable[..., Any], body: Body, where: float, what: st
             warnings.warn(f"the cached averaging table {path} is not used ({reason}); it is rebuilt", CacheWarning,
                           stacklevel=3)
         else:
-            table = table_type(**{k: (a if a.ndim else float(a)) for k, a in arrays.items()})
+            table = table_type(**{k: (a if a.ndim else float(a)) for k, a in arrays.items()}, **(unstored or {}))
     if table is None:
         if not build:
             raise TableNotCachedError(

@@ -43,8 +43,8 @@ _OPTION_OF = {"t_end": "--t-end", "dt": "--dt", "theta0": "--theta0", "phi0": "-
               "theta_dot": "--theta-dot0", "phi_dot": "--phi-dot0", "psi_dot": "--psi-dot0", "omega": "--omega",
               "epsilon": "--eps", "a": "--a", "I1": "--I1", "I2": "--I2", "I3": "--I3", "g": "--g",
               "QR_max": "--QR-max", "workers": "--workers", "nu": "--nodes", "nv": "--nodes", "fps": "--fps",
-              "duration": "--duration", "processes": "--processes"}
-_PARAMETER = re.compile(r"(?<![-\w])(" + "|".join(_OPTION_OF) + r")\b(?=( must|=))")  # not inside an option
+              "duration": "--duration", "processes": "--processes", "scheduler": "--scheduler"}
+_PARAMETER = re.compile(r"(?<![-\w])(" + "|".join(_OPTION_OF) + r")\b(?=( must|=|:))")  # not inside an option
 
 
 def option_names(message: str, argv: list[str]) -> str:
@@ -55,6 +55,43 @@ def option_names(message: str, argv: list[str]) -> str:
                           message)
 
 
+#: API words in library messages and, per command, the option that says the same; in a command without one, the
+#: alternative they offer ("use samples=False (turning points only) or a shorter t_end") is dropped.
+_API_WORDS = {"samples=False": {"simulate": "--turning-points-only"},
+              "build=False": {"slow": "--cached-only", "atlas": "--cached-only"}}
+_API_WORD = re.compile(r"\b(" + "|".join(map(re.escape, _API_WORDS)) + r")( \([^()]*\))?( or )?")
+#: The name of a limit (``MAX_SAMPLES``, ``E_MAX``, ``reduction.Q_RANGE``) before its value (``NAME = value``) or after
+#: it (``(NAME)``): the command line shows the value only.
+_LIMIT_NAME = r"(?:[a-z_]+\.)*(?:[A-Z0-9]+_)*(?:MAX|MIN|RANGE|LIMIT)(?:_[A-Z0-9]+)*\b"
+_LIMIT = re.compile(rf"\b{_LIMIT_NAME} = | \({_LIMIT_NAME}\)")
+#: A NumPy scalar array's repr, ``array(0.5)``: the number.
+_ARRAY = re.compile(r"\barray\(([^()]*)\)")
+_SAME_OPTION_TWICE = re.compile(r"(--[\w-]+) / \1\b")
+
+
+def cli_message(message: str, command: str, argv: list[str]) -> str:
+    """A library's error ``message`` in the words of ``rocknroller COMMAND``: API words as the options that say the
+    same (``samples=False`` is ``--turning-points-only``), limits by their values rather than their constant names,
+    NumPy reprs as numbers, and parameter names as the options that set them (:func:`option_names`)."""
+    def api_word(m: re.Match) -> str:
+        option = _API_WORDS[m.group(1)].get(command)
+        if option is None:
+            return "" if m.group(3) else m.group(0)
+        return option + (m.group(3) or "")  # the option's name says what the gloss said
+
+    message = _SAME_OPTION_TWICE.sub(r"\1", _API_WORD.sub(api_word, message))
+    message = _ARRAY.sub(lambda m: _number(m.group(1)), _LIMIT.sub("", message))
+    return option_names(message, argv)
+
+
+def _number(text: str) -> str:
+    """A number NumPy printed (``0.``, ``3.141592653589793``) as Python prints it; other text as it is."""
+    try:
+        return repr(float(text))
+    except ValueError:
+        return text
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run the console script on ``argv`` (default ``sys.argv[1:]``); returns the exit status (see the module)."""
     parser = build_parser()
@@ -63,12 +100,15 @@ def main(argv: list[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return 2
+    import numpy as np
+
     from rocknroller.numerics.integrate import AccuracyError
 
     try:
-        return int(args.run(args) or 0)
+        with np.printoptions(floatmode="unique"):  # a number in a message with all its digits
+            return int(args.run(args) or 0)
     except ValueError as exc:
-        print(f"rocknroller {args.command}: error: {option_names(str(exc), argv)}", file=sys.stderr)
+        print(f"rocknroller {args.command}: error: {cli_message(str(exc), args.command, argv)}", file=sys.stderr)
         return 2
     except AccuracyError as exc:
         print(f"rocknroller {args.command}: check failed: {exc}", file=sys.stderr)

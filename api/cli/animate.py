@@ -14,7 +14,7 @@ from rocknroller.papers.lynch_bustamante import fig5_symmetry_breaking as fig5
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``animate`` subcommand and its ``--help`` to ``sub``."""
-    from rocknroller.papers.animation import FPS_RANGE, MAX_FRAMES
+    from rocknroller.papers.animation import ANIMATION_HINT, FPS_RANGE, MAX_FRAMES
 
     eps = fig5.EPSILONS[1]
     p = sub.add_parser(
@@ -24,7 +24,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "fig. 8 reversal start is --critical-line pi --psi-dot0 0.002 --psi0 pi/4) and write an animation: the unit sphere "
         "rolling on the plane with its band, two meridians and pole (spin visible), its mass centre, the contact "
         "track so far, and beside it (Q_R, Q_J) at the maxima of theta over the critical lines. GIF with pillow; "
-        f"MP4 with the ffmpeg of imageio-ffmpeg (pip install \"rocknroller[animation]\"). At most {MAX_FRAMES} "
+        f"MP4 with the ffmpeg of imageio-ffmpeg ({ANIMATION_HINT}). At most {MAX_FRAMES} "
         f"frames; fps in [{FPS_RANGE[0]}, {FPS_RANGE[1]}].",
     )
     add_body_options(p, eps_default=eps)
@@ -43,7 +43,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller animate`` with the parsed ``args``; returns the exit status."""
-    from rocknroller.numerics.integrate import simulate
+    from rocknroller.numerics.integrate import check_run, simulate
     from rocknroller.papers.animation import animate, frame_times
 
     body = body_from_args(args)
@@ -52,6 +52,9 @@ def run(args: argparse.Namespace) -> int:
         initial = start_with_default_rates(args, initial)
     if args.out.suffix.lower() not in (".gif", ".mp4"):
         raise ValueError(f"--out must name a .gif or an .mp4 file, got {str(args.out)!r}")
+    # the body, the start and --t-end as simulate checks them, before the frame times are spread over [0, t_end]
+    # (a grid of two samples: the frames' spacing is checked with the run)
+    check_run(body, initial, args.t_end, dt=args.t_end)
     times = frame_times(args.t_end, args.fps, args.duration)  # checked before the run
     prepare_output_file(args.out, "--out", args.force)
     traj = simulate(body, initial, args.t_end, dt=float(times[1] - times[0]), progress=None if not args.quiet else False)

@@ -67,8 +67,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--confirm", action="append", default=[], metavar="THETA0,PSI0",
                    help="the map: also confirm the grid point nearest to THETA0,PSI0 (repeatable)")
     p.add_argument("--processes", type=int, default=2, metavar="N",
-                   help="processes that share the map's rows, or threads that share the direct runs when they run "
-                        "in this process (default 2; the numbers do not depend on it)")
+                   help="processes of this machine that build the map's tables and share its rows, or threads that "
+                        "share the direct runs when they run in this process (default 2; the numbers do not depend on "
+                        "it). --workers is another thing: dask's worker processes, for the direct runs")
     add_cluster_options(p)
     p.add_argument("--out", type=Path, default=Path("atlas"), metavar="DIR",
                    help="write atlas.csv and the figures to DIR (default ./atlas; created if missing; existing files "
@@ -119,7 +120,7 @@ def _grids(args: argparse.Namespace) -> tuple[str, dict[str, str]]:
     if method == "ode" and (args.confirm_every is not None or args.confirm or args.cached_only):
         raise ValueError("--confirm-every, --confirm and --cached-only apply to --method map (an atlas made by the "
                          "direct ODE is its own confirmation)")
-    texts = {k: getattr(args, k) or d[k] for k in d if k != "method"}
+    texts = {k: d[k] if getattr(args, k) is None else getattr(args, k) for k in d if k != "method"}  # "" is refused
     return method, texts
 
 

@@ -25,7 +25,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         "orbit (Q_R(t), Q_J(t)) with dots at the theta-maxima (red) and minima (blue) (paper figs. 7-10).",
     )
     add_body_options(p, eps_default=0.0)
-    p.add_argument("--QR-max", type=float, default=1.0, help="half-width of the Q_R axis without --simulate (default 1)")
+    p.add_argument("--QR-max", type=float, default=1.0, metavar="Q",
+                   help="half-width of the Q_R axis without --simulate (default 1)")
     p.add_argument("--out", type=Path, default=Path("."), metavar="DIR",
                    help="write regions[_orbit].png and .pdf to DIR (default: current directory; existing files "
                         "are not overwritten without --force)")
@@ -37,14 +38,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     sim.add_argument("--t-end", type=float, default=SIM_T_END, help=f"final time (default {SIM_T_END:g})")
     sim.add_argument("--method", choices=("heyoka", "scipy"), default="heyoka", help="integrator (default heyoka)")
     add_critical_line_options(sim)
-    add_initial_state_options(p)
-    p.set_defaults(run=run, psi0=None)
-
-
-def _initial_state(args, body):
-    if args.psi0 is None:
-        args.psi0 = SIM_PSI0
-    return critical_line_state(args, body)
+    add_initial_state_options(p, psi0_default=SIM_PSI0)
+    p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -64,7 +59,7 @@ def run(args: argparse.Namespace) -> int:
         if args.eps is None and args.I2 is None:
             args.eps = SIM_EPS
         body = body_from_args(args)
-        initial, start = _initial_state(args, body)
+        initial, start = critical_line_state(args, body)
         traj = simulate(body, initial, args.t_end, method=args.method)
         ra = reversals.reversal_analysis(traj)
         summary.update({
@@ -76,8 +71,8 @@ def run(args: argparse.Namespace) -> int:
             "energy_rel_error": traj.energy_rel_error,
         })
     else:
-        if args.critical_line is not None or args.QR is not None:
-            raise ValueError("--critical-line and --QR need --simulate")
+        if args.critical_line is not None or args.QR is not None or args.offset is not None:
+            raise ValueError("--critical-line, --QR and --offset need --simulate")
         body = body_from_args(args)
     fig, data = region_diagram(body, QR_max=args.QR_max, traj=traj)
     paths = save_figure(fig, args.out, name)

@@ -26,6 +26,7 @@ __all__ = [
     "rates_given",
     "start_with_default_rates",
     "add_critical_line_options",
+    "check_critical_line_options",
     "critical_line_state",
     "add_cluster_options",
     "cluster_from_args",
@@ -41,28 +42,35 @@ _ANGLE = re.compile(r"^\s*([-+])?\s*((?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)?\s*\*
 _NEGATIVE_VALUE = re.compile(r"^-(\d|\.\d|pi|π|inf|nan)", re.IGNORECASE)
 
 
-def parse_angle(text: str | float) -> float:
+def parse_angle(text: str | float, option: str | None = None) -> float:
     """Parse an angle in radians: ``2.9``, ``0.95pi``, ``pi/4``, ``3pi/8``, ``-0.5*pi``.
 
-    Raises ``ValueError`` for anything else.
+    Raises ``ValueError`` for anything else (a number too large for a float included), naming ``option`` (e.g.
+    ``"--theta0"``) when given.
     """
+    what = f"{option}: " if option else ""
     if isinstance(text, (int, float)):
-        return float(text)
-    m = _ANGLE.match(str(text))
-    if not m or (m.group(2) is None and m.group(3) is None):
-        raise ValueError(f"cannot read angle {text!r}: use radians (2.9) or multiples of pi (0.95pi, pi/4, -3pi/8)")
-    value = float(m.group(2)) if m.group(2) is not None else 1.0
-    if m.group(1) == "-":
-        value = -value
-    if m.group(3):
-        value *= math.pi
-    if m.group(4):
-        den = float(m.group(4))
-        if den == 0.0:
-            raise ValueError(f"cannot read angle {text!r}: division by zero")
-        value /= den
+        try:
+            value = float(text)
+        except OverflowError:  # an int beyond the float range
+            raise ValueError(f"{what}angle must be finite, got an integer of {len(str(abs(text)))} digits") from None
+    else:
+        m = _ANGLE.match(str(text))
+        if not m or (m.group(2) is None and m.group(3) is None):
+            raise ValueError(f"{what}cannot read angle {text!r}: use radians (2.9) or multiples of pi (0.95pi, pi/4, "
+                             "-3pi/8)")
+        value = float(m.group(2)) if m.group(2) is not None else 1.0
+        if m.group(1) == "-":
+            value = -value
+        if m.group(3):
+            value *= math.pi
+        if m.group(4):
+            den = float(m.group(4))
+            if den == 0.0:
+                raise ValueError(f"{what}cannot read angle {text!r}: division by zero")
+            value /= den
     if not math.isfinite(value):
-        raise ValueError(f"angle must be finite, got {text!r}")
+        raise ValueError(f"{what}angle must be finite, got {text!r}")
     return value
 
 
@@ -141,9 +149,14 @@ def rates_given(args: argparse.Namespace) -> bool:
     return args.omega is not None or any(v is not None for v in (args.theta_dot0, args.phi_dot0, args.psi_dot0))
 
 
+def _angles(args: argparse.Namespace) -> tuple[float, float, float]:
+    """(theta0, phi0, psi0) of the options of :func:`add_initial_state_options`; errors name the option."""
+    return tuple(parse_angle(getattr(args, name), f"--{name}") for name in ("theta0", "phi0", "psi0"))
+
+
 def initial_state_from_args(args: argparse.Namespace) -> EulerState:
     """Build the EulerState from the options of :func:`add_initial_state_options` (rates not given are 0)."""
-    theta, phi, psi = parse_angle(args.theta0), parse_angle(args.phi0), parse_angle(args.psi0)
+    theta, phi, psi = _angles(args)
     if args.omega is not None:
         if any(v is not None for v in (args.theta_dot0, args.phi_dot0, args.psi_dot0)):
             raise ValueError("give either --omega or the Euler rates (--theta-dot0 ...), not both")
@@ -171,8 +184,17 @@ def add_critical_line_options(group: Any) -> None:
                        help="start on Q_J,pi^crit or Q_J,0^crit (paper figs. 8, 9): phi_dot0 is computed from "
                             "--theta0 and either --QR or --psi-dot0; theta_dot0 = 0")
     group.add_argument("--QR", type=float, default=None, help="with --critical-line: Routh's quantity of the start")
-    group.add_argument("--offset", type=float, default=0.0,
+    group.add_argument("--offset", type=float, default=None,
                        help="with --critical-line: signed distance Q_J - Q_J^crit(Q_R) of the start (default 0)")
+
+
+def check_critical_line_options(args: argparse.Namespace) -> None:
+    """Refuse --QR and --offset without --critical-line: they place a start on a critical line, and nothing else
+    reads them."""
+    if args.critical_line is None:
+        given = [name for name, value in (("--QR", args.QR), ("--offset", args.offset)) if value is not None]
+        if given:
+            raise ValueError(f"{' and '.join(given)} {'need' if len(given) > 1 else 'needs'} --critical-line")
 
 
 def critical_line_state(args: argparse.Namespace, body: Body) -> tuple[EulerState, Any]:
@@ -181,15 +203,14 @@ def critical_line_state(args: argparse.Namespace, body: Body) -> tuple[EulerStat
     from rocknroller.analysis.criticality.starts import critical_start
 
     if args.critical_line is None:
-        if args.QR is not None:
-            raise ValueError("--QR needs --critical-line")
+        check_critical_line_options(args)
         return initial_state_from_args(args), None
     if args.omega is not None or args.phi_dot0 is not None or args.theta_dot0 is not None:
         raise ValueError("--critical-line computes phi_dot0 (theta_dot0 = 0): do not give --omega, --phi-dot0 "
                          "or --theta-dot0")
-    theta0, phi0, psi0 = parse_angle(args.theta0), parse_angle(args.phi0), parse_angle(args.psi0)
+    theta0, phi0, psi0 = _angles(args)
     kw = {"QR": args.QR} if args.QR is not None else {"psi_dot0": 0.0 if args.psi_dot0 is None else args.psi_dot0}
-    start = critical_start(body, theta0, psi0, args.critical_line, offset=args.offset, **kw)
+    start = critical_start(body, theta0, psi0, args.critical_line, offset=args.offset or 0.0, **kw)
     return EulerState.from_omega(theta0, phi0, psi0, start.omega), start
 
 
@@ -207,7 +228,9 @@ def add_cluster_options(parser: argparse.ArgumentParser) -> None:
                        help="address of an existing dask scheduler, e.g. tcp://10.0.0.5:8786 (start one with "
                             "'dask scheduler', and workers with 'dask worker ADDRESS')")
     where.add_argument("--workers", type=int, default=None, metavar="N",
-                       help=f"start a local dask cluster of N single-threaded worker processes, 1 <= N <= {MAX_WORKERS}")
+                       help=f"start a local dask cluster of N single-threaded worker processes for the direct runs, "
+                            f"1 <= N <= {MAX_WORKERS} (dask's workers, as in 'dask worker'; the processes of this "
+                            f"machine that a command runs itself are its --processes)")
 
 
 def cluster_from_args(args: argparse.Namespace) -> tuple[str | None, int | None]:

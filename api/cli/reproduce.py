@@ -7,6 +7,7 @@ import re
 import sys
 import time
 from pathlib import Path
+from typing import Any, Sequence
 
 from rocknroller.cli.options import prepare_output_dir
 from rocknroller.papers.output import PRODUCER
@@ -46,22 +47,50 @@ def markdown_text(text: str) -> str:
     return _MARKDOWN_SPECIAL.sub(r"\\\1", text)
 
 
-def write_index(out: Path, results: list, timings: dict[str, float]) -> Path:
+def _section(out: Path, res: Any, seconds: float) -> str:
+    """The index section of one output: caption, run time and version, files, and the table of measured numbers."""
+    lines = [f"## {res.name}", "", markdown_text(res.caption), "",
+             f"Run time: {seconds:.1f} s ({markdown_text(PRODUCER)})", ""]
+    for path in res.outputs:
+        rel = path.relative_to(out) if path.is_relative_to(out) else path
+        lines.append(f"![{res.name}]({rel})" if path.suffix == ".png" else f"- [{rel}]({rel})")
+    if res.numbers:
+        lines += ["", "| quantity | value |", "| --- | --- |"]
+        lines += [f"| {markdown_text(k)} | {markdown_text(_format(v))} |" for k, v in res.numbers.items()]
+    return "\n".join(lines) + "\n"
+
+
+def _sections(text: str) -> dict[str, str]:
+    """The sections of an index.md written by :func:`write_index`, by output name (a caption cannot start a line
+    with ``## ``: its ``#`` is escaped)."""
+    return {part.split("\n", 1)[0].strip(): "## " + part.rstrip("\n") + "\n"
+            for part in re.split(r"(?m)^## ", text)[1:]}
+
+
+def _files_remain(out: Path, section: str) -> bool:
+    links = re.findall(r"\]\(([^)]+)\)", section)
+    return bool(links) and all((out / link).is_file() for link in links)
+
+
+def write_index(out: Path, results: list, timings: dict[str, float], names: Sequence[str] | None = None) -> Path:
     """``out/index.md``: per output its caption, files and measured numbers (a two-column table whose cells are
-    the escaped :func:`markdown_text` of the quantity and of :func:`_format` of its value)."""
-    lines = ["# rocknroller reproduction of Lynch & Bustamante", "",
-             f"Every number below is computed by {markdown_text(PRODUCER)} from the paper's initial conditions.", ""]
-    for res in results:
-        lines += [f"## {res.name}", "", markdown_text(res.caption), "", f"Run time: {timings[res.name]:.1f} s", ""]
-        for path in res.outputs:
-            rel = path.relative_to(out) if path.is_relative_to(out) else path
-            lines.append(f"![{res.name}]({rel})" if path.suffix == ".png" else f"- [{rel}]({rel})")
-        if res.numbers:
-            lines += ["", "| quantity | value |", "| --- | --- |"]
-            lines += [f"| {markdown_text(k)} | {markdown_text(_format(v))} |" for k, v in res.numbers.items()]
-        lines.append("")
+    the escaped :func:`markdown_text` of the quantity and of :func:`_format` of its value).
+
+    Parameters
+    ----------
+    names : every output the index may list, in its order (default: those of ``results``).  The sections that an
+        earlier index.md in ``out`` holds for the others among them stay, while all their files remain: a run of
+        ``--only X --force`` updates X's section and keeps the rest listed.
+    """
     path = out / "index.md"
-    path.write_text("\n".join(lines))
+    new = {res.name: _section(out, res, timings[res.name]) for res in results}
+    earlier = _sections(path.read_text()) if path.is_file() else {}
+    order = [*(names or ()), *(n for n in new if n not in (names or ()))]
+    kept = {n: earlier[n] for n in order if n not in new and n in earlier and _files_remain(out, earlier[n])}
+    lines = ["# rocknroller reproduction of Lynch & Bustamante", "",
+             "Every number below is computed by rocknroller from the paper's initial conditions; each section names "
+             "the version that computed it.", ""]
+    path.write_text("\n".join([*lines, *(new.get(n) or kept[n] for n in order if n in new or n in kept)]))
     return path
 
 
@@ -91,6 +120,6 @@ def run(args: argparse.Namespace) -> int:
         results.append(res)
         for path in res.outputs:
             print(f"{name}: wrote {path}")
-    index = write_index(args.out, results, timings)
+    index = write_index(args.out, results, timings, list(modules))
     print(f"index: {index}")
     return 0

@@ -21,6 +21,8 @@ _TP_COLUMNS = ("kind", "t", "theta", "phi", "psi", "Q_R", "Q_J", "X", "Y")
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``simulate`` subcommand and its ``--help`` to ``sub``."""
+    from rocknroller.numerics.integrate import MAX_DENSE_RADIANS, MAX_GRID_POINTS, MAX_RADIANS, MAX_SAMPLES
+
     eps = fig5.EPSILONS[1]
     p = sub.add_parser(
         "simulate",
@@ -28,9 +30,10 @@ def register(sub: argparse._SubParsersAction) -> None:
         description="Integrate the rock'n'roller's equations of motion (singularity-free body frame; heyoka "
         "Taylor integrator or scipy DOP853) and find every turning point of the tilt theta. Defaults: the "
         f"paper's body with eps={eps:g} and the figure-5 start theta0=0.95pi, omega=(0, 0.001, -0.001) "
-        "(used only when no rate option is given). Runs are limited to what fits in memory and time "
-        "(rocknroller.numerics.integrate: MAX_SAMPLES samples, MAX_DENSE_RADIANS with samples, MAX_RADIANS without); "
-        "--turning-points-only streams the turning points and keeps no samples.",
+        "(used only when no rate option is given). Runs are limited to what fits in memory and time: with samples, "
+        f"at most {MAX_SAMPLES:,} of them and Lambda t_end <= {MAX_DENSE_RADIANS:g} radians (Lambda bounds |omega|; "
+        "about one integration step per radian); --turning-points-only streams the turning points and keeps no "
+        f"samples, up to Lambda t_end <= {MAX_RADIANS:g} and {MAX_GRID_POINTS:g} points of the --dt grid.",
     )
     add_body_options(p, eps_default=eps)
     add_initial_state_options(p, rates_note="with none of --theta-dot0/--phi-dot0/--psi-dot0/--omega given, "
@@ -118,6 +121,9 @@ def run(args: argparse.Namespace) -> int:
             traj = simulate(body, initial, args.t_end, samples=not tp_only, **kw)
             written = _write_outputs(traj, body, initial, args.out) if args.out is not None else []
     messages = [str(w.message) for w in caught if issubclass(w.category, AccuracyWarning)]
+    for w in caught:  # the others (an unusable cache, ...) reach the user too, on stderr, never in the JSON's stdout
+        if not issubclass(w.category, AccuracyWarning):
+            print(f"rocknroller simulate: warning: {w.message}", file=sys.stderr)
     summary = {"energy_rel_error": traj.energy_rel_error, "energy_tolerance": traj.energy_tolerance,
                "n_maxima": len(traj.maxima), "n_minima": len(traj.minima), "Phi": traj.Phi, "t_end": args.t_end,
                "n_steps": traj.n_steps, "warnings": messages}

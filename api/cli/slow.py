@@ -83,10 +83,11 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="also run the direct ODE and print both, with relative errors")
     p.add_argument("--order", type=int, choices=(1, 2), default=None,
                    help="order of the map in eps: 2 adds the second-order kick (its tables are built once per body "
-                        "and theta0 or energy, 1-3 min on 2 cores, and cached; errors ~10-100x smaller than order 1 "
-                        "at eps <= 3e-3, docs/averaging.md); default: 2 for releases from rest in "
-                        f"[{_LO:g}pi, {_HI:g}pi], 1 for starts with velocity and lower releases (their second-order "
-                        "tables take longer to build)")
+                        "and theta0 or energy, and cached; errors ~10-100x smaller than order 1 at eps <= 3e-3, "
+                        "docs/averaging.md); default, the same as predict_slow_motion's: 2 for releases from rest in "
+                        f"[{_LO:g}pi, {_HI:g}pi] (their second-order tables: 60-75 s with --workers 2, once per body "
+                        "and theta0), 1 for starts with velocity and lower releases (theirs are per energy, 1-3 min "
+                        "each: ask for them with --order 2)")
     p.add_argument("--period-doubling", action="store_true",
                    help="releases from rest: also compute the eps at which rocking about the stable axis "
                         "period-doubles from the exact one-step map (all orders in eps; 1-7 s), beside the first-order "
@@ -141,8 +142,9 @@ def _parse(args: argparse.Namespace, option: str) -> float:
         raise ValueError(f"--{option}: {exc}") from None
 
 
-def _from_state(args: argparse.Namespace, body: Any, start: Any) -> tuple[Any, dict[str, Any], list[str]]:
-    """The prediction from a start with velocity, its extra summary entries and its warnings."""
+def _from_state(args: argparse.Namespace, body: Any, start: Any,
+                order: int) -> tuple[Any, dict[str, Any], list[str]]:
+    """The prediction of ``order`` from a start with velocity, its extra summary entries and its warnings."""
     from rocknroller.analysis.slow.family import first_maximum
     from rocknroller.analysis.slow.region import load_or_build_region_table, region_options
 
@@ -153,13 +155,12 @@ def _from_state(args: argparse.Namespace, body: Any, start: Any) -> tuple[Any, d
         table = load_or_build_region_table(body, fm.E, build=not args.cached_only, workers=args.workers,
                                            progress=not args.json, axis=args.chart, nu=nu, nv=nv)
         second = None
-        if args.order == 2:
+        if order == 2:
             from rocknroller.analysis.slow.second_order import load_or_build_second_order_region_table
 
             second = load_or_build_second_order_region_table(body, fm.E, build=not args.cached_only,
                                                              workers=args.workers, progress=not args.json)
-        pred = av.predict_slow_motion(body, start, t_end=args.t_end, table=table, order=args.order or 1,
-                                      second=second)
+        pred = av.predict_slow_motion(body, start, t_end=args.t_end, table=table, order=order, second=second)
     messages = list(dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, av.AveragingValidityWarning)))
     extra = {"start": {k: getattr(start, k) for k in ("theta", "phi", "psi", "theta_dot", "phi_dot", "psi_dot")},
              "E": fm.E, "first_maximum": {"t": fm.t, "theta": fm.theta, "QR": fm.QR, "QJ": fm.QJ},
@@ -185,7 +186,8 @@ def run(args: argparse.Namespace) -> int:
             raise ValueError("--period-doubling applies to releases from rest (the rocking it follows is that of the "
                              "release's energy): give --theta0 and --psi0 only")
         start, _ = critical_line_state(args, body)
-        pred, extra, messages = _from_state(args, body, start)
+        pred, extra, messages = _from_state(args, body, start, av.default_order(start) if args.order is None
+                                            else args.order)
         summary: dict[str, Any] = {q: getattr(pred, q) for q in _QUANTITIES}
         summary.update({"K": pred.K, "order": pred.order, "line_slope": pred.line_slope, "pure_rocking": False,
                         "rocks_per_region": pred.rocks_per_region,
@@ -218,7 +220,7 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError(f"the averaging tables {unresolved}: {exc}") from None
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", av.AveragingValidityWarning)
-        order = 2 if args.order is None else args.order
+        order = av.default_order(theta0) if args.order is None else args.order
         second = None
         if order == 2 and body.epsilon > 0.0:
             from rocknroller.analysis.slow.second_order import load_or_build_second_order_table

@@ -18,7 +18,7 @@ from rocknroller.papers.averaging_check import ode_slow_summary
 
 body = rr.Body.paper(epsilon=1e-3)
 theta0, psi0, t_end = 0.95 * math.pi, math.pi / 4, 1000.0
-pred = rr.predict_slow_motion(body, theta0, psi0, t_end)
+pred = rr.predict_slow_motion(body, theta0, psi0, t_end, order=1)
 ode = ode_slow_summary(body, theta0, psi0, t_end)
 
 fig = Figure(figsize=(6, 4.5))

@@ -36,7 +36,7 @@ def compute() -> dict[str, list[float]]:
                                     "pi_minus_2psi0": []}
     for psi0 in PSI0:
         rows["Phi_ODE"].append(simulate(body, EulerState(THETA0, 0.0, psi0), T_END).Phi)
-        rows["Phi_map"].append(predict_slow_motion(body, THETA0, psi0, T_END, table=table).Phi)
+        rows["Phi_map"].append(predict_slow_motion(body, THETA0, psi0, T_END, table=table, order=1).Phi)
         rows["Phi_pendulum"].append(pendulum_prediction(body, THETA0, psi0, T_END, constants=consts).Phi)
         rows["pi_minus_2psi0"].append(math.pi - 2 * psi0)
     return rows

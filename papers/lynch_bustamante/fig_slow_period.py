@@ -43,7 +43,7 @@ def compute() -> dict[str, list]:
             rows["eps"].append(eps)
             rows["psi0"].append(psi0)
             rows["P_ODE"].append(simulate(body, EulerState(THETA0, 0.0, psi0), t_end).slow_period)
-            rows["P_map"].append(predict_slow_motion(body, THETA0, psi0, t_end, table=table).slow_period)
+            rows["P_map"].append(predict_slow_motion(body, THETA0, psi0, t_end, table=table, order=1).slow_period)
             rows["P_pendulum"].append(pendulum_prediction(body, THETA0, psi0, t_end, constants=consts).slow_period)
     return rows
 

@@ -2,16 +2,20 @@
 
 from __future__ import annotations
 
+import datetime
 import json
 import re
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
 import rocknroller as rr
-from rocknroller.cli import main
-from rocknroller.papers.citation import USES, bibtex_entries
+from rocknroller.cli import COMMANDS, main
+from rocknroller.papers.citation import USES, bibtex_entries, read_cff
+
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_version_everywhere(capsys):
@@ -25,8 +29,10 @@ def test_version_everywhere(capsys):
     assert out.stdout.strip() == f"rocknroller {rr.__version__}"
 
 
-@pytest.mark.parametrize("command", [None, *USES])
+@pytest.mark.parametrize("command", [None, *(c for c in COMMANDS if c != "cite")])
 def test_cite_is_bibtex_for_what_the_command_uses(command, capsys):
+    """``cite`` takes every command of the dispatcher (issue 25, item 9: ``cite atlas`` and ``cite animate`` exited
+    2 with "invalid choice")."""
     assert main(["cite"] + ([command] if command else [])) == 0
     text = capsys.readouterr().out
     keys = re.findall(r"^@\w+\{(\w+),", text, flags=re.M)
@@ -41,6 +47,88 @@ def test_cite_is_bibtex_for_what_the_command_uses(command, capsys):
 def test_cite_refuses_an_unknown_command():
     with pytest.raises(ValueError, match="command must be one of"):
         rr.cite("nope")
+
+
+def test_cite_knows_exactly_the_commands_of_the_dispatcher():
+    from rocknroller.cli.cite import citable_commands
+
+    assert set(USES) == set(citable_commands()) == set(COMMANDS) - {"cite"}
+
+
+def _bibtex_fields(entry: str) -> dict[str, str]:
+    return dict(re.findall(r"^  (\w+)\s*= \{(.*)\},?$", entry, flags=re.M))
+
+
+def _plain(text: str) -> str:
+    """BibTeX text back to plain text: the braces that protect capitals dropped."""
+    return re.sub(r"(?<!\\)[{}]", "", text)
+
+
+def test_package_entry_is_citation_cff():
+    """The package's BibTeX entry has CITATION.cff's title, authors, licence and release year, the running version,
+    and CITATION.cff's address when it gives one (issue 25, item 9: one source, with a year)."""
+    cff = read_cff((ROOT / "CITATION.cff").read_text())
+    fields = _bibtex_fields(bibtex_entries()[0])
+    assert bibtex_entries()[0].startswith("@software{rocknroller,")
+    assert _plain(fields["title"]) == cff["title"]
+    assert [_plain(a) for a in fields["author"].split(" and ")] == [a["name"] for a in cff["authors"]]
+    assert fields["license"] == cff["license"]
+    assert fields["year"] == str(datetime.date.fromisoformat(cff["date-released"]).year)
+    assert fields["version"] == rr.__version__
+    assert fields.get("url") == (cff.get("url") or cff.get("repository-code"))
+    # the paper's and heyoka's entries are CITATION.cff's references
+    refs = {r["doi"]: r for r in cff["references"]}
+    for entry in bibtex_entries()[1:3]:
+        f = _bibtex_fields(entry)
+        ref = refs[f["doi"]]
+        assert _plain(f["title"]) == ref["title"] and f["journal"] == ref["journal"] and f["year"] == str(ref["year"])
+        assert f["author"] == " and ".join(f"{a['family-names']}, {a['given-names']}" for a in ref["authors"])
+        assert f["pages"] == "--".join(str(ref[k]) for k in ("start", "end") if k in ref)
+
+
+def test_cff_reader_agrees_with_pyyaml():
+    """The package's own reader (PyYAML is not a dependency) gives what PyYAML gives for CITATION.cff, scalars
+    compared as written."""
+    yaml = pytest.importorskip("yaml")
+
+    def as_written(x):
+        if isinstance(x, dict):
+            return {k: as_written(v) for k, v in x.items()}
+        if isinstance(x, list):
+            return [as_written(v) for v in x]
+        return x.isoformat() if isinstance(x, datetime.date) else (x if x is None or isinstance(x, str) else str(x))
+
+    text = (ROOT / "CITATION.cff").read_text()
+    assert read_cff(text) == as_written(yaml.safe_load(text))
+
+
+def test_cff_reader_reads_the_block_subset():
+    text = ("# a comment\ntitle: \"a # b: c\"  # comment\nname: 'it''s'\nplain: 2026-11-23#x\nempty:\n"
+            "list:\n- one\n- key: 1\n  other: two\n- - x\n  - y\nsame-indent:\n  - z\n")
+    assert read_cff(text) == {"title": "a # b: c", "name": "it's", "plain": "2026-11-23#x", "empty": None,
+                              "list": ["one", {"key": "1", "other": "two"}, ["x", "y"]], "same-indent": ["z"]}
+
+
+@pytest.mark.parametrize("text, fragment", [
+    ("a: [1, 2]", "line 1: cannot read '[1, 2]'"),
+    ("a: {b: 1}", "line 1: cannot read"),
+    ("a: |\n  text", "line 1: cannot read '|'"),
+    ("a: >\n  text", "line 1: cannot read '>'"),
+    ("a: &anchor b", "line 1: cannot read"),
+    ("a: !!str b", "line 1: cannot read"),
+    ("a:\n\t- b", "line 2: a tab in the indentation"),
+    ("a: b\na: c", "line 2: the key 'a' is given twice"),
+    ("a: b: c", "line 1: cannot read 'b: c'"),
+    ("a: first\n  continued", "line 2: unexpected indentation"),
+    ("  a: b", "line 1: the file must be a mapping"),
+    ("- a", "line 1: the file must be a mapping"),
+    ('a: "open', "line 1: cannot read the double-quoted scalar"),
+    ("a: 'open", "line 1: cannot read the single-quoted scalar"),
+    ("a:\n  -\nb: c", "line 2: an empty sequence item"),
+])
+def test_cff_reader_refuses_what_it_does_not_read(text, fragment):
+    with pytest.raises(ValueError, match=re.escape(fragment)):
+        read_cff(text)
 
 
 def test_outputs_record_the_version(tmp_path, capsys):
@@ -75,3 +163,16 @@ def test_local_modules_named_like_the_folders_do_not_shadow_the_package(tmp_path
     out = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True)
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip() == "0.05"
+
+
+def test_citation_and_changelog_agree_on_the_release():
+    """CITATION.cff's version and release date are those of the CHANGELOG's entry for that version (they differed:
+    2026-11-23 against 2026-11-22), and the installed package carries the same CITATION.cff."""
+    cff = read_cff((ROOT / "CITATION.cff").read_text())
+    entry = re.search(r"^## \[" + re.escape(str(cff["version"])) + r"\] - (\d{4}-\d{2}-\d{2})$",
+                      (ROOT / "CHANGELOG.md").read_text(), re.M)
+    assert entry, f"CHANGELOG.md has no entry for version {cff['version']}"
+    assert str(cff["date-released"]) == entry.group(1)
+    from importlib import resources
+
+    assert resources.files("rocknroller.papers").joinpath("CITATION.cff").read_text() == (ROOT / "CITATION.cff").read_text()

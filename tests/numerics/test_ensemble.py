@@ -111,7 +111,7 @@ def test_an_unreachable_scheduler_is_named():
 
 def test_a_cluster_without_dask_says_how_to_install_it(monkeypatch):
     monkeypatch.setitem(sys.modules, "distributed", None)
-    with pytest.raises(ValueError, match=r"workers=2 .*pip install \"rocknroller\[distributed\]\""):
+    with pytest.raises(ValueError, match=r"workers=2 .*pip install -e \"\.\[distributed\]\" in a clone"):
         run_ensemble(_jobs()[:1], workers=2, progress=False)
 
 
@@ -145,6 +145,13 @@ def test_a_job_is_checked_against_simulates_limits(kwargs, match):
     ({"threads": -1}, r"threads must be a whole number in \[1, 256\]"),
     ({"scheduler": ""}, r"scheduler must be the address of a dask scheduler"),
     ({"scheduler": 8786}, r"scheduler must be the address of a dask scheduler"),
+    # protocols rocknroller does not connect with (dask raised a TypeError, or "not enough values to unpack")
+    ({"scheduler": "ucx://10.0.0.5:8786"}, r"scheduler must be the address of a dask scheduler over TCP.*got "
+                                           r"scheduler 'ucx://10.0.0.5:8786'"),
+    ({"scheduler": "tls://10.0.0.5:8786"}, r"over TCP.*tls:// needs security settings"),
+    ({"scheduler": "inproc://x"}, r"over TCP.*inproc://"),
+    ({"scheduler": "tcp://host"}, r"over TCP, 'tcp://host:port' or 'host:port' with a port in \[1, 65535\]"),
+    ({"scheduler": "tcp://host:65536"}, r"with a port in \[1, 65535\]"),
     ({"scheduler": "tcp://h:1", "workers": 2}, r"give either scheduler .* or workers .*, not both"),
     ({"workers": 2, "threads": 2}, r"threads sets the in-process path"),
 ])
@@ -171,5 +178,28 @@ def test_cluster_options_name_the_option():
                                                                                             None)
     with pytest.raises(ValueError, match=r"--workers must be a whole number in \[1, 256\], got --workers 0"):
         cluster_from_args(parser.parse_args(["--workers", "0"]))
+    with pytest.raises(ValueError, match=r"--scheduler must be the address .* over TCP.*got --scheduler 'ucx://h:1'"):
+        cluster_from_args(parser.parse_args(["--scheduler", "ucx://h:1"]))
     with pytest.raises(SystemExit):  # argparse: not allowed with argument --scheduler
         parser.parse_args(["--workers", "2", "--scheduler", "tcp://h:1"])
+
+
+def test_tcp_addresses_are_accepted_as_given():
+    """A host name, an IPv4 or a bracketed IPv6 address, with or without tcp://, stripped of spaces."""
+    for address in ("10.0.0.5:8786", "tcp://scheduler.example.org:8786", "tcp://[::1]:8786", " tcp://h:1 "):
+        assert ens.check_cluster(address) == (address.strip(), None)
+
+
+def test_scheduler_errors_name_the_option_on_the_command_line():
+    """A failure to connect names scheduler='...' in the API; the CLI's message names --scheduler, as given."""
+    pytest.importorskip("distributed")
+    import dask
+
+    from rocknroller.cli import option_names
+
+    with dask.config.set({"distributed.comm.timeouts.connect": "1s"}):
+        with pytest.raises(ValueError) as info:
+            run_ensemble(_jobs()[:1], scheduler="tcp://127.0.0.1:9", progress=False)
+    message = str(info.value)
+    assert message.startswith("scheduler='tcp://127.0.0.1:9': cannot connect")
+    assert option_names(message, ["atlas", "--scheduler", "tcp://127.0.0.1:9"]) == "--" + message

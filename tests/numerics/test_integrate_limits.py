@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import hashlib
 import inspect
+import json
 import math
 import os
 import subprocess
@@ -215,3 +216,74 @@ def test_subnormal_dt_and_tiny_t_end():
         simulate(Body.paper(1e-3), state, 1.0, dt=5e-324)
     run = simulate(Body.paper(1e-3), state, 5e-324)
     assert run.t.tolist() == [0.0, 5e-324]
+
+
+def test_a_start_whose_energy_underflows_is_refused():
+    """Issue 25, item 20: without gravity (a = 0) and with rates so small that ½ ωᵀKω underflows to 0, Λ = 0 and
+    default_dt divided by it (ZeroDivisionError).  Refused up front, naming the start, for simulate and a Job; the
+    threshold |ω| ≈ √(2⁻¹⁰⁷⁴/I_min) ≈ 4e-162 lies between the rates 1e-200 (refused) and 1e-150 (E = 2e-301 > 0:
+    a run, too slow to turn θ within 20 time units)."""
+    from rocknroller.numerics.ensemble import Job
+
+    centred = Body(a=0.0, I1=0.35, I2=0.36, I3=0.4, g=9.87)
+    start = EulerState(1.0, psi_dot=1e-200)
+    for make in (lambda: simulate(centred, start, 20.0), lambda: Job(centred, start, 20.0)):
+        with pytest.raises(ValueError, match=r"no motion to resolve: EulerState\(theta=1.0.*psi_dot=1e-200.*below "
+                                             r"about 3.8e-162"):
+            make()
+    run = simulate(centred, EulerState(1.0, psi_dot=1e-150), 20.0)
+    assert integ.rate_bound(centred, run.states[0]) > 0.0 and len(run.maxima) == len(run.minima) == 0
+
+
+@pytest.mark.parametrize("where", ["a file", "garbage cache.db"])
+def test_an_unusable_heyoka_cache_keeps_stdout_clean(tmp_path, where):
+    """Issue 25, item 22: heyoka logged `[warning]` lines on stdout at every lookup in a cache it cannot use (a
+    HEYOKA_CACHE_DIR that is a file; a cache.db that is not a database), ahead of anything the program printed.
+    The cache is now switched off for the process and one CacheWarning names it on stderr; stdout holds only the
+    program's own output."""
+    if where == "a file":
+        cache = tmp_path / "afile"
+        cache.write_text("not a directory")
+    else:
+        cache = tmp_path / "hy"
+        cache.mkdir()
+        (cache / "cache.db").write_bytes(bytes(range(256)) * 20)
+    env = {**os.environ, "HEYOKA_CACHE_DIR": str(cache)}
+    code = ("import json, warnings; warnings.simplefilter('always'); from rocknroller.analysis.model.body import Body; "
+            "from rocknroller.analysis.model.equations import EulerState; "
+            "from rocknroller.numerics.integrate import simulate; "
+            "print(json.dumps({'n': len(simulate(Body.paper(), EulerState(1.0), 10.0).maxima)}))")
+    proc = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    assert json.loads(proc.stdout)["n"] == 1  # the whole of stdout is the program's JSON (the maximum at t = 5.39)
+    assert proc.stderr.count("CacheWarning") == 1 and str(cache) in proc.stderr and "switched off" in proc.stderr
+    assert "[warning]" not in proc.stdout + proc.stderr
+
+
+def test_turning_points_only_samples_a_fine_grid_in_bounded_pieces(fig5_initial, monkeypatch):
+    """Issue 25, item 19: with samples=False the unwrapping grid of a stretch was sampled whole (t_end = 1000,
+    dt = 1e-5: 10⁸ points, > 5 GB, then a MemoryError).  Sampled in pieces of GRID_CHUNK_POINTS, the arrays alive
+    (tracemalloc: numpy's allocations) grow by at most GRID_CHUNK_POINTS × GRID_BYTES_PER_POINT over those of the
+    same run on a grid that fits one piece; pieces of 4096 points here, a grid of 2·10⁵ points (old: ≈ 90 MB)."""
+    import tracemalloc
+
+    monkeypatch.setattr(integ, "GRID_CHUNK_POINTS", 4096, raising=False)
+    simulate(BODY, fig5_initial, 20.0, samples=False)  # compiled, imported: only the run itself is measured
+
+    def traced(dt: float) -> tuple[TurningPointRun, int]:
+        tracemalloc.start()
+        try:
+            return simulate(BODY, fig5_initial, 20.0, dt=dt, samples=False), tracemalloc.get_traced_memory()[1]
+        finally:
+            tracemalloc.stop()
+
+    _, coarse_peak = traced(20.0 / 1000)
+    fine, fine_peak = traced(1e-4)
+    assert fine_peak <= coarse_peak + integ.GRID_CHUNK_POINTS * integ.GRID_BYTES_PER_POINT
+    # the pieces share their end points and continue each other's angles: the same results as one piece, to the bit
+    monkeypatch.setattr(integ, "GRID_CHUNK_POINTS", 2**30)
+    whole = simulate(BODY, fig5_initial, 20.0, dt=1e-4, samples=False)
+    for name in ("t", "theta", "phi", "psi", "QR", "QJ"):
+        assert np.array_equal(getattr(fine.maxima, name), getattr(whole.maxima, name)), name
+        assert np.array_equal(getattr(fine.minima, name), getattr(whole.minima, name)), name
+    assert fine.energy_rel_error == whole.energy_rel_error

@@ -61,7 +61,7 @@ def test_mp4_needs_an_encoder(run, tmp_path, monkeypatch):
         return real_import(name, *args, **kw)
 
     monkeypatch.setattr(builtins, "__import__", no_ffmpeg)
-    with pytest.raises(ValueError, match="rocknroller\\[animation\\]"):
+    with pytest.raises(ValueError, match=r"pip install -e \"\.\[animation\]\" in a clone"):
         an.animate(run, tmp_path / "a.mp4", fps=4, duration=1.0, progress=False)
     with pytest.raises(ValueError, match=".gif or an .mp4"):
         an.animate(run, tmp_path / "a.avi", fps=4, duration=1.0, progress=False)

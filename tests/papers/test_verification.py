@@ -26,3 +26,24 @@ def test_failure_gives_status_1(monkeypatch, capsys):
 
 def test_nan_error_fails():
     assert not verification.Check("g", "n", "r", float("nan"), 1.0).passed
+
+
+def test_a_formula_shown_wrong_reads_as_such(monkeypatch, capsys):
+    """The row for the paper's misprinted cos(theta_z) printed the ratio 0.01/error against 1.0 under "must fail:
+    error > 0.01" (e.g. "PASS 6.26e-03 1.0e+00"): it now prints the error itself and the bound it must exceed."""
+    rows = verification.check_criticality()
+    (row,) = [r for r in rows if r.must_exceed]
+    assert "as printed in the paper" in row.name and row.tolerance == 0.01
+    assert row.error > row.tolerance and row.passed
+    monkeypatch.setattr(verification, "CHECKS", (lambda: [row],))
+    assert main(["verify", "--quiet"]) == 0
+    line = capsys.readouterr().out.splitlines()[1]
+    assert line.split()[:4] == ["PASS", f"{row.error:.2e}", ">", "1.0e-02"]
+
+
+def test_must_exceed_fails_below_its_bound():
+    assert not verification.Check("g", "n", "r", 0.001, 0.01, must_exceed=True).passed
+    assert not verification.Check("g", "n", "r", 0.01, 0.01, must_exceed=True).passed
+    assert not verification.Check("g", "n", "r", float("nan"), 0.01, must_exceed=True).passed
+    assert verification.Check("g", "n", "r", 0.02, 0.01, must_exceed=True).passed
+    assert verification.Check("g", "n", "r", 0.001, 0.01).bound == "<= 1.0e-02"

@@ -192,3 +192,13 @@ def test_polar_cap_bad_d():
     for d in (-1.0, 1.5, float("nan")):
         with pytest.raises(ValueError, match="d"):
             Body.from_polar_cap(d)
+
+
+@pytest.mark.parametrize("eps, shown", [(1e-3, "0.001"), (1e-8, "1e-08"), (0.1, "0.1"), (0.0, "0")])
+def test_epsilon_is_shown_to_the_digits_it_resolves(eps, shown):
+    """``describe`` (CSV headers, reports) showed ε = (I2 − I1)/I1 with its round-off: 0.0009999999999998899 for
+    ``--eps 1e-3``.  Shown to the digits the subtraction resolves, the requested ε reads back exactly, while the
+    value itself stays the computed one."""
+    body = Body.paper(eps)
+    assert body.epsilon_text() == shown and f"epsilon={shown}" in body.describe()
+    assert float(shown) == pytest.approx(body.epsilon, rel=0, abs=4 * 2.2e-16)

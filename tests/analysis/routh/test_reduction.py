@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from types import SimpleNamespace
 
 import mpmath
@@ -346,3 +347,13 @@ def test_V_phi_V_psi_take_QR_QJ_by_keyword_only():
         with pytest.raises(TypeError):
             fn(1.0, 0.1, 0.2, body)
         assert fn(1.0, QR=0.1, QJ=0.2, body=body) == fn(1.0, QJ=0.2, body=body, QR=0.1)
+
+
+def test_a_tilt_out_of_range_is_named_as_a_number():
+    """The message showed numpy's repr (``theta0=array(0.)``, which reads as if it were a valid tilt); it names the
+    first offending value as a plain number."""
+    from rocknroller.analysis.routh.reduction import require_open_tilt
+
+    for theta, shown in ((np.array(0.0), "theta0=0.0"), (np.array([1.0, 4.0, 5.0]), "theta0=4.0")):
+        with pytest.raises(ValueError, match=re.escape(shown) + "$"):
+            require_open_tilt(theta)

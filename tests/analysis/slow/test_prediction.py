@@ -564,7 +564,7 @@ def test_map_agrees_with_ode_and_error_falls_linearly(table, name):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", av.AveragingValidityWarning)
         for eps in EPS:
-            pred = av.predict_slow_motion(Body.paper(eps), THETA0, psi0, 1000.0, table=table)
+            pred = av.predict_slow_motion(Body.paper(eps), THETA0, psi0, 1000.0, table=table, order=1)
             ref = ode(eps, psi0)
             if eps == 1e-2:
                 errs = relative_errors(pred, ref)
@@ -582,7 +582,7 @@ def test_straight_line_slope(table):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", av.AveragingValidityWarning)
         for eps in EPS:
-            pred = av.predict_slow_motion(Body.paper(eps), THETA0, PSI0["pi/4"], 1000.0, table=table)
+            pred = av.predict_slow_motion(Body.paper(eps), THETA0, PSI0["pi/4"], 1000.0, table=table, order=1)
             ref = ode(eps, PSI0["pi/4"])
             # the samples do lie on a line: residual across it ≪ extent along it
             X = np.vstack([ref.QR, ref.QJ])
@@ -708,7 +708,7 @@ def test_bad_input(table):
     with pytest.raises(ValueError, match="the table is for the body"):
         av.predict_slow_motion(Body.from_polar_cap(0.6, epsilon=1e-3), THETA0, 0.3, table=table)
     with pytest.warns(av.AveragingValidityWarning, match="K = "):
-        av.predict_slow_motion(Body.paper(1.2e-2), THETA0, PSI0["pi/4"], 200.0, table=table)
+        av.predict_slow_motion(Body.paper(1.2e-2), THETA0, PSI0["pi/4"], 200.0, table=table, order=1)
     with pytest.raises(av.AveragingRangeError, match="tabulated region"):
         av.iterate_slow_map(table, 1e-3, 0.3, 100.0, Q0=(2 * table.U, 0.0))
     with pytest.raises(av.AveragingRangeError, match="tabulated region"):  # inside at the start, leaves
@@ -724,7 +724,7 @@ def test_bad_input(table):
 def test_azimuth_span_definition_shared(table):
     """Φ of the prediction uses the trajectory's azimuth_span (circle of circumference π)."""
     assert azimuth_span(np.array([0.1, math.pi - 0.1])) == pytest.approx(0.2)
-    pred = av.predict_slow_motion(Body.paper(1e-3), THETA0, PSI0["pi/4"], 300.0, table=table)
+    pred = av.predict_slow_motion(Body.paper(1e-3), THETA0, PSI0["pi/4"], 300.0, table=table, order=1)
     assert pred.Phi == azimuth_span(pred.series.phi)  # exact here and below: the same function on the same array
     traj = simulate(Body.paper(1e-3), EulerState(THETA0, 0.0, PSI0["pi/4"]), 100.0)
     assert traj.Phi == azimuth_span(traj.maxima.phi)
@@ -752,7 +752,7 @@ def test_other_release_angle():
     tab = av.build_table(SYM, theta0)
     errs = []
     for eps in (1e-2, 1e-3):
-        pred = av.predict_slow_motion(Body.paper(eps), theta0, math.pi / 4, 1000.0, table=tab)
+        pred = av.predict_slow_motion(Body.paper(eps), theta0, math.pi / 4, 1000.0, table=tab, order=1)
         ref = ode_slow_summary(Body.paper(eps), theta0, math.pi / 4, 1000.0)
         errs.append(relative_errors(pred, ref))
         # the same sequence of critical regions; a rock whose sample lies within the map's O(ε)

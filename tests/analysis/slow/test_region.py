@@ -248,7 +248,7 @@ def test_second_order_map_from_a_start_with_velocity():
     docs/averaging.md), within the issue's 5e-3 (measured 3.5e-5), keeps the ODE's region runs, and cuts every
     maximum-by-maximum error by more than 20× (measured 100–200×: the map's error is O(ε²) per slow period)."""
     from rocknroller.analysis.criticality.starts import start_on_line
-    from rocknroller.analysis.slow.second_order import load_or_build_second_order_region_table
+    from rocknroller.analysis.slow.second_order import K2_REGION_ACCURACY, load_or_build_second_order_region_table
     from rocknroller.papers.averaging_check import relative_errors
     from rocknroller.papers.lynch_bustamante import fig9_full_reversal, reversals
 
@@ -257,6 +257,7 @@ def test_second_order_map_from_a_start_with_velocity():
     E = first_maximum(body, start).E
     table = sr.load_or_build_region_table(body, E, workers=2)
     second = load_or_build_second_order_region_table(body, E, workers=2)
+    assert second.interp_error <= K2_REGION_ACCURACY  # the default grid meets the region tables' accuracy (no warning)
     ode = ode_slow_summary(body, start, None, 1000.0)
     one = av.predict_slow_motion(body, start, t_end=1000.0, table=table)
     two = av.predict_slow_motion(body, start, t_end=1000.0, table=table, order=2, second=second)
@@ -291,3 +292,53 @@ def test_non_finite_node_data_refuse_the_table():
     resp[2, 3, 1, 0] = 0.0
     with pytest.raises(sr.AveragingRangeError, match="gave nan"):
         fit_and_check(frame, T, W, dphi, resp, lambda t: math.nan, 1.0, "")
+
+
+# ----------------------------------------------------------------------------- the accuracy warning names its cause
+def _warnings_of(body: Body, start: EulerState, **grid) -> list[str]:
+    """The AveragingValidityWarnings of a region table of the start's energy built on ``grid`` and of a prediction
+    on it: the build's first, then the prediction's."""
+    E = first_maximum(body, start).E
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", av.AveragingValidityWarning)
+        table = sr.build_region_table(body, E, **grid)
+        av.predict_slow_motion(body, start, t_end=50.0, table=table)
+    return [str(w.message) for w in caught if issubclass(w.category, av.AveragingValidityWarning)]
+
+
+@pytest.mark.parametrize("theta0, chart, small", [(0.005, "spindle", True), (0.4, "spindle", False),
+                                                   (0.9, "band", False)])
+def test_accuracy_warning_names_the_chart_and_the_cause(theta0, chart, small):
+    """A region table that interpolates worse than REGION_TABLE_ACCURACY: the build and the prediction say which chart
+    and why, and name options that exist (issue 25: at 0.005pi, on the spindle chart, the prediction blamed the band
+    chart's layer across Q_J,pi^crit).  Coarse grids (16 x 8) make every chart warn."""
+    body = Body.paper(1e-3)
+    messages = _warnings_of(body, EulerState(theta0 * math.pi, 0.0, 0.5), **SMALL)
+    assert len(messages) == 2
+    assert "interpolate the coefficients only to" in messages[0]
+    assert "interpolate the map's coefficients only to" in messages[1] and "the prediction carries that error" in \
+        messages[1]
+    for msg in messages:
+        assert "more nodes (nu, nv: now 16, 8; rocknroller slow --nodes)" in msg, msg
+        if chart == "band":
+            assert "on the band chart (along Q_J,pi^crit)" in msg and "layer" in msg and "spindle" not in msg, msg
+        else:
+            assert "on the spindle chart (along Q_J,0^crit)" in msg and "the sleeping top" in msg, msg
+            assert "Q_J,pi^crit" not in msg and "band" not in msg and "tip_fraction" in msg, msg
+        assert ("at small amplitude (this is the energy of a release from rest at theta0 = 0.005pi" in msg) == small
+
+
+@pytest.mark.slow
+def test_accuracy_warning_at_small_amplitude_on_the_default_grid():
+    """The issue's case: a release from rest at 0.005pi runs on the default spindle tables of its energy, which
+    interpolate to ~2.5e-6 (> 1e-6): the prediction's warning names the spindle's tips at small amplitude."""
+    start = EulerState(0.005 * math.pi, 0.0, 0.5)
+    body = Body.paper(1e-2)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", av.AveragingValidityWarning)
+        table = sr.load_or_build_region_table(body, first_maximum(body, start).E)
+        av.predict_slow_motion(body, start, t_end=100.0, table=table)
+    assert sr.table_chart(table) == "spindle" and table.interp_error > sr.REGION_TABLE_ACCURACY
+    msg = [str(w.message) for w in caught if "interpolate the map's coefficients" in str(w.message)]
+    assert len(msg) == 1 and "at small amplitude" in msg[0] and "spindle" in msg[0], msg
+    assert "Q_J,pi^crit" not in msg[0], msg

@@ -158,3 +158,72 @@ def test_slow_order_option(second, capsys):
     assert json.loads(capsys.readouterr().out)["order"] == 1
     assert main(["slow", "--theta0", "0.95pi", "--phi-dot0", "0.01", "--order", "2", "--nodes", "16", "8"]) == 2
     assert "leave out --nodes and --chart" in capsys.readouterr().err
+
+
+def test_api_and_cli_share_one_default_order(second, capsys):
+    """predict_slow_motion and ``rocknroller slow`` default to the same order for the same start (issue 25: the API
+    gave order 1, slow period 153.393, where the command gave order 2, 153.426, as the ODE): order 2 for a release
+    in THETA0_RANGE, the same numbers bit for bit, and 1 for a release below it and for a start with velocity; both
+    say so (the docstring and --help name the other)."""
+    import json
+
+    from rocknroller.analysis.model.equations import EulerState
+    from rocknroller.cli import main
+
+    body = Body.paper(1e-3)
+    assert av.default_order(THETA0) == 2 and av.default_order(np.float64(av.THETA0_RANGE[0])) == 2
+    assert av.default_order(0.5 * math.pi) == 1 and av.default_order(EulerState(THETA0, 0.0, 0.7, 0.0, 0.01, 0.0)) == 1
+    assert av.default_order(EulerState(THETA0, 0.0, 0.7)) == 1  # a state from rest: the region tables of its energy
+    pred = av.predict_slow_motion(body, THETA0, math.pi / 4, 400.0)
+    assert pred.order == 2
+    explicit = av.predict_slow_motion(body, THETA0, math.pi / 4, 400.0, order=2)
+    assert np.array_equal(pred.series.t, explicit.series.t) and np.array_equal(pred.series.QR, explicit.series.QR)
+    assert main(["slow", "--theta0", "0.95pi", "--psi0", "pi/4", "--t-end", "400", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["order"] == 2 and out["eps"] == body.epsilon
+    assert out["slow_period"] == pred.slow_period and out["QR_extent"] == pred.QR_extent and out["Phi"] == pred.Phi
+    # the explicit order is kept: order 1 differs from the default by the map's O(eps^2) (here ~2e-4 of the period)
+    first = av.predict_slow_motion(body, THETA0, math.pi / 4, 400.0, order=1)
+    assert first.order == 1 and first.slow_period != pred.slow_period
+    doc = " ".join(av.predict_slow_motion.__doc__.split())
+    assert "Default: :func:`default_order`, the same as ``rocknroller slow``'s" in doc
+    with pytest.raises(SystemExit):
+        main(["slow", "--help"])
+    assert "default, the same as predict_slow_motion's: 2 for releases from rest in [0.75pi, 0.999pi]" in " ".join(
+        capsys.readouterr().out.split())
+
+
+@pytest.mark.parametrize("kind", ["release", "region"])
+def test_k2_accuracy_warning_names_options_that_exist(kind, monkeypatch, tmp_path):
+    """Above its accuracy a second-order table warns with advice the user can follow (issue 25: the region table's
+    default grid warned "use more nodes (nu=16, nv=32)", an option that does not help there and that the command
+    refuses with --order 2).  Release tables: more nodes of load_or_build_second_order_table, passed as second=;
+    region tables, which more nodes do not improve: the direct ODE (--check) or order 1.  A coarse chart (4 x 4
+    first-order nodes, 8 x 2 for k2) makes both warn; the region's default is measured in docs/averaging.md."""
+    from rocknroller.analysis.slow import region as sr
+    from rocknroller.analysis.slow import second_order as so
+    from rocknroller.analysis.slow import table as slow_table
+    from rocknroller.analysis.slow.family import rest_energy
+    from rocknroller.numerics.cache import MemoryCache
+
+    monkeypatch.setenv("ROCKNROLLER_CACHE", str(tmp_path))
+    monkeypatch.setattr(slow_table, "_TABLES", MemoryCache(slow_table.TABLE_CACHE_BYTES))
+    sym = Body.paper(0.0)
+    E = rest_energy(sym, 0.6 * math.pi)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", av.AveragingValidityWarning)
+        first = (av.load_or_build_table(sym, 0.9 * math.pi, nu=4, nv=4) if kind == "release" else
+                 sr.load_or_build_region_table(sym, E, axis="spindle", nu=4, nv=4))
+    monkeypatch.setattr(so, "_first_table", lambda body, where, k: first)
+    build = so.build_second_order_table if kind == "release" else so.build_second_order_region_table
+    with pytest.warns(av.AveragingValidityWarning, match="interpolate k2 only to") as caught:
+        table = build(sym, 0.9 * math.pi if kind == "release" else E, nu=8, nv=2)
+    limit = so.K2_ACCURACY if kind == "release" else so.K2_REGION_ACCURACY
+    assert table.interp_error > limit
+    msg = str(caught[-1].message)
+    assert f"(relative, above {limit:g})" in msg
+    if kind == "release":
+        assert "use more nodes (nu, nv of load_or_build_second_order_table: now 8, 2" in msg and "second=" in msg
+    else:
+        assert "more nodes do not bring it down" in msg and "--check" in msg and "--order 1" in msg
+        assert "use more nodes" not in msg

@@ -121,7 +121,7 @@ def test_window_range_ends_are_drawn():
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["diagram", "--QR", "0.1"], "--critical-line and --QR need --simulate"),
+    (["diagram", "--QR", "0.1"], "--critical-line, --QR and --offset need --simulate"),
     (["diagram", "--QR-max", "0"], "--QR-max must lie in [1e-147, 1e+79]"),
     (["diagram", "--QR-max", "1e308"], "--QR-max must lie in [1e-147, 1e+79]"),  # was an overflow to QR=inf inside
     (["diagram", "--QR-max", "1e-160"], "--QR-max must lie in [1e-147, 1e+79]"),

@@ -13,6 +13,7 @@ import roundoff as ro
 from rocknroller.analysis.model.body import Body
 from rocknroller.cli import main
 from rocknroller.cli.options import parse_angle
+from rocknroller.numerics.integrate import MAX_SAMPLES
 from rocknroller.papers.output import PRODUCER
 
 
@@ -172,7 +173,7 @@ def test_turning_points_only_streams_the_csv(tmp_path, capsys):
     "argv, fragment",
     [
         (["--t-end", "1e300"], "--t-end=1e+300 is too long"),
-        (["--dt", "1e-8"], "MAX_SAMPLES"),
+        (["--dt", "1e-8"], f"over the limit {MAX_SAMPLES}"),
         (["--I3", "1e-300"], "--I3 must lie in"),
         (["--I3", "1e300"], "--I3 must lie in"),
         (["--g", "1e300"], "--g must lie in"),
@@ -182,6 +183,10 @@ def test_turning_points_only_streams_the_csv(tmp_path, capsys):
         (["--omega", "1e100", "0", "0"], "rates are too large"),
         (["--theta0", "0", "--omega", "0", "0", "0"], "--theta0"),
         (["--theta0", "0", "--theta-dot0", "0"], "no motion"),
+        # issue 25, item 20: E underflows to 0 without gravity (a ZeroDivisionError traceback)
+        (["--a", "0", "--I1", "0.35", "--psi-dot0", "1e-200"], "no motion to resolve"),
+        # issue 25, item 21: a release within THETA_MIN of the pole (spurious turning points)
+        (["--theta0", "1e-14", "--theta-dot0", "0"], "--theta0=1e-14: the start's energy keeps its tilt within"),
     ],
 )
 def test_extreme_input_is_refused_quickly(argv, fragment, capsys):
@@ -199,3 +204,22 @@ def test_strict_energy_check(capsys, monkeypatch):
     assert "energy error" in captured.err and json.loads(captured.out)["warnings"]
     assert main(["simulate", "--t-end", "20", "--quiet", "--strict"]) == 1
     assert "check failed" in capsys.readouterr().err
+
+
+def test_json_stays_json_when_heyoka_cannot_use_its_cache(tmp_path):
+    """Issue 25, item 22: with HEYOKA_CACHE_DIR a file (or a cache.db that is not a database) heyoka logged
+    `[warning]` lines on stdout ahead of the JSON.  The package now switches that cache off: stdout is the JSON alone
+    and no heyoka log line is printed."""
+    import os
+
+    blocker = tmp_path / "afile"
+    blocker.write_text("not a directory")
+    env = {**os.environ, "HEYOKA_CACHE_DIR": str(blocker)}
+    proc = subprocess.run([sys.executable, "-m", "rocknroller.cli", "simulate", "--t-end", "50", "--json", "--quiet"],
+                          env=env, capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    assert json.loads(proc.stdout)["n_maxima"] >= 1
+    assert "[warning]" not in proc.stdout + proc.stderr and "Traceback" not in proc.stderr
+    # the package says it once, in its own words, on stderr (simulate recorded it and printed only AccuracyWarnings)
+    said = [line for line in proc.stderr.splitlines() if line.startswith("rocknroller simulate: warning:")]
+    assert len(said) == 1 and "cache" in said[0], proc.stderr

@@ -150,7 +150,7 @@ def test_eps_zero_is_pure_rocking(fresh_cache, capsys):
     assert pred.pure_rocking and pred.region_runs == [] and pred.crossings == [] and pred.rocks_per_region == {}
     assert set(pred.regions) == {"origin"} and pred.slow_period is None and pred.line_slope is None
     assert not pred.series.QR.any() and not pred.series.QJ.any() and pred.Phi == 0.0
-    assert not av.predict_slow_motion(Body.paper(1e-3), 0.95 * math.pi, 0.3, 200.0).pure_rocking
+    assert not av.predict_slow_motion(Body.paper(1e-3), 0.95 * math.pi, 0.3, 200.0, order=1).pure_rocking
 
 
 @pytest.mark.parametrize("argv", [
@@ -220,7 +220,7 @@ def test_map_at_the_ends_of_the_theta0_range(frac, K):
     table = av.build_table(Body.paper(0.0), theta0)
     assert table.interp_error < 1e-7
     eps = 1e-3 if K is None else K / table.kappa
-    pred = av.predict_slow_motion(Body.paper(eps), theta0, math.pi / 4, 1000.0, table=table)
+    pred = av.predict_slow_motion(Body.paper(eps), theta0, math.pi / 4, 1000.0, table=table, order=1)
     ref = ode_slow_summary(Body.paper(eps), theta0, math.pi / 4, 1000.0)
     errs = relative_errors(pred, ref)
     for q in ("slow_period", "QR_extent", "Phi"):

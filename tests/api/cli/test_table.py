@@ -86,7 +86,7 @@ def test_per_tau_and_mpmath_backend(tmp_path, capsys):
     _, _, rb = _read(base)
     _, _, rt = _read(tau)
     header, _, rm = _read(mp)
-    from test_quadrature import _bound_at, _root_error
+    from quadrature_bounds import _bound_at, _root_error
 
     from rocknroller.analysis.routh.turning_points import solve_turning_points
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import math
+import re
 
 import pytest
 import roundoff as ro
@@ -81,6 +82,25 @@ def test_reproduce_only_and_index(tmp_path, capsys):
     assert "wrote" in out and "index.md" in out
     assert "table_polar_cap" in (tmp_path / "index.md").read_text()
     assert main(["reproduce", "--only", "nope", "--out", str(tmp_path)]) == 2
+
+
+def test_reproduce_only_force_keeps_the_other_outputs_listed(tmp_path, capsys):
+    """`reproduce --only X --force` rewrote index.md with X alone, leaving the other files in --out unlisted (issue
+    25, item 14): X's section is replaced, the others stay (in the registry's order) while their files remain."""
+    from rocknroller.cli.reproduce import _sections
+
+    names = ["table_polar_cap", "table_small_amplitude"]
+    assert main(["reproduce", "--out", str(tmp_path), "--only", *names, "--quiet"]) == 0
+    first = _sections((tmp_path / "index.md").read_text())
+    assert main(["reproduce", "--out", str(tmp_path), "--only", "table_small_amplitude", "--force", "--quiet"]) == 0
+    second = _sections((tmp_path / "index.md").read_text())
+    assert list(second) == names and second["table_polar_cap"] == first["table_polar_cap"]
+    listed = set(re.findall(r"\]\(([^)]+)\)", (tmp_path / "index.md").read_text()))
+    assert listed == {p.name for p in tmp_path.iterdir()} - {"index.md"}
+    (tmp_path / "table_polar_cap.csv").unlink()  # an output whose files are gone is no longer listed
+    assert main(["reproduce", "--out", str(tmp_path), "--only", "table_small_amplitude", "--force", "--quiet"]) == 0
+    assert list(_sections((tmp_path / "index.md").read_text())) == ["table_small_amplitude"]
+    capsys.readouterr()
 
 
 def test_azimuth_span_figure_data(tmp_path):
