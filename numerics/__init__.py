@@ -11,6 +11,9 @@ Imports only :mod:`rocknroller.analysis.model`.  In the order data flows through
 ``trajectory``
     :class:`~rocknroller.numerics.trajectory.Trajectory` and the turning points of a run, with their diagnostics;
     ``trajectory_plots`` its quick-look plots.
+``events``
+    The turning points of a stretch: the start's own root, the integrator's events checked and located on the
+    dense output.
 ``integrate``
     :func:`~rocknroller.numerics.integrate.simulate`: heyoka's Taylor integrator (or scipy's DOP853) with every
     turning point of θ found as an event.

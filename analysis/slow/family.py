@@ -127,7 +127,8 @@ def first_maximum(body: Body, initial: EulerState) -> FirstMaximum:
         A start that ``simulate`` refuses (naming the parameter), or one whose θ has no maximum within
         ``_FIRST_MAXIMUM_PERIODS`` times the symmetric body's period T_θ at its (E, Q) (steady rolling).
     """
-    from rocknroller.numerics.integrate import simulate, start_turning_point
+    from rocknroller.numerics.integrate import simulate
+    from rocknroller.numerics.events import start_turning_point
 
     y0 = initial.to_body_state()
     E = float(energy(body, y0[0:3], y0[3:6]))

@@ -15,7 +15,8 @@ from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState, turning_point_function
 from rocknroller.analysis.routh.rocking import small_amplitude_frequency
 from rocknroller.numerics.ensemble import Job
-from rocknroller.numerics.integrate import THETA_MIN, simulate, start_turning_point
+from rocknroller.numerics.events import THETA_MIN, start_turning_point
+from rocknroller.numerics.integrate import simulate
 
 BODY = Body.paper(1e-3)
 #: Safety margin of the first-order error bounds below (each adds worst cases linearly already).
