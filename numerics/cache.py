@@ -20,6 +20,7 @@ import hashlib
 import os
 import stat
 import tempfile
+import threading
 import warnings
 import zipfile
 from collections import OrderedDict
@@ -50,6 +51,8 @@ class MemoryCache:
     bytes (``array_bytes`` of each value) exceed ``max_bytes``, the newest always kept (a value larger than the
     budget is held alone).  ``key in cache`` does not reorder.  The process's caches of tables and of their run-time
     forms are of this kind, so that a session over many starts (each energy its own table) keeps a bounded memory.
+    Every operation holds one lock, so threads (``run_ensemble(threads=...)``, the atlas) may share a cache: a
+    store's evictions cannot interleave with another thread's read or byte count.
 
     Parameters
     ----------
@@ -62,20 +65,25 @@ class MemoryCache:
             raise ValueError(f"max_bytes must be an integer >= 0, got max_bytes={max_bytes!r}")
         self.max_bytes = int(max_bytes)
         self._entries: OrderedDict[Hashable, tuple[Any, int]] = OrderedDict()
+        self._lock = threading.Lock()
 
     def __contains__(self, key: Hashable) -> bool:
-        return key in self._entries
+        with self._lock:
+            return key in self._entries
 
     def __len__(self) -> int:
-        return len(self._entries)
+        with self._lock:
+            return len(self._entries)
 
     def __iter__(self) -> Iterator[Hashable]:
-        return iter(list(self._entries))
+        with self._lock:
+            return iter(list(self._entries))
 
     def __getitem__(self, key: Hashable) -> Any:
-        value = self._entries[key][0]
-        self._entries.move_to_end(key)
-        return value
+        with self._lock:
+            value = self._entries[key][0]
+            self._entries.move_to_end(key)
+            return value
 
     def get(self, key: Hashable, default: Any = None) -> Any:
         """``cache[key]`` (the newest now), or ``default`` if absent (one lookup: no gap in which another thread's
@@ -86,19 +94,26 @@ class MemoryCache:
             return default
 
     def __setitem__(self, key: Hashable, value: Any) -> None:
-        self._entries[key] = (value, array_bytes(value))
-        self._entries.move_to_end(key)
-        while len(self._entries) > 1 and self.nbytes > self.max_bytes:
-            self._entries.popitem(last=False)
+        size = array_bytes(value)
+        with self._lock:
+            self._entries[key] = (value, size)
+            self._entries.move_to_end(key)
+            while len(self._entries) > 1 and self._nbytes() > self.max_bytes:
+                self._entries.popitem(last=False)
+
+    def _nbytes(self) -> int:
+        return sum(n for _, n in self._entries.values())
 
     @property
     def nbytes(self) -> int:
         """Bytes of the arrays held (``array_bytes`` of each value)."""
-        return sum(n for _, n in self._entries.values())
+        with self._lock:
+            return self._nbytes()
 
     def clear(self) -> None:
         """Drop every entry."""
-        self._entries.clear()
+        with self._lock:
+            self._entries.clear()
 
 
 def array_bytes(obj: Any) -> int:

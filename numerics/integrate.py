@@ -410,7 +410,7 @@ def check_run(body: Body, initial: EulerState, t_end: float, *, dt: float | None
     """
     try:
         t_end = float(t_end)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # OverflowError: an int beyond the floats, like 10**400
         raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}") from None
     y0, rate = _validate(body, initial, t_end)
     radians = rate * t_end

@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from rocknroller.analysis.model.body import as_float
 from rocknroller.analysis.model.kinematics import space_axes_in_body
 from rocknroller.numerics.trajectory import Trajectory
 
@@ -41,8 +42,12 @@ def frame_times(t_end: float, fps: int, duration: float) -> NDArray[np.float64]:
     Raises
     ------
     ValueError
-        fps outside ``FPS_RANGE``, duration not > 0, fewer than 2 or more than ``MAX_FRAMES`` frames, naming them.
+        t_end not a finite number > 0, fps outside ``FPS_RANGE``, duration not > 0, fewer than 2 or more than
+        ``MAX_FRAMES`` frames, naming them.
     """
+    t_end = as_float("t_end", t_end)
+    if not (np.isfinite(t_end) and t_end > 0.0):  # linspace to inf gave a RuntimeWarning and NaN frame times
+        raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}")
     lo, hi = FPS_RANGE
     if int(fps) != fps or not lo <= fps <= hi:
         raise ValueError(f"fps must be an integer in [{lo}, {hi}], got fps={fps!r}")

@@ -1,4 +1,4 @@
-"""Regenerates docs/averaging.md, "Validation against the direct ODE": first-order map, closed form vs ODE.
+"""Regenerates docs/slow_validation.md, "Releases from rest, first order": the map and the closed form vs the ODE.
 
 Run:  python validation/averaging_table.py  [--theta0 0.95pi] [--t-end 1000]
 

@@ -1,4 +1,4 @@
-"""Regenerates docs/averaging.md, "Random starts": the map on region tables vs the direct ODE over a stated domain.
+"""Regenerates docs/slow_validation.md, "Random starts": the map on region tables vs the ODE over a stated domain.
 
 Run:  python validation/random_starts.py [N] [SEED]     (default 40 starts, seed 12)
 Domain: θ0 uniform in [0.3π, 0.97π], ψ0 uniform in [0, π), θ̇0 = 0, body-frame ω = (ω1, 0, ω3) with ω1, ω3 uniform

@@ -1,7 +1,7 @@
-"""Regenerates docs/averaging.md, "Starts with velocity: the region tables": accuracy, ODE errors, cost.
+"""Regenerates docs/slow_validation.md, "Region tables" (spindle chart): accuracy, ODE errors, cost.
 
 Run:  python validation/region_table.py
-Prints the tables of docs/averaging.md, "Starts with velocity":
+Prints the tables of docs/slow_validation.md, "Region tables":
 * for releases from rest at θ0 (the energy E = U(θ0; 0, 0)), the interpolation error of the spindle chart's region
   table (128 × 32 nodes; from 0.65π the default is the band chart, validation/reversal_starts.py) at its off-grid check points and its build time with 1 and 2 worker processes;
 * for starts with velocity (ω2 = 0 in the body frame, so E and the table do not depend on ε), the largest

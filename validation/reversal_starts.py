@@ -1,7 +1,7 @@
-"""Regenerates docs/averaging.md, "The band chart": the paper's reversal starts by the map vs the ODE.
+"""Regenerates docs/slow_validation.md, "Band chart" and "Reversal starts of the paper": the map vs the ODE.
 
 Run:  python validation/reversal_starts.py
-Prints the tables of docs/averaging.md, "The band chart":
+Prints the tables of docs/slow_validation.md, "Band chart" and "Reversal starts of the paper":
 * the interpolation error and build time (2 processes) of the band tables at the energies of releases from rest;
 * for the paper's reversal starts (θ0 = 0.95π, ψ0 = π/4: fig. 7 from rest, figs. 8 and 11 on Q_J,π^crit, fig. 9 on
   Q_J,0^crit, computed on their lines; fig. 10 shows 7–9 together), each as an initial state (the region tables of

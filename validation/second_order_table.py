@@ -1,4 +1,4 @@
-"""Regenerates docs/averaging.md, "Second order in ε": the order-2 map against order 1 and the direct ODE.
+"""Regenerates docs/slow_validation.md, "Releases from rest, second order": order 2 against order 1 and the ODE.
 
 Run:  python validation/second_order_table.py  [--theta0 0.95pi] [--t-end 1000]
 

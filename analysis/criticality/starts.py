@@ -49,6 +49,21 @@ class CriticalStart:
     QJ: NDArray[np.float64]
     offset: NDArray[np.float64]
 
+    def state(self, phi0: float = 0.0) -> EulerState:
+        """The start as an :class:`~rocknroller.analysis.model.equations.EulerState` (θ0, φ0, ψ0 and the body-frame
+        ω, the authoritative rates), for :func:`rocknroller.numerics.integrate.simulate` and the slow map.
+
+        Raises
+        ------
+        ValueError
+            For a start computed over arrays of θ0, ψ0, ... (one state per start: index the arrays first).
+        """
+        if np.ndim(self.theta0) != 0 or np.ndim(self.psi0) != 0 or np.size(self.omega) != 3:
+            raise ValueError("state() needs a single start: this CriticalStart holds arrays of shape "
+                             f"{np.shape(self.theta0)}; compute it for one theta0 and psi0")
+        return EulerState.from_omega(float(self.theta0), phi0, float(self.psi0),
+                                     np.asarray(self.omega, float).reshape(3))
+
 
 def _check_theta_range(theta0: NDArray) -> None:
     require_open_tilt(theta0, why=" to be a turning point (phi_dot is undefined at sin(theta0) = 0)")
@@ -158,7 +173,7 @@ def start_on_line(line: str, psi_dot0: float | None = None, *, QR: float | None 
     :func:`rocknroller.analysis.criticality.starts.critical_start`."""
     cs = critical_start(of if of is not None else Body.paper(EPSILON), THETA0, PSI0, line, psi_dot0=psi_dot0, QR=QR,
                         offset=offset)
-    return EulerState.from_omega(THETA0, 0.0, PSI0, np.asarray(cs.omega, float).reshape(3))
+    return cs.state()
 
 
 def paper_rate_starts() -> dict[str, tuple[float, float]]:

@@ -31,12 +31,18 @@ def paper_I1(a: float, I3: float) -> float:
     return (1.0 - 2.5 * a) * I3
 
 
+def as_float(name: str, value: float) -> float:
+    """``float(value)`` (NaN and ±inf included, for the caller's range check), or a ValueError naming ``name`` if
+    it is not a real number or is an int beyond the floats (``10**400``, whose ``float`` raises OverflowError)."""
+    try:
+        return float(value)
+    except (TypeError, ValueError, OverflowError):
+        raise ValueError(f"{name} must be a finite real number, got {value!r}") from None
+
+
 def require_finite(name: str, value: float) -> float:
     """``float(value)``, or a ValueError naming ``name`` if it is not a finite real number."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a finite real number, got {value!r}") from None
+    v = as_float(name, value)
     if not math.isfinite(v):
         raise ValueError(f"{name} must be a finite real number, got {value!r}")
     return v

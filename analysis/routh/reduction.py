@@ -65,7 +65,10 @@ def check_invariants(**values: ArrayLike) -> list[NDArray[np.float64]]:
     out = []
     lo, hi = Q_RANGE
     for name, value in values.items():
-        v = np.asarray(value, float)
+        try:
+            v = np.asarray(value, float)
+        except (TypeError, ValueError, OverflowError):  # not numbers, or an int beyond the floats (10**400)
+            raise ValueError(f"{name} must be finite real numbers, got {name}={value!r}") from None
         a = np.abs(v)
         if name == "E":
             bad, allowed = ~(a <= E_MAX), f"finite with |E| <= {E_MAX:g}"
@@ -118,7 +121,10 @@ def tilt_xy(theta: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]
     ValueError
         If some θ is non-finite or outside [0, π].
     """
-    theta = np.asarray(theta, float)
+    try:
+        theta = np.asarray(theta, float)
+    except (TypeError, ValueError, OverflowError):  # not numbers, or an int beyond the floats (10**400)
+        raise ValueError(f"theta must be finite and in [0, pi], got {theta!r}") from None
     if not np.all(np.isfinite(theta)) or np.any((theta < 0.0) | (theta > np.pi)):
         raise ValueError(f"theta must be finite and in [0, pi], got {theta!r}")
     return 2.0 * np.sin(0.5 * theta) ** 2, 2.0 * np.cos(0.5 * theta) ** 2

@@ -2,10 +2,9 @@
 It holds the release angles of the release tables (``THETA0_RANGE``, :func:`check_map_theta0`) and of any release
 from rest (:func:`check_release_theta0`), the most θ-maxima of one run (``MAX_MAXIMA``) and the t_end they allow
 (:func:`t_end_limit`, :func:`check_t_end`), the standard map's period-doubling threshold K = ε κ = 4
-(``K_PERIOD_DOUBLING``, :func:`eps_period_doubling`) and the ψ of the stable rocking (:func:`stable_rocking_psi`),
-and the error and warning of the slow-motion prediction (:class:`AveragingRangeError`,
-:class:`AveragingValidityWarning`; :mod:`rocknroller.analysis.slow.prediction`; docs/averaging.md, "Range of θ0"
-and "Limits").
+(``K_PERIOD_DOUBLING``, :func:`eps_period_doubling`) and the ψ of the stable rocking (:func:`stable_rocking_psi`), and
+the error and warning of the slow-motion prediction (:class:`AveragingRangeError`, :class:`AveragingValidityWarning`;
+:mod:`rocknroller.analysis.slow.prediction`; docs/averaging.md, "Releases from rest: the range of θ0" and "Limits").
 
 Pure checks on plain floats: a ValueError naming the parameter (``name``, e.g. ``--theta0`` for the CLI) and its
 allowed range.
@@ -15,17 +14,19 @@ from __future__ import annotations
 
 import math
 
+from rocknroller.analysis.model.body import as_float
+
 __all__ = [
     "THETA0_RANGE", "MAX_MAXIMA", "K_PERIOD_DOUBLING", "eps_period_doubling", "stable_rocking_psi",
     "AveragingRangeError", "AveragingValidityWarning", "check_map_theta0", "t_end_limit", "check_t_end",
     "check_release_theta0"
 ]
 
-#: Release angles (θ0_min, θ0_max) for which the tables are built and the map is validated against the direct
-#: ODE (docs/averaging.md, "Range of θ0").  Below ≈ 0.732π (paper body) the table rectangle, 2.5 times the
-#: libration amplitude at K = 4, reaches Q at which the energy of the release admits no motion: the tables
-#: cannot be built; 0.75π keeps a margin.  Towards the upright equilibrium θ = π the tables lose accuracy
-#: (interpolation error 2e-13 at 0.999π, 2e-7 at 0.9999π, O(1) at 0.99999π, where the map is wrong).
+#: Release angles (θ0_min, θ0_max) for which the tables are built and the map is validated against the direct ODE
+#: (docs/averaging.md, "Releases from rest: the range of θ0").  Below ≈ 0.732π (paper body) the table rectangle, 2.5
+#: times the libration amplitude at K = 4, reaches Q at which the energy of the release admits no motion: the tables
+#: cannot be built; 0.75π keeps a margin.  Towards the upright equilibrium θ = π the tables lose accuracy (interpolation
+#: error 2e-13 at 0.999π, 2e-7 at 0.9999π, O(1) at 0.99999π, where the map is wrong).
 THETA0_RANGE = (0.75 * math.pi, 0.999 * math.pi)
 #: Largest number of θ-maxima one run of the slow map may produce.  A run costs ~0.4 kB and ~4 µs per maximum
 #: (its series, 5 × 8 bytes, and the critical-region diagnostics; measured: 10⁶ maxima, 0.42 GB peak, 4.3 s);
@@ -59,7 +60,7 @@ class AveragingValidityWarning(UserWarning):
 def check_map_theta0(theta0: float, name: str = "theta0") -> float:
     """θ0 as a float, or a ValueError naming ``name`` unless it lies in ``THETA0_RANGE`` (the releases for
     which the averaging tables are built and the map is validated; other amplitudes are not covered yet)."""
-    theta0, (lo, hi) = float(theta0), THETA0_RANGE
+    theta0, (lo, hi) = as_float(name, theta0), THETA0_RANGE
     if not lo <= theta0 <= hi:  # also NaN
         raise ValueError(
             f"{name} must lie in [{lo / math.pi:g}pi, {hi / math.pi:g}pi] = [{lo:.6g}, {hi:.6g}] for the averaged "
@@ -73,7 +74,7 @@ def check_map_theta0(theta0: float, name: str = "theta0") -> float:
 def check_release_theta0(theta0: float, name: str = "theta0") -> float:
     """θ0 of a release from rest as a float, or a ValueError naming ``name`` unless 0 < θ0 ≤ ``THETA0_RANGE[1]``
     (from ``THETA0_RANGE[0]`` up the release tables serve it, below the region tables of its energy)."""
-    theta0, (lo, hi) = float(theta0), THETA0_RANGE
+    theta0, (lo, hi) = as_float(name, theta0), THETA0_RANGE
     if not 0.0 < theta0 <= hi:  # also NaN
         raise ValueError(f"{name} must lie in (0, {hi / math.pi:g}pi] for a release from rest, got {name}={theta0!r}: "
                          f"from {lo / math.pi:g}pi up on the release tables, below on the region tables of its energy; "
@@ -90,7 +91,7 @@ def t_end_limit(T0: float) -> float:
 
 def check_t_end(t_end: float, T0: float, name: str = "t_end") -> float:
     """t_end as a float, or a ValueError naming ``name`` unless 0 < t_end ≤ :func:`t_end_limit` (T0)."""
-    t_end, tmax = float(t_end), t_end_limit(T0)
+    t_end, tmax = as_float(name, t_end), t_end_limit(T0)
     if not (math.isfinite(t_end) and 0.0 < t_end <= tmax):
         raise ValueError(
             f"{name} must be a finite number in (0, {tmax:.6g}], got {name}={t_end!r}: a run of the slow map "

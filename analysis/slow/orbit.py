@@ -5,7 +5,7 @@ the three orbits per Q that give the responses' harmonics in Θ (:func:`harmonic
 T_θ, W and Δφ of the symmetric body from the quadratures of paper eqs. thetadotsq, Delta_phi:
 :func:`symmetric_data`), and ∂f/∂ε of the equations of motion (:func:`eps_derivative_rhs`).  The responses are
 those of Q_R, Q_J (paper eq. JelletandRouth_Qtys), Θ = 2ψ, the time and φ at the next maximum; this is the orbit
-stage of the averaged slow map (:mod:`rocknroller.analysis.slow.prediction`; docs/averaging.md, "Method").
+stage of the averaged slow map (:mod:`rocknroller.analysis.slow.prediction`; docs/averaging.md, "The slow map").
 
 The symmetric orbit from a maximum θ_X at (E, Q, ψ_n) is integrated (heyoka) together with its first-order
 variational equations in ε (I2 = (1 + ε) I1) on ``rocknroller.analysis.model.equations.body_frame_rhs``:
@@ -123,7 +123,7 @@ def _variational_system(order: int) -> list[tuple[Any, Any]]:
 def _variational_integrator(order: int = 1, lanes: int | None = None) -> Any:
     """heyoka batch integrator of :func:`_variational_system` (``order`` 1 or 2), by default in lanes of heyoka's
     recommended SIMD width: one orbit per lane, each with its own steps (the lanes do not interact), so a batch runs
-    several orbits for about the price of one (docs/averaging.md, "Cost"; ``lanes=1``: one orbit at a time)."""
+    several orbits for about the price of one (docs/slow_validation.md, "Cost"; ``lanes=1``: one orbit at a time)."""
     import heyoka as hy
 
     lanes = int(hy.recommended_simd_size()) if lanes is None else int(lanes)

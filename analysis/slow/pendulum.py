@@ -40,7 +40,7 @@ is √(Δν² + K/T0²).  Hence R² = |K|/(T0 Δν)² (:func:`regime_ratio`): th
 off the two-mode one's by at most √(1 + 1/R²) − 1 over all ψ0 (from R² = 2 up; more below), the beat for R² ≪ 1, by
 at most 1/√(1 − R²) − 1 (the two-mode frequency about the axis ψ = 0 is Δν √(1 − R²)); the crossover is R² = 1,
 θ0 ≈ 0.024π √(ε/0.01) for the paper body (R² ∝ θ0²/ε).  Against the direct ODE (ψ0 = 0.5, ε = 1e-2;
-docs/averaging.md, "Closed form near pure rocking") the pendulum is off by +0.7 % at 0.1π (R² = 19), +2.4 % at
+docs/averaging.md, "Closed forms") the pendulum is off by +0.7 % at 0.1π (R² = 19), +2.4 % at
 0.05π, +50 % at 0.02π (R² = 0.69), ×3.2 at 0.01π, the beat by −11 % at 0.02π, −4.3 % at 0.01π, −1.1 % at 0.005π
 (R² = 0.043), and their errors cross at R² = 1.9, 1.4 and 1.1 for ψ0 = 0.5, π/4 and 1.2 (at ε = 1e-2 and 1e-3
 alike).  Each form warns (:class:`ClosedFormRegimeWarning`) where its bound exceeds ``REGIME_TOLERANCE``, naming
@@ -236,7 +236,7 @@ def _check_theta0(theta0: float) -> float:
     lo, hi = PENDULUM_THETA0_RANGE
     try:
         value = float(theta0)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # OverflowError: an int beyond the floats, like 10**400
         value = math.nan
     if not lo <= value <= hi:  # also NaN
         raise ValueError(

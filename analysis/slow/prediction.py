@@ -49,7 +49,8 @@ Stages.  The coefficient functions are tabulated once per (body, θ0) or (body, 
 :mod:`rocknroller.analysis.slow.limits`, are re-exported here.
 
 Range.  The release tables are built and validated for releases 0.75π ≤ θ0 ≤ 0.999π (``THETA0_RANGE``;
-docs/averaging.md, "Range of θ0"); the region tables need an energy below that of the upright position and cover
+docs/averaging.md, "Releases from rest: the range of θ0"); the region tables need an energy below that of the upright
+position and cover
 distances (E − min U)/E ≥ 0.05 to steady rolling (docs/averaging.md, "Starts with velocity: the region tables").
 One run produces at most ``MAX_MAXIMA`` maxima (:func:`max_t_end`).
 """
@@ -65,7 +66,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.body import Body, as_float
 from rocknroller.analysis.model.diagnostics import azimuth_span, slow_period, span, unwrap_phase
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.routh.reduction import u_ends
@@ -274,7 +275,7 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
         return _predict_from_state(body, EulerState(float(theta0), 0.0, float(psi0)), t_end, table=None, build=build,
                                    order=order, second=second)
     theta0 = check_map_theta0(theta0)
-    eps, psi0 = body.epsilon, float(psi0)
+    eps, psi0 = body.epsilon, as_float("psi0", psi0)
     if not math.isfinite(psi0):
         raise ValueError(f"psi0 must be finite, got psi0={psi0!r}")
     if table is None:
@@ -332,16 +333,17 @@ def default_order(start: float | EulerState) -> int:
     """The order of the map in ε when none is given, for a release angle θ0 or an initial state: the default of
     :func:`predict_slow_motion` and of ``rocknroller slow`` alike.
 
-    2 for a release from rest in ``THETA0_RANGE``: the second-order release tables bring the map 10–1000× closer to
-    the direct ODE at ε ≤ 3e-3 (at the command's default release, 0.95π, ψ0 = π/4, ε = 1e-3, 1000 time units: slow
-    period within 3.5e-6 of the ODE, order 1 2.2e-4; docs/averaging.md, "Second order in ε"), for a build of 60–75 s
-    with two processes on an idle machine (``rocknroller slow --workers 2``; about twice that with the one process of
-    :func:`predict_slow_motion`) once per (body, θ0), then cached, and ~1.3× the run time of order 1.  1 for any
-    other start (an initial state, or a release below ``THETA0_RANGE``): its second-order tables are per energy,
-    1–3 min each, so order 2 is asked for explicitly there.
+    2 for a release from rest in ``THETA0_RANGE``: the second-order release tables bring the map 10–1000× closer to the
+    direct ODE at ε ≤ 3e-3 (at the command's default release, 0.95π, ψ0 = π/4, ε = 1e-3, 1000 time units: slow period
+    within 3.5e-6 of the ODE, order 1 2.2e-4; docs/slow_validation.md, "Releases from rest, second order"), for a build
+    of 60–75 s with two processes on an idle machine (``rocknroller slow --workers 2``; about twice that with the one
+    process of :func:`predict_slow_motion`) once per (body, θ0), then cached, and ~1.3× the run time of order 1.  1 for
+    any other start (an initial state, or a release below ``THETA0_RANGE``): its second-order tables are per energy, 1–3
+    min each, so order 2 is asked for explicitly there.
     """
+    # compared as given (int or float; Python compares them exactly, so 10**400 or NaN is simply out of range)
     in_range = (isinstance(start, (int, float)) and not isinstance(start, bool)
-                and THETA0_RANGE[0] <= float(start) <= THETA0_RANGE[1])
+                and THETA0_RANGE[0] <= start <= THETA0_RANGE[1])
     return 2 if in_range else 1
 
 

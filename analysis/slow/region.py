@@ -365,7 +365,7 @@ def accuracy_cause(table: SlowMapTable) -> str:
     nodes = f"more nodes (nu, nv: now {nu}, {nv}; rocknroller slow --nodes)"
     if table_chart(table) == "band":
         return (f"on the band chart (along Q_J,pi^crit) the grid does not resolve the layer in which the spin advance "
-                f"W turns by 2 pi across that line; use {nodes} (docs/averaging.md, 'Band chart')")
+                f"W turns by 2 pi across that line; use {nodes} (docs/slow_validation.md, 'Band chart')")
     small = SMALL_AMPLITUDE_THETA0 / math.pi
     amplitude = (f", the more so at small amplitude (this is the energy of a release from rest at theta0 = "
                  f"{table.theta0 / math.pi:.3g}pi: the default grid falls short below ~{small:g}pi)"

@@ -145,7 +145,8 @@ _K2_ODD = tuple(f"{p}_c0" in _ODD for p in _PREFIX)
 #: multiplied by ε², so 1e-3 of it is 1e-7 of a step at ε = 1e-2, below the map's O(ε³) error.
 _K2_CHECK_POINTS = ((0.37, 0.3), (-0.81, -0.55), (0.93, 0.8))
 K2_ACCURACY = 1e-3
-#: The same for a table on a region table's chart (a start with velocity; docs/averaging.md, "Second order in ε").
+#: The same for a table on a region table's chart (a start with velocity; docs/slow_validation.md, "Second order on the
+#: region tables").
 #: On the band chart of the paper's reversal starts k₂ interpolates to 5e-3–8e-3 with the default 16 × 32 nodes and
 #: no better with more (16 × 48, 32 × 32, 16 × 64: 3.4e-3 to 5.6e-3), yet what it predicts does not depend on it:
 #: from rest at 0.95π, ψ0 = π/4 (the fig. 7 start), 1000 time units, the order-2 maxima on 16 × 32 and on 16 × 48

@@ -268,7 +268,8 @@ def load_or_build_table(body: Body, theta0: float, *, build: bool = True, use_ca
 
     The cache file holds plain float64 arrays, the key and a SHA-256 checksum (``rocknroller.numerics.cache``; read with
     ``allow_pickle=False``).  A file that fails any check is never used: it is rebuilt and replaced, with a
-    ``CacheWarning``; an unwritable cache directory gives one ``CacheWarning`` per process (docs/averaging.md).
+    ``CacheWarning``; an unwritable cache directory gives one ``CacheWarning`` per process (docs/slow_howto.md, "Tables
+    and cache").
 
     Parameters
     ----------

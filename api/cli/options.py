@@ -211,7 +211,7 @@ def critical_line_state(args: argparse.Namespace, body: Body) -> tuple[EulerStat
     theta0, phi0, psi0 = _angles(args)
     kw = {"QR": args.QR} if args.QR is not None else {"psi_dot0": 0.0 if args.psi_dot0 is None else args.psi_dot0}
     start = critical_start(body, theta0, psi0, args.critical_line, offset=args.offset or 0.0, **kw)
-    return EulerState.from_omega(theta0, phi0, psi0, start.omega), start
+    return start.state(phi0), start
 
 
 # ----------------------------------------------------------------------------- where direct runs execute

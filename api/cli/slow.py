@@ -23,8 +23,8 @@ from typing import Any
 
 from rocknroller.analysis.slow import prediction as av
 from rocknroller.cli.options import (add_body_options, add_critical_line_options, add_force_option,
-                                     add_initial_state_options, body_from_args, critical_line_state, parse_angle,
-                                     prepare_output_dir, print_json, rates_given)
+                                     add_initial_state_options, body_from_args, check_critical_line_options,
+                                     critical_line_state, parse_angle, prepare_output_dir, print_json, rates_given)
 
 _QUANTITIES = ("slow_period", "QR_extent", "QJ_extent", "Phi")
 #: Body options (attribute, flag), for error messages that name what the user gave.
@@ -196,8 +196,7 @@ def run(args: argparse.Namespace) -> int:
                         "eps": body.epsilon, "theta0": start.theta, "psi0": start.psi, "t_end": args.t_end,
                         "pendulum": None, **extra})
         return _finish(args, body, pred, None, start, summary, messages)
-    if args.QR is not None:
-        raise ValueError("--QR needs --critical-line")
+    check_critical_line_options(args)  # --QR and --offset place a start on a line; a release reads neither
     theta0 = av.check_map_theta0(av.check_release_theta0(_parse(args, "theta0"), "--theta0"), "--theta0")
     psi0 = _parse(args, "psi0")
     unresolved = f"cannot be computed for --theta0 {args.theta0} and the body options {given} ({body.describe()})"

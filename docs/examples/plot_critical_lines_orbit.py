@@ -17,7 +17,7 @@ body = rr.Body.paper(epsilon=1e-3)
 theta0, psi0 = 0.95 * math.pi, math.pi / 4
 start = rr.critical_start(body, theta0, psi0, "pi", psi_dot0=0.002)
 print(f"on the line: Q_R = {float(start.QR):.6g}, Q_J = {float(start.QJ):.6g}, phi_dot0 = {float(start.phi_dot0):.6g}")
-traj = rr.simulate(body, rr.EulerState.from_omega(theta0, 0.0, psi0, start.omega), t_end=200.0)
+traj = rr.simulate(body, start.state(), t_end=200.0)
 fig, data = region_diagram(body, traj=traj)
 
 # %%

@@ -113,3 +113,28 @@ def test_import_loads_no_heavy_dependency():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]"
     assert callable(rr.laurent_series) and "laurent_series" in dir(rr)  # loaded on first use
+
+
+BIG = 10**400  # an int beyond the floats: float() raises OverflowError on it
+
+
+@pytest.mark.parametrize("call", [
+    lambda: rr.Body(BIG, 0.35, 0.35, 0.4, 9.87),
+    lambda: rr.Body.paper(BIG),
+    lambda: rr.EulerState(BIG, 0.0, 0.0),
+    lambda: rr.simulate(rr.Body.paper(), rr.EulerState(1.0, 0.0, 0.0), BIG),
+    lambda: rr.Job(rr.Body.paper(), rr.EulerState(1.0, 0.0, 0.0), BIG),
+    lambda: rr.precession(BIG, 0.01, 0.02, rr.Body.paper()),
+    lambda: rr.turning_points(1.0, BIG, 0.0, rr.Body.paper()),
+    lambda: rr.F(BIG, 1.0, 0.0, 0.0, rr.Body.paper()),
+    lambda: rr.predict_slow_motion(rr.Body.paper(1e-3), BIG, 0.1),
+    lambda: rr.predict_slow_motion(rr.Body.paper(1e-3), 0.95 * math.pi, BIG),
+    lambda: rr.predict_slow_motion(rr.Body.paper(1e-3), 0.95 * math.pi, 0.1, BIG),
+    lambda: rr.pendulum_constants(rr.Body.paper(1e-3), BIG),
+], ids=["Body", "Body.paper", "EulerState", "simulate", "Job", "precession", "turning_points", "F",
+        "predict theta0", "predict psi0", "predict t_end", "pendulum_constants"])
+def test_an_int_beyond_the_floats_is_a_value_error(call):
+    """``10**400`` as a number raised OverflowError (from ``float`` or numpy) at every entry point; it is bad input
+    like any other: a ValueError naming the parameter."""
+    with pytest.raises(ValueError, match="must"):
+        call()

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import builtins
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -42,6 +43,11 @@ def test_frame_times_are_checked():
                      ({"duration": math.inf}, "duration"), ({"fps": 60, "duration": 60.0}, "MAX_FRAMES")):
         with pytest.raises(ValueError, match=name):
             an.frame_times(10.0, **{"fps": 5, "duration": 2.0, **kw})
+    for t_end in (math.inf, math.nan, 0.0, -1.0, 10**400):  # linspace to inf warned and gave NaN frame times
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            with pytest.raises(ValueError, match="t_end"):
+                an.frame_times(t_end, 5, 2.0)
 
 
 def test_gif_has_the_frames(run, tmp_path):

@@ -15,6 +15,7 @@ from rocknroller.analysis.criticality import lines as C
 from rocknroller.analysis.criticality import reversals, starts, theta_z
 from rocknroller.analysis.criticality.laurent import SYMBOLS, V_phi_sym, laurent_coefficients
 from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.model.invariants import V_phi, invariants
 from rocknroller.analysis.model.kinematics import vertical_in_body
 from rocknroller.analysis.routh.reduction import state_from_turning_point
@@ -436,3 +437,15 @@ def test_invariants_outside_the_resolved_range_are_refused(QR, QJ, bad):
 def test_critical_start_names_psi_dot0_when_it_leaves_the_range():
     with pytest.raises(ValueError, match="psi_dot0"):
         starts.critical_start(BODY, 0.95 * math.pi, 0.0, "pi", psi_dot0=1e300)
+
+
+def test_a_critical_start_gives_its_state():
+    """Users converted a CriticalStart to a state by hand (``EulerState.from_omega(θ0, 0, ψ0, start.omega)``);
+    ``state()`` is that conversion, bit for bit, and refuses a start computed over arrays."""
+    body = Body.paper(1e-3)
+    st = starts.critical_start(body, 0.95 * np.pi, np.pi / 4, "pi", psi_dot0=0.002)
+    assert st.state() == EulerState.from_omega(0.95 * np.pi, 0.0, np.pi / 4, np.asarray(st.omega).reshape(3))
+    assert st.state(phi0=0.3).phi == 0.3
+    many = starts.critical_start(body, np.array([0.9, 0.95]) * np.pi, np.pi / 4, "pi", psi_dot0=0.002)
+    with pytest.raises(ValueError, match="single start"):
+        many.state()

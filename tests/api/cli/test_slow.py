@@ -301,3 +301,10 @@ def test_slow_period_doubling_option(capsys):
     assert main(["slow", "--theta0", "0.5pi", "--phi-dot0", "0.1", "--period-doubling"]) == 2
     assert "--period-doubling applies to releases from rest" in capsys.readouterr().err
 
+
+
+@pytest.mark.parametrize("argv, named", [(["--offset", "0.01"], "--offset"), (["--QR", "0.01"], "--QR")])
+def test_a_release_refuses_the_options_of_a_start_on_a_line(argv, named, capsys):
+    """A release from rest read neither --offset nor --QR: --offset was silently ignored (the prediction ran)."""
+    assert main(["slow", "--t-end", "100", "--json", *argv]) == 2
+    assert f"{named} needs --critical-line" in capsys.readouterr().err
