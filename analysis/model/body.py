@@ -12,7 +12,7 @@ import sys
 from dataclasses import dataclass, replace
 
 __all__ = [
-    "Body", "paper_I1", "require_finite", "polar_cap_offset_as_printed", "PAPER_A", "PAPER_I3", "PAPER_G",
+    "Body", "paper_I1", "as_float", "require_finite", "polar_cap_offset_as_printed", "PAPER_A", "PAPER_I3", "PAPER_G",
     "polar_cap_volume"
 ]
 
