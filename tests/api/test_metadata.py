@@ -176,3 +176,49 @@ def test_citation_and_changelog_agree_on_the_release():
     from importlib import resources
 
     assert resources.files("rocknroller.papers").joinpath("CITATION.cff").read_text() == (ROOT / "CITATION.cff").read_text()
+
+
+def _setup_py() -> dict:
+    import runpy
+
+    return runpy.run_path(str(ROOT / "setup.py"))  # run_name is not "__main__": setup() is not called
+
+
+def test_dev_version_scheme():
+    """A build of the release commit is the release; any other build a PEP 440 development build of the next patch
+    release that names its commit (issue 25, item 11: every build said 0.1.0)."""
+    dev_version = _setup_py()["dev_version"]
+    assert dev_version("0.1.0", 0, "2315f86", dirty=False) == "0.1.0"
+    assert dev_version("0.1.0", 0, "2315f86", dirty=True) == "0.1.1.dev0+g2315f86.dirty"
+    assert dev_version("0.1.0", 77, "219d0ff", dirty=False) == "0.1.1.dev77+g219d0ff"
+    assert dev_version("1.2.9", None, "abcdef0", dirty=False) == "1.2.10.dev0+gabcdef0"
+    assert dev_version("0.1.0", None, None, dirty=False) == "0.1.1.dev0+unknown"
+    pep440 = r"\d+\.\d+\.\d+(\.dev\d+\+[a-z0-9]+(\.[a-z0-9]+)*)?"
+    for case in ("0.1.0", "0.1.1.dev0+g2315f86.dirty", "0.1.1.dev0+unknown", rr.__version__):
+        assert re.fullmatch(pep440, case), case
+
+
+def test_citation_names_the_release_commit():
+    """CITATION.cff records the release with its full commit, and that commit is in this history where there is one."""
+    release, commit = _setup_py()["cff_release"]((ROOT / "CITATION.cff").read_text())
+    assert release == read_cff((ROOT / "CITATION.cff").read_text())["version"]
+    if (ROOT / ".git").exists():
+        out = subprocess.run(["git", "-C", str(ROOT), "cat-file", "-t", commit], capture_output=True, text=True)
+        if out.returncode == 0:  # absent from a shallow clone
+            assert out.stdout.strip() == "commit"
+
+
+def test_installed_version_tells_a_development_build():
+    """The installed version is the release only for a build of the release commit: built from a later checkout it
+    is ``X.Y.(Z+1).devN+g<commit>``, and a wheel built from the sdist alone keeps the sdist's version."""
+    setup_py = _setup_py()
+    pkg_info = ROOT / "PKG-INFO"
+    if pkg_info.exists():  # the unpacked sdist: its wheel carries its version
+        assert rr.__version__ == setup_py["version"]()
+        return
+    if not (ROOT / ".git").exists():
+        pytest.skip("neither a git checkout nor an unpacked sdist")
+    release, commit = setup_py["cff_release"]((ROOT / "CITATION.cff").read_text())
+    head = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "HEAD"], capture_output=True, text=True, check=True)
+    if head.stdout.strip() != commit:
+        assert rr.__version__ != release and ".dev" in rr.__version__ and "+" in rr.__version__, rr.__version__
