@@ -11,7 +11,7 @@ import math
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState
 
-__all__ = ["small_amplitude_frequency", "small_amplitude_frequency_as_printed", "measured_frequency", "measured_frequency"]
+__all__ = ["small_amplitude_frequency", "small_amplitude_frequency_as_printed", "measured_frequency"]
 
 
 def small_amplitude_frequency(body: Body, moment: float) -> float:

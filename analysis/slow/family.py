@@ -28,6 +28,7 @@ from rocknroller.analysis.routh.quadrature import precession
 from rocknroller.analysis.routh.quadrature_mp import precession_mp
 from rocknroller.analysis.routh.reduction import (NoMotionError, SteadyRollingError, effective_potential,
                                                   invariants_from_euler, require_open_tilt, state_from_turning_point)
+from rocknroller.analysis.routh.rocking import small_amplitude_frequency
 from rocknroller.analysis.routh.turning_points import turning_points
 
 __all__ = ["rest_energy", "directional_derivative", "FirstMaximum", "first_maximum", "family_member", "maximum_state"]
@@ -127,8 +128,8 @@ def first_maximum(body: Body, initial: EulerState) -> FirstMaximum:
         A start that ``simulate`` refuses (naming the parameter), or one whose θ has no maximum within
         ``_FIRST_MAXIMUM_PERIODS`` times the symmetric body's period T_θ at its (E, Q) (steady rolling).
     """
-    from rocknroller.numerics.integrate import simulate
     from rocknroller.numerics.events import start_turning_point
+    from rocknroller.numerics.integrate import simulate
 
     y0 = initial.to_body_state()
     E = float(energy(body, y0[0:3], y0[3:6]))
@@ -142,17 +143,24 @@ def first_maximum(body: Body, initial: EulerState) -> FirstMaximum:
     if root is not None and root.kind > 0:
         return FirstMaximum(t=0.0, E=E, theta=float(initial.theta), QR=QR0, QJ=QJ0, psi=float(initial.psi),
                             phi=float(initial.phi))
-    sym = body.symmetric()
-    try:
-        period = float(precession(E, QR0, QJ0, sym).T_theta)
-    except (NoMotionError, SteadyRollingError) as exc:
-        raise ValueError(f"the start has no oscillation of theta to average over: {exc}") from None
-    except ValueError:  # oscillating, but too near steady rolling for the double quadrature: its mpmath reference
-        period = float(precession_mp(E, QR0, QJ0, sym, dps=30).T_theta)
-    run = simulate(body, initial, _FIRST_MAXIMUM_PERIODS * period, samples=False)
+    # How far to look is set by the period of θ, whose quadrature costs ~5x the short run itself (issue 25, item 4:
+    # 25 ms of a 30 ms prediction): look first over as many small-amplitude periods (closed form, the slower axis)
+    # and compute the period only where that finds no maximum.
+    look = _FIRST_MAXIMUM_PERIODS * 2.0 * math.pi / small_amplitude_frequency(body, max(body.I1, body.I2))
+    run = simulate(body, initial, look, samples=False)
     if len(run.maxima) == 0:
-        raise ValueError(f"theta has no maximum within {_FIRST_MAXIMUM_PERIODS:g} rocking periods "
-                         f"({_FIRST_MAXIMUM_PERIODS * period:.4g} time units) of this start: nothing to average")
+        sym = body.symmetric()
+        try:
+            period = float(precession(E, QR0, QJ0, sym).T_theta)
+        except (NoMotionError, SteadyRollingError) as exc:
+            raise ValueError(f"the start has no oscillation of theta to average over: {exc}") from None
+        except ValueError:  # oscillating, but too near steady rolling for the double quadrature: its mpmath reference
+            period = float(precession_mp(E, QR0, QJ0, sym, dps=30).T_theta)
+        if _FIRST_MAXIMUM_PERIODS * period > look:
+            run = simulate(body, initial, _FIRST_MAXIMUM_PERIODS * period, samples=False)
+        if len(run.maxima) == 0:
+            raise ValueError(f"theta has no maximum within {_FIRST_MAXIMUM_PERIODS:g} rocking periods "
+                             f"({_FIRST_MAXIMUM_PERIODS * period:.4g} time units) of this start: nothing to average")
     m = run.maxima
     return FirstMaximum(t=float(m.t[0]), E=E, theta=float(m.theta[0]), QR=float(m.QR[0]), QJ=float(m.QJ[0]),
                         psi=float(m.psi[0]), phi=float(m.phi[0]))
