@@ -199,7 +199,7 @@ def check_cluster(scheduler: Any = None, workers: Any = None, threads: Any = Non
 
 
 def run_ensemble(jobs: Sequence[Job], *, scheduler: str | None = None, workers: int | None = None,
-                 threads: int | None = None, progress: bool | None = True) -> list[RunSummary]:
+                 threads: int | None = None, progress: bool | None = None) -> list[RunSummary]:
     """Run every job (:func:`run_job`) and return their summaries in job order.
 
     The result is the same bit for bit whichever way the jobs run (see the module docstring).

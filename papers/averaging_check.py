@@ -44,13 +44,15 @@ class OdeSlowSummary:
     region_runs: list[tuple[str, int, float]]
 
 
-def ode_slow_summary(body: Body, theta0: float | EulerState, psi0: float | None, t_end: float) -> OdeSlowSummary:
+def ode_slow_summary(body: Body, theta0: float | EulerState, psi0: float | None, t_end: float, *,
+                     progress: bool | None = False) -> OdeSlowSummary:
     """Run the direct ODE (heyoka) from rest at (θ0, ψ0), or from an initial state (then psi0 is None), and
-    summarise its θ-maxima (as :func:`rocknroller.analysis.slow.prediction.predict_slow_motion` takes its start)."""
+    summarise its θ-maxima (as :func:`rocknroller.analysis.slow.prediction.predict_slow_motion` takes its start);
+    ``progress`` as :func:`rocknroller.numerics.integrate.simulate`'s."""
     from rocknroller.numerics.integrate import simulate
 
     start = theta0 if isinstance(theta0, EulerState) else EulerState(theta0, 0.0, psi0)
-    tr = simulate(body, start, t_end, dt=t_end / 10)
+    tr = simulate(body, start, t_end, dt=t_end / 10, progress=progress)
     m = tr.maxima
     return OdeSlowSummary(t=m.t, QR=m.QR, QJ=m.QJ, Theta=2.0 * m.psi, phi=m.phi, slow_period=tr.slow_period,
                           QR_extent=tr.QR_extent, QJ_extent=tr.QJ_extent, Phi=tr.Phi,

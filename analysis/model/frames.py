@@ -10,7 +10,11 @@ from typing import Any, Mapping
 
 import numpy as np
 
-__all__ = ["dataframe"]
+__all__ = ["COLUMN_NAMES", "dataframe"]
+
+#: Column names for people, the same in every DataFrame and CSV file the package writes: Routh's and Jellett's
+#: quantities as the paper writes them (attributes keep the Python names ``QR``, ``QJ``).
+COLUMN_NAMES = {"QR": "Q_R", "QJ": "Q_J"}
 
 
 def _column(values: Any) -> Any:
@@ -25,7 +29,8 @@ def _column(values: Any) -> Any:
 
 
 def dataframe(columns: Mapping[str, Any]) -> "pandas.DataFrame":  # noqa: F821
-    """A :class:`pandas.DataFrame` of equal-length columns (scalars and 0-d arrays become one row).
+    """A :class:`pandas.DataFrame` of equal-length columns (scalars and 0-d arrays become one row), named as in
+    ``COLUMN_NAMES`` (``QR`` is the column ``Q_R``).
 
     Raises
     ------
@@ -37,4 +42,4 @@ def dataframe(columns: Mapping[str, Any]) -> "pandas.DataFrame":  # noqa: F821
     except ImportError as exc:  # pragma: no cover - depends on the environment
         raise ImportError("to_dataframe() needs pandas, which rocknroller does not require: pip install pandas") \
             from exc
-    return pd.DataFrame({name: _column(values) for name, values in columns.items()})
+    return pd.DataFrame({COLUMN_NAMES.get(name, name): _column(values) for name, values in columns.items()})

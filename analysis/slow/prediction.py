@@ -211,7 +211,7 @@ class SlowPrediction:
 def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | None = None,
                         t_end: float = 1000.0, *,
                         table: SlowMapTable | None = None, build: bool = True, order: int | None = None,
-                        second: "SecondOrderTable | None" = None) -> SlowPrediction:
+                        second: "SecondOrderTable | None" = None, progress: bool | None = None) -> SlowPrediction:
     """Predict the slow (Q_R, Q_J) motion of ``body`` released from rest at θ0 with spin angle ψ0, or from any
     initial state.
 
@@ -243,6 +243,9 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
         (2 for a release from rest in ``THETA0_RANGE``, 1 for any other start; the costs are stated there).
     second : SecondOrderTable, optional
         Precomputed second-order tables of (body, θ0), or of (body, E) for a start on the region tables.
+    progress : bool or None
+        Tables built here (seconds to a minute each; docs/slow_howto.md) show a tqdm bar on stderr that names them
+        and the time left; None: only if stderr is a terminal.  Tables from memory or the disk cache show none.
 
     Returns
     -------
@@ -267,13 +270,14 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
     if isinstance(theta0, EulerState):
         if psi0 is not None:
             raise ValueError("psi0 is part of the initial state: give either (theta0, psi0) or an EulerState")
-        return _predict_from_state(body, theta0, t_end, table=table, build=build, order=order, second=second)
+        return _predict_from_state(body, theta0, t_end, table=table, build=build, order=order, second=second,
+                                   progress=progress)
     if psi0 is None:
         raise ValueError("psi0 must be given with a release angle theta0")
     theta0 = check_release_theta0(theta0)
     if table is None and releases_on_region_tables(theta0):
         return _predict_from_state(body, EulerState(float(theta0), 0.0, float(psi0)), t_end, table=None, build=build,
-                                   order=order, second=second)
+                                   order=order, second=second, progress=progress)
     theta0 = check_map_theta0(theta0)
     eps, psi0 = body.epsilon, as_float("psi0", psi0)
     if not math.isfinite(psi0):
@@ -281,7 +285,7 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
     if table is None:
         sym = body.symmetric()
         check_t_end(t_end, _rocking_period(sym, rest_energy(sym, theta0)))
-        table = load_or_build_table(body, theta0, build=build)
+        table = load_or_build_table(body, theta0, build=build, progress=progress)
     elif abs(table.theta0 - theta0) > 1e-15:
         raise ValueError(f"the table is for theta0={table.theta0!r}, not {theta0!r}")
     elif table.body != body.symmetric():
@@ -304,7 +308,7 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
         from rocknroller.analysis.slow.second_order import load_or_build_second_order_table
 
         if second is None:
-            second = load_or_build_second_order_table(body, theta0, build=build)
+            second = load_or_build_second_order_table(body, theta0, build=build, progress=progress)
         elif abs(second.theta0 - theta0) > 1e-15 or second.E0 != table.E0:
             raise ValueError(f"the second-order table is for theta0={second.theta0!r}, not {theta0!r}")
     series = iterate_slow_map(table, eps, psi0, t_end, second=second if order == 2 else None)
@@ -336,7 +340,7 @@ def default_order(start: float | EulerState) -> int:
     2 for a release from rest in ``THETA0_RANGE``: the second-order release tables bring the map 10–1000× closer to the
     direct ODE at ε ≤ 3e-3 (at the command's default release, 0.95π, ψ0 = π/4, ε = 1e-3, 1000 time units: slow period
     within 3.5e-6 of the ODE, order 1 2.2e-4; docs/slow_validation.md, "Releases from rest, second order"), for a build
-    of 60–75 s with two processes on an idle machine (``rocknroller slow --workers 2``; about twice that with the one
+    of 60–75 s with two processes on an idle machine (``rocknroller slow --processes 2``; about twice that with the one
     process of :func:`predict_slow_motion`) once per (body, θ0), then cached, and ~1.3× the run time of order 1.  1 for
     any other start (an initial state, or a release below ``THETA0_RANGE``): its second-order tables are per energy, 1–3
     min each, so order 2 is asked for explicitly there.
@@ -366,7 +370,8 @@ def _prediction(eps: float, theta0: float, psi0: float, t_end: float, K: float, 
 
 
 def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: SlowMapTable | None,
-                        build: bool, order: int = 1, second: "SecondOrderTable | None" = None) -> SlowPrediction:
+                        build: bool, order: int = 1, second: "SecondOrderTable | None" = None,
+                        progress: bool | None = None) -> SlowPrediction:
     """predict_slow_motion from an initial state: its first maximum, then the map on the region tables (and for
     order 2 the second-order tables on their chart)."""
     from rocknroller.analysis.routh.steady_rolling import boundary_distance
@@ -395,7 +400,7 @@ def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: S
             check_t_end(t_end - fm.t, _rocking_period(body.symmetric(), fm.E))
             if not build:
                 raise
-            table = load_or_build_region_table(body, fm.E, build=True)
+            table = load_or_build_region_table(body, fm.E, build=True, progress=progress)
     elif abs(table.E0 - fm.E) > 8.0 * math.ulp(fm.E) or table.delta_min == 0.0:  # E from two formulas: rounding
         raise ValueError(f"the table is not the region table of this start's energy E={fm.E!r}")
     elif table.body != body.symmetric():
@@ -404,11 +409,11 @@ def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: S
         from rocknroller.analysis.slow.second_order import load_or_build_second_order_region_table
 
         if (table.coef.shape[1:] != region_options(body, fm.E)[1:]  # cheap first: another grid
-                or not table.same_chart(load_or_build_region_table(body, fm.E, build=build))):
+                or not table.same_chart(load_or_build_region_table(body, fm.E, build=build, progress=progress))):
             raise ValueError("order=2 uses the second-order tables on the default region tables of the start's "
                              "energy (axis 'auto', the default grid); this table has another chart or grid")
         if second is None:
-            second = load_or_build_second_order_region_table(body, fm.E, build=build)
+            second = load_or_build_second_order_region_table(body, fm.E, build=build, progress=progress)
         elif second.E0 != table.E0:
             raise ValueError(f"the second-order table is for E={second.E0!r}, not this start's E={fm.E!r}")
     eps = body.epsilon

@@ -45,9 +45,10 @@ from rocknroller.analysis.routh.reduction import E_MAX, NoMotionError, u_ends
 from rocknroller.analysis.routh.turning_points import min_potential, solve_turning_points
 from rocknroller.analysis.slow.chart import CHART_TERMS, TABLE_FUNCTIONS, SlowMapTable, _cheb_nodes
 from rocknroller.analysis.slow.limits import AveragingRangeError
-from rocknroller.analysis.slow.orbit import FIRST_ORDER_NAMES, harmonic_steps, symmetric_data
-from rocknroller.analysis.slow.table import REGION_TABLE_ACCURACY, cached_table, check_grid, fit_and_check, kick_at_rest
-from rocknroller.numerics.parallel import check_processes, map_blocks
+from rocknroller.analysis.slow.orbit import symmetric_data
+from rocknroller.analysis.slow.table import (REGION_TABLE_ACCURACY, cached_table, check_grid, fit_and_check,
+                                             kick_at_rest, orbit_data)
+from rocknroller.numerics.parallel import check_processes
 
 __all__ = [
     "check_below_top", "region_axis", "region_options", "chart_direction", "table_chart", "region_frame",
@@ -255,36 +256,14 @@ def region_frame(body: Body, E: float, *, axis: str = "auto", nu: int | None = N
                         beta=beta)
 
 
-def _node_block(sym: Body, E: float, nodes: list[tuple[float, float, float]]) -> NDArray[np.float64]:
-    """Rows (T, W mod 2π, Δφ mod π, the harmonics of the ε-responses) at nodes (Q_R, Q_J, θ_X): three orbits
-    each, all run through the batch integrator's lanes."""
-    QR, QJ, thX = np.array(nodes, float).T
-    steps, resp = harmonic_steps(sym, E, QR, QJ, thX)
-    out = np.empty((len(nodes), 3 + 3 * len(FIRST_ORDER_NAMES)))
-    out[:, 0] = steps.T.mean(axis=1)
-    out[:, 1] = wrap_angle(2.0 * steps.dpsi[:, 0])
-    out[:, 2] = steps.dphi[:, 0]
-    out[:, 3:] = np.moveaxis(resp, 0, 1).reshape(len(nodes), -1)
-    return out
-
-
-#: Nodes per task of a parallel table build.
-_BLOCK_NODES = 64
-
-
-def _orbit_data(sym: Body, E: float, QR: NDArray, QJ: NDArray, progress: bool = False, workers: int = 1):
+def _orbit_data(sym: Body, E: float, QR: NDArray, QJ: NDArray, progress: bool | None = False, workers: int = 1):
     """T, W mod 2π, Δφ mod π and the harmonics of the ε-responses at each Q, from three variational orbits
-    per node; ``workers`` processes share the nodes (each node's numbers do not depend on how many)."""
+    per node (:func:`rocknroller.analysis.slow.table.orbit_data`)."""
     tp = solve_turning_points(E, QR, QJ, sym)
     if np.any(np.asarray(tp.status) != 0):
         raise AveragingRangeError(f"some nodes of the region tables of E={E!r} have no oscillation of theta")
-    nodes = list(zip(np.ravel(QR).tolist(), np.ravel(QJ).tolist(), np.ravel(tp.theta_X).tolist()))
-    blocks = [nodes[i:i + _BLOCK_NODES] for i in range(0, len(nodes), _BLOCK_NODES)]
-    rows = map_blocks(_node_block, [(sym, E, block) for block in blocks], [len(b) for b in blocks],
-                      processes=workers, desc="region tables", unit="node", progress=progress)
-    data = np.concatenate(rows).reshape(np.shape(QR) + (-1,))
-    resp = np.moveaxis(data[..., 3:].reshape(np.shape(QR) + (len(FIRST_ORDER_NAMES), 3)), -2, 0)
-    return data[..., 0], data[..., 1], data[..., 2], resp
+    return orbit_data(sym, E, QR, QJ, tp.theta_X, progress=progress, workers=workers,
+                      desc=f"region tables, E={E:.6g}")
 
 
 #: Off-grid chart points (x, τ) at which a new region table is checked against direct orbits.
@@ -313,8 +292,8 @@ def region_interpolation_error(table: SlowMapTable) -> float:
 
 
 def build_region_table(body: Body, E: float, *, axis: str = "auto", nu: int | None = None, nv: int | None = None,
-                       delta_min: float = DELTA_MIN_DEFAULT, tip_fraction: float = 0.8, progress: bool = False,
-                       workers: int = 1) -> SlowMapTable:
+                       delta_min: float = DELTA_MIN_DEFAULT, tip_fraction: float = 0.8,
+                       progress: bool | None = None, workers: int = 1) -> SlowMapTable:
     """Tabulate the reversible first-order slow map of (body, E) over the region of oscillation.
 
     Parameters
@@ -332,8 +311,9 @@ def build_region_table(body: Body, E: float, *, axis: str = "auto", nu: int | No
         Least distance (E − min U)/E to steady rolling covered, in ``DELTA_MIN_RANGE``.
     tip_fraction : float
         Part of the spindle's half-length covered along the critical line, in ``TIP_FRACTION_RANGE``.
-    progress : bool
-        A tqdm progress bar over the nodes (3 variational orbits each).
+    progress : bool or None
+        A tqdm bar on stderr over the nodes (3 variational orbits each), naming the table and showing the time
+        left; None: only if stderr is a terminal.
     workers : int
         Processes that share the nodes, 1 ≤ workers ≤ ``parallel.MAX_PROCESSES``; the table does not depend on it.  More
         than one starts a pool of "spawn" processes, which import the calling script: a script that asks for

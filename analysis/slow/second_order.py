@@ -164,14 +164,14 @@ def k2_harmonics(table: SlowMapTable, Q: ArrayLike) -> NDArray[np.float64]:
     return np.linalg.solve(_basis(np.array(_K2_THETA_A)), vals).T
 
 
-def _first_table(body: Body, where: float, kind: str) -> SlowMapTable:
+def _first_table(body: Body, where: float, kind: str, **run: Any) -> SlowMapTable:
     """The first-order table whose chart a second-order table uses: the release table of θ0 = ``where`` or the
-    (default) region table of the energy E = ``where``."""
+    (default) region table of the energy E = ``where``; ``run``: how to build it if needed (progress, workers)."""
     if kind == "release":
-        return load_or_build_table(body, where)
+        return load_or_build_table(body, where, **run)
     from rocknroller.analysis.slow.region import load_or_build_region_table
 
-    return load_or_build_region_table(body, where)
+    return load_or_build_region_table(body, where, **run)
 
 
 def _k2_block(body: Body, where: float, kind: str, nodes: list[tuple[float, float]]) -> NDArray[np.float64]:
@@ -180,7 +180,7 @@ def _k2_block(body: Body, where: float, kind: str, nodes: list[tuple[float, floa
 
 
 def _build_k2(body: Body, where: float, kind: str, nu: int, nv: int, workers: int,
-              progress: bool) -> SecondOrderTable:
+              progress: bool | None) -> SecondOrderTable:
     """k₂ on the chart of the first-order table (:func:`_first_table`): half the nodes computed, the others by the
     parity (module docstring of :func:`build_second_order_table`), checked at off-grid points."""
     from rocknroller.analysis.slow.limits import AveragingRangeError, AveragingValidityWarning
@@ -188,7 +188,7 @@ def _build_k2(body: Body, where: float, kind: str, nu: int, nv: int, workers: in
     if isinstance(nu, bool) or int(nu) != nu or nu % 2 or not 8 <= nu <= 256:
         raise ValueError(f"nu must be an even integer in [8, 256], got nu={nu!r}")
     workers = check_processes(workers, "workers")
-    first = _first_table(body, where, kind)
+    first = _first_table(body, where, kind, progress=progress, workers=workers)
     if isinstance(nv, bool) or int(nv) != nv or not 2 <= nv <= first.coef.shape[2]:
         raise ValueError(f"nv must be an integer in [2, {first.coef.shape[2]}] (the first-order table's terms "
                          f"across), got nv={nv!r}")
@@ -198,7 +198,9 @@ def _build_k2(body: Body, where: float, kind: str, nu: int, nv: int, workers: in
     size = 16
     blocks = [half[k:k + size] for k in range(0, len(half), size)]
     rows = map_blocks(_k2_block, [(body.symmetric(), float(where), kind, b) for b in blocks],
-                      [len(b) for b in blocks], processes=workers, desc="second-order tables", unit="node",
+                      [len(b) for b in blocks], processes=workers, unit="node",
+                      desc=(f"second-order tables, theta0={where / math.pi:.6g}pi" if kind == "release" else
+                            f"second-order tables, E={where:.6g}"),
                       progress=progress)
     data = np.empty((nu, nv, 5, 5))
     data[: nu // 2] = np.concatenate(rows).reshape(nu // 2, nv, 5, 5)
@@ -238,12 +240,13 @@ def _build_k2(body: Body, where: float, kind: str, nu: int, nv: int, workers: in
 
 
 def build_second_order_table(body: Body, theta0: float, *, nu: int = 64, nv: int = 6,
-                             workers: int = 1, progress: bool = False) -> SecondOrderTable:
+                             workers: int = 1, progress: bool | None = None) -> SecondOrderTable:
     """Tabulate k₂ on the chart of the release table of (body, θ0) (built and cached if needed).
 
     Only half the Chebyshev nodes are computed: the grid is symmetric under (ξ, η) → (−ξ, −η), Q → −Q, where each
     component keeps or flips its sign (``_K2_ODD``), which makes the map reversible.  ``workers`` processes share
-    the nodes (the table does not depend on how many).  Checked at off-grid points against direct evaluations;
+    the nodes (the table does not depend on how many); ``progress``: a tqdm bar on stderr naming the table (None:
+    only if stderr is a terminal).  Checked at off-grid points against direct evaluations;
     above ``K2_ACCURACY`` an AveragingValidityWarning.  Cost: five second-order variational orbits per computed node.
 
     Raises
@@ -256,7 +259,7 @@ def build_second_order_table(body: Body, theta0: float, *, nu: int = 64, nv: int
 
 
 def build_second_order_region_table(body: Body, E: float, *, nu: int = 16, nv: int = 32, workers: int = 1,
-                                    progress: bool = False) -> SecondOrderTable:
+                                    progress: bool | None = None) -> SecondOrderTable:
     """Tabulate k₂ on the chart of the default region table of (body, E) (a start with velocity), as
     :func:`build_second_order_table` does on a release table's; nv up to that table's terms across.
 

@@ -46,6 +46,7 @@ from rocknroller.analysis.slow.limits import (K_PERIOD_DOUBLING, AveragingRangeE
                                               check_map_theta0)
 from rocknroller.analysis.slow.orbit import FIRST_ORDER_NAMES, harmonic_steps, step_coefficients, symmetric_data
 from rocknroller.numerics.cache import CacheWarning, MemoryCache, cache_dir, load_arrays, save_arrays, warn_unwritable
+from rocknroller.numerics.parallel import check_processes, map_blocks
 
 __all__ = [
     "REGION_TABLE_ACCURACY", "build_table", "check_grid", "kick_at_rest", "fit_table", "fit_and_check",
@@ -84,8 +85,41 @@ def _table_spec(nu: int, nv: int) -> dict[str, tuple[int, ...]]:
     return {name: shapes.get(name, ()) for name in SlowMapTable.__dataclass_fields__}
 
 
+def _node_block(sym: Body, E: float, nodes: list[tuple[float, float, float]]) -> NDArray[np.float64]:
+    """Rows (T, W mod 2π, Δφ mod π, the harmonics of the ε-responses) at nodes (Q_R, Q_J, θ_X): three orbits
+    each, all run through the batch integrator's lanes."""
+    QR, QJ, thX = np.array(nodes, float).T
+    steps, resp = harmonic_steps(sym, E, QR, QJ, thX)
+    out = np.empty((len(nodes), 3 + 3 * len(FIRST_ORDER_NAMES)))
+    out[:, 0] = steps.T.mean(axis=1)
+    out[:, 1] = wrap_angle(2.0 * steps.dpsi[:, 0])
+    out[:, 2] = steps.dphi[:, 0]
+    out[:, 3:] = np.moveaxis(resp, 0, 1).reshape(len(nodes), -1)
+    return out
+
+
+#: Nodes per task of a table build (a step of its progress bar; a task of its processes).
+_BLOCK_NODES = 64
+
+
+def orbit_data(sym: Body, E: float, QR: NDArray, QJ: NDArray, theta_X: NDArray, *, progress: bool | None = None,
+               workers: int = 1, desc: str = "tables") -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """T, W mod 2π, Δφ mod π (each shaped like QR) and the harmonics of the ε-responses (len(FIRST_ORDER_NAMES),
+    *QR.shape, 3) at nodes (Q_R, Q_J) with their θ_X: three variational orbits per node, in blocks of
+    ``_BLOCK_NODES`` shared by ``workers`` processes, under a tqdm bar named ``desc`` (``progress`` None: only if
+    stderr is a terminal).  Each node's numbers depend on neither the blocks nor the processes (the batch
+    integrator's lanes are independent)."""
+    nodes = list(zip(np.ravel(QR).tolist(), np.ravel(QJ).tolist(), np.ravel(theta_X).tolist()))
+    blocks = [nodes[i:i + _BLOCK_NODES] for i in range(0, len(nodes), _BLOCK_NODES)]
+    rows = map_blocks(_node_block, [(sym, E, block) for block in blocks], [len(b) for b in blocks],
+                      processes=workers, desc=desc, unit="node", progress=progress)
+    data = np.concatenate(rows).reshape(np.shape(QR) + (-1,))
+    resp = np.moveaxis(data[..., 3:].reshape(np.shape(QR) + (len(FIRST_ORDER_NAMES), 3)), -2, 0)
+    return data[..., 0], data[..., 1], data[..., 2], resp
+
+
 def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_factor: float = 2.5,
-                v_ratio: float = 0.002) -> SlowMapTable:
+                v_ratio: float = 0.002, progress: bool | None = None, workers: int = 1) -> SlowMapTable:
     """Tabulate the reversible first-order slow map of (body, θ0).
 
     Parameters
@@ -100,6 +134,11 @@ def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_fact
         U = u_factor · 4/|∂W/∂u|(0): the libration amplitude of the standard map at K = 4, times u_factor.
     v_ratio : float
         V = v_ratio · U.
+    progress : bool or None
+        A tqdm bar on stderr over the nodes (3 variational orbits each), naming the table and showing the time
+        left; None: only if stderr is a terminal.
+    workers : int
+        Processes that share the nodes, 1 ≤ workers ≤ ``parallel.MAX_PROCESSES``; the table does not depend on it.
 
     Raises
     ------
@@ -109,6 +148,7 @@ def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_fact
     """
     theta0 = check_map_theta0(theta0)
     check_grid(nu, nv)
+    workers = check_processes(workers, "workers")
     if not (u_factor > 0 and 0 < v_ratio <= 1):
         raise ValueError(f"u_factor must be > 0 and v_ratio in (0, 1], got {u_factor!r}, {v_ratio!r}")
     sym = body.symmetric()
@@ -132,7 +172,8 @@ def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_fact
         raise AveragingRangeError(
             f"the averaging tables of theta0={theta0!r} cannot be built for this body ({sym.describe()}): on their "
             f"rectangle |u| <= {U:.4g} (2.5 times the libration amplitude at K = 4) {exc}") from None
-    resp = harmonic_steps(sym, E0, QRg, QJg, thX)[1].reshape(len(FIRST_ORDER_NAMES), nu, nv, 3)
+    resp = orbit_data(sym, E0, QRg, QJg, thX, progress=progress, workers=workers,
+                      desc=f"release tables, theta0={theta0 / math.pi:.6g}pi")[3]
     return fit_and_check(frame, T, W, dphi, resp, _interpolation_error, _INTERP_WARN,
                          f"the averaging tables for theta0={theta0!r} interpolate the coefficients only to {{err:.1e}} "
                          f"(relative); use more nodes (nu={nu}, nv={nv})")

@@ -25,6 +25,7 @@ from rocknroller.analysis.slow import prediction as av
 from rocknroller.cli.options import (add_body_options, add_critical_line_options, add_force_option,
                                      add_initial_state_options, body_from_args, check_critical_line_options,
                                      critical_line_state, parse_angle, prepare_output_dir, print_json, rates_given)
+from rocknroller.numerics.parallel import check_processes
 
 _QUANTITIES = ("slow_period", "QR_extent", "QJ_extent", "Phi")
 #: Body options (attribute, flag), for error messages that name what the user gave.
@@ -61,9 +62,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         f"with none of them (and no --critical-line) the body is released from rest, theta0 in [{_LO:g}pi, "
         f"{_HI:g}pi]; with any, the region tables of the start's energy are used (--chart)"))
     add_critical_line_options(p.add_argument_group("start on a critical line"))
-    p.add_argument("--workers", type=int, default=2,
-                   help="processes that build the region tables of a start with velocity, or the second-order "
-                        "tables of a release (default 2)")
+    p.add_argument("--processes", type=int, default=2, metavar="N",
+                   help="processes of this machine that build the tables (the region tables of a start with "
+                        "velocity, the second-order tables; default 2; the tables do not depend on it)")
     p.add_argument("--chart", choices=("auto", "spindle", "band"), default="auto",
                    help="the region tables' chart: 'spindle' along Q_J,0^crit over the whole region of the energy, "
                         "'band' along Q_J,pi^crit over the band about it (its stretch follows the layer in which the "
@@ -85,7 +86,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="order of the map in eps: 2 adds the second-order kick (its tables are built once per body "
                         "and theta0 or energy, and cached; errors ~10-100x smaller than order 1 at eps <= 3e-3, "
                         "docs/averaging.md); default, the same as predict_slow_motion's: 2 for releases from rest in "
-                        f"[{_LO:g}pi, {_HI:g}pi] (their second-order tables: 60-75 s with --workers 2, once per body "
+                        f"[{_LO:g}pi, {_HI:g}pi] (their second-order tables: 60-75 s with --processes 2, once per body "
                         "and theta0), 1 for starts with velocity and lower releases (theirs are per energy, 1-3 min "
                         "each: ask for them with --order 2)")
     p.add_argument("--period-doubling", action="store_true",
@@ -96,9 +97,15 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="draw the predicted slow orbit over the direct ODE's turning points (slow_orbit.png and .pdf "
                         "in DIR, created if missing; existing files are not overwritten without --force)")
     add_force_option(p)
+    p.add_argument("--quiet", action="store_true", help="no progress bars (table builds, the --check ODE)")
     p.add_argument("--cached-only", action="store_true",
                    help="fail instead of building the averaging tables when none are cached for this body/theta0")
     p.set_defaults(run=run)
+
+
+def _progress(args: argparse.Namespace) -> bool | None:
+    """Progress bars on stderr, as every command shows them: on a terminal unless --quiet."""
+    return False if args.quiet else None
 
 
 def _fmt(x: Any) -> str:
@@ -152,14 +159,14 @@ def _from_state(args: argparse.Namespace, body: Any, start: Any,
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", av.AveragingValidityWarning)
         nu, nv = args.nodes if args.nodes is not None else (None, None)
-        table = load_or_build_region_table(body, fm.E, build=not args.cached_only, workers=args.workers,
-                                           progress=not args.json, axis=args.chart, nu=nu, nv=nv)
+        table = load_or_build_region_table(body, fm.E, build=not args.cached_only, workers=args.processes,
+                                           progress=_progress(args), axis=args.chart, nu=nu, nv=nv)
         second = None
         if order == 2:
             from rocknroller.analysis.slow.second_order import load_or_build_second_order_region_table
 
             second = load_or_build_second_order_region_table(body, fm.E, build=not args.cached_only,
-                                                             workers=args.workers, progress=not args.json)
+                                                             workers=args.processes, progress=_progress(args))
         pred = av.predict_slow_motion(body, start, t_end=args.t_end, table=table, order=order, second=second)
     messages = list(dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, av.AveragingValidityWarning)))
     extra = {"start": {k: getattr(start, k) for k in ("theta", "phi", "psi", "theta_dot", "phi_dot", "psi_dot")},
@@ -174,6 +181,7 @@ def run(args: argparse.Namespace) -> int:
 
     if args.plot is not None:
         prepare_output_dir(args.plot, "--plot", args.force, ["slow_orbit.png", "slow_orbit.pdf"])
+    check_processes(args.processes, "--processes")
     given = _given(args)
     body = _body(args, given)
     if (rates_given(args) or args.critical_line is not None or _parse(args, "phi0") != 0.0
@@ -212,7 +220,8 @@ def run(args: argparse.Namespace) -> int:
             f"K = eps*kappa = {K:.4g} > {av.K_PERIOD_DOUBLING:g}: outside the valid range eps < {consts.eps_period_doubling:.4g} "
             "(pure rocking about the stable axis has period-doubled; the closed form does not apply)")
     try:
-        table = av.load_or_build_table(body, theta0, build=not args.cached_only)
+        table = av.load_or_build_table(body, theta0, build=not args.cached_only, workers=args.processes,
+                                       progress=_progress(args))
     except av.AveragingRangeError as exc:
         raise ValueError(f"--theta0 {args.theta0}: {exc}") from None
     except (RuntimeError, ArithmeticError) as exc:
@@ -224,7 +233,8 @@ def run(args: argparse.Namespace) -> int:
         if order == 2 and body.epsilon > 0.0:
             from rocknroller.analysis.slow.second_order import load_or_build_second_order_table
 
-            second = load_or_build_second_order_table(body, theta0, build=not args.cached_only, workers=args.workers)
+            second = load_or_build_second_order_table(body, theta0, build=not args.cached_only,
+                                                      workers=args.processes, progress=_progress(args))
         pred = av.predict_slow_motion(body, theta0, psi0, args.t_end, table=table, order=order, second=second)
     pend = None
     try:
@@ -250,7 +260,7 @@ def run(args: argparse.Namespace) -> int:
         summary["period_doubling"] = {"eps_first_order": pd.eps_first_order, "eps_exact": pd.eps_exact,
                                       "K_exact": pd.K_exact, "correction": pd.correction,
                                       "stable_psi": pd.stable_psi,
-                                      "eps_second_order": (map_period_doubling(body, theta0, 2, workers=args.workers)
+                                      "eps_second_order": (map_period_doubling(body, theta0, 2, workers=args.processes)
                                                            if order == 2 else None)}
     return _finish(args, body, pred, pend, None, summary, messages)
 
@@ -264,7 +274,7 @@ def _finish(args: argparse.Namespace, body: Any, pred: Any, pend: Any, start: An
         from rocknroller.papers.averaging_check import ode_slow_summary, relative_errors
 
         ode = ode_slow_summary(body, start if start is not None else theta0, None if start is not None else psi0,
-                               args.t_end)
+                               args.t_end, progress=_progress(args))
         summary["ode"] = {q: getattr(ode, q) for q in _QUANTITIES}
         if pred.pure_rocking:  # the ODE's Q, Θ are round-off about constants: no regions, period or relative errors
             summary["ode"].update(slow_period=None, region_runs=[], rocks_per_region={})

@@ -20,7 +20,7 @@ theta_X = 0.95 * math.pi
 QR = np.linspace(-0.05, 0.05, 201)
 table, is_upper = rr.precession_from_turning_point(theta_X, QR, np.zeros_like(QR), body)
 frame = table.to_dataframe()
-print(frame[["QR", "T_theta", "delta_phi", "visible_half_phi"]].iloc[::50])
+print(frame[["Q_R", "T_theta", "delta_phi", "visible_half_phi"]].iloc[::50])
 
 # %%
 # The period and the precession against Q_R

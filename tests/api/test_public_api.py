@@ -30,7 +30,7 @@ def test_precession_table_as_dataframe_keeps_missing_values_missing():
     pr, _ = rr.precession_from_turning_point(np.array([0.9 * math.pi, 0.9 * math.pi]), np.array([0.01, 0.02]),
                                              np.array([0.02, 0.0]), body)
     frame = pr.to_dataframe()
-    assert list(frame["QR"]) == [0.01, 0.02] and frame.shape[0] == 2
+    assert list(frame["Q_R"]) == [0.01, 0.02] and frame.shape[0] == 2
     np.testing.assert_array_equal(frame["T_theta"].to_numpy(float), np.ma.getdata(pr.T_theta))
     assert set(frame["status_text"]) <= set(rr.analysis.routh.quadrature.QUADRATURE_STATUS_TEXT.values())
     tpf = tp.to_dataframe()
@@ -42,7 +42,7 @@ def test_trajectory_tables_and_plots(fig5_initial):
     traj = rr.simulate(rr.Body.paper(1e-3), fig5_initial, 60.0)
     frame = traj.to_dataframe()
     assert frame.shape == (traj.t.size, 9)
-    np.testing.assert_array_equal(frame["QJ"].to_numpy(), traj.QJ)
+    np.testing.assert_array_equal(frame["Q_J"].to_numpy(), traj.QJ)
     tps = traj.turning_points_dataframe()
     assert len(tps) == len(traj.maxima) + len(traj.minima) and tps["t"].is_monotonic_increasing
     assert set(tps["kind"]) == {"max", "min"}
@@ -59,8 +59,8 @@ def test_trajectory_tables_and_plots(fig5_initial):
 def test_slow_prediction_table_and_plot():
     pred = rr.predict_slow_motion(rr.Body.paper(1e-3), 0.95 * math.pi, math.pi / 4, 200.0, order=1)
     frame = pred.to_dataframe()
-    assert list(frame.columns) == ["t", "QR", "QJ", "Theta", "phi", "region"]
-    np.testing.assert_array_equal(frame["QR"].to_numpy(), pred.series.QR)
+    assert list(frame.columns) == ["t", "Q_R", "Q_J", "Theta", "phi", "region"]
+    np.testing.assert_array_equal(frame["Q_R"].to_numpy(), pred.series.QR)
     ax = Figure().add_subplot()
     assert pred.plot(ax=ax) is ax and ax.lines[0].get_xdata().size == pred.series.t.size
 
@@ -138,3 +138,20 @@ def test_an_int_beyond_the_floats_is_a_value_error(call):
     like any other: a ValueError naming the parameter."""
     with pytest.raises(ValueError, match="must"):
         call()
+
+
+def test_csv_files_and_dataframes_name_columns_alike(tmp_path):
+    """One column naming (issue 25, item 13: ``Q_R`` in the CSV files, ``QR`` in ``to_dataframe()``): the files of
+    ``rocknroller simulate`` read back with pandas have the columns of the run's own DataFrames."""
+    from rocknroller.cli import main
+
+    assert main(["simulate", "--t-end", "30", "--out", str(tmp_path), "--quiet"]) == 0
+    traj = rr.simulate(rr.Body.paper(1e-3), rr.analysis.model.equations.fig5_start(), 30.0)
+    samples = pd.read_csv(tmp_path / "samples.csv", comment="#")
+    turning = pd.read_csv(tmp_path / "turning_points.csv", comment="#")
+    assert set(traj.to_dataframe().columns) <= set(samples.columns)
+    assert set(traj.turning_points_dataframe().columns) <= set(turning.columns)
+    frames = [traj.to_dataframe(), traj.maxima.to_dataframe(), rr.solve_turning_points(1.0, 0.01, 0.02, rr.Body.paper(0.0)).to_dataframe(),
+              rr.predict_slow_motion(rr.Body.paper(1e-3), 0.95 * math.pi, 0.5, 100.0, order=1).to_dataframe()]
+    for frame in frames:
+        assert {"Q_R", "Q_J"} <= set(frame.columns) and not {"QR", "QJ"} & set(frame.columns)

@@ -214,7 +214,7 @@ def test_k2_accuracy_warning_names_options_that_exist(kind, monkeypatch, tmp_pat
         warnings.simplefilter("ignore", av.AveragingValidityWarning)
         first = (av.load_or_build_table(sym, 0.9 * math.pi, nu=4, nv=4) if kind == "release" else
                  sr.load_or_build_region_table(sym, E, axis="spindle", nu=4, nv=4))
-    monkeypatch.setattr(so, "_first_table", lambda body, where, k: first)
+    monkeypatch.setattr(so, "_first_table", lambda body, where, k, **run: first)
     build = so.build_second_order_table if kind == "release" else so.build_second_order_region_table
     with pytest.warns(av.AveragingValidityWarning, match="interpolate k2 only to") as caught:
         table = build(sym, 0.9 * math.pi if kind == "release" else E, nu=8, nv=2)

@@ -31,11 +31,12 @@ SMALL = {"nu": 4, "nv": 4}  # check_grid's least
 SMALL_K2 = {"nu": 8, "nv": 2}  # _build_k2's least
 
 
-def _small_first(body: Body, where: float, kind: str) -> table.SlowMapTable:
-    """The first-order table whose chart a second-order table uses, on the smallest grid."""
+def _small_first(body: Body, where: float, kind: str, **run) -> table.SlowMapTable:
+    """The first-order table whose chart a second-order table uses, on the smallest grid (``run``: progress,
+    workers)."""
     if kind == "release":
-        return table.load_or_build_table(body, where, **SMALL)
-    return region.load_or_build_region_table(body, where, axis="spindle", **SMALL)
+        return table.load_or_build_table(body, where, **SMALL, **run)
+    return region.load_or_build_region_table(body, where, axis="spindle", **SMALL, **run)
 
 
 #: kind: (module, name of the builder its loader calls, the loader's call)

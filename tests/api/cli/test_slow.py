@@ -241,7 +241,7 @@ def test_plot_directory_is_checked_before_computing(tmp_path, capsys):
 # ----------------------------------------------------------------------------- starts with velocity
 #: Coarse region tables (16 × 8 nodes, ~2 s): these tests check the command's plumbing, not the map's accuracy
 #: (tests/analysis/slow/test_region.py compares the default tables with the direct ODE); the command says they are coarse.
-COARSE = ["--nodes", "16", "8", "--workers", "1"]
+COARSE = ["--nodes", "16", "8", "--processes", "1"]
 
 
 def test_start_with_velocity(fresh_cache, tmp_path, capsys):
@@ -281,8 +281,8 @@ def test_chart_option(fresh_cache, capsys):
 def test_start_options_are_checked(fresh_cache, capsys):
     assert main(["slow", "--QR", "0.1"]) == 2
     assert "--QR needs --critical-line" in capsys.readouterr().err
-    assert main(["slow", "--phi-dot0", "0.05", "--workers", "0", "--nodes", "16", "8"]) == 2
-    assert "--workers" in capsys.readouterr().err
+    assert main(["slow", "--phi-dot0", "0.05", "--processes", "0", "--nodes", "16", "8"]) == 2
+    assert "--processes must be" in capsys.readouterr().err
     assert main(["slow", "--phi-dot0", "0.05", "--nodes", "16", "7"]) == 2
     assert "--nodes" in capsys.readouterr().err
 
