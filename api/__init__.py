@@ -54,19 +54,29 @@ __all__ = [
     "predict_slow_motion", "SlowPrediction", "pendulum_constants", "pendulum_prediction", "PendulumConstants",
     "period_doubling", "PeriodDoubling",
     "azimuth_span", "atlas_from_rest", "atlas_of_rates", "confirm_atlas", "Atlas", "AtlasCheck",
+    "check_prediction", "PredictionCheck",
+    # figures
+    "region_diagram", "DiagramData",
 ]
 
-#: Loaded on first use (PEP 562): the Laurent expansions are symbolic, and sympy takes ~0.3 s to import.
-_LAURENT = ("laurent_coefficients", "laurent_function", "laurent_series")
+#: Loaded on first use (PEP 562), each from its module: the Laurent expansions are symbolic (sympy takes ~0.3 s to
+#: import), the figures need matplotlib, the ODE check of a prediction the closed forms' scipy.special.
+_LAZY = {"laurent_coefficients": "rocknroller.analysis.criticality.laurent",
+         "laurent_function": "rocknroller.analysis.criticality.laurent",
+         "laurent_series": "rocknroller.analysis.criticality.laurent",
+         "check_prediction": "rocknroller.papers.averaging_check",
+         "PredictionCheck": "rocknroller.papers.averaging_check",
+         "region_diagram": "rocknroller.papers.plotting",
+         "DiagramData": "rocknroller.papers.plotting"}
 
 
 def __getattr__(name: str) -> object:
-    if name in _LAURENT:
-        from rocknroller.analysis.criticality import laurent
+    if name in _LAZY:
+        import importlib
 
-        return getattr(laurent, name)
+        return getattr(importlib.import_module(_LAZY[name]), name)
     raise AttributeError(f"module 'rocknroller' has no attribute {name!r}")
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAURENT))
+    return sorted(set(globals()) | set(_LAZY))

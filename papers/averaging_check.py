@@ -20,8 +20,8 @@ from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.slow import prediction as av
 from rocknroller.analysis.slow.pendulum import PendulumConstants, pendulum_prediction
 
-__all__ = ["OBSERVABLES", "OdeSlowSummary", "ode_slow_summary", "timed_map_and_ode", "relative_errors", "sample_errors",
-           "loglog_slope", "Comparison", "compare_with_ode"]
+__all__ = ["OBSERVABLES", "OdeSlowSummary", "ode_slow_summary", "PredictionCheck", "check_prediction",
+           "timed_map_and_ode", "relative_errors", "sample_errors", "loglog_slope", "Comparison", "compare_with_ode"]
 
 #: Observables compared with the ODE.
 OBSERVABLES = ("slow_period", "QR_extent", "QJ_extent", "Phi", "line_slope")
@@ -58,6 +58,57 @@ def ode_slow_summary(body: Body, theta0: float | EulerState, psi0: float | None,
                           QR_extent=tr.QR_extent, QJ_extent=tr.QJ_extent, Phi=tr.Phi,
                           line_slope=av.line_slope(m.QR, m.QJ),
                           region_runs=av.critical_regions(m.QR, m.QJ, m.t, body)[1])
+
+
+@dataclass(frozen=True)
+class PredictionCheck:
+    """A slow prediction beside the direct ODE from the same start over the same span (``rocknroller slow --check``).
+
+    Attributes
+    ----------
+    prediction : SlowPrediction
+    ode : OdeSlowSummary
+        The direct ODE's θ-maxima and its observables, defined as the prediction's.
+    rel_errors : dict
+        prediction/ODE − 1 for each of ``OBSERVABLES``; None where either is not measurable, and all None for pure
+        rocking (ε = 0 from rest: the ODE's Q and Θ are round-off about constants).
+    sample_errors : dict or None
+        The largest differences maximum by maximum (:func:`sample_errors`); None for pure rocking.
+    """
+
+    prediction: av.SlowPrediction
+    ode: OdeSlowSummary
+    rel_errors: dict[str, float | None]
+    sample_errors: dict[str, float] | None
+
+
+def check_prediction(body: Body, prediction: av.SlowPrediction, *, progress: bool | None = False) -> PredictionCheck:
+    """Run the direct ODE (heyoka) from ``prediction``'s start (its release from rest at (θ0, ψ0), or its initial
+    state) over its span, and compare: what ``rocknroller slow --check`` prints.
+
+    Parameters
+    ----------
+    body : Body
+        The body the prediction was made for (its ε is checked).
+    prediction : SlowPrediction
+        From :func:`rocknroller.analysis.slow.prediction.predict_slow_motion`.
+    progress : bool or None
+        A tqdm bar over the ODE's time span on stderr (None: only if stderr is a terminal).
+
+    Raises
+    ------
+    ValueError
+        If ``body``'s ε is not the prediction's.
+    """
+    if body.epsilon != prediction.eps:
+        raise ValueError(f"the prediction is for eps={prediction.eps!r}, not this body's eps={body.epsilon!r}")
+    if prediction.start is not None:
+        ode = ode_slow_summary(body, prediction.start, None, prediction.t_end, progress=progress)
+    else:
+        ode = ode_slow_summary(body, prediction.theta0, prediction.psi0, prediction.t_end, progress=progress)
+    if prediction.pure_rocking:
+        return PredictionCheck(prediction, ode, {q: None for q in OBSERVABLES}, None)
+    return PredictionCheck(prediction, ode, relative_errors(prediction, ode), sample_errors(prediction.series, ode))
 
 
 def timed_map_and_ode(body: Body, start: EulerState, t_end: float, table: Any, order: int = 1,

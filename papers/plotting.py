@@ -157,6 +157,10 @@ def _window(body: Body, QR_max: float, traj: "Trajectory | None") -> tuple[float
 _QR_MAX_RANGE = (1e3 * Q_RANGE[0], Q_RANGE[1] / 10.0)
 
 
+#: Height of the orbit layout's legend strip (inches), below the orbit's axis label.
+_LEGEND_INCHES = 0.75
+
+
 def region_diagram(body: Body, QR_max: float = 1.0, traj: "Trajectory | None" = None,
                    title: str | None = None) -> tuple[Figure, DiagramData]:
     """The four-region diagram (paper fig. 4), optionally with a trajectory's (Q_R(t), Q_J(t)) orbit
@@ -192,9 +196,10 @@ def region_diagram(body: Body, QR_max: float = 1.0, traj: "Trajectory | None" = 
         cells = {lab: gs[_PANEL_CELL[lab]] for lab in spots}
     else:  # orbit layout: large orbit panel, the visible regions' panels stacked on the right
         n = max(len(spots), 2)
-        height = 2.1 * n + 1.6
+        height = 2.1 * n + 1.6 + _LEGEND_INCHES
         fig = new_figure(figsize=(8.0, height))
-        gs = fig.add_gridspec(n, 3, width_ratios=[1, 1, 0.9], wspace=0.5, hspace=0.75, top=1 - 0.85 / height)
+        gs = fig.add_gridspec(n, 3, width_ratios=[1, 1, 0.9], wspace=0.5, hspace=0.75, top=1 - 0.85 / height,
+                              bottom=(0.6 + _LEGEND_INCHES) / height)
         ax = fig.add_subplot(gs[:, :2])
         order = [lab for lab in ("II", "I", "III", "IV") if lab in spots]
         cells = {lab: gs[i, 2] for i, lab in enumerate(order)}
@@ -227,8 +232,10 @@ def region_diagram(body: Body, QR_max: float = 1.0, traj: "Trajectory | None" = 
         legend_ax.legend(handles, [_wrap(s) for s in labels], loc="upper left", fontsize=7.5, frameon=False,
                          borderaxespad=0)
     else:
-        ax.legend(handles, labels, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2, fontsize=7.5,
-                  frameon=False)
+        # below the orbit's axis label, inside the figure: a plain savefig keeps it (it fell below the figure)
+        box = ax.get_position()
+        fig.legend(handles, labels, loc="lower center", bbox_to_anchor=(0.5 * (box.x0 + box.x1), 0.1 / height),
+                   ncol=2, fontsize=7.5, frameon=False)
     fig.suptitle(title or (f"Critical regions I–IV: a={body.a:g}, I1={body.I1:.4g}, I3={body.I3:.4g}"
                            + (f", eps={body.epsilon:.3g}" if not body.is_symmetric else "")), fontsize=10,
                  y=1 - 0.25 / fig.get_figheight())

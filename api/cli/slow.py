@@ -271,18 +271,17 @@ def _finish(args: argparse.Namespace, body: Any, pred: Any, pend: Any, start: An
     theta0, psi0 = summary["theta0"], summary["psi0"]
     ode = None
     if args.check or args.plot is not None:
-        from rocknroller.papers.averaging_check import ode_slow_summary, relative_errors
+        from rocknroller.papers.averaging_check import check_prediction, relative_errors
 
-        ode = ode_slow_summary(body, start if start is not None else theta0, None if start is not None else psi0,
-                               args.t_end, progress=_progress(args))
+        check = check_prediction(body, pred, progress=_progress(args))
+        ode = check.ode
         summary["ode"] = {q: getattr(ode, q) for q in _QUANTITIES}
+        summary["rel_error"] = {q: check.rel_errors[q] for q in _QUANTITIES}
         if pred.pure_rocking:  # the ODE's Q, Θ are round-off about constants: no regions, period or relative errors
             summary["ode"].update(slow_period=None, region_runs=[], rocks_per_region={})
-            summary["rel_error"] = {q: None for q in _QUANTITIES}
         else:
             summary["ode"]["region_runs"] = [list(r) for r in ode.region_runs]
             summary["ode"]["rocks_per_region"] = av.rocks_per_region(ode.region_runs)
-            summary["rel_error"] = {q: relative_errors(pred, ode)[q] for q in _QUANTITIES}
         if pend is not None:
             summary["pendulum"]["rel_error"] = {q: summary["rel_error"][q] if pred.pure_rocking else
                                                 relative_errors(pend, ode)[q] for q in _QUANTITIES}

@@ -14,12 +14,12 @@ import math
 from matplotlib.figure import Figure
 
 import rocknroller as rr
-from rocknroller.papers.averaging_check import ode_slow_summary
 
 body = rr.Body.paper(epsilon=1e-3)
 theta0, psi0, t_end = 0.95 * math.pi, math.pi / 4, 1000.0
 pred = rr.predict_slow_motion(body, theta0, psi0, t_end, order=1)
-ode = ode_slow_summary(body, theta0, psi0, t_end)
+check = rr.check_prediction(body, pred)  # the direct ODE from the same start, as `rocknroller slow --check`
+ode = check.ode
 
 fig = Figure(figsize=(6, 4.5))
 ax = fig.subplots()
@@ -33,7 +33,7 @@ ax.ticklabel_format(style="sci", scilimits=(-2, 2))
 # --------------------
 for name in ("slow_period", "QR_extent", "QJ_extent", "Phi"):
     p, o = getattr(pred, name), getattr(ode, name)
-    print(f"{name:12s} map {p:.6g}  ODE {o:.6g}  relative difference {abs(p / o - 1):.1e}")
+    print(f"{name:12s} map {p:.6g}  ODE {o:.6g}  relative difference {abs(check.rel_errors[name]):.1e}")
 
 # %%
 # Second order in ε
@@ -43,16 +43,13 @@ for name in ("slow_period", "QR_extent", "QJ_extent", "Phi"):
 # in ε").
 from matplotlib.ticker import NullFormatter
 
-from rocknroller.papers.averaging_check import sample_errors
-
 eps_values = (3e-3, 1e-3, 3e-4)
 errors = {1: [], 2: []}
 for eps in eps_values:
     b = rr.Body.paper(epsilon=eps)
-    ref = ode_slow_summary(b, theta0, psi0, t_end)
     for order in (1, 2):
-        errors[order].append(sample_errors(rr.predict_slow_motion(b, theta0, psi0, t_end, order=order).series,
-                                           ref)["Theta"])
+        pred_eps = rr.predict_slow_motion(b, theta0, psi0, t_end, order=order)
+        errors[order].append(rr.check_prediction(b, pred_eps).sample_errors["Theta"])
 fig2 = Figure(figsize=(5, 3.8))
 ax2 = fig2.subplots()
 for order, marker in ((1, "o-"), (2, "s-")):

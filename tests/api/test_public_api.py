@@ -75,6 +75,8 @@ def test_to_dataframe_says_pandas_is_missing(monkeypatch):
 #: modules, not names.  A name added to ``rr`` on purpose is added here too.
 PUBLIC_NAMES = [
     "AccuracyError", "AccuracyWarning", "Atlas", "AtlasCheck", "Body", "CriticalStart", "EulerState", "F", "Job",
+    # issue 25, item 13: the critical-line diagram and the ODE check of a prediction
+    "DiagramData", "PredictionCheck", "check_prediction", "region_diagram",
     "NoMotionError", "PendulumConstants", "PeriodDoubling", "Precession", "QJ_crit", "QJ_crit_0", "QJ_crit_pi",
     "RunSummary", "SlowPrediction", "SteadyRollingError", "Trajectory", "TurningPointRun", "TurningPoints", "V_phi",
     "V_psi", "atlas_from_rest", "atlas_of_rates", "azimuth_span", "cite", "confirm_atlas", "cos_theta_z",
