@@ -44,25 +44,24 @@ _EVEN = {"T", "kQR_c0", "kQR_c1", "kQR_s1", "kQJ_c0", "kQJ_c1", "kQJ_s1", "dt_c0
 
 
 def _cheb_nodes(n: int) -> NDArray[np.float64]:
-    return np.cos(math.pi * (np.arange(n) + 0.5) / n)
+    """The n Chebyshev points of the first kind, cos(π(k + ½)/n), k = 0..n−1 (descending): numpy's ``chebpts1``,
+    whose sines make them exactly antisymmetric (x_{n−1−k} = −x_k to the bit, which the tables' parity
+    symmetrisation F[::-1, ::-1] assumes; the cosines missed it by up to 2.8e-16)."""
+    return np.polynomial.chebyshev.chebpts1(n)[::-1].copy()
 
 
 def _cheb_basis(x: ArrayLike, n: int) -> NDArray[np.float64]:
-    """T_0..T_{n−1} at x ∈ [−1, 1], shape (n, ...), by the three-term recurrence T_k = 2x T_{k−1} − T_{k−2}
-    (stable on [−1, 1]: each T_k is within ~k ulps of cos(k arccos x); 10× faster than the cosines)."""
+    """T_0..T_{n−1} at x clipped to [−1, 1], shape (n, ...): numpy's ``chebvander`` (the three-term recurrence
+    T_k = 2x T_{k−1} − T_{k−2}, stable on [−1, 1]), with the basis index first, as the tables contract it."""
     x = np.clip(np.asarray(x, float), -1.0, 1.0)
-    T = np.empty((n,) + x.shape)
-    T[0] = 1.0
-    if n > 1:
-        T[1] = x
-    for k in range(2, n):
-        T[k] = 2.0 * x * T[k - 1] - T[k - 2]
-    return T
+    V = np.polynomial.chebyshev.chebvander(x, n - 1).reshape(x.shape + (n,))  # a 0-d x comes back as (1, n)
+    return np.moveaxis(V, -1, 0)
 
 
 def _cheb_fit_matrix(n: int) -> NDArray[np.float64]:
-    """A with c = A f for the interpolant at the first-kind nodes."""
-    A = (2.0 / n) * _cheb_basis(_cheb_nodes(n), n)
+    """A with c = A f for the interpolant at the first-kind nodes: the discrete orthogonality of the T_k there, as
+    numpy's ``chebinterpolate`` applies it ((2/n) Vᵀ with the first row halved, V = ``chebvander`` at the nodes)."""
+    A = (2.0 / n) * np.polynomial.chebyshev.chebvander(_cheb_nodes(n), n - 1).T
     A[0] *= 0.5
     return A
 

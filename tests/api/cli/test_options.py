@@ -1,0 +1,50 @@
+"""Shared option handling of the command line (``api/cli/options.py``): negative values, which argparse has no public
+way to accept in the forms this CLI takes (issue 25, item 16: the private hook is kept, and checked here)."""
+
+from __future__ import annotations
+
+import argparse
+
+import pytest
+
+from rocknroller.cli.options import accept_negative_values
+
+
+def test_argparse_still_has_the_hook():
+    """The attribute replaced by ``accept_negative_values`` exists on this Python's ArgumentParser: if a future
+    argparse drops it, this fails (and the CLI raises rather than silently refusing negative values)."""
+    assert hasattr(argparse.ArgumentParser(), "_negative_number_matcher")
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(exit_on_error=False)
+    p.add_argument("--phi0")
+    p.add_argument("--omega", nargs=3)
+    p.add_argument("--QR")
+    return p
+
+
+@pytest.mark.parametrize("argv, expected", [
+    (["--phi0", "-0.5pi"], {"phi0": "-0.5pi"}), (["--phi0", "-pi/4"], {"phi0": "-pi/4"}),
+    (["--phi0", "-inf"], {"phi0": "-inf"}), (["--omega", "0", "-1e-3", "0"], {"omega": ["0", "-1e-3", "0"]}),
+    (["--QR", "-0.01:0.01:3"], {"QR": "-0.01:0.01:3"}), (["--phi0", "-.5"], {"phi0": "-.5"}),
+])
+def test_negative_values_are_values(argv, expected):
+    p = _parser()
+    accept_negative_values(p)
+    args = vars(p.parse_args(argv))
+    assert {k: args[k] for k in expected} == expected
+
+
+@pytest.mark.parametrize("value", ["-0.5pi", "-pi/4", "-0.01:0.01:3"])
+def test_argparse_alone_refuses_them(value):
+    """Why the hook is needed: without it argparse takes these values for unknown options."""
+    with pytest.raises((argparse.ArgumentError, SystemExit)):
+        _parser().parse_args(["--phi0", value])
+
+
+def test_a_missing_hook_is_an_error_not_silence(monkeypatch):
+    p = argparse.ArgumentParser()
+    del p._negative_number_matcher
+    with pytest.raises(RuntimeError, match="--phi0=-0.5pi"):
+        accept_negative_values(p)
