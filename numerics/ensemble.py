@@ -35,13 +35,14 @@ from __future__ import annotations
 import re
 import sys
 from concurrent.futures import ThreadPoolExecutor, as_completed
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Sequence, cast
 
 import numpy as np
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState
+from rocknroller.numerics.budget import HEYOKA_SECONDS_PER_RADIAN, WORK_BUDGET_SECONDS, check_work
 from rocknroller.numerics.integrate import check_run, heyoka_integrator, simulate
 from rocknroller.numerics.trajectory import TurningPointRun, TurningPoints
 
@@ -88,9 +89,13 @@ class Job:
     body: Body
     initial: EulerState
     t_end: float
+    #: Λ·t_end of the run, the radians its work scales with (:func:`rocknroller.numerics.integrate.check_run`).
+    radians: float = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "t_end", check_run(self.body, self.initial, self.t_end, samples=False).t_end)
+        plan = check_run(self.body, self.initial, self.t_end, samples=False)
+        object.__setattr__(self, "t_end", plan.t_end)
+        object.__setattr__(self, "radians", plan.rate * plan.t_end)
 
 
 @dataclass(frozen=True)
@@ -199,7 +204,8 @@ def check_cluster(scheduler: Any = None, workers: Any = None, threads: Any = Non
 
 
 def run_ensemble(jobs: Sequence[Job], *, scheduler: str | None = None, workers: int | None = None,
-                 threads: int | None = None, progress: bool | None = None) -> list[RunSummary]:
+                 threads: int | None = None, progress: bool | None = None,
+                 budget: float | None = WORK_BUDGET_SECONDS) -> list[RunSummary]:
     """Run every job (:func:`run_job`) and return their summaries in job order.
 
     The result is the same bit for bit whichever way the jobs run (see the module docstring).
@@ -218,6 +224,9 @@ def run_ensemble(jobs: Sequence[Job], *, scheduler: str | None = None, workers: 
         a plain loop).
     progress : bool or None
         A tqdm bar over the completed jobs on stderr (None: only if stderr is a terminal).
+    budget : float or None
+        CPU seconds the jobs may take together (:mod:`rocknroller.numerics.budget`; None: no limit), estimated before
+        any work from their radians Λ·t_end; however many processes share them.
 
     Returns
     -------
@@ -243,6 +252,9 @@ def run_ensemble(jobs: Sequence[Job], *, scheduler: str | None = None, workers: 
     jobs = list(jobs)
     if not jobs:
         return []
+    check_work(sum(job.radians for job in jobs) * HEYOKA_SECONDS_PER_RADIAN,
+               f"{len(jobs)} direct run{'s' if len(jobs) > 1 else ''} (Λ t_end up to "
+               f"{max(job.radians for job in jobs):.3g} radians)", budget)
     if scheduler is None and workers is None:
         return _run_in_process(jobs, threads or 1, progress)
     return _run_on_cluster(jobs, scheduler, workers, progress)

@@ -34,6 +34,7 @@ from numpy.typing import ArrayLike, NDArray
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import RATE_MAX, EulerState
 from rocknroller.analysis.slow import prediction as av
+from rocknroller.numerics.budget import REGION_TABLE_SECONDS, RELEASE_TABLE_SECONDS, WORK_BUDGET_SECONDS, check_work
 from rocknroller.numerics.parallel import check_processes, map_blocks
 
 __all__ = [
@@ -137,14 +138,15 @@ def _rows(body: Body, theta0: NDArray[np.float64], psi0: NDArray[np.float64], t_
 
 
 def _ode_values(body: Body, states: Sequence[EulerState], t_end: float, scheduler: str | None, workers: int | None,
-                threads: int | None, progress: bool | None) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+                threads: int | None, progress: bool | None,
+                budget: float | None) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """The direct ODE's observables (len(ATLAS_OBSERVABLES), len(states)) and where they are undefined, the runs
     made as one ensemble (:func:`rocknroller.numerics.ensemble.run_ensemble`); the reversals are the crossings of the
     critical lines by the maxima's (Q_R, Q_J), counted as for the map."""
     from rocknroller.numerics.ensemble import Job, run_ensemble
 
     runs = run_ensemble([Job(body, s, t_end) for s in states], scheduler=scheduler, workers=workers,
-                        threads=threads, progress=progress)
+                        threads=threads, progress=progress, budget=budget)
     out = np.zeros((len(ATLAS_OBSERVABLES), len(runs)))
     mask = np.zeros_like(out, dtype=bool)
     sym = body.symmetric()
@@ -164,13 +166,13 @@ def _check_size(n_rows: int, n_cols: int, limit: int, what: str) -> None:
 
 def _ode_atlas(body: Body, plane: str, rows: NDArray[np.float64], cols: NDArray[np.float64],
                at: tuple[float, float] | None, t_end: float, scheduler: str | None, workers: int | None,
-               threads: int | None, progress: bool | None) -> Atlas:
+               threads: int | None, progress: bool | None, budget: float | None) -> Atlas:
     """Every point of the grid by the direct ODE (the states are checked, by ``Job``, before any run)."""
     _check_size(rows.size, cols.size, MAX_ODE_ATLAS_POINTS, "MAX_ODE_ATLAS_POINTS")
     grid = Atlas(eps=body.epsilon, t_end=float(t_end), plane=plane, rows=rows, cols=cols, values={}, at=at,
                  method="ode")
     states = [grid.state(i, j) for i in range(rows.size) for j in range(cols.size)]
-    out, mask = _ode_values(body, states, float(t_end), scheduler, workers, threads, progress)
+    out, mask = _ode_values(body, states, float(t_end), scheduler, workers, threads, progress, budget)
     shape = (rows.size, cols.size)
     return replace(grid, values={name: np.ma.MaskedArray(out[k].reshape(shape), mask[k].reshape(shape))
                                  for k, name in enumerate(ATLAS_OBSERVABLES)})
@@ -179,6 +181,23 @@ def _ode_atlas(body: Body, plane: str, rows: NDArray[np.float64], cols: NDArray[
 #: Most points of an atlas made by the direct ODE (≈ 16 ms a run of 1000 time units at θ0 = 0.95π, ≈ 0.2 s at
 #: small amplitude; its maxima, 136 bytes each, are held until the run's diagnostics are taken).
 MAX_ODE_ATLAS_POINTS = 20_000
+
+
+def _check_table_work(body: Body, theta0: NDArray[np.float64], budget: float | None) -> None:
+    """Refuse an atlas whose uncached tables (one per θ0: a release table, or below ``THETA0_RANGE`` the region
+    tables of the release's energy) would take more than ``budget`` CPU seconds to build."""
+    from rocknroller.analysis.slow.family import rest_energy
+    from rocknroller.analysis.slow.region import region_table_cached
+    from rocknroller.analysis.slow.table import build_table, is_cached
+
+    sym = body.symmetric()
+    region = [t0 for t0 in theta0 if av.releases_on_region_tables(t0)]
+    release = [t0 for t0 in theta0 if not av.releases_on_region_tables(t0)]
+    n_region = sum(not region_table_cached(sym, rest_energy(sym, float(t0))) for t0 in region)
+    n_release = sum(not is_cached(build_table, sym, float(t0)) for t0 in release)
+    check_work(n_region * REGION_TABLE_SECONDS + n_release * RELEASE_TABLE_SECONDS,
+               f"the atlas's tables ({n_release} release and {n_region} region tables to build, one per theta0 not "
+               "cached)", budget)
 
 
 def _check_method(method: str) -> str:
@@ -190,7 +209,7 @@ def _check_method(method: str) -> str:
 def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float = 1000.0, *,
                     method: str = "map", progress: bool | None = None, build: bool = True, processes: int = 1,
                     scheduler: str | None = None, workers: int | None = None,
-                    threads: int | None = None) -> Atlas:
+                    threads: int | None = None, budget: float | None = WORK_BUDGET_SECONDS) -> Atlas:
     """Map the slow motion over the releases from rest at every (θ0, ψ0) of the grid (module docstring).
 
     Parameters
@@ -216,18 +235,24 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
         script's top level with ``if __name__ == "__main__":``).
     scheduler, workers, threads
         Where the ODE's runs go (method "ode"), as for :func:`rocknroller.numerics.ensemble.run_ensemble`.
+    budget : float or None
+        CPU seconds the atlas may take (:mod:`rocknroller.numerics.budget`; None: no limit), estimated before any
+        work: for the map, one table build per θ0 whose tables are not cached; for the ODE, the runs' radians.
 
     Raises
     ------
     ValueError
-        A grid out of range or larger than its method's limit (before anything is built or run), naming it.
+        A grid out of range or larger than its method's limit, or an estimated cost over ``budget`` (before
+        anything is built or run), naming it.
     """
     th = _check_grid("theta0", theta0, np.nextafter(0.0, 1.0), av.THETA0_RANGE[1])
     ps = _check_grid("psi0", psi0, -1e6, 1e6)
     if _check_method(method) == "ode":
-        return _ode_atlas(body, "release", th, ps, None, t_end, scheduler, workers, threads, progress)
+        return _ode_atlas(body, "release", th, ps, None, t_end, scheduler, workers, threads, progress, budget)
     _check_size(th.size, ps.size, MAX_ATLAS_POINTS, "MAX_ATLAS_POINTS")
     processes = check_processes(processes, "processes")
+    if build:
+        _check_table_work(body, th, budget)
     blocks = np.array_split(np.arange(th.size), min(processes, th.size) if processes > 1 else th.size)
     parts = map_blocks(_rows, [(body, th[rows], ps, float(t_end), build) for rows in blocks], [b.size for b in blocks],
                        processes=processes, desc="atlas rows", unit="theta0", progress=progress)
@@ -241,7 +266,8 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
 
 def atlas_of_rates(body: Body, theta0: float, psi0: float, phi_dot0: ArrayLike, psi_dot0: ArrayLike,
                    t_end: float = 1000.0, *, method: str = "ode", progress: bool | None = None,
-                   scheduler: str | None = None, workers: int | None = None, threads: int | None = None) -> Atlas:
+                   scheduler: str | None = None, workers: int | None = None, threads: int | None = None,
+                   budget: float | None = WORK_BUDGET_SECONDS) -> Atlas:
     """The slow motion over a plane of initial rates (φ̇0, ψ̇0) at fixed θ0, ψ0 (θ̇0 = 0, φ0 = 0): the plane of
     the paper's reversal starts (figs. 7–11: θ0 = 0.95π, ψ0 = π/4), by the direct ODE at every point.
 
@@ -257,7 +283,7 @@ def atlas_of_rates(body: Body, theta0: float, psi0: float, phi_dot0: ArrayLike, 
         The fixed tilt, 0 < θ0 < π, and spin angle (finite).
     phi_dot0, psi_dot0 : array_like
         The grid's columns and rows: finite rates within ``EulerState``'s bound.
-    t_end, progress, scheduler, workers, threads
+    t_end, progress, scheduler, workers, threads, budget
         As for :func:`atlas_from_rest` with method "ode".
 
     Raises
@@ -273,7 +299,7 @@ def atlas_of_rates(body: Body, theta0: float, psi0: float, phi_dot0: ArrayLike, 
     ps = float(_check_grid("psi0", [psi0], -1e6, 1e6)[0])
     pd = _check_grid("phi_dot0", phi_dot0, -RATE_MAX, RATE_MAX)
     sd = _check_grid("psi_dot0", psi_dot0, -RATE_MAX, RATE_MAX)
-    return _ode_atlas(body, "rates", sd, pd, (th, ps), t_end, scheduler, workers, threads, progress)
+    return _ode_atlas(body, "rates", sd, pd, (th, ps), t_end, scheduler, workers, threads, progress, budget)
 
 
 @dataclass(frozen=True)
@@ -295,10 +321,10 @@ class AtlasCheck:
 
 def confirm_atlas(atlas: Atlas, body: Body, *, every: int | None = 50, points: Sequence[tuple[int, int]] = (),
                   scheduler: str | None = None, workers: int | None = None, threads: int | None = None,
-                  progress: bool | None = None) -> AtlasCheck:
+                  progress: bool | None = None, budget: float | None = WORK_BUDGET_SECONDS) -> AtlasCheck:
     """Run the direct ODE at 1 point in ``every`` (row-major, starting at the first; None: none) and at ``points``
     (row, column) of a map-made atlas, as an ensemble (:func:`rocknroller.numerics.ensemble.run_ensemble`; where it
-    runs does not change the numbers).
+    runs does not change the numbers); ``budget``: the CPU seconds the runs may take (as for ``run_ensemble``).
 
     Raises
     ------
@@ -322,7 +348,7 @@ def confirm_atlas(atlas: Atlas, body: Body, *, every: int | None = 50, points: S
         raise ValueError("nothing to confirm: give every or points")
     index = np.array([divmod(f, n_p) for f in flat], dtype=np.int64).reshape(-1, 2)
     out, mask = _ode_values(body, [atlas.state(i, j) for i, j in index], atlas.t_end, scheduler, workers, threads,
-                            progress)
+                            progress, budget)
     ode = {name: np.ma.MaskedArray(out[k], mask[k]) for k, name in enumerate(ATLAS_OBSERVABLES)}
     rel: dict[str, np.ma.MaskedArray] = {}
     for name in ATLAS_OBSERVABLES:

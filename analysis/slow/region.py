@@ -46,7 +46,7 @@ from rocknroller.analysis.routh.turning_points import min_potential, solve_turni
 from rocknroller.analysis.slow.chart import CHART_TERMS, TABLE_FUNCTIONS, SlowMapTable, _cheb_nodes
 from rocknroller.analysis.slow.limits import AveragingRangeError
 from rocknroller.analysis.slow.orbit import symmetric_data
-from rocknroller.analysis.slow.table import (REGION_TABLE_ACCURACY, cached_table, check_grid, fit_and_check,
+from rocknroller.analysis.slow.table import (REGION_TABLE_ACCURACY, cached_table, check_grid, fit_and_check, is_cached,
                                              kick_at_rest, orbit_data)
 from rocknroller.numerics.parallel import check_processes
 
@@ -365,3 +365,11 @@ def load_or_build_region_table(body: Body, E: float, *, build: bool = True, use_
     axis, nu, nv = region_options(body, E, grid.pop("axis", "auto"), grid.pop("nu", None), grid.pop("nv", None))
     return cached_table(build_region_table, body, E, f"E={E!r}", build=build, use_cache=use_cache, axis=axis, nu=nu,
                         nv=nv, **grid)
+
+
+def region_table_cached(body: Body, E: float) -> bool:
+    """Whether the default region tables of (body, E) are in memory or the disk cache (not read: for estimating the
+    work of a call before it starts)."""
+    E = check_below_top(body, E)
+    axis, nu, nv = region_options(body, E)
+    return is_cached(build_region_table, body, E, axis=axis, nu=nu, nv=nv)

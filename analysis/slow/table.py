@@ -332,6 +332,31 @@ def load_or_build_table(body: Body, theta0: float, *, build: bool = True, use_ca
 _RUN_OPTIONS = ("progress", "workers")
 
 
+def _table_location(builder: Callable[..., Any], body: Body, where: float,
+                    grid: dict[str, Any]) -> tuple[str, str, str, dict[str, Any], dict[str, Any]]:
+    """(key, cache folder, file, the builder's table options with defaults filled in, its run options) of the table
+    ``builder(body.symmetric(), where, **grid)``."""
+    params = inspect.signature(builder).parameters
+    opts = {name: p.default for name, p in params.items() if p.kind is p.KEYWORD_ONLY and name not in _RUN_OPTIONS}
+    unknown = set(grid) - set(opts) - set(_RUN_OPTIONS)
+    if unknown:
+        raise ValueError(f"unknown table options {sorted(unknown)}; allowed: {sorted(opts)}")
+    grid = dict(grid)
+    run = {name: grid.pop(name) for name in _RUN_OPTIONS if name in grid and name in params}
+    opts.update(grid)
+    key = _table_key(builder.__name__, body.symmetric(), where, opts)
+    directory = os.path.join(str(cache_dir()), "averaging")
+    return key, directory, os.path.join(directory, f"slowmap-{hashlib.sha256(key.encode()).hexdigest()[:20]}.npz"), \
+        opts, run
+
+
+def is_cached(builder: Callable[..., Any], body: Body, where: float, **grid: Any) -> bool:
+    """Whether the table ``builder(body.symmetric(), where, **grid)`` is in memory or has a file in the disk cache
+    (not read or checked here: for estimating the work of a call before it starts)."""
+    key, _, path, _, _ = _table_location(builder, body, where, grid)
+    return _TABLES.get(key) is not None or os.path.lexists(path)
+
+
 def cached_table(builder: Callable[..., Any], body: Body, where: float, what: str, *, build: bool = True,
                  use_cache: bool = True, table_type: type = SlowMapTable,
                  spec_of: Callable[[dict[str, Any]], dict[str, tuple[int, ...]]] | None = None,
@@ -345,19 +370,10 @@ def cached_table(builder: Callable[..., Any], body: Body, where: float, what: st
     every table of this builder has in each remaining field (a region's second-order table: θ0 = NaN).
     """
     sym = body.symmetric()
-    params = inspect.signature(builder).parameters
-    opts = {name: p.default for name, p in params.items() if p.kind is p.KEYWORD_ONLY and name not in _RUN_OPTIONS}
-    unknown = set(grid) - set(opts) - set(_RUN_OPTIONS)
-    if unknown:
-        raise ValueError(f"unknown table options {sorted(unknown)}; allowed: {sorted(opts)}")
-    run = {name: grid.pop(name) for name in _RUN_OPTIONS if name in grid and name in params}
-    opts.update(grid)
-    key = _table_key(builder.__name__, sym, where, opts)
+    key, directory, path, opts, run = _table_location(builder, body, where, grid)
     table = _TABLES.get(key)
     if table is not None:
         return table
-    directory = os.path.join(str(cache_dir()), "averaging")
-    path = os.path.join(directory, f"slowmap-{hashlib.sha256(key.encode()).hexdigest()[:20]}.npz")
     spec = spec_of(opts) if spec_of is not None else _table_spec(opts["nu"], opts["nv"])
     table = None
     if use_cache and os.path.lexists(path):

@@ -58,7 +58,8 @@ def option_names(message: str, argv: list[str]) -> str:
 #: API words in library messages and, per command, the option that says the same; in a command without one, the
 #: alternative they offer ("use samples=False (turning points only) or a shorter t_end") is dropped.
 _API_WORDS = {"samples=False": {"simulate": "--turning-points-only"},
-              "build=False": {"slow": "--cached-only", "atlas": "--cached-only"}}
+              "build=False": {"slow": "--cached-only", "atlas": "--cached-only"},
+              "budget=SECONDS": {"simulate": "--budget SECONDS", "atlas": "--budget SECONDS", "table": "--budget SECONDS"}}
 _API_WORD = re.compile(r"\b(" + "|".join(map(re.escape, _API_WORDS)) + r")( \([^()]*\))?( or )?")
 #: The name of a limit (``MAX_SAMPLES``, ``E_MAX``, ``reduction.Q_RANGE``) before its value (``NAME = value``) or after
 #: it (``(NAME)``): the command line shows the value only.

@@ -10,8 +10,9 @@ from typing import Any
 
 import numpy as np
 
-from rocknroller.cli.options import (accept_negative_values, add_body_options, add_cluster_options, add_force_option,
-                                     body_from_args, cluster_from_args, parse_angle, prepare_output_dir, print_json)
+from rocknroller.cli.options import (accept_negative_values, add_body_options, add_budget_option, add_cluster_options,
+                                     add_force_option, body_from_args, budget_from_args, cluster_from_args, parse_angle,
+                                     prepare_output_dir, print_json)
 
 #: Files written to --out.
 OUTPUTS = ("atlas.csv", "atlas.png", "atlas.pdf", "atlas_check.png", "atlas_check.pdf")
@@ -75,6 +76,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="write atlas.csv and the figures to DIR (default ./atlas; created if missing; existing files "
                         "are not overwritten without --force)")
     add_force_option(p)
+    add_budget_option(p, "the atlas (its table builds, or its direct runs) and its ODE confirmation each")
     p.add_argument("--cached-only", action="store_true",
                    help="the map: fail instead of building the averaging tables of a theta0 when none are cached")
     p.add_argument("--json", action="store_true", help="print a one-object JSON summary on stdout")
@@ -144,19 +146,20 @@ def run(args: argparse.Namespace) -> int:
                 raise ValueError(f"--{name} must be one value with --plane rates, got {texts[name]!r}")
     prepare_output_dir(args.out, "--out", args.force, OUTPUTS)
     progress = False if args.quiet else None
+    budget = budget_from_args(args)
     if args.plane == "rates":
         atlas = atlas_of_rates(body, float(grids["theta0"][0]), float(grids["psi0"][0]), grids["phi_dot0"],
                                grids["psi_dot0"], args.t_end, progress=progress, scheduler=scheduler,
-                               workers=workers, threads=threads)
+                               workers=workers, threads=threads, budget=budget)
     else:
         atlas = atlas_from_rest(body, grids["theta0"], grids["psi0"], args.t_end, method=method, progress=progress,
                                 build=not args.cached_only, processes=args.processes, scheduler=scheduler,
-                                workers=workers, threads=threads)
+                                workers=workers, threads=threads, budget=budget)
     named = [_nearest(atlas, s) for s in args.confirm]
     check = None
     if method == "map" and (confirm_every > 0 or named):
         check = confirm_atlas(atlas, body, every=confirm_every or None, points=named, scheduler=scheduler,
-                              workers=workers, threads=threads, progress=progress)
+                              workers=workers, threads=threads, progress=progress, budget=budget)
     where = scheduler or (f"a local dask cluster of {workers} workers" if workers else "this process")
     starts = ("releases from rest" if args.plane == "release" else
               f"theta0={atlas.at[0] / np.pi:.4g}pi, psi0={atlas.at[1] / np.pi:.4g}pi, theta_dot0=0")

@@ -258,6 +258,34 @@ def add_force_option(parser: argparse.ArgumentParser) -> None:
                         help="overwrite existing output files (default: refuse, before computing anything)")
 
 
+def add_budget_option(parser: argparse.ArgumentParser, what: str) -> None:
+    """--budget SECONDS: the CPU time ``what`` may take, estimated before any work (``numerics.budget``)."""
+    from rocknroller.numerics.budget import WORK_BUDGET_SECONDS
+
+    parser.add_argument("--budget", type=str, default=None, metavar="SECONDS",
+                        help=f"CPU seconds {what} may take, estimated before any work from rates measured on this kind "
+                             f"of machine; past it the command refuses, naming the estimate (default "
+                             f"{WORK_BUDGET_SECONDS:g} = 1 hour; 'inf': no limit)")
+
+
+def budget_from_args(args: argparse.Namespace) -> float | None:
+    """The --budget of :func:`add_budget_option` as the API's ``budget`` (None: no limit)."""
+    from rocknroller.numerics.budget import WORK_BUDGET_SECONDS, check_budget
+
+    if args.budget is None:
+        return WORK_BUDGET_SECONDS
+    try:
+        value = float(args.budget)
+    except ValueError:
+        value = math.nan
+    if value == math.inf:
+        return None
+    try:
+        return check_budget(value)
+    except ValueError:
+        raise ValueError(f"--budget must be a number of seconds > 0 or 'inf', got {args.budget!r}") from None
+
+
 def _require_writable(directory: Path, option: str) -> None:
     try:
         directory.mkdir(parents=True, exist_ok=True)

@@ -7,8 +7,9 @@ import sys
 import warnings
 from pathlib import Path
 
-from rocknroller.cli.options import (add_body_options, add_force_option, add_initial_state_options, body_from_args,
-                                     initial_state_from_args, prepare_output_dir, print_json, start_with_default_rates)
+from rocknroller.cli.options import (add_body_options, add_budget_option, add_force_option, add_initial_state_options,
+                                     body_from_args, budget_from_args, initial_state_from_args, prepare_output_dir,
+                                     print_json, start_with_default_rates)
 from rocknroller.papers.lynch_bustamante import fig5_symmetry_breaking as fig5
 
 #: Files written to --out (with samples), and with --turning-points-only.
@@ -52,6 +53,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="write samples.csv, turning_points.csv and PNG+PDF plots to DIR (created if missing; "
                         "existing files are not overwritten without --force)")
     add_force_option(p)
+    add_budget_option(p, "the run")
     p.add_argument("--json", action="store_true", help="print a one-object JSON summary on stdout")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(run=run)
@@ -107,7 +109,8 @@ def run(args: argparse.Namespace) -> int:
     tp_only = args.turning_points_only
     if args.out is not None:
         prepare_output_dir(args.out, "--out", args.force, OUTPUTS_TURNING_POINTS if tp_only else OUTPUTS)
-    kw = dict(method=args.method, dt=args.dt, progress=None if not args.quiet else False, strict=args.strict)
+    kw = dict(method=args.method, dt=args.dt, progress=None if not args.quiet else False, strict=args.strict,
+              budget=budget_from_args(args))
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", AccuracyWarning)
         if tp_only and args.out is not None:

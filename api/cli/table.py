@@ -12,8 +12,9 @@ from typing import Any
 import numpy as np
 
 from rocknroller.analysis.routh.quadrature import DEFAULT_RTOL, RTOL_RANGE, check_rtol
-from rocknroller.cli.options import (add_body_options, add_force_option, body_from_args, parse_angle,
-                                     prepare_output_file, print_json)
+from rocknroller.cli.options import (add_body_options, add_budget_option, add_force_option, body_from_args,
+                                     budget_from_args, parse_angle, prepare_output_file, print_json)
+from rocknroller.numerics.budget import check_work, mp_point_seconds
 
 COLUMNS = ("Q_R", "Q_J", "E", "theta_N", "theta_X", "T_theta", "tau", "delta_phi", "delta_psi", "visible_phi",
            "region", "status")
@@ -106,6 +107,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--out", type=Path, default=Path("precession_table.csv"), metavar="FILE",
                    help="CSV output (default precession_table.csv; an existing file is not overwritten without --force)")
     add_force_option(p)
+    add_budget_option(p, "the table")
     p.add_argument("--json", action="store_true", help="print a one-object JSON summary on stdout")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(run=run)
@@ -141,6 +143,9 @@ def run(args: argparse.Namespace) -> int:
     if n > limit:
         raise ValueError(f"--QR, --QJ{', --E' if args.E is not None else ''}: the grid has {n} points, over the limit "
                          f"{limit}{' with --dps' if args.dps is not None else ''}; use fewer points")
+    if args.dps is not None:  # the double backend's points are bounded by MAX_POINTS (~40 µs each)
+        check_work(n * mp_point_seconds(args.dps), f"a table of {n} mpmath points at {args.dps} digits",
+                   budget_from_args(args))
     prepare_output_file(args.out, "--out", args.force)
     if args.E is not None:
         E, QR, QJ = (a.ravel() for a in np.meshgrid(E_axis, QR_axis, QJ_axis, indexing="ij"))

@@ -367,3 +367,40 @@ def test_turning_point_energy_beyond_range_names_the_inputs():
     with pytest.raises(ValueError, match=r"^theta0=4.4043059857065464e-93 with QR=6.132999124217221e\+57, QJ=0.0 gives"):
         precession_from_turning_point(np.array([4.4043059857065464e-93, 0.9 * np.pi]), 6.132999124217221e57, 0.0,
                                       Body.paper(0.0))
+
+
+@pytest.mark.parametrize("n", [16, 64, 256, 1024])
+def test_gauss_legendre_rule_is_numpys_in_linear_memory(n):
+    """The rule (issue 25, item 24: ``leggauss`` builds a dense n × n matrix, so ``max_nodes=65536`` ran 240 s at
+    4.3 GB on its way to ~70 GB) from the tridiagonal companion matrix: nodes within 1 ulp of ``leggauss``'s and the
+    same integrals to the rules' rounding (sums of n terms, each weight and value to a few u: n·u times the sum of
+    the terms' magnitudes, with a margin of 4)."""
+    from rocknroller.analysis.routh.quadrature import _gauss_legendre
+
+    x, w = _gauss_legendre(n)
+    xn, wn = np.polynomial.legendre.leggauss(n)
+    assert x.size == w.size == n // 2 and np.all(x > 0)
+    np.testing.assert_allclose(x, xn[n // 2:], rtol=0, atol=np.finfo(float).eps)
+    u = np.finfo(float).eps / 2
+    for f in (np.exp, lambda t: np.cos(40.0 * t), lambda t: 1.0 / (1.01 - t)):
+        ours = w @ (f(x) + f(-x))
+        assert abs(ours - wn @ f(xn)) <= 4 * n * u * (np.abs(wn) @ np.abs(f(xn)))
+
+
+def test_the_largest_rule_is_built_in_linear_memory():
+    """``MAX_NODES_LIMIT`` nodes: the rule needs O(n) memory (a few arrays of n doubles), not leggauss's n² doubles
+    (2 GB here), and integrates a polynomial of degree 2n − 1 to its rounding."""
+    import resource
+
+    import rocknroller.analysis.routh.quadrature as q
+
+    n = q.MAX_NODES_LIMIT
+    q._gauss_legendre.cache_clear()
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024  # Linux: kB
+    x, w = q._gauss_legendre(n)
+    grown = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024 - before
+    assert grown < 0.05 * 8 * n * n  # well below one dense n × n matrix
+    assert abs(2.0 * w.sum() - 2.0) <= n * np.finfo(float).eps
+    assert abs(2.0 * (w @ x**20) - 2.0 / 21.0) <= 4 * n * np.finfo(float).eps
+    with pytest.raises(ValueError, match=f"max_nodes must be an integer in \\[32, {n}\\]"):
+        precession(1.0, 0.01, 0.0, Body.paper(0.0), max_nodes=2 * n)

@@ -1,0 +1,60 @@
+"""The rates behind the work estimates of ``rocknroller.numerics.budget``, measured again beside its constants.
+
+Run:  python benchmarks/bench_budget.py
+CPU seconds (process time, threads included) of: the direct ODE per radian of Λ·t with heyoka and with scipy's
+DOP853 (turning points only, the same start), one release table and one region table built in one process (in a
+fresh cache folder), and one mpmath precession point at 30, 120 and 240 digits.  Each line prints the measurement,
+the constant, and their ratio: an estimate is meant to hold within a factor of about two (the constants are rounded
+up; the machine's load, printed first, moves the measurements).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import tempfile
+import time
+
+
+def cpu(fn) -> float:
+    t = time.process_time()
+    fn()
+    return time.process_time() - t
+
+
+def main() -> None:
+    os.environ["ROCKNROLLER_CACHE"] = tempfile.mkdtemp(prefix="bench_budget_")
+    from rocknroller.analysis.model.body import Body
+    from rocknroller.analysis.model.equations import EulerState
+    from rocknroller.analysis.routh.quadrature_mp import precession_mp
+    from rocknroller.analysis.slow.family import rest_energy
+    from rocknroller.analysis.slow.region import build_region_table
+    from rocknroller.analysis.slow.table import build_table
+    from rocknroller.numerics import budget
+    from rocknroller.numerics.integrate import check_run, simulate
+
+    print(f"load average: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
+    body, start = Body.paper(1e-3), EulerState(0.95 * math.pi, 0.0, 0.5)
+    simulate(body, start, 10.0, samples=False)  # the compiled integrator, from heyoka's cache
+    rows = []
+    for method, t_end, const in (("heyoka", 20000.0, budget.HEYOKA_SECONDS_PER_RADIAN),
+                                 ("scipy", 500.0, budget.DOP853_SECONDS_PER_RADIAN)):
+        radians = check_run(body, start, t_end, samples=False).rate * t_end
+        rate = cpu(lambda: simulate(body, start, t_end, samples=False, method=method)) / radians
+        rows.append((f"direct ODE, {method}, s per radian", rate, const))
+    sym = Body.paper()
+    rows.append(("release table (theta0 = 0.93pi)", cpu(lambda: build_table(sym, 0.93 * math.pi, progress=False)),
+                 budget.RELEASE_TABLE_SECONDS))
+    E = rest_energy(sym, 0.7 * math.pi)  # the band chart: the region tables' dearer kind
+    rows.append(("region table (E of a release at 0.7pi)", cpu(lambda: build_region_table(sym, E, progress=False)),
+                 budget.REGION_TABLE_SECONDS))
+    for dps in (30, 120, 240):
+        rows.append((f"mpmath point, {dps} digits", cpu(lambda: precession_mp(1.0, 0.01, 0.02, sym, dps=dps)),
+                     budget.mp_point_seconds(dps)))
+    print(f"{'what':42s} {'measured':>10s} {'constant':>10s} {'constant/measured':>18s}")
+    for what, measured, const in rows:
+        print(f"{what:42s} {measured:10.3g} {const:10.3g} {const / measured:18.2f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,86 @@
+"""The total work of a call, estimated before it starts, and the budget past which the work must be asked for.
+
+The limits elsewhere bound one run, one table or one grid (``numerics.integrate``, ``analysis.slow.limits``); a call
+that makes many of them (an ensemble, an atlas, a table of mpmath points) or runs the slow independent check (DOP853)
+for long could still take hours with no sign of it (issue 25, item 24: ``atlas --theta0 0.8pi:0.95pi:3000``, 100 runs
+of ``--t-end 1e7``, ``simulate --method scipy --t-end 1e7`` ~5 h, ``table --dps 1000`` on 2000 points).  Such calls
+estimate their CPU time from the rates below and refuse past ``budget`` seconds (default ``WORK_BUDGET_SECONDS``),
+naming the estimate: ``budget=`` in the API (None: no limit), ``--budget`` on the command line.
+
+The rates are CPU seconds measured on this kind of machine (2 cores), rounded up: an estimate errs on the high side,
+by up to 2.5× (4× for mpmath at 120-240 digits), which is what a budget of an hour needs.
+``benchmarks/bench_budget.py`` measures them again beside the constants (at load 1.3: heyoka 9.6e-6 s and DOP853
+1.1e-3 s per radian, a release table 1.6 s, a band-chart region table 13.5 s, mpmath points 0.26, 1.3 and 4.7 s at
+30, 120 and 240 digits).
+"""
+
+from __future__ import annotations
+
+import math
+
+__all__ = ["WORK_BUDGET_SECONDS", "HEYOKA_SECONDS_PER_RADIAN", "DOP853_SECONDS_PER_RADIAN", "RELEASE_TABLE_SECONDS",
+           "REGION_TABLE_SECONDS", "WorkBudgetError", "check_budget", "check_work", "mp_point_seconds",
+           "format_seconds"]
+
+#: CPU seconds a call may take without being asked for explicitly.
+WORK_BUDGET_SECONDS = 3600.0
+#: The direct ODE (``simulate``, turning points only) per radian of Λ·t: heyoka 9.6e-6 (1.4e-5 at load 3).
+HEYOKA_SECONDS_PER_RADIAN = 1.0e-5
+#: The same with scipy's DOP853 (the independent check): 1.1e-3 measured, ~100× heyoka's.
+DOP853_SECONDS_PER_RADIAN = 1.0e-3
+#: One release table (first order, default grid, one process): 1.6-2.1 s measured.
+RELEASE_TABLE_SECONDS = 4.0
+#: One region table (default grid, one process): the band chart's 13.5 s measured (26 s at load 25).
+REGION_TABLE_SECONDS = 30.0
+
+
+def mp_point_seconds(dps: int) -> float:
+    """CPU seconds of one mpmath precession point at ``dps`` digits: 0.3 s · (dps/30)² (measured 0.28, 1.4, 5.0 and
+    28 s at 30, 120, 240 and 480 digits; steeper than the square at the top, where points near steady rolling also
+    cost more)."""
+    return 0.3 * (dps / 30.0) ** 2
+
+
+class WorkBudgetError(ValueError):
+    """A call's estimated work exceeds its budget (raised before any work)."""
+
+
+def check_budget(budget: float | None) -> float:
+    """``budget`` as seconds (None: no limit, +inf), or a ValueError naming it unless it is a number > 0."""
+    if budget is None:
+        return math.inf
+    try:
+        value = float(budget)
+    except (TypeError, ValueError, OverflowError):
+        value = math.nan
+    if not value > 0.0:  # also NaN
+        raise ValueError(f"budget must be a number of seconds > 0 (or None: no limit), got budget={budget!r}")
+    return value
+
+
+def format_seconds(seconds: float) -> str:
+    """A duration for people: 45 s, 12 min, 3.2 h, 5.1 days."""
+    if seconds < 120.0:
+        return f"{seconds:.0f} s"
+    if seconds < 7200.0:
+        return f"{seconds / 60.0:.0f} min"
+    if seconds < 172800.0:
+        return f"{seconds / 3600.0:.1f} h"
+    return f"{seconds / 86400.0:.1f} days"
+
+
+def check_work(seconds: float, what: str, budget: float | None) -> None:
+    """Refuse ``what`` (a phrase: "100 direct runs of 1e7 time units") when its estimated CPU ``seconds`` exceed
+    ``budget`` (None: no limit), naming the estimate and how to ask for it.
+
+    Raises
+    ------
+    WorkBudgetError
+        A ValueError, before any work.
+    """
+    limit = check_budget(budget)
+    if seconds > limit:
+        raise WorkBudgetError(
+            f"{what} would take about {format_seconds(seconds)} of CPU (estimated from the rates measured on this "
+            f"kind of machine, rocknroller.numerics.budget), over the budget of {format_seconds(limit)}; to run it "
+            f"anyway give budget=SECONDS above the estimate, or make it smaller")
