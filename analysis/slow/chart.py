@@ -50,13 +50,13 @@ def _cheb_nodes(n: int) -> NDArray[np.float64]:
 def _cheb_basis(x: ArrayLike, n: int) -> NDArray[np.float64]:
     """T_0..T_{n−1} at x ∈ [−1, 1], shape (n, ...), by the three-term recurrence T_k = 2x T_{k−1} − T_{k−2}
     (stable on [−1, 1]: each T_k is within ~k ulps of cos(k arccos x); 10× faster than the cosines)."""
-    x = np.clip(np.asarray(x, float), -1.0, 1.0)
-    T = np.empty((n,) + x.shape)
+    xc = np.clip(np.asarray(x, float), -1.0, 1.0)
+    T = np.empty((n,) + xc.shape)
     T[0] = 1.0
     if n > 1:
-        T[1] = x
+        T[1] = xc
     for k in range(2, n):
-        T[k] = 2.0 * x * T[k - 1] - T[k - 2]
+        T[k] = 2.0 * xc * T[k - 1] - T[k - 2]
     return T
 
 

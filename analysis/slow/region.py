@@ -185,10 +185,10 @@ def region_frame(body: Body, E: float, *, axis: str = "auto", nu: int | None = N
     E = check_below_top(body, E)
     axis, nu, nv = region_options(body, E, axis, nu, nv)
     check_grid(nu, nv)
-    for name, val, (lo, hi) in (("delta_min", delta_min, DELTA_MIN_RANGE), ("tip_fraction", tip_fraction,
-                                                                           TIP_FRACTION_RANGE)):
-        if not lo <= val <= hi:
-            raise ValueError(f"{name} must lie in [{lo:g}, {hi:g}], got {name}={val!r}")
+    for name, val, (low, high) in (("delta_min", delta_min, DELTA_MIN_RANGE), ("tip_fraction", tip_fraction,
+                                                                               TIP_FRACTION_RANGE)):
+        if not low <= val <= high:
+            raise ValueError(f"{name} must lie in [{low:g}, {high:g}], got {name}={val!r}")
     sym = body.symmetric()
     e = chart_direction(sym, axis)
     n = np.array([-e[1], e[0]])
@@ -261,9 +261,10 @@ def _node_block(sym: Body, E: float, nodes: list[tuple[float, float, float]]) ->
     QR, QJ, thX = np.array(nodes, float).T
     steps, resp = harmonic_steps(sym, E, QR, QJ, thX)
     out = np.empty((len(nodes), 3 + 3 * len(FIRST_ORDER_NAMES)))
-    out[:, 0] = steps.T.mean(axis=1)
-    out[:, 1] = wrap_angle(2.0 * steps.dpsi[:, 0])
-    out[:, 2] = steps.dphi[:, 0]
+    T, dpsi, dphi = (np.asarray(v) for v in (steps.T, steps.dpsi, steps.dphi))  # a batch's fields: arrays (N, 3)
+    out[:, 0] = T.mean(axis=1)
+    out[:, 1] = wrap_angle(2.0 * dpsi[:, 0])
+    out[:, 2] = dphi[:, 0]
     out[:, 3:] = np.moveaxis(resp, 0, 1).reshape(len(nodes), -1)
     return out
 

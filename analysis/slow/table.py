@@ -209,7 +209,7 @@ def fit_table(frame: SlowMapTable, T: NDArray, W: NDArray, dphi: NDArray, resp: 
         coef[k] = fit(parity(np.asarray(data[name], float), kind))
     table = dataclasses.replace(frame, coef=coef)
     gu, gv = (float(g) for g in table.gradient("W", (0.0, 0.0)))
-    return dataclasses.replace(table, kappa=gu * frame.C0 @ e + gv * frame.C0 @ nvec)
+    return dataclasses.replace(table, kappa=float(gu * frame.C0 @ e + gv * frame.C0 @ nvec))
 
 
 def fit_and_check(frame: SlowMapTable, T: NDArray, W: NDArray, dphi: NDArray, resp: NDArray,
