@@ -130,7 +130,7 @@ def cache_dir() -> Path:
     return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "rocknroller"
 
 
-def probe_writable(directory: str | os.PathLike) -> OSError | None:
+def probe_writable(directory: str | os.PathLike[str]) -> OSError | None:
     """None if a file can be created in ``directory`` (created if missing), else the OSError that prevents it."""
     try:
         os.makedirs(directory, exist_ok=True)
@@ -200,7 +200,8 @@ def save_arrays(path: str | os.PathLike, key: str, arrays: Mapping[str, ArrayLik
     """Write ``arrays`` (float64, in the given order) with ``key`` and their checksum to ``path`` (.npz),
     atomically.  Raises OSError if the file cannot be written."""
     data = {name: np.asarray(a, dtype=np.float64, order="C") for name, a in arrays.items()}
-    members = dict(data)
+    # Any: np.savez takes the arrays as keywords beside its own allow_pickle: bool, so a dict of arrays cannot be typed
+    members: dict[str, Any] = dict(data)
     members[KEY_FIELD] = np.array(key)
     members[CHECKSUM_FIELD] = np.array(array_checksum(key, data, tuple(data)))
     atomic_write(path, lambda fh: np.savez(fh, **members))

@@ -36,7 +36,7 @@ import re
 import sys
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass, field
-from typing import Any, Sequence, cast
+from typing import Any, Sequence
 
 import numpy as np
 
@@ -145,7 +145,7 @@ class RunSummary:
 
 def run_job(job: Job) -> RunSummary:
     """Run one job: :func:`rocknroller.numerics.integrate.simulate` with ``samples=False``, then its summary."""
-    run = cast(TurningPointRun, simulate(job.body, job.initial, job.t_end, samples=False))
+    run = simulate(job.body, job.initial, job.t_end, samples=False)
     return RunSummary.from_run(run)
 
 

@@ -64,7 +64,7 @@ import math
 import sys
 import threading
 import warnings
-from typing import Any, Callable, NamedTuple
+from typing import Any, Callable, Literal, NamedTuple, overload
 
 import numpy as np
 from numpy.typing import NDArray
@@ -349,7 +349,9 @@ class _ScipyRun:
         def falling(t: float, y: NDArray[np.float64]) -> float:
             return turning_point_function(y)
 
-        rising.direction, falling.direction = 1.0, -1.0
+        # solve_ivp reads an event's crossing direction from its attribute ``direction`` (a function declares none)
+        setattr(rising, "direction", 1.0)
+        setattr(falling, "direction", -1.0)
         t_a = self.t
         sol = solve_ivp(fun, (t_a, t_b), self.y, method="DOP853", rtol=self.rtol, atol=self.atol, dense_output=True,
                         events=[rising, falling])
@@ -435,6 +437,28 @@ def check_run(body: Body, initial: EulerState, t_end: float, *, dt: float | None
     return RunPlan(t_end, dt, int(n_grid), y0, rate)
 
 
+#: The ``on_turning_points`` callback of :func:`simulate`.
+_TurningPointsCallback = Callable[[TurningPoints, TurningPoints], None]
+
+
+# The result's type follows ``samples`` (a Trajectory with samples, a TurningPointRun without), for type checkers.
+@overload
+def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = ..., dt: float | None = ...,
+             precision: str = ..., rtol: float = ..., atol: float = ..., progress: bool | None = ...,
+             samples: Literal[True] = ..., on_turning_points: _TurningPointsCallback | None = ...,
+             strict: bool = ...) -> Trajectory: ...
+@overload
+def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = ..., dt: float | None = ...,
+             precision: str = ..., rtol: float = ..., atol: float = ..., progress: bool | None = ...,
+             samples: Literal[False], on_turning_points: _TurningPointsCallback | None = ...,
+             strict: bool = ...) -> TurningPointRun: ...
+@overload
+def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = ..., dt: float | None = ...,
+             precision: str = ..., rtol: float = ..., atol: float = ..., progress: bool | None = ...,
+             samples: bool = ..., on_turning_points: _TurningPointsCallback | None = ...,
+             strict: bool = ...) -> Trajectory | TurningPointRun: ...
+
+
 def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "heyoka", dt: float | None = None,
              precision: str = "double", rtol: float = 3e-14, atol: float = 1e-15,
              progress: bool | None = False, samples: bool = True,
@@ -503,6 +527,7 @@ def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "he
     if on_turning_points is not None and samples:
         raise ValueError("on_turning_points streams the turning points of a run with samples=False")
     with _progress(t_end, progress) as bar:
+        run: _HeyokaRun | _ScipyRun
         if method == "heyoka":
             run = _HeyokaRun(body, y0, precision, bar, MAX_DENSE_STEPS if samples else None)
         else:

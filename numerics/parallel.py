@@ -21,6 +21,14 @@ def check_processes(value: Any, name: str = "workers") -> int:
     return int(value)
 
 
+def _advance(bar: Any, n: int) -> Callable[[Any], None]:
+    """A future's done-callback that advances the progress bar ``bar`` by ``n``."""
+    def callback(_: Any) -> None:
+        bar.update(n)
+
+    return callback
+
+
 def map_blocks(fn: Callable[..., Any], blocks: Sequence[tuple[Any, ...]], sizes: Sequence[int], *, processes: int = 1,
                desc: str = "", unit: str = "item", progress: bool | None = False) -> list[Any]:
     """``[fn(*b) for b in blocks]``, in this process or in ``processes`` spawned ones; a tqdm bar advances by
@@ -41,5 +49,5 @@ def map_blocks(fn: Callable[..., Any], blocks: Sequence[tuple[Any, ...]], sizes:
         with ProcessPoolExecutor(processes, mp_context=multiprocessing.get_context("spawn")) as pool:
             futures = [pool.submit(fn, *b) for b in blocks]
             for fut, n in zip(futures, sizes):
-                fut.add_done_callback(lambda _, n=n: bar.update(n))
+                fut.add_done_callback(_advance(bar, n))
             return [fut.result() for fut in futures]

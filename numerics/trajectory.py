@@ -11,7 +11,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import TYPE_CHECKING, Any, Callable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -20,6 +20,9 @@ from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.diagnostics import azimuth_span, slow_period, span, wrap_angle
 from rocknroller.analysis.model.invariants import energy, jellett, routh
 from rocknroller.analysis.model.kinematics import angles_from_frame
+
+if TYPE_CHECKING:
+    import pandas
 
 __all__ = ["TurningPoints", "Trajectory", "TurningPointRun", "energy_scale", "energy_error_bound", "ENERGY_SLACK"]
 
@@ -49,7 +52,7 @@ class TurningPoints:
     def __len__(self) -> int:
         return int(self.t.size)
 
-    def to_dataframe(self) -> "pandas.DataFrame":  # noqa: F821
+    def to_dataframe(self) -> "pandas.DataFrame":
         """One row per turning point: t, θ, φ, ψ, Q_R, Q_J (needs pandas)."""
         from rocknroller.analysis.model.frames import dataframe
 
@@ -196,7 +199,7 @@ class _TurningPointDiagnostics:
         """max − min of Q_J over the θ-maxima (the samples of the averaged map)."""
         return span(self.maxima.QJ)
 
-    def turning_points_dataframe(self) -> "pandas.DataFrame":  # noqa: F821
+    def turning_points_dataframe(self) -> "pandas.DataFrame":
         """Every turning point in time order, with ``kind`` "max" or "min" (needs pandas)."""
         import pandas as pd
 
@@ -209,7 +212,8 @@ class _TurningPointDiagnostics:
         track (samples only, paper figs. 5, 6).  Returns the axes."""
         from rocknroller.numerics import trajectory_plots as tp
 
-        plots = {"orbit": tp.plot_invariant_orbit, "phi": tp.plot_phi_at_maxima, "track": tp.plot_contact_track}
+        plots: dict[str, Callable[..., Any]] = {"orbit": tp.plot_invariant_orbit, "phi": tp.plot_phi_at_maxima,
+                                                "track": tp.plot_contact_track}
         if kind not in plots or (kind == "track" and not isinstance(self, Trajectory)):
             allowed = list(plots) if isinstance(self, Trajectory) else ["orbit", "phi"]
             raise ValueError(f"kind must be one of {allowed}, got kind={kind!r}")
@@ -311,7 +315,7 @@ class Trajectory(_TurningPointDiagnostics):
         E = self.E
         return float(np.max(np.abs(E - E[0])) / energy_scale(self.body, E[0]))
 
-    def to_dataframe(self) -> "pandas.DataFrame":  # noqa: F821
+    def to_dataframe(self) -> "pandas.DataFrame":
         """One row per sample: t, θ, φ, ψ, the contact point X, Y, and E, Q_R, Q_J (needs pandas; the turning
         points alone: :meth:`turning_points_dataframe`)."""
         from rocknroller.analysis.model.frames import dataframe
@@ -351,6 +355,6 @@ class TurningPointRun(_TurningPointDiagnostics):
     n_steps: int
     tolerance: float
 
-    def to_dataframe(self) -> "pandas.DataFrame":  # noqa: F821
+    def to_dataframe(self) -> "pandas.DataFrame":
         """Every turning point in time order (:meth:`turning_points_dataframe`; needs pandas)."""
         return self.turning_points_dataframe()

@@ -121,13 +121,13 @@ def animate(traj: Trajectory, path: str | Path, *, fps: int = 15, duration: floa
     if path.suffix.lower() not in (".gif", ".mp4"):
         raise ValueError(f"the animation must be a .gif or an .mp4 file, got {str(path)!r}")
     times = frame_times(float(traj.t[-1]), fps, duration)
-    rc: dict[str, Any] = {}
+    ffmpeg: str | None = None  # the ffmpeg binary of an .mp4 (rcParams["animation.ffmpeg_path"])
     if path.suffix.lower() == ".mp4":
         try:
             import imageio_ffmpeg
         except ImportError:
             raise ValueError(f"an .mp4 needs an ffmpeg: {ANIMATION_HINT}; or write a .gif") from None
-        rc["animation.ffmpeg_path"] = imageio_ffmpeg.get_ffmpeg_exe()
+        ffmpeg = imageio_ffmpeg.get_ffmpeg_exe()
     fig = new_figure(figsize=(10, 4.8))
     ax3 = fig.add_subplot(1, 2, 1, projection="3d")
     axq = fig.add_subplot(1, 2, 2)
@@ -173,7 +173,8 @@ def animate(traj: Trajectory, path: str | Path, *, fps: int = 15, duration: floa
     writer = (animation.PillowWriter(fps=fps, metadata={"comment": PRODUCER}) if path.suffix.lower() == ".gif"
               else animation.FFMpegWriter(fps=fps, metadata={"comment": PRODUCER}))
     path.parent.mkdir(parents=True, exist_ok=True)
-    with rc_context(rc), tqdm(total=len(times), desc="frames", unit="frame",
-                              disable=None if progress is None else not progress) as bar:
+    with (rc_context({} if ffmpeg is None else {"animation.ffmpeg_path": ffmpeg}),
+          tqdm(total=len(times), desc="frames", unit="frame",
+               disable=None if progress is None else not progress) as bar):
         anim.save(str(path), writer=writer, dpi=dpi, progress_callback=lambda i, n: bar.update(1))
     return path

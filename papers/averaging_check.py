@@ -40,7 +40,7 @@ class OdeSlowSummary:
     QR_extent: float
     QJ_extent: float
     Phi: float
-    line_slope: float
+    line_slope: float | None
     region_runs: list[tuple[str, int, float]]
 
 
@@ -51,7 +51,12 @@ def ode_slow_summary(body: Body, theta0: float | EulerState, psi0: float | None,
     ``progress`` as :func:`rocknroller.numerics.integrate.simulate`'s."""
     from rocknroller.numerics.integrate import simulate
 
-    start = theta0 if isinstance(theta0, EulerState) else EulerState(theta0, 0.0, psi0)
+    if isinstance(theta0, EulerState):
+        start = theta0
+    elif psi0 is None:
+        raise ValueError("psi0 is needed with a tilt theta0 (None only with an initial EulerState)")
+    else:
+        start = EulerState(theta0, 0.0, psi0)
     tr = simulate(body, start, t_end, dt=t_end / 10, progress=progress)
     m = tr.maxima
     return OdeSlowSummary(t=m.t, QR=m.QR, QJ=m.QJ, Theta=2.0 * m.psi, phi=m.phi, slow_period=tr.slow_period,

@@ -10,11 +10,14 @@ from __future__ import annotations
 import csv
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Iterable, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Iterable, Mapping, Sequence
 
 import numpy as np
 
 from rocknroller.numerics.provenance import __version__
+
+if TYPE_CHECKING:
+    import matplotlib.figure
 
 __all__ = ["write_csv", "CsvStream", "new_figure", "save_figure", "Reproduction", "PRODUCER"]
 
@@ -47,7 +50,7 @@ class CsvStream:
         self._writer = csv.writer(self._fh)
         self._writer.writerow(self.names)
 
-    def write(self, columns: Mapping[str, Sequence]) -> None:
+    def write(self, columns: Mapping[str, Iterable[Any]]) -> None:
         """Append the rows of ``columns`` (keys: the column names, in any order)."""
         cols = [list(columns[n]) for n in self.names]
         lengths = {len(c) for c in cols}
@@ -63,7 +66,7 @@ class CsvStream:
         self._fh.close()
 
 
-def write_csv(path: str | Path, columns: Mapping[str, Sequence], header: Iterable[str] = ()) -> Path:
+def write_csv(path: str | Path, columns: Mapping[str, Iterable[Any]], header: Iterable[str] = ()) -> Path:
     """Write equal-length ``columns`` to ``path`` with header lines starting with ``#`` first (:class:`CsvStream`)."""
     with CsvStream(path, list(columns), header) as stream:
         stream.write(columns)
@@ -99,7 +102,7 @@ class Reproduction:
     name: str
     caption: str
     outputs: list[Path] = field(default_factory=list)
-    numbers: dict[str, float | int | str] = field(default_factory=dict)
+    numbers: Mapping[str, float | int | str] = field(default_factory=dict)
 
     def summary(self) -> str:
         """The caption, then one line per number measured (``quantity: value``)."""

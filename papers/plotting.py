@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -39,7 +39,7 @@ LINE_STYLE = {
 }
 #: Where each region's V_φ panel sits around the central axes (row, column of a 3×3 grid).
 _PANEL_CELL = {"II": (0, 1), "IV": (2, 1), "III": (1, 0), "I": (1, 2)}
-_NUMERAL_FONT = dict(fontsize=12, fontweight="bold")
+_NUMERAL_FONT: dict[str, Any] = dict(fontsize=12, fontweight="bold")
 
 
 @dataclass

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 from functools import lru_cache
 from types import SimpleNamespace
-from typing import Callable
+from typing import Callable, Protocol
 
 import numpy as np
 import sympy as sp
@@ -199,8 +199,13 @@ def _lambdified(quantity: str, sign: int, order: int) -> Callable:
     return sp.lambdify(args, sum(cf * x ** (k - 2) for k, cf in enumerate(coeffs)), modules="numpy")
 
 
-def laurent_function(quantity: str, about: str | float, order: int,
-                     body: Body) -> Callable[[ArrayLike, ArrayLike, ArrayLike], NDArray[np.float64]]:
+class _SeriesFunction(Protocol):
+    """What :func:`laurent_function` returns: ``fn(x, *, QR, QJ)``."""
+
+    def __call__(self, xv: ArrayLike, *, QR: ArrayLike, QJ: ArrayLike) -> NDArray[np.float64]: ...
+
+
+def laurent_function(quantity: str, about: str | float, order: int, body: Body) -> _SeriesFunction:
     """Fast numeric form of the truncated series (sympy ``lambdify``), vectorised over numpy arrays.
 
     Parameters

@@ -80,10 +80,10 @@ def reversal_analysis(traj: "Trajectory", tol: float = 0.0) -> ReversalAnalysis:
     """
     body = traj.body
     parts = []
-    for kind, tp in (("max", traj.maxima), ("min", traj.minima)):
+    for label, tp in (("max", traj.maxima), ("min", traj.minima)):
         omega = tp.states[:, 3:6].T
         phi_dot = rates_from_omega(tp.theta, tp.psi, omega)[1] if len(tp) else np.zeros(0)
-        parts.append((np.full(len(tp), kind), tp.t, tp.theta, tp.QR, tp.QJ, phi_dot))
+        parts.append((np.full(len(tp), label), tp.t, tp.theta, tp.QR, tp.QJ, phi_dot))
     kind, t, th, QR, QJ, pd = (np.concatenate(v) for v in zip(*parts))
     order = np.argsort(t, kind="stable")
     kind, t, th, QR, QJ, pd = (v[order] for v in (kind, t, th, QR, QJ, pd))

@@ -127,6 +127,7 @@ def critical_start(body: Body, theta0: ArrayLike, psi0: ArrayLike = 0.0, line: s
     if QR is not None:
         (QRv,) = check_invariants(QR=QR)
     else:
+        assert psi_dot0 is not None  # exactly one of QR and psi_dot0 was given (checked above)
         pd = _finite("psi_dot0", psi_dot0)
         c, s2 = np.cos(theta0), np.sin(theta0) ** 2
         f = c - body.a

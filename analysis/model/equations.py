@@ -90,7 +90,12 @@ def _solve_sym3(K: Sequence[Sequence[Any]], P: Sequence[Any]) -> tuple[Any, Any,
     )
 
 
-def turning_point_function(y: Sequence[Any]) -> Any:
+#: A state or parameter vector as form (i) takes it, component by component: a numpy array (components along the
+#: first axis, any common shape after it) or a sequence (of floats, or of heyoka expressions and parameters).
+_Components = Sequence[Any] | NDArray[Any]
+
+
+def turning_point_function(y: _Components) -> Any:
     """d(γ3)/dt = γ1 ω2 − γ2 ω1 = −sin θ · θ̇; zero exactly at the turning points of θ.
 
     Rising through zero: a maximum of θ; falling: a minimum.
@@ -98,7 +103,7 @@ def turning_point_function(y: Sequence[Any]) -> Any:
     return y[0] * y[4] - y[1] * y[3]
 
 
-def body_frame_rhs(y: Sequence[Any], p: Sequence[Any]) -> list[Any]:
+def body_frame_rhs(y: _Components, p: _Components) -> list[Any]:
     """Form (i): time derivative of the 11-component body-frame state.
 
     Parameters
@@ -193,24 +198,24 @@ class EulerState:
             object.__setattr__(self, "omega", tuple(float(w) for w in om))
 
     @classmethod
-    def from_omega(cls, theta: float, phi: float, psi: float, omega: Sequence[float],
+    def from_omega(cls, theta: float, phi: float, psi: float, omega: ArrayLike,
                    X: float = 0.0, Y: float = 0.0) -> "EulerState":
         """State from the body-frame angular velocity ω = (ω1, ω2, ω3); needs 0 < θ < π."""
-        omega = np.asarray(omega, float)
-        if omega.shape != (3,) or not np.all(np.isfinite(omega)) or np.any(np.abs(omega) > RATE_MAX):
+        om = np.asarray(omega, float)
+        if om.shape != (3,) or not np.all(np.isfinite(om)) or np.any(np.abs(om) > RATE_MAX):
             raise ValueError(f"omega must be three finite numbers (w1, w2, w3) with |w| <= {RATE_MAX:g}, "
-                             f"got omega={omega.tolist()!r}")
+                             f"got omega={om.tolist()!r}")
         if not 0.0 < float(theta) < math.pi:
             raise ValueError(
                 "theta0 must satisfy 0 < theta0 < pi when the body-frame omega is given "
                 f"(the Euler rates are singular at theta = 0, pi), got theta0={theta!r}"
             )
         with np.errstate(over="ignore"):
-            td, pd, sd = (float(r) for r in rates_from_omega(theta, psi, omega))
+            td, pd, sd = (float(r) for r in rates_from_omega(theta, psi, om))
         if not all(math.isfinite(r) and abs(r) <= RATE_MAX for r in (td, pd, sd)):
-            raise ValueError(f"theta0={theta!r} is too close to the vertical for omega={omega.tolist()!r}: the Euler "
+            raise ValueError(f"theta0={theta!r} is too close to the vertical for omega={om.tolist()!r}: the Euler "
                              f"rates (phi_dot ~ omega/sin(theta)^2) exceed {RATE_MAX:g}")
-        return cls(theta, phi, psi, td, pd, sd, X, Y, omega=tuple(omega))
+        return cls(theta, phi, psi, td, pd, sd, X, Y, omega=(float(om[0]), float(om[1]), float(om[2])))
 
     def to_body_state(self) -> NDArray[np.float64]:
         """The 11-component body-frame state of form (i) (with ``omega`` as given, if present)."""
@@ -262,7 +267,7 @@ def _sigma_matrix(theta: float, psi: float) -> NDArray[np.float64]:
 
 def euler_angle_rhs(x: ArrayLike, body: Body) -> NDArray[np.float64]:
     """Form (ii), the paper's Σ θ̇ = ω, K ω̇ = P_ω, state x = (θ, φ, ψ, ω1, ω2, ω3) (paper eq. thetaomega)."""
-    theta, _, psi, w1, w2, w3 = (float(v) for v in x)
+    theta, _, psi, w1, w2, w3 = (float(v) for v in np.asarray(x, float))
     a, I1, I2, I3, g = body.params
     s, c, sg, ch = math.sin(theta), math.cos(theta), math.sin(psi), math.cos(psi)
     f = c - a
@@ -284,7 +289,7 @@ def euler_angle_rhs(x: ArrayLike, body: Body) -> NDArray[np.float64]:
 # ---------------------------------------------------------------- form (iii): paper App. A.3
 def euler_lagrange_rhs(x: ArrayLike, body: Body) -> NDArray[np.float64]:
     """Form (iii), the paper's M θ̈ + P_θ = 0, state x = (θ, φ, ψ, θ̇, φ̇, ψ̇) (paper eq. ELtheta)."""
-    theta, _, psi, td, pd, sd = (float(v) for v in x)
+    theta, _, psi, td, pd, sd = (float(v) for v in np.asarray(x, float))
     a, I1, I2, I3, g = body.params
     s, c, sg, ch = math.sin(theta), math.cos(theta), math.sin(psi), math.cos(psi)
     h = 1.0 - a * c
@@ -313,7 +318,7 @@ def intermediate_frame_rhs(x: ArrayLike, body: Body) -> NDArray[np.float64]:
     Paper eqs. (omegasdot), (anglesdot) and (PPP), App. A.2; requires I1 = I2.
     """
     body.require_symmetric("the intermediate-frame system (paper App. A.2)")
-    theta, _, _, u1, u2, u3 = (float(v) for v in x)
+    theta, _, _, u1, u2, u3 = (float(v) for v in np.asarray(x, float))
     a, I1, _, I3, g = body.params
     s, c = math.sin(theta), math.cos(theta)
     f, h = c - a, 1.0 - a * c
@@ -352,7 +357,7 @@ def intermediate_state_from_euler_angle(x: ArrayLike) -> NDArray[np.float64]:
 
 def omega_dot_from_lagrange(x: ArrayLike, xdot: ArrayLike) -> NDArray[np.float64]:
     """Body-frame ω̇ = Σ θ̈ + Σ̇ θ̇ from a form-(iii) state x = (θ, φ, ψ, θ̇, φ̇, ψ̇) and its derivative."""
-    theta, _, psi, td, pd, sd = (float(v) for v in x)
+    theta, _, psi, td, pd, sd = (float(v) for v in np.asarray(x, float))
     s, c, sg, ch = math.sin(theta), math.cos(theta), math.sin(psi), math.cos(psi)
     sigma_dot = np.array([[-sg * sd, c * sg * td + s * ch * sd, 0.0],
                           [-ch * sd, c * ch * td - s * sg * sd, 0.0],
@@ -362,7 +367,7 @@ def omega_dot_from_lagrange(x: ArrayLike, xdot: ArrayLike) -> NDArray[np.float64
 
 def omega_dot_from_intermediate(x: ArrayLike, xdot: ArrayLike) -> NDArray[np.float64]:
     """Body-frame ω̇ from a form-(iv) state x = (θ, φ, ψ, ω1', ω2', ω3') and its derivative (ω = R(ψ) ω')."""
-    _, _, psi, u1, u2, _ = (float(v) for v in x)
+    _, _, psi, u1, u2, _ = (float(v) for v in np.asarray(x, float))
     d = np.asarray(xdot, float)
     sg, ch, sd = math.sin(psi), math.cos(psi), d[2]
     return np.array([ch * d[3] + sg * d[4] + sd * (-sg * u1 + ch * u2),

@@ -6,9 +6,12 @@ become pandas' missing values (nullable ``Float64``), never NaN.
 
 from __future__ import annotations
 
-from typing import Any, Mapping
+from typing import TYPE_CHECKING, Any, Mapping
 
 import numpy as np
+
+if TYPE_CHECKING:
+    import pandas
 
 __all__ = ["COLUMN_NAMES", "dataframe"]
 
@@ -28,7 +31,7 @@ def _column(values: Any) -> Any:
     return np.asarray(values).reshape(-1)
 
 
-def dataframe(columns: Mapping[str, Any]) -> "pandas.DataFrame":  # noqa: F821
+def dataframe(columns: Mapping[str, Any]) -> "pandas.DataFrame":
     """A :class:`pandas.DataFrame` of equal-length columns (scalars and 0-d arrays become one row), named as in
     ``COLUMN_NAMES`` (``QR`` is the column ``Q_R``).
 

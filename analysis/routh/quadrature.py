@@ -46,7 +46,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, fields
 from functools import lru_cache
-from typing import Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -59,6 +59,9 @@ from rocknroller.analysis.routh.reduction import (E_MAX, NO_MOTION, OK, STATUS_T
                                                   check_invariants, require_open_tilt, theta_from_xy, tilt_xy,
                                                   u_numerator, where_defined)
 from rocknroller.analysis.routh.turning_points import TurningPoints, solve_turning_points
+
+if TYPE_CHECKING:
+    import pandas
 
 __all__ = [
     "UNRESOLVED", "QUADRATURE_STATUS_TEXT", "Precession", "precession", "precession_from_turning_point", "check_rtol"
@@ -136,7 +139,7 @@ class Precession:
         """Explanatory text of each status code."""
         return np.vectorize(QUADRATURE_STATUS_TEXT.get, otypes=[str])(np.asarray(self.status))
 
-    def to_dataframe(self) -> "pandas.DataFrame":  # noqa: F821
+    def to_dataframe(self) -> "pandas.DataFrame":
         """One row per point, one column per field (masked entries are missing values; needs pandas)."""
         from rocknroller.analysis.model.frames import dataframe
 
@@ -250,13 +253,22 @@ def _half_integrals(xN, yN, xX, yX, E, QR, QJ, u0, upi, body: Body, n: int):
     return out[0], out[1], out[2], out[3], positive, out[4], out[5]
 
 
-def _blocked_half_integrals(args: tuple[NDArray, ...], body: Body, n: int) -> tuple[NDArray, ...]:
+#: The per-point arguments of :func:`_half_integrals`: x_N, y_N, x_X, y_X, E, Q_R, Q_J, u0, u_pi.
+_Points = tuple[NDArray, NDArray, NDArray, NDArray, NDArray, NDArray, NDArray, NDArray, NDArray]
+
+
+def _rows(args: _Points, i: int, j: int) -> _Points:
+    """Points i to j − 1 of each array."""
+    return cast(_Points, tuple(a[i:j] for a in args))  # nine arrays in, nine out (a generator's length is not typed)
+
+
+def _blocked_half_integrals(args: _Points, body: Body, n: int) -> tuple[NDArray, ...]:
     """:func:`_half_integrals` over blocks of at most ``_BLOCK_ELEMENTS // n`` points (bounded memory)."""
     size = max(1, _BLOCK_ELEMENTS // n)
     m = args[0].size
     if m <= size:
         return _half_integrals(*args, body, n)
-    parts = [_half_integrals(*(a[i:i + size] for a in args), body, n) for i in range(0, m, size)]
+    parts = [_half_integrals(*_rows(args, i, i + size), body, n) for i in range(0, m, size)]
     return tuple(np.concatenate([p[k] for p in parts]) for k in range(len(parts[0])))
 
 
@@ -432,7 +444,10 @@ def precession_from_turning_point(theta0: ArrayLike, QR: ArrayLike, QJ: ArrayLik
         upper = np.abs(np.log(tp.x_X / x0)) <= np.abs(np.log(tp.x_N / x0))
     upper = np.where(tp.status == OK, upper, True)
     ok = tp.status == OK
-    pin = lambda cond, a, b: np.where(ok & cond, a, b)  # noqa: E731
+
+    def pin(cond: NDArray[np.bool_], a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.where(ok & cond, a, b)
+
     tp = TurningPoints(
         E=tp.E, QR=tp.QR, QJ=tp.QJ,
         x_N=pin(~upper, x0, tp.x_N), y_N=pin(~upper, y0, tp.y_N),

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 from functools import lru_cache
 from types import SimpleNamespace
-from typing import Any
+from typing import Any, Protocol
 
 import mpmath
 import numpy as np
@@ -242,7 +242,17 @@ def reduced_P(s2: Any, K: Any, N: Any) -> Any:
     return 2 * s2 * K - N
 
 
-def D_coefficient(x: Any, body: Body) -> Any:
+class _Coefficients(Protocol):
+    """What the generic-arithmetic functions read of a body: a :class:`Body`, or the same parameters as other numbers
+    (quadrature_mp's mpmath copy of a body)."""
+
+    @property
+    def a(self) -> Any: ...
+    @property
+    def I1(self) -> Any: ...
+
+
+def D_coefficient(x: Any, body: _Coefficients) -> Any:
     """D = I1 + s² + f² = I1 + (1 − a)² + 2 a x, the coefficient of θ̇²/2 in the energy."""
     return body.I1 + (1 - body.a) ** 2 + 2 * body.a * x
 
@@ -286,7 +296,7 @@ def _P_and_terms(x, y, E, QR, QJ, body: Body):
     return reduced_P(1.0, 0.5 * two_s2K, N), np.abs(two_s2K) + np.abs(N)
 
 
-def _xy_from_w(w):
+def _xy_from_w(w: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """x = 2/(1 + e^{−w}), y = 2/(1 + e^{w}) for w = log(x/y)."""
     return 2.0 / (1.0 + np.exp(-w)), 2.0 / (1.0 + np.exp(w))
 

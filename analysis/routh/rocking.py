@@ -33,4 +33,8 @@ def measured_frequency(body: Body, psi0: float, amplitude: float = 1e-3) -> floa
     from rocknroller.numerics.integrate import simulate
 
     traj = simulate(body, EulerState(amplitude, 0.0, psi0), 80.0)
-    return 2.0 * math.pi / (2.0 * traj.maxima_spacing)
+    spacing = traj.maxima_spacing
+    if spacing is None:
+        raise ValueError(f"no rocking period measured: fewer than two theta-maxima in 80 time units "
+                         f"(amplitude={amplitude!r}, psi0={psi0!r})")
+    return 2.0 * math.pi / (2.0 * spacing)

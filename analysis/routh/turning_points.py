@@ -9,6 +9,7 @@ raising) or as angles (:func:`turning_points`, raising ``NoMotionError`` or ``St
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -17,6 +18,9 @@ from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.routh.reduction import (NO_MOTION, OK, STATUS_TEXT, STEADY, NoMotionError, SteadyRollingError,
                                                   _P_xy, _U_xy, _xy_from_w, check_invariants, theta_from_xy, u_ends,
                                                   where_defined)
+
+if TYPE_CHECKING:
+    import pandas
 
 __all__ = ["TurningPoints", "min_potential", "solve_turning_points", "turning_points"]
 
@@ -66,7 +70,7 @@ class TurningPoints:
     def theta_X(self) -> NDArray[np.float64]:
         return theta_from_xy(self.x_X, self.y_X)
 
-    def to_dataframe(self) -> "pandas.DataFrame":  # noqa: F821
+    def to_dataframe(self) -> "pandas.DataFrame":
         """One row per point: E, Q_R, Q_J, θ_N, θ_X, min U, its θ and the status (missing where a turning
         point does not exist; needs pandas)."""
         from rocknroller.analysis.model.frames import dataframe

@@ -53,15 +53,15 @@ def _cheb_nodes(n: int) -> NDArray[np.float64]:
 def _cheb_basis(x: ArrayLike, n: int) -> NDArray[np.float64]:
     """T_0..T_{n−1} at x clipped to [−1, 1], shape (n, ...): numpy's ``chebvander`` (the three-term recurrence
     T_k = 2x T_{k−1} − T_{k−2}, stable on [−1, 1]), with the basis index first, as the tables contract it."""
-    x = np.clip(np.asarray(x, float), -1.0, 1.0)
-    V = np.polynomial.chebyshev.chebvander(x, n - 1).reshape(x.shape + (n,))  # a 0-d x comes back as (1, n)
+    xc = np.clip(np.asarray(x, float), -1.0, 1.0)
+    V = np.polynomial.chebyshev.chebvander(xc, n - 1).reshape(xc.shape + (n,))  # a 0-d x comes back as (1, n)
     return np.moveaxis(V, -1, 0)
 
 
 def _cheb_fit_matrix(n: int) -> NDArray[np.float64]:
     """A with c = A f for the interpolant at the first-kind nodes: the discrete orthogonality of the T_k there, as
     numpy's ``chebinterpolate`` applies it ((2/n) Vᵀ with the first row halved, V = ``chebvander`` at the nodes)."""
-    A = (2.0 / n) * np.polynomial.chebyshev.chebvander(_cheb_nodes(n), n - 1).T
+    A = np.asarray((2.0 / n) * np.polynomial.chebyshev.chebvander(_cheb_nodes(n), n - 1).T, dtype=np.float64)
     A[0] *= 0.5
     return A
 

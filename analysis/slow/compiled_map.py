@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -21,6 +22,9 @@ from rocknroller.analysis.slow import _kernel
 from rocknroller.analysis.slow.chart import _HARM, _IDX, SecondOrderTable, SlowMapTable, _cheb_basis, stretch
 from rocknroller.analysis.slow.limits import MAX_MAXIMA, AveragingRangeError, check_t_end
 from rocknroller.numerics.cache import MemoryCache
+
+if TYPE_CHECKING:
+    import pandas
 
 __all__ = ["SlowSeries", "iterate_slow_map"]
 
@@ -48,7 +52,7 @@ class SlowSeries:
         """φ mod π at the maxima (the visible half-angle)."""
         return np.mod(self.phi, math.pi)
 
-    def to_dataframe(self) -> "pandas.DataFrame":  # noqa: F821
+    def to_dataframe(self) -> "pandas.DataFrame":
         """One row per maximum: t, Q_R, Q_J, Θ, φ (needs pandas)."""
         from rocknroller.analysis.model.frames import dataframe
 
@@ -113,9 +117,9 @@ class _FastTable:
         Bu = _cheb_basis(xi, c.shape[1])                                  # (nu, Nf)
         fine = np.concatenate([_at_points(np.array(kick), Bu),
                                _at_points(np.array(drift), Bu)], axis=1)  # (Nf, 18, nv)
-        kick = np.array(kick)
-        du = np.polynomial.chebyshev.chebder(kick, axis=1) / self.U                 # (15, nu − 1, nv)
-        dv = np.polynomial.chebyshev.chebder(kick, axis=2)                          # (15, nu, nv − 1), d/dτ
+        kick_coef = np.array(kick)
+        du = np.polynomial.chebyshev.chebder(kick_coef, axis=1) / self.U            # (15, nu − 1, nv)
+        dv = np.polynomial.chebyshev.chebder(kick_coef, axis=2)                     # (15, nu, nv − 1), d/dτ
         dv = np.concatenate([dv, np.zeros(dv.shape[:2] + (1,))], axis=2)
         fine_d = np.concatenate([_at_points(du, Bu[: du.shape[1]]),
                                  _at_points(dv, Bu)], axis=1)         # (Nf, 30, nv)
@@ -147,6 +151,7 @@ class _FastTable:
                                self.dx, u, v)
         if out is None:
             self.table.evaluate(u * self.e + v * self.n)  # raises AveragingRangeError with the explanation
+        assert out is not None, "the kernel left the table where the table's own evaluate did not"
         return out
 
     def values(self, u: float, v: float) -> list[float]:

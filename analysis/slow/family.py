@@ -41,8 +41,8 @@ def rest_energy(body: Body, theta0: float) -> float:
     return float(effective_potential(theta0, 0.0, 0.0, body.symmetric()))
 
 
-def directional_derivative(fun: Callable[[NDArray[np.float64]], float], y: ArrayLike, v: ArrayLike,
-                           *, angle: bool = False, h: float = 1e-4) -> float:
+def directional_derivative(fun: Callable[[NDArray[np.float64]], float | NDArray[np.float64]], y: ArrayLike,
+                           v: ArrayLike, *, angle: bool = False, h: float = 1e-4) -> float | NDArray[np.float64]:
     """D fun(y)[v] by the fourth-order central difference along v/|v| (step h), times |v|.
 
     Exact to round-off for quadratic functions (Q_J, dγ3/dt); truncation ~h⁴ otherwise.
@@ -56,7 +56,7 @@ def directional_derivative(fun: Callable[[NDArray[np.float64]], float], y: Array
     return float(out) if np.ndim(out) == 0 else out
 
 
-def _central_difference(fun: Callable[[float], Any], x: float, h: float,
+def _central_difference(fun: Callable[[Any], Any], x: float | NDArray[np.float64], h: float | NDArray[np.float64],
                         wrap: Callable[[Any], Any] = lambda d: d) -> Any:
     """f'(x) ≈ [8 (f(x + h) − f(x − h)) − (f(x + 2h) − f(x − 2h))]/(12 h), fourth order; ``wrap`` is applied
     to each difference (for angles).  Works on scalar or array values of f."""
@@ -75,8 +75,8 @@ def _central_second_difference(fun: Callable[[float], Any], x: float, h: float,
     return (16.0 * d1 - d2) / (12.0 * h * h)
 
 
-def _second_directional(fun: Callable[[NDArray[np.float64]], float], y: NDArray[np.float64], v: NDArray[np.float64],
-                        *, angle: bool = False, h: float = 1e-3) -> float:
+def _second_directional(fun: Callable[[NDArray[np.float64]], float | NDArray[np.float64]], y: NDArray[np.float64],
+                        v: NDArray[np.float64], *, angle: bool = False, h: float = 1e-3) -> float:
     """D²fun(y)[v, v] by :func:`_central_second_difference` along v/|v| (step h), times |v|²; exact to round-off for
     quadratic functions."""
     norm = float(np.linalg.norm(v))

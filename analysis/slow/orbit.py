@@ -34,7 +34,7 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any, Callable, Mapping
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -143,7 +143,8 @@ class FirstOrderStep:
     Attributes
     ----------
     QR, QJ, psi : float
-        The starting point (Q_R, Q_J, ψ_n) at the maximum θ_X.
+        The starting point (Q_R, Q_J, ψ_n) at the maximum θ_X.  (Each field is an array for a batch of orbits,
+        :func:`first_order_steps`.)
     theta_X : float
         The symmetric body's maximum for (E, Q_R, Q_J).
     T : float
@@ -155,14 +156,14 @@ class FirstOrderStep:
         next maximum (keys of ``FIRST_ORDER_NAMES``).
     """
 
-    QR: float
-    QJ: float
-    psi: float
-    theta_X: float
-    T: float
-    dpsi: float
-    dphi: float
-    d: dict[str, float]
+    QR: float | NDArray[np.float64]
+    QJ: float | NDArray[np.float64]
+    psi: float | NDArray[np.float64]
+    theta_X: float | NDArray[np.float64]
+    T: float | NDArray[np.float64]
+    dpsi: float | NDArray[np.float64]
+    dphi: float | NDArray[np.float64]
+    d: Mapping[str, float | NDArray[np.float64]]
 
     def at(self, *index: int) -> "FirstOrderStep":
         """The step of one orbit of a batch (fields of floats) at ``index`` of its arrays."""
@@ -262,7 +263,7 @@ def _to_next_maxima(order: int, sym: Body, x0: NDArray[np.float64],
             passed_min |= (h_prev > 0.0) & (hv <= 0.0)
             for k in np.flatnonzero(passed_min & (h_prev < 0.0) & (hv >= 0.0) & ~done):
                 times = np.array(tb.time)
-                t = _maximum_in_step(tb, times, k, float(t_start[k]), p0)
+                t = _maximum_in_step(tb, times, int(k), float(t_start[k]), p0)
                 times[k] = t
                 tb.update_d_output(times)
                 if first + k < n:
@@ -292,7 +293,7 @@ def _maximum_in_step(tb: Any, times: NDArray[np.float64], k: int, t_start: float
             lo = t
         else:
             hi = t
-        slope = directional_derivative(turning_point_function, Y, np.array(body_frame_rhs(Y, p0)))
+        slope = float(directional_derivative(turning_point_function, Y, np.array(body_frame_rhs(Y, p0))))
         new = t - h / slope if slope > 0.0 else math.nan
         if not lo <= new <= hi:
             new = 0.5 * (lo + hi)
@@ -337,7 +338,7 @@ def second_order_step(body: Body, E: float, QR: float, QJ: float, psi: float, *,
     AF = _central_difference(lambda s: rhs(Y + s * F), 0.0, 1e-4)
 
     def grad_h(v: NDArray[np.float64]) -> float:  # ∇h·v; h = dγ3/dt is quadratic: the differences are exact
-        return directional_derivative(turning_point_function, Y, v)
+        return float(directional_derivative(turning_point_function, Y, v))  # Y: one state, a float
 
     t1p = -grad_h(Z) / grad_h(F)
     G1 = Z + F * t1p
@@ -345,8 +346,8 @@ def second_order_step(body: Body, E: float, QR: float, QJ: float, psi: float, *,
     t1pp = -(grad_h(partial) + _second_directional(turning_point_function, Y, G1)) / grad_h(F)
     G2 = partial + F * t1pp
 
-    def second(fun: Callable[[NDArray[np.float64]], float], angle: bool = False) -> float:
-        return (directional_derivative(fun, Y, G2, angle=angle)
+    def second(fun: Callable[[NDArray[np.float64]], float | NDArray[np.float64]], angle: bool = False) -> float:
+        return (float(directional_derivative(fun, Y, G2, angle=angle))
                 + _second_directional(fun, Y, G1, angle=angle))
 
     return {"QR": second(_QR_of(sym)), "QJ": second(_QJ_of(sym)), "Theta": 2.0 * second(_psi_of, angle=True),
@@ -404,12 +405,17 @@ def harmonic_steps(body: Body, E: float, QR: ArrayLike, QJ: ArrayLike, theta_X: 
     (len(FIRST_ORDER_NAMES), N, 3); the steps' fields are arrays (N, 3).  θ_X as in :func:`first_order_steps`."""
     given = [v for v in (QR, QJ, theta_X) if v is not None]
     cols = [np.ravel(v)[:, None] for v in np.broadcast_arrays(*(np.asarray(v, float) for v in given))]
-    QR, QJ, theta_X = cols if theta_X is not None else cols + [None]
+    QR_col, QJ_col = cols[0], cols[1]
+    theta_col = cols[2] if theta_X is not None else None
     psi = np.asarray(HARMONIC_PSI)[None, :]
-    st = first_order_steps(body, E, QR, QJ, psi, theta_X, lanes=lanes)
-    shape = (QR.shape[0], len(HARMONIC_PSI))
-    st = FirstOrderStep(**{f: (np.reshape(getattr(st, f), shape) if f != "d" else
-                               {k: np.reshape(v, shape) for k, v in st.d.items()}) for f in st.__dataclass_fields__})
+    st = first_order_steps(body, E, QR_col, QJ_col, psi, theta_col, lanes=lanes)
+    shape = (QR_col.shape[0], len(HARMONIC_PSI))
+
+    def grid(v: float | NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.reshape(v, shape)
+
+    st = FirstOrderStep(QR=grid(st.QR), QJ=grid(st.QJ), psi=grid(st.psi), theta_X=grid(st.theta_X), T=grid(st.T),
+                        dpsi=grid(st.dpsi), dphi=grid(st.dphi), d={k: grid(v) for k, v in st.d.items()})
     return st, np.stack([_harmonics(st.d[name]) for name in FIRST_ORDER_NAMES])
 
 
@@ -429,7 +435,7 @@ def step_coefficients(body: Body, E: float, QR: float, QJ: float) -> StepCoeffic
     T, W, dphi, theta_X = (float(x) for x in symmetric_data(sym, E, QR, QJ))
     st, resp = harmonic_steps(sym, E, QR, QJ, theta_X)
     steps = tuple(st.at(0, k) for k in range(len(HARMONIC_PSI)))
-    harm = {name: tuple(float(c) for c in resp[j, 0]) for j, name in enumerate(FIRST_ORDER_NAMES)}
+    harm = {name: (float(c0), float(c1), float(s1)) for name, (c0, c1, s1) in zip(FIRST_ORDER_NAMES, resp[:, 0])}
     return StepCoefficients(QR=float(QR), QJ=float(QJ), T=T, W=W, dphi=dphi, harmonics=harm, steps=steps)
 
 

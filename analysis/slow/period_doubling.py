@@ -132,7 +132,7 @@ class PeriodDoubling:
     eps_exact : the root of det(J(ε) + 1) = 0 of the exact one-step map.
     K_exact : ε_exact κ (4 to first order).
     correction : c in K_pd = 4 + c ε_pd: (K_exact − 4)/ε_exact.
-    multipliers : the eigenvalues of J at ε_exact (one 1, a pair at −1).
+    multipliers : the eigenvalues of J at ε_exact (one 1, a pair at −1): float, or complex when a pair is.
     """
 
     theta0: float
@@ -142,7 +142,7 @@ class PeriodDoubling:
     eps_exact: float
     K_exact: float
     correction: float
-    multipliers: NDArray[np.complex128]
+    multipliers: NDArray[np.inexact[Any]]  # float64, or complex128 with a complex pair (numpy.linalg.eigvals)
 
 
 def period_doubling(body: Body, theta0: float, *, rtol: float = 1e-10) -> PeriodDoubling:

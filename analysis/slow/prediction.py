@@ -83,6 +83,8 @@ from rocknroller.analysis.slow.table import (REGION_TABLE_ACCURACY, TableNotCach
                                              load_or_build_table)
 
 if TYPE_CHECKING:
+    import pandas
+
     from rocknroller.analysis.slow.chart import SecondOrderTable
 
 
@@ -188,7 +190,7 @@ class SlowPrediction:
         """Total number of rocks (maxima) in each critical region within t_end."""
         return rocks_per_region(self.region_runs)
 
-    def to_dataframe(self) -> "pandas.DataFrame":  # noqa: F821
+    def to_dataframe(self) -> "pandas.DataFrame":
         """The series at the maxima (:meth:`SlowSeries.to_dataframe`) with each maximum's critical region."""
         frame = self.series.to_dataframe()
         if self.regions is not None:
@@ -296,7 +298,7 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
         from rocknroller.analysis.criticality.lines import ON_BOTH
 
         T0 = _fast(table).values(0.0, 0.0)[_N_KICK]
-        t = T0 * np.arange(1, int(check_t_end(t_end, T0) // T0) + 1)
+        t = T0 * np.arange(1, int(check_t_end(t_end, T0) // T0) + 1, dtype=float)
         zero = np.zeros_like(t)
         return SlowPrediction(
             eps=eps, theta0=theta0, psi0=psi0, t_end=float(t_end), K=0.0, slow_period=None, QR_extent=0.0,

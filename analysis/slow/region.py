@@ -186,10 +186,10 @@ def region_frame(body: Body, E: float, *, axis: str = "auto", nu: int | None = N
     E = check_below_top(body, E)
     axis, nu, nv = region_options(body, E, axis, nu, nv)
     check_grid(nu, nv)
-    for name, val, (lo, hi) in (("delta_min", delta_min, DELTA_MIN_RANGE), ("tip_fraction", tip_fraction,
-                                                                           TIP_FRACTION_RANGE)):
-        if not lo <= val <= hi:
-            raise ValueError(f"{name} must lie in [{lo:g}, {hi:g}], got {name}={val!r}")
+    for name, val, (low, high) in (("delta_min", delta_min, DELTA_MIN_RANGE), ("tip_fraction", tip_fraction,
+                                                                               TIP_FRACTION_RANGE)):
+        if not low <= val <= high:
+            raise ValueError(f"{name} must lie in [{low:g}, {high:g}], got {name}={val!r}")
     sym = body.symmetric()
     e = chart_direction(sym, axis)
     n = np.array([-e[1], e[0]])

@@ -91,9 +91,10 @@ def _node_block(sym: Body, E: float, nodes: list[tuple[float, float, float]]) ->
     QR, QJ, thX = np.array(nodes, float).T
     steps, resp = harmonic_steps(sym, E, QR, QJ, thX)
     out = np.empty((len(nodes), 3 + 3 * len(FIRST_ORDER_NAMES)))
-    out[:, 0] = steps.T.mean(axis=1)
-    out[:, 1] = wrap_angle(2.0 * steps.dpsi[:, 0])
-    out[:, 2] = steps.dphi[:, 0]
+    T, dpsi, dphi = (np.asarray(v) for v in (steps.T, steps.dpsi, steps.dphi))  # a batch's fields: arrays (N, 3)
+    out[:, 0] = T.mean(axis=1)
+    out[:, 1] = wrap_angle(2.0 * dpsi[:, 0])
+    out[:, 2] = dphi[:, 0]
     out[:, 3:] = np.moveaxis(resp, 0, 1).reshape(len(nodes), -1)
     return out
 
@@ -250,7 +251,7 @@ def fit_table(frame: SlowMapTable, T: NDArray, W: NDArray, dphi: NDArray, resp: 
         coef[k] = fit(parity(np.asarray(data[name], float), kind))
     table = dataclasses.replace(frame, coef=coef)
     gu, gv = (float(g) for g in table.gradient("W", (0.0, 0.0)))
-    return dataclasses.replace(table, kappa=gu * frame.C0 @ e + gv * frame.C0 @ nvec)
+    return dataclasses.replace(table, kappa=float(gu * frame.C0 @ e + gv * frame.C0 @ nvec))
 
 
 def fit_and_check(frame: SlowMapTable, T: NDArray, W: NDArray, dphi: NDArray, resp: NDArray,

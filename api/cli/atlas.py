@@ -161,7 +161,7 @@ def run(args: argparse.Namespace) -> int:
         check = confirm_atlas(atlas, body, every=confirm_every or None, points=named, scheduler=scheduler,
                               workers=workers, threads=threads, progress=progress, budget=budget)
     where = scheduler or (f"a local dask cluster of {workers} workers" if workers else "this process")
-    starts = ("releases from rest" if args.plane == "release" else
+    starts = ("releases from rest" if atlas.at is None else  # at: (theta0, psi0) of a rates plane, None for release
               f"theta0={atlas.at[0] / np.pi:.4g}pi, psi0={atlas.at[1] / np.pi:.4g}pi, theta_dot0=0")
     if method == "map":
         how = (f"averaged map; {0 if check is None else len(check.index)} points confirmed by the direct ODE "
@@ -184,7 +184,7 @@ def run(args: argparse.Namespace) -> int:
                             ("err_", None if check is None else check.rel_error)):
             for name in ATLAS_OBSERVABLES:
                 col: list = [None] * R.size
-                if src is not None:
+                if check is not None and src is not None:  # src: a table of check
                     for (i, j), v in zip(check.index, src[name].tolist(fill_value=None)):
                         col[i * n_c + j] = v
                 cols[prefix + name] = col

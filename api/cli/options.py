@@ -87,7 +87,7 @@ def accept_negative_values(parser: argparse.ArgumentParser) -> None:
     if not hasattr(parser, "_negative_number_matcher"):  # a future argparse: fail loudly, not silently
         raise RuntimeError("argparse.ArgumentParser has no _negative_number_matcher: negative values such as "
                            "--phi0 -0.5pi cannot be accepted; use the form --phi0=-0.5pi")
-    parser._negative_number_matcher = _NEGATIVE_VALUE  # type: ignore[attr-defined]
+    parser._negative_number_matcher = _NEGATIVE_VALUE
 
 
 def add_body_options(parser: argparse.ArgumentParser, eps_default: float = 0.0) -> None:
@@ -161,7 +161,8 @@ def rates_given(args: argparse.Namespace) -> bool:
 
 def _angles(args: argparse.Namespace) -> tuple[float, float, float]:
     """(theta0, phi0, psi0) of the options of :func:`add_initial_state_options`; errors name the option."""
-    return tuple(parse_angle(getattr(args, name), f"--{name}") for name in ("theta0", "phi0", "psi0"))
+    theta, phi, psi = (parse_angle(getattr(args, name), f"--{name}") for name in ("theta0", "phi0", "psi0"))
+    return theta, phi, psi
 
 
 def initial_state_from_args(args: argparse.Namespace) -> EulerState:
@@ -171,8 +172,8 @@ def initial_state_from_args(args: argparse.Namespace) -> EulerState:
         if any(v is not None for v in (args.theta_dot0, args.phi_dot0, args.psi_dot0)):
             raise ValueError("give either --omega or the Euler rates (--theta-dot0 ...), not both")
         return EulerState.from_omega(theta, phi, psi, args.omega)
-    rates = (0.0 if v is None else v for v in (args.theta_dot0, args.phi_dot0, args.psi_dot0))
-    return EulerState(theta, phi, psi, *rates)
+    theta_dot, phi_dot, psi_dot = (0.0 if v is None else v for v in (args.theta_dot0, args.phi_dot0, args.psi_dot0))
+    return EulerState(theta, phi, psi, theta_dot, phi_dot, psi_dot)
 
 
 def start_with_default_rates(args: argparse.Namespace, initial: EulerState) -> EulerState:

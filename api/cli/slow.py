@@ -213,7 +213,7 @@ def run(args: argparse.Namespace) -> int:
     except (RuntimeError, ArithmeticError) as exc:
         raise ValueError(f"the closed-form constants {unresolved}: {exc}") from None
     av.check_t_end(args.t_end, consts.T0, "--t-end")
-    messages: list[str] = []
+    messages = []
     K = body.epsilon * consts.kappa
     if abs(K) > av.K_PERIOD_DOUBLING:
         messages.append(
@@ -241,7 +241,7 @@ def run(args: argparse.Namespace) -> int:
         pend = pendulum_prediction(body, theta0, psi0, args.t_end, constants=consts)
     except ValueError as exc:  # psi0 on the separatrix
         messages.append(f"closed form unavailable: {exc}")
-    summary: dict[str, Any] = {q: getattr(pred, q) for q in _QUANTITIES}
+    summary = {q: getattr(pred, q) for q in _QUANTITIES}
     summary.update({"K": K, "order": pred.order, "line_slope": pred.line_slope, "pure_rocking": pred.pure_rocking,
                     "rocks_per_region": pred.rocks_per_region,
                     "region_runs": [list(r) for r in pred.region_runs or []],

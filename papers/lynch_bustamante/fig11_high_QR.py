@@ -81,10 +81,11 @@ def run(out: Path) -> Reproduction:
     paths = save_figure(fig, out, "fig11_high_QR")
     paths.append(write_csv(out / "fig11_visible_precession.csv", {"t_j": t_j, "delta_phi_mod_2pi": dphi},
                            [f"paper fig. 11; body: {traj.body.describe()}", f"initial: {r.initial}"]))
-    numbers = {"offset fraction of |Q_J,pi crit|": fraction,
-               "Q_J(0) - Q_J,pi crit": float(traj.QJ[0] - QJ_crit_pi(traj.QR[0], traj.body)),
-               "regions at the maxima": " ".join(regions),
-               "min visible delta_phi": float(dphi.min()), "max visible delta_phi": float(dphi.max())}
+    numbers: dict[str, float | str] = {
+        "offset fraction of |Q_J,pi crit|": fraction,
+        "Q_J(0) - Q_J,pi crit": float(traj.QJ[0] - QJ_crit_pi(traj.QR[0], traj.body)),
+        "regions at the maxima": " ".join(regions),
+        "min visible delta_phi": float(dphi.min()), "max visible delta_phi": float(dphi.max())}
     caption = (f"Q_R = {QR0:g}, started {100 * fraction:.2f} % of |Q_J,π^crit| above the line (zero mean visible "
                f"precession): the orbit stays in Region(s) {', '.join(regions)} while Δφ(t_j) mod 2π ranges over "
                f"[{dphi.min():.3f}, {dphi.max():.3f}] rad, both signs.")

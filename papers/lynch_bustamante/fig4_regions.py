@@ -21,7 +21,8 @@ def run(out: Path) -> Reproduction:
     paths.append(write_csv(out / "fig4_critical_lines.csv", {
         "Q_R": data.QR_line, "Q_J_crit_0": data.QJ0_line, "Q_J_crit_pi": data.QJpi_line},
         ["paper fig. 4: critical Jellett lines (paper eqs. QJcrit_0, QJcrit_pi)", f"body: {body.describe()}"]))
-    numbers = {f"representative {k}": f"Q_R={v[0]:.4g}, Q_J={v[1]:.4g}" for k, v in data.representatives.items()}
+    numbers: dict[str, float | str] = {f"representative {k}": f"Q_R={v[0]:.4g}, Q_J={v[1]:.4g}"
+                                       for k, v in data.representatives.items()}
     numbers["slope of Q_J,0^crit"] = float(data.QJ0_line[-1] / data.QR_line[-1])
     numbers["slope of Q_J,pi^crit"] = float(data.QJpi_line[-1] / data.QR_line[-1])
     caption = ("The critical lines Q_J,0^crit (full-angle reversal) and Q_J,π^crit (visible-angle reversal) divide the "

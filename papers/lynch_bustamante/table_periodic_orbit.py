@@ -26,6 +26,8 @@ def rocks_per_slow_period(psi0: float, body: Body) -> tuple[float, float, float]
     """(P/T_θ, P, T_θ) from a direct run of T_END time units."""
     traj = simulate(body, EulerState(0.95 * math.pi, 0.0, psi0), T_END)
     P, T_theta = traj.slow_period, traj.maxima_spacing
+    if P is None or T_theta is None:
+        raise ValueError(f"psi0={psi0!r}: no slow period (or fewer than two theta-maxima) in {T_END:g} time units")
     return P / T_theta, P, T_theta
 
 

@@ -47,3 +47,21 @@ def test_must_exceed_fails_below_its_bound():
     assert not verification.Check("g", "n", "r", float("nan"), 0.01, must_exceed=True).passed
     assert verification.Check("g", "n", "r", 0.02, 0.01, must_exceed=True).passed
     assert verification.Check("g", "n", "r", 0.001, 0.01).bound == "<= 1.0e-02"
+
+
+def test_an_unmeasured_quantity_fails_its_averaging_row(monkeypatch):
+    """A relative error of None (a quantity the map or the ODE did not measure, e.g. no slow period within the run)
+    made check_averaging raise TypeError (abs(None)) and `rocknroller verify` stop; it is now a failed row."""
+    import types
+
+    from rocknroller.analysis.slow import pendulum, prediction
+    from rocknroller.papers import averaging_check
+
+    errors = {"slow_period": None, "QR_extent": 0.0, "Phi": 0.0}
+    monkeypatch.setattr(prediction, "load_or_build_table", lambda body, theta0: None)
+    monkeypatch.setattr(pendulum, "pendulum_constants", lambda body, theta0: None)
+    monkeypatch.setattr(averaging_check, "compare_with_ode",
+                        lambda *args, **kwargs: types.SimpleNamespace(map_errors=errors, pendulum_errors=errors))
+    rows = verification.check_averaging()
+    failed = [r.name for r in rows if not r.passed]
+    assert len(rows) == 7 and len(failed) == 3 and all("slow" in name for name in failed)
