@@ -36,8 +36,8 @@ about one step per radian of Λ t (0.8 measured on the paper's runs).
 * ``MAX_RADIANS`` of Λ·t_end for any run (``samples=False`` streams the turning points, so only time
   grows: about 3 s per 10⁶ radians here), and with ``samples=False`` at most ``MAX_GRID_POINTS`` points
   t_end/dt of the grid on which the angles are unwrapped (≈ 0.3 µs each; the grid is not kept, but sampled in
-  pieces of ``GRID_CHUNK_POINTS``: with ``samples=False`` a run holds one stretch's dense output, ≈ 40 MB, one piece
-  of the grid, ≤ ``GRID_CHUNK_POINTS`` × ``GRID_BYTES_PER_POINT`` = 64 MB, and its turning points, whatever dt).
+  pieces of ``GRID_CHUNK_POINTS``: with ``samples=False`` a run holds one stretch's dense output, ≈ 9 MB, one piece
+  of the grid, ≤ ``GRID_CHUNK_POINTS`` × ``GRID_BYTES_PER_POINT`` = 16 MB, and its turning points, whatever dt).
 
 A start without motion is refused: at rest in an equilibrium, or with Λ = 0 (no gravity, a = 0, and rates so
 small that the kinetic energy underflows to 0).
@@ -104,11 +104,15 @@ G_RANGE = (1e-12, 1e12)
 MAX_ENERGY_OVER_G = 1e12
 #: Default output spacing in radians of Λ (≈ 0.05 time units for the paper's runs).
 DT_RADIANS = 0.15
-#: Radians of Λ integrated per stretch when only the turning points are kept (≈ 2·10⁴ steps, ≈ 40 MB).
-CHUNK_RADIANS = 2.0e4
+#: Radians of Λ integrated per stretch when only the turning points are kept (≈ 5·10³ steps, ≈ 9 MB of dense output).
+#: Below glibc's largest mmap threshold (32 MB) a stretch's buffers, freed, are reused by the next: at 2·10⁴ radians
+#: (≈ 36 MB) each stretch mapped fresh pages, 10 % of a long run's CPU in page faults (issue 25, item 18;
+#: benchmarks/bench_long_run.py counts them).
+CHUNK_RADIANS = 5.0e3
 #: Most points of the unwrapping grid sampled at once with ``samples=False`` (pieces of a stretch's grid): at most
-#: ``GRID_CHUNK_POINTS`` × ``GRID_BYTES_PER_POINT`` = 64 MB of arrays, whatever dt.
-GRID_CHUNK_POINTS = 2**16
+#: ``GRID_CHUNK_POINTS`` × ``GRID_BYTES_PER_POINT`` = 16 MB of arrays, whatever dt (its largest array, the states,
+#: 1.4 MB: reused from the heap, as the stretch's).
+GRID_CHUNK_POINTS = 2**14
 #: Bound on the bytes of numpy arrays alive per point of a piece of the grid: the states (88 bytes), their angles,
 #: the unwrapping steps and the temporaries of E, measured at a peak of 0.47 kB per point (tracemalloc); × 2 for
 #: the points the unwrapping inserts near passages through the pole.
@@ -297,18 +301,19 @@ class _HeyokaRun:
 
         def step_callback(ta_: Any) -> bool:
             self.bar.update(float(ta_.time) - self.bar.n)
-            self.n_steps += 1
-            return self.max_steps is None or self.n_steps <= self.max_steps
+            return True
 
-        # without a bar to move or a step cap, no callback: heyoka then keeps the GIL released for the whole
-        # stretch (threads run in parallel) and saves a Python call per step; the steps themselves are the same
-        watched = not self.bar.disable or self.max_steps is not None
+        # the step cap is heyoka's own (max_steps: one past the cap, to tell reaching it from needing more); a Python
+        # call per step only to move a bar that is shown (it cost 7 % of a run that shows none, issue 25, item 18):
+        # without one, heyoka keeps the GIL released for the whole stretch (threads run in parallel).  The steps
+        # themselves are the same either way.
+        cap = 0 if self.max_steps is None else self.max_steps - self.n_steps + 1
         self.log.events.clear()
-        result = ta.propagate_until(fp(t_b), c_output=True, callback=step_callback if watched else None)
+        result = ta.propagate_until(fp(t_b), c_output=True, max_steps=cap,
+                                    callback=None if self.bar.disable else step_callback)
         outcome, c_out = result[0], result[4]
-        if not watched:
-            self.n_steps += int(result[3])
-        if outcome.name == "cb_stop":
+        self.n_steps += int(result[3])
+        if outcome.name == "step_limit" or (self.max_steps is not None and self.n_steps > self.max_steps):
             raise ValueError(f"t_end: the run needs more than MAX_DENSE_STEPS = {MAX_DENSE_STEPS} integration steps "
                              f"to keep its samples (stopped at t = {float(ta.time):.6g} after "
                              f"{self.n_steps - steps_before} steps); use samples=False (turning points only) or a "

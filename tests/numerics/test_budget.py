@@ -62,7 +62,11 @@ def test_an_ensemble_of_long_runs_is_refused_before_any_work():
 def test_an_atlas_of_many_uncached_tables_is_refused(monkeypatch, tmp_path):
     """``atlas --theta0 0.8pi:0.95pi:3000`` built one table per θ0 for hours; refused up front, counting only the
     tables not cached (an empty cache here)."""
+    from rocknroller.analysis.slow import table as slow_table
+    from rocknroller.numerics.cache import MemoryCache
+
     monkeypatch.setenv("ROCKNROLLER_CACHE", str(tmp_path))
+    monkeypatch.setattr(slow_table, "_TABLES", MemoryCache(slow_table.TABLE_CACHE_BYTES))  # none in memory either
     theta0 = [0.8 * math.pi + k * 1e-5 for k in range(3000)]
     with pytest.raises(WorkBudgetError, match=r"3000 release and 0 region tables to build"):
         atlas_from_rest(BODY, theta0, [0.5], progress=False)

@@ -287,3 +287,42 @@ def test_turning_points_only_samples_a_fine_grid_in_bounded_pieces(fig5_initial,
         assert np.array_equal(getattr(fine.maxima, name), getattr(whole.maxima, name)), name
         assert np.array_equal(getattr(fine.minima, name), getattr(whole.minima, name)), name
     assert fine.energy_rel_error == whole.energy_rel_error
+
+
+class _Recording:
+    """A heyoka integrator that records the keyword arguments of each propagate_until."""
+
+    def __init__(self, ta, calls):
+        object.__setattr__(self, "_ta", ta)
+        object.__setattr__(self, "_calls", calls)
+
+    def __getattr__(self, name):
+        return getattr(self._ta, name)
+
+    def __setattr__(self, name, value):
+        setattr(self._ta, name, value)
+
+    def propagate_until(self, t, **kwargs):
+        self._calls.append(kwargs)
+        return self._ta.propagate_until(t, **kwargs)
+
+
+@pytest.mark.parametrize("samples", [True, False])
+def test_no_python_call_per_step_without_a_bar(fig5_initial, monkeypatch, samples):
+    """Issue 25, item 18: a run that shows no bar made a Python call per step (7 % of its time) to count steps
+    against the dense-output cap; the cap is heyoka's own ``max_steps`` now, and a callback only moves a shown
+    bar.  The cap still stops a run at exactly one step past it."""
+    real, calls = integ.heyoka_integrator, []
+    monkeypatch.setattr(integ, "heyoka_integrator", lambda *a, **k: _Recording(real(*a, **k), calls))
+    run = simulate(BODY, fig5_initial, 30.0, samples=samples, progress=False)
+    assert calls and all(c.get("callback") is None for c in calls)
+    assert [c["max_steps"] for c in calls][:1] == ([integ.MAX_DENSE_STEPS + 1] if samples else [0])
+    steps = run.n_steps
+    calls.clear()
+    simulate(BODY, fig5_initial, 30.0, progress=True)  # a bar shown: moved by a callback
+    assert all(callable(c.get("callback")) for c in calls)
+    monkeypatch.setattr(integ, "MAX_DENSE_STEPS", steps)  # exactly enough steps: runs
+    assert simulate(BODY, fig5_initial, 30.0).n_steps == steps
+    monkeypatch.setattr(integ, "MAX_DENSE_STEPS", steps - 1)  # one too few: refused
+    with pytest.raises(ValueError, match="MAX_DENSE_STEPS"):
+        simulate(BODY, fig5_initial, 30.0)
