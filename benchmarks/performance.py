@@ -27,6 +27,8 @@ BENCHMARKS = [
     ("bench_ensemble.py", [], "ensembles of direct runs: in process, in threads, on a dask cluster"),
     ("bench_averaging.py", [], "the averaged map and the closed form against the direct ODE"),
     ("bench_tables.py", [], "the averaging tables' builds; a first prediction from a start with velocity"),
+    ("bench_atlas.py", ["20"], "a release atlas by the map from cached tables, and its ODE confirmation"),
+    ("bench_atlas.py", ["rates"], "the plane of rates by the direct ODE: in process, in threads, on a dask cluster"),
     ("bench_budget.py", [], "the rates behind the work budgets"),
     ("bench_long_run.py", [], "a long run of 10⁵ rocks, turning points only: time, memory, page faults"),
 ]

@@ -277,7 +277,7 @@ def check_rtol(rtol: float, name: str = "rtol") -> float:
     lo, hi = RTOL_RANGE
     try:
         value = float(rtol)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # OverflowError: an int beyond the floats, like 10**400
         value = math.nan
     if not lo <= value <= hi:  # also NaN
         raise ValueError(f"{name} must lie in [{lo:g}, {hi:g}] (below {lo:g} the change between the Gauss-Legendre "

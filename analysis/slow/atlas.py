@@ -10,9 +10,9 @@ of its starts has its own energy, and the map's tables are per energy).
 
 For each release angle θ0 the first-order map runs on one table
 (:func:`rocknroller.analysis.slow.table.load_or_build_table` in ``THETA0_RANGE``, the region tables of the release's
-energy below it, :mod:`rocknroller.analysis.slow.region`), so a row of ψ0 costs one table and ~1 ms a point once the
-tables are cached (order 2 would add a second-order table per θ0, a minute or more each: the atlas asks for order 1
-whatever ``predict_slow_motion``'s default). Each point gives the slow period of Θ = 2ψ, the azimuth span Φ, the Q_R
+energy below it, :mod:`rocknroller.analysis.slow.region`), so a row of ψ0 costs one table and a small fraction of a direct run a
+point once the tables are cached (order 2 would add a second-order table per θ0, each several times dearer: the atlas
+asks for order 1 whatever ``predict_slow_motion``'s default; the costs: docs/performance.md). Each point gives the slow period of Θ = 2ψ, the azimuth span Φ, the Q_R
 and Q_J extents and the numbers of full-angle (Q_J,0^crit) and visible-angle (Q_J,π^crit) reversals per 1000 time
 units: crossings of the critical lines by the maxima's (Q_R, Q_J), as
 :func:`rocknroller.analysis.slow.prediction.critical_regions` counts them for the map and the ODE alike.
@@ -272,7 +272,7 @@ def atlas_of_rates(body: Body, theta0: float, psi0: float, phi_dot0: ArrayLike, 
     the paper's reversal starts (figs. 7–11: θ0 = 0.95π, ψ0 = π/4), by the direct ODE at every point.
 
     Each start of the plane has its own energy, and the averaged map's tables are per (body, energy): the map
-    would need a table for every point (≈ 15 s each), and at the paper's θ0 = 0.95π its tables do not yet reach
+    would need a table for every point (each far dearer than a direct run: docs/performance.md), and at the paper's θ0 = 0.95π its tables do not yet reach
     the accuracy an atlas needs near Q_J,π^crit (docs/averaging.md), so ``method`` accepts "ode" only, and says so.
 
     Parameters

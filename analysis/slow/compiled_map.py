@@ -26,7 +26,7 @@ from rocknroller.numerics.cache import MemoryCache
 if TYPE_CHECKING:
     import pandas
 
-__all__ = ["SlowSeries", "iterate_slow_map"]
+__all__ = ["SlowSeries", "iterate_slow_map", "centre_period"]
 
 
 @dataclass(frozen=True)
@@ -194,6 +194,23 @@ class _FastTable:
         return np.concatenate(chunks), (counts[0], counts[1])
 
 
+def centre_period(table: SlowMapTable) -> float:
+    """T_θ at the centre of the table's chart (Q = 0: pure rocking), from the table itself.
+
+    Raises
+    ------
+    ValueError
+        If it is not a positive finite time: the table is damaged or not one of this code's (a tampered cache file
+        whose coefficients are finite but absurd blamed ``t_end`` for it).
+    """
+    T0 = float(_fast(table).values(0.0, 0.0)[_N_KICK])
+    if not (math.isfinite(T0) and 0.0 < T0 < math.inf):
+        raise ValueError(f"the averaging table gives T_theta = {T0!r} at Q = 0, not a positive time: it is damaged or "
+                         "not a table of this version (a cached file: delete it, or point ROCKNROLLER_CACHE at another "
+                         "folder, and it is rebuilt)")
+    return T0
+
+
 def _fast(table: SlowMapTable, second: SecondOrderTable | None = None) -> _FastTable:
     key = (id(table), id(second))
     ft = _FAST.get(key)
@@ -247,7 +264,7 @@ def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float,
         raise ValueError(f"n_steps must be an integer in [1, {MAX_MAXIMA}] (MAX_MAXIMA), got n_steps={n_steps!r}")
     ft = _fast(table, second)
     if n_steps is None:
-        check_t_end(t_end, ft.values(0.0, 0.0)[_N_KICK])
+        check_t_end(t_end, centre_period(table))
     elif not (math.isfinite(t_end) and t_end > 0.0):
         raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}")
     Q0 = np.asarray(Q0, float)

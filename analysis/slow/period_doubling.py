@@ -98,7 +98,7 @@ def _root(excess: Any, e1: float, theta0: float, rtol: float) -> float:
 def map_period_doubling(body: Body, theta0: float, order: int = 2, *, rtol: float = 1e-10, workers: int = 1) -> float:
     """ε at which the averaged map of ``order`` has its rocking fixed point period-double (4/κ for order 1, to
     the differences' accuracy; order 2 adds the map's O(ε²) correction).  Needs the release tables of (body, θ0)
-    (and for order 2 the second-order ones, built once by ``workers`` processes, ~60 s with 2, and cached).
+    (and for order 2 the second-order ones, built once by ``workers`` processes and cached; their cost: docs/performance.md).
 
     Raises
     ------

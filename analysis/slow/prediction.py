@@ -71,7 +71,7 @@ from rocknroller.analysis.model.diagnostics import azimuth_span, slow_period, sp
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.routh.reduction import u_ends
 from rocknroller.analysis.slow.chart import TABLE_FUNCTIONS, SlowMapTable  # noqa: F401 (re-exported)
-from rocknroller.analysis.slow.compiled_map import _N_KICK, SlowSeries, _fast, iterate_slow_map
+from rocknroller.analysis.slow.compiled_map import SlowSeries, centre_period, iterate_slow_map
 from rocknroller.analysis.slow.family import first_maximum, rest_energy
 # The stages' public names are re-exported (``prediction.load_or_build_table`` etc., module docstring); pyflakes
 # reports those this module does not use itself as unused.
@@ -297,7 +297,7 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
     if eps == 0.0:  # Routh's sphere from rest: rocking in a fixed vertical plane, Q ≡ 0, ψ and φ mod π fixed
         from rocknroller.analysis.criticality.lines import ON_BOTH
 
-        T0 = _fast(table).values(0.0, 0.0)[_N_KICK]
+        T0 = centre_period(table)
         t = T0 * np.arange(1, int(check_t_end(t_end, T0) // T0) + 1, dtype=float)
         zero = np.zeros_like(t)
         return SlowPrediction(
@@ -342,10 +342,9 @@ def default_order(start: float | EulerState) -> int:
     2 for a release from rest in ``THETA0_RANGE``: the second-order release tables bring the map 10–1000× closer to the
     direct ODE at ε ≤ 3e-3 (at the command's default release, 0.95π, ψ0 = π/4, ε = 1e-3, 1000 time units: slow period
     within 3.5e-6 of the ODE, order 1 2.2e-4; docs/slow_validation.md, "Releases from rest, second order"), for a build
-    of 60–75 s with two processes on an idle machine (``rocknroller slow --processes 2``; about twice that with the one
-    process of :func:`predict_slow_motion`) once per (body, θ0), then cached, and ~1.3× the run time of order 1.  1 for
-    any other start (an initial state, or a release below ``THETA0_RANGE``): its second-order tables are per energy, 1–3
-    min each, so order 2 is asked for explicitly there.
+    once per (body, θ0), then cached, and little more than the run time of order 1.  1 for any other start (an initial
+    state, or a release below ``THETA0_RANGE``): its second-order tables are per energy, several times dearer, so
+    order 2 is asked for explicitly there.  The costs: docs/performance.md.
     """
     # compared as given (int or float; Python compares them exactly, so 10**400 or NaN is simply out of range)
     in_range = (isinstance(start, (int, float)) and not isinstance(start, bool)

@@ -263,7 +263,7 @@ def build_second_order_region_table(body: Body, E: float, *, nu: int = 16, nv: i
     """Tabulate k₂ on the chart of the default region table of (body, E) (a start with velocity), as
     :func:`build_second_order_table` does on a release table's; nv up to that table's terms across.
 
-    On the band chart of the paper's reversal starts the default 16 × 32 nodes (256 computed, ~60 s on 2 cores)
+    On the band chart of the paper's reversal starts the default 16 × 32 nodes (256 computed; the cost: docs/performance.md)
     interpolate k₂ to 5e-3–8e-3 of each component's largest harmonic, and more nodes do not go below ~5e-3 (16 × 48,
     32 × 32, 16 × 64 measured), where the release tables' reach 7e-5; yet the order-2 predictions are as close to the
     direct ODE on either (``K2_REGION_ACCURACY``, against which the build checks; docs/averaging.md, "Second order

@@ -48,7 +48,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "and theta0, cached) and its closed form near pure rocking (standard map / pendulum); or, with any rate "
         "option or --critical-line, from that start (carried to its first maximum of theta by the direct ODE; "
         "the map on the tables of its energy over the whole (Q_R, Q_J) region, built once per body and energy, "
-        "15-20 s on 2 cores, and cached). Prints the slow "
+        "and cached; the costs of every build: docs/performance.md). Prints the slow "
         "period of Theta = 2 psi, the extents of Q_R and Q_J, the azimuth span Phi of phi mod pi, the rocks "
         "spent in each critical region, and the period-doubling eps. Valid for 0 <= eps with K = eps*kappa < 4 "
         f"and, for releases from rest, 0 < theta0 <= {_HI:g}pi: the release tables in [{_LO:g}pi, {_HI:g}pi], the "
@@ -76,8 +76,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "coarser, and the prediction then warns)")
     p.add_argument("--t-end", type=float, default=1000.0,
                    help=f"time span, 0 < T <= {av.MAX_MAXIMA:.0e} * T_theta/2 with T_theta the time between maxima "
-                   f"of pure rocking (6.6e6 at theta0 = 0.95pi): at most {av.MAX_MAXIMA:.0e} maxima, ~0.4 GB "
-                   "(default 1000)")
+                   f"of pure rocking (6.6e6 at theta0 = 0.95pi): at most {av.MAX_MAXIMA:.0e} maxima, held in "
+                   "memory (default 1000)")
     p.add_argument("--json", action="store_true", help="print a one-object JSON summary on stdout (strict JSON: "
                    "undefined quantities are null)")
     p.add_argument("--check", action="store_true",
@@ -86,12 +86,12 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="order of the map in eps: 2 adds the second-order kick (its tables are built once per body "
                         "and theta0 or energy, and cached; errors ~10-100x smaller than order 1 at eps <= 3e-3, "
                         "docs/averaging.md); default, the same as predict_slow_motion's: 2 for releases from rest in "
-                        f"[{_LO:g}pi, {_HI:g}pi] (their second-order tables: 60-75 s with --processes 2, once per body "
-                        "and theta0), 1 for starts with velocity and lower releases (theirs are per energy, 1-3 min "
-                        "each: ask for them with --order 2)")
+                        f"[{_LO:g}pi, {_HI:g}pi] (their second-order tables are built once per body and theta0), 1 for "
+                        "starts with velocity and lower releases (theirs are per energy, several times dearer: ask "
+                        "for them with --order 2; the costs: docs/performance.md)")
     p.add_argument("--period-doubling", action="store_true",
                    help="releases from rest: also compute the eps at which rocking about the stable axis "
-                        "period-doubles from the exact one-step map (all orders in eps; 1-7 s), beside the first-order "
+                        "period-doubles from the exact one-step map (all orders in eps; seconds), beside the first-order "
                         "4/kappa and, with --order 2, the second-order map's")
     p.add_argument("--plot", type=Path, default=None, metavar="DIR",
                    help="draw the predicted slow orbit over the direct ODE's turning points (slow_orbit.png and .pdf "

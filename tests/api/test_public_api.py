@@ -133,8 +133,10 @@ BIG = 10**400  # an int beyond the floats: float() raises OverflowError on it
     lambda: rr.predict_slow_motion(rr.Body.paper(1e-3), 0.95 * math.pi, BIG),
     lambda: rr.predict_slow_motion(rr.Body.paper(1e-3), 0.95 * math.pi, 0.1, BIG),
     lambda: rr.pendulum_constants(rr.Body.paper(1e-3), BIG),
+    lambda: rr.precession(1.0, 0.01, 0.02, rr.Body.paper(), rtol=BIG),
+    lambda: rr.simulate(rr.Body.paper(), rr.EulerState(1.0, 0.0, 0.0), 1.0, budget=BIG * -1),
 ], ids=["Body", "Body.paper", "EulerState", "simulate", "Job", "precession", "turning_points", "F",
-        "predict theta0", "predict psi0", "predict t_end", "pendulum_constants"])
+        "predict theta0", "predict psi0", "predict t_end", "pendulum_constants", "precession rtol", "simulate budget"])
 def test_an_int_beyond_the_floats_is_a_value_error(call):
     """``10**400`` as a number raised OverflowError (from ``float`` or numpy) at every entry point; it is bad input
     like any other: a ValueError naming the parameter."""

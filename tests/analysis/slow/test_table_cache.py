@@ -312,3 +312,19 @@ def test_run_time_forms_are_bounded(monkeypatch, fresh):
     again = slow_map._fast(table)
     assert again is not first and again.table is table and second.table is other
     np.testing.assert_array_equal(again.rows_jac, first.rows_jac)  # the same table: the same form, bit for bit
+
+
+def test_a_table_with_absurd_coefficients_is_named_not_t_end():
+    """Issue 25, item 25: a cached table tampered to coefficients of 1e300 (finite, so the loader's checks pass when
+    the checksum is recomputed) made the prediction refuse ``t_end`` ("T_theta = 0"); now the table is named."""
+    import dataclasses
+
+    body = Body.paper(1e-3)
+    table = av.load_or_build_table(body, 0.95 * math.pi, nu=8, nv=4)
+    bad = dataclasses.replace(table, coef=np.full_like(table.coef, 1e300))
+    with pytest.raises(ValueError, match=r"^the averaging table gives T_theta = .* not a positive time: it is damaged") \
+            as exc:
+        av.predict_slow_motion(body, 0.95 * math.pi, 0.5, 1000.0, table=bad, order=1)
+    assert "t_end" not in str(exc.value)
+    with pytest.raises(ValueError, match="it is damaged"):
+        av.predict_slow_motion(Body.paper(0.0), 0.95 * math.pi, 0.5, 1000.0, table=bad, order=1)  # ε = 0 too

@@ -1,0 +1,60 @@
+"""Performance figures are stated once (issue 25, item 17: a band-table build was "6–7 s" in one page, "15–20 s" in
+``slow --help`` and "≈ 15 s" in a docstring, while a rerun measured 26 s; README's map-vs-ODE ratio and memory of 10⁵
+rocks disagreed with reruns): on ``docs/performance.md``, the output of one run of ``benchmarks/performance.py``
+that states the machine and its load.  README, the other pages and every ``--help`` point there and state no time or
+memory of their own.  (The validation page's tables are its scripts' output, and may carry their build times.)"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import re
+from pathlib import Path
+
+import pytest
+
+from rocknroller.cli import COMMANDS, main
+
+ROOT = Path(__file__).resolve().parents[1]
+#: A duration or an amount of memory: "8 s", "60–75 s", "0.17 ms", "~0.4 GB", "347 MB" (a limit's value, "= 1 GiB",
+#: is a setting, not a measurement).
+FIGURE = re.compile(r"(?<!= )(?<![\w.])\d(?:[\d.,–-]*\d)?\s?(?:ms|µs|s|min|h|kB|MB|GB|MiB|GiB)\b")
+PAGES = ["README.md", "docs/index.md", "docs/install.md", "docs/slow_howto.md", "docs/averaging.md",
+         "docs/slow_validation.md", "docs/errata.md", "docs/theory/reduction.md", "docs/theory/criticality.md"]
+
+
+def _prose(path: Path) -> list[tuple[int, str]]:
+    """The lines of a page outside tables and code blocks."""
+    out, code = [], False
+    for k, line in enumerate(path.read_text().splitlines(), 1):
+        if line.startswith("```"):
+            code = not code
+        elif not code and not line.lstrip().startswith("|"):
+            out.append((k, line))
+    return out
+
+
+@pytest.mark.parametrize("page", [p for p in PAGES if (ROOT / p).exists()])
+def test_pages_state_no_performance_figure_of_their_own(page):
+    found = [f"{page}:{k}: {line.strip()}" for k, line in _prose(ROOT / page) if FIGURE.search(line)]
+    assert not found, "performance figures belong on docs/performance.md:\n" + "\n".join(found)
+
+
+def test_help_states_no_performance_figure():
+    found = []
+    for command in [None, *COMMANDS]:
+        out = io.StringIO()
+        with contextlib.redirect_stdout(out), pytest.raises(SystemExit):
+            main(([command] if command else []) + ["--help"])
+        text = " ".join(out.getvalue().split())
+        found += [f"{command}: ...{text[max(0, m.start() - 60):m.end()]}" for m in FIGURE.finditer(text)]
+    assert not found, "\n".join(found)
+
+
+def test_the_performance_page_is_the_script_output():
+    """docs/performance.md exists, names the script that writes it and the load of every benchmark it ran."""
+    text = (ROOT / "docs" / "performance.md").read_text()
+    assert "python benchmarks/performance.py" in text and "load average" in text
+    script = (ROOT / "benchmarks" / "performance.py").read_text()
+    for name in re.findall(r'\("(bench_\w+\.py)"', script):
+        assert f"benchmarks/{name}" in text, name
