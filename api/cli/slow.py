@@ -205,6 +205,10 @@ def run(args: argparse.Namespace) -> int:
                         "pendulum": None, **extra})
         return _finish(args, body, pred, None, start, summary, messages)
     check_critical_line_options(args)  # --QR and --offset place a start on a line; a release reads neither
+    if args.nodes is not None or args.chart != "auto":  # the release tables have their own chart and grid
+        raise ValueError(f"--nodes and --chart set the region tables of a start with velocity (or of a release below "
+                         f"{_LO:g}pi); a release from rest at --theta0 in [{_LO:g}pi, {_HI:g}pi] uses the release "
+                         "tables: leave them out")
     theta0 = av.check_map_theta0(av.check_release_theta0(_parse(args, "theta0"), "--theta0"), "--theta0")
     psi0 = _parse(args, "psi0")
     unresolved = f"cannot be computed for --theta0 {args.theta0} and the body options {given} ({body.describe()})"

@@ -308,3 +308,12 @@ def test_a_release_refuses_the_options_of_a_start_on_a_line(argv, named, capsys)
     """A release from rest read neither --offset nor --QR: --offset was silently ignored (the prediction ran)."""
     assert main(["slow", "--t-end", "100", "--json", *argv]) == 2
     assert f"{named} needs --critical-line" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("extra", [["--nodes", "16", "8"], ["--chart", "band"]])
+def test_region_table_options_are_refused_for_a_release(extra, capsys):
+    """Issue 25, item 25: ``slow --nodes`` and ``--chart`` with a release from rest (which uses the release tables)
+    were silently ignored, while similar options are refused; now refused before any work, naming them."""
+    assert main(["slow", "--theta0", "0.95pi", "--cached-only", *extra]) == 2
+    err = capsys.readouterr().err
+    assert "--nodes and --chart set the region tables" in err and "leave them out" in err
