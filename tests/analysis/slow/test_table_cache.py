@@ -314,6 +314,7 @@ def test_run_time_forms_are_bounded(monkeypatch, fresh):
     np.testing.assert_array_equal(again.rows_jac, first.rows_jac)  # the same table: the same form, bit for bit
 
 
+@pytest.mark.filterwarnings("ignore::rocknroller.analysis.slow.limits.AveragingValidityWarning")  # the coarse grid
 def test_a_table_with_absurd_coefficients_is_named_not_t_end():
     """Issue 25, item 25: a cached table tampered to coefficients of 1e300 (finite, so the loader's checks pass when
     the checksum is recomputed) made the prediction refuse ``t_end`` ("T_theta = 0"); now the table is named."""
