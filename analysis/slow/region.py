@@ -54,7 +54,7 @@ __all__ = [
     "check_below_top", "region_axis", "region_options", "chart_direction", "table_chart", "region_frame",
     "build_region_table", "region_interpolation_error", "accuracy_cause", "load_or_build_region_table",
     "DELTA_MIN_RANGE", "DELTA_MIN_DEFAULT", "TIP_FRACTION_RANGE", "AXES", "BAND_FROM_THETA0", "DEFAULT_GRID",
-    "SMALL_AMPLITUDE_THETA0"
+    "SMALL_AMPLITUDE_THETA0", "region_table_cached"
 ]
 
 #: Allowed least distances (E − min U)/E to steady rolling of a region table, and the default one (the tables of

@@ -50,7 +50,7 @@ from rocknroller.numerics.parallel import check_processes, map_blocks
 
 __all__ = [
     "REGION_TABLE_ACCURACY", "build_table", "check_grid", "kick_at_rest", "fit_table", "fit_and_check",
-    "load_or_build_table", "cached_table", "TableNotCachedError"
+    "load_or_build_table", "cached_table", "TableNotCachedError", "orbit_data", "is_cached"
 ]
 
 #: Bump when the table construction or its file format changes (part of the cache key).
@@ -105,8 +105,8 @@ _BLOCK_NODES = 64
 
 def orbit_data(sym: Body, E: float, QR: NDArray, QJ: NDArray, theta_X: NDArray, *, progress: bool | None = None,
                workers: int = 1, desc: str = "tables") -> tuple[NDArray, NDArray, NDArray, NDArray]:
-    """T, W mod 2π, Δφ mod π (each shaped like QR) and the harmonics of the ε-responses (len(FIRST_ORDER_NAMES),
-    *QR.shape, 3) at nodes (Q_R, Q_J) with their θ_X: three variational orbits per node, in blocks of
+    """T, W mod 2π, Δφ mod π (each shaped like QR) and the harmonics of the ε-responses (shape
+    ``(len(FIRST_ORDER_NAMES), *QR.shape, 3)``) at nodes (Q_R, Q_J) with their θ_X: three variational orbits per node, in blocks of
     ``_BLOCK_NODES`` shared by ``workers`` processes, under a tqdm bar named ``desc`` (``progress`` None: only if
     stderr is a terminal).  Each node's numbers depend on neither the blocks nor the processes (the batch
     integrator's lanes are independent)."""

@@ -18,6 +18,8 @@ from rocknroller.analysis.model.equations import FIG5_OMEGA0, EulerState
 
 __all__ = [
     "parse_angle",
+    "add_budget_option",
+    "budget_from_args",
     "accept_negative_values",
     "add_body_options",
     "body_from_args",
