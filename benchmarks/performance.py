@@ -50,6 +50,18 @@ def _versions() -> str:
     return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
 
 
+def _tree() -> str:
+    """The commit of the tree that ran (an editable install keeps the version it was installed with)."""
+    try:
+        head = subprocess.run(["git", "-C", str(HERE.parent), "rev-parse", "--short=7", "HEAD"], capture_output=True,
+                              text=True, check=True).stdout.strip()
+        dirty = subprocess.run(["git", "-C", str(HERE.parent), "status", "--porcelain", "--untracked-files=no"],
+                               capture_output=True, text=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "not a git checkout"
+    return f"commit {head}" + (" with uncommitted changes" if dirty else "")
+
+
 def main(quick: bool = False) -> None:
     started = datetime.datetime.now(datetime.timezone.utc)
     parts = ["# Performance\n\n",
@@ -59,7 +71,7 @@ def main(quick: bool = False) -> None:
              "benchmark prints the load average it ran at, and the ratios it reports are measured side by side in "
              "one process.\n\n",
              f"* run: {started:%Y-%m-%d %H:%M} UTC{' (--quick)' if quick else ''}\n",
-             f"* machine: {_machine()}\n", f"* versions: {_versions()}\n\n"]
+             f"* machine: {_machine()}\n", f"* versions: {_versions()}; the tree: {_tree()}\n\n"]
     env = dict(os.environ, PYTHONUNBUFFERED="1")
     for script, args, what in BENCHMARKS:
         if quick and script == "bench_long_run.py":

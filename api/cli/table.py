@@ -80,7 +80,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "table",
         help="precession table of Routh's sphere (T_theta, tau, delta_phi, delta_psi) over a (Q_R, Q_J) grid",
         description="Rocking period and precession angles of Routh's sphere (I1 = I2) by quadrature "
-        "(paper eq. Delta_phi), over a grid of Routh's and Jellett's quantities with the turning point "
+        "(paper eq. (22)), over a grid of Routh's and Jellett's quantities with the turning point "
         "theta_X = theta0 fixed (default), or over a grid of (E, Q_R, Q_J). T_theta is the time between "
         "successive maxima of theta; the paper's tau = 2 T_theta. Grid points without motion are kept "
         "with an explanatory status and empty cells.",
@@ -198,7 +198,7 @@ def run(args: argparse.Namespace) -> int:
     mode = (f"turning point theta_X = theta0 = {theta0!r} fixed, E = U(theta0; Q_R, Q_J)" if theta0 is not None
             else "grid of (E, Q_R, Q_J)")
     header = [
-        "rocknroller table: precession of Routh's sphere (paper section 2.5, eq. Delta_phi)",
+        "rocknroller table: precession of Routh's sphere (paper section 2.5, eq. (22))",
         f"body: {body.describe()}",
         f"theta0: {theta0!r}" if theta0 is not None else "theta0: none (energy grid)",
         f"mode: {mode}",
