@@ -152,9 +152,9 @@ class Precession:
 def _gauss_legendre(n: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The positive half of the n-point Gauss–Legendre rule on [−1, 1] (n even).
 
-    numpy's ``leggauss`` algorithm (the eigenvalues of the symmetric Legendre companion matrix, one Newton step on
-    P_n, the weights from P_{n−1} and P_n', symmetrised and normalised), with the companion matrix's eigenvalues from
-    its tridiagonal form (``scipy.linalg.eigvalsh_tridiagonal``): ``leggauss`` forms the dense n × n matrix, O(n²)
+    numpy's ``leggauss`` algorithm (the eigenvalues of the symmetric Legendre companion matrix, Newton steps on P_n,
+    the weights from P_{n−1} and P_n', symmetrised and normalised), with the companion matrix's eigenvalues from its
+    tridiagonal form (``scipy.linalg.eigvalsh_tridiagonal``): ``leggauss`` forms the dense n × n matrix, O(n²)
     memory and O(n³) time (4096 nodes: 3.2 s and 290 MB; 65536: ~70 GB), where this needs O(n) and O(n²).  The
     nodes agree with ``leggauss``'s to 0.5 ulp and the rules integrate alike (tests/analysis/routh/test_quadrature.py).
     """
@@ -162,11 +162,15 @@ def _gauss_legendre(n: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
 
     leg = np.polynomial.legendre
     k = np.arange(1.0, n)
-    x = eigvalsh_tridiagonal(np.zeros(n), k / np.sqrt(4.0 * k * k - 1.0))  # legcompanion's off-diagonal
+    # legcompanion's off-diagonal; LAPACK's sterf (QR, eigenvalues only) in O(n) memory: scipy < 1.15's 'auto' took
+    # stemr, which allocated an n × n array (2 GB at 16384 nodes, seen with scipy 1.13.1)
+    x = eigvalsh_tridiagonal(np.zeros(n), k / np.sqrt(4.0 * k * k - 1.0), lapack_driver="sterf")
     c = np.zeros(n + 1)
     c[-1] = 1.0
-    dy, df = leg.legval(x, c), leg.legval(x, leg.legder(c))
-    x -= dy / df
+    dc = leg.legder(c)
+    for _ in range(2):  # Newton on P_n: the eigenvalues' error (LAPACK's, which varies between builds) polished away
+        x -= leg.legval(x, c) / leg.legval(x, dc)
+    df = leg.legval(x, dc)  # at the polished nodes (leggauss takes P_n' at the eigenvalues themselves)
     fm = leg.legval(x, c[1:])
     w = 1.0 / ((fm / np.abs(fm).max()) * (df / np.abs(df).max()))
     w, x = 0.5 * (w + w[::-1]), 0.5 * (x - x[::-1])
