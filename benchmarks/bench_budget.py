@@ -37,11 +37,13 @@ def main() -> None:
     body, start = Body.paper(1e-3), EulerState(0.95 * math.pi, 0.0, 0.5)
     simulate(body, start, 10.0, samples=False)  # the compiled integrator, from heyoka's cache
     rows = []
-    for method, t_end, const in (("heyoka", 20000.0, budget.HEYOKA_SECONDS_PER_RADIAN),
-                                 ("scipy", 500.0, budget.DOP853_SECONDS_PER_RADIAN)):
+    simulate(body, start, 10.0, samples=False, precision="extended")
+    for method, precision, t_end, const in (("heyoka", "double", 20000.0, budget.HEYOKA_SECONDS_PER_RADIAN),
+                                            ("heyoka", "extended", 3000.0, budget.HEYOKA_EXTENDED_SECONDS_PER_RADIAN),
+                                            ("scipy", "double", 500.0, budget.DOP853_SECONDS_PER_RADIAN)):
         radians = check_run(body, start, t_end, samples=False).rate * t_end
-        rate = cpu(lambda: simulate(body, start, t_end, samples=False, method=method)) / radians
-        rows.append((f"direct ODE, {method}, s per radian", rate, const))
+        rate = cpu(lambda: simulate(body, start, t_end, samples=False, method=method, precision=precision)) / radians
+        rows.append((f"direct ODE, {method} {precision}, s per radian", rate, const))
     sym = Body.paper()
     rows.append(("release table (theta0 = 0.93pi)", cpu(lambda: build_table(sym, 0.93 * math.pi, progress=False)),
                  budget.RELEASE_TABLE_SECONDS))

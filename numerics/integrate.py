@@ -72,8 +72,8 @@ from numpy.typing import NDArray
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import STATE_SIZE, EulerState, body_frame_rhs, turning_point_function
 from rocknroller.analysis.model.invariants import energy
-from rocknroller.numerics.budget import (DOP853_SECONDS_PER_RADIAN, HEYOKA_SECONDS_PER_RADIAN, WORK_BUDGET_SECONDS,
-                                        check_work)
+from rocknroller.numerics.budget import (DOP853_SECONDS_PER_RADIAN, HEYOKA_EXTENDED_SECONDS_PER_RADIAN,
+                                        HEYOKA_SECONDS_PER_RADIAN, WORK_BUDGET_SECONDS, check_work)
 from rocknroller.numerics.cache import (CacheWarning, cache_dir, probe_writable,  # cache_dir: re-exported
                                         warn_unwritable)
 from rocknroller.numerics.events import _U, THETA_MIN, _turning_points, start_turning_point
@@ -504,7 +504,8 @@ def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "he
     budget : float or None
         CPU seconds the run may take (:mod:`rocknroller.numerics.budget`; None: no limit), estimated before it starts
         from Λ·t_end and the method's measured cost per radian: heyoka's longest run (``MAX_RADIANS``) stays within
-        the default hour, DOP853 (75× slower per radian) past ~3.6e6 radians does not.
+        the default hour in double precision, not in extended (5.6× slower); DOP853 (~100× slower) past ~3.6e6
+        radians does not.
 
     Returns
     -------
@@ -527,8 +528,10 @@ def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "he
     if method == "scipy" and not (0.0 < rtol < 1.0 and math.isfinite(atol) and atol > 0.0):
         raise ValueError(f"rtol must lie in (0, 1) and atol be > 0, got rtol={rtol!r}, atol={atol!r}")
     t_end, dt, n_grid, y0, rate = check_run(body, initial, t_end, dt=dt, samples=samples)
-    per_radian = HEYOKA_SECONDS_PER_RADIAN if method == "heyoka" else DOP853_SECONDS_PER_RADIAN
-    check_work(rate * t_end * per_radian, f"this run ({method}, Λ t_end = {rate * t_end:.3g} radians)", budget)
+    per_radian = (DOP853_SECONDS_PER_RADIAN if method == "scipy" else HEYOKA_SECONDS_PER_RADIAN
+                  if precision == "double" else HEYOKA_EXTENDED_SECONDS_PER_RADIAN)
+    check_work(rate * t_end * per_radian, f"this run ({method}, {precision} precision, Λ t_end = {rate * t_end:.3g} "
+               "radians)", budget)
     if on_turning_points is not None and samples:
         raise ValueError("on_turning_points streams the turning points of a run with samples=False")
     with _progress(t_end, progress) as bar:

@@ -12,7 +12,7 @@ import sys
 from dataclasses import dataclass, replace
 
 __all__ = [
-    "Body", "paper_I1", "as_float", "require_finite", "polar_cap_offset_as_printed", "PAPER_A", "PAPER_I3", "PAPER_G",
+    "Body", "paper_I1", "as_float", "float_or_nan", "require_finite", "polar_cap_offset_as_printed", "PAPER_A", "PAPER_I3", "PAPER_G",
     "polar_cap_volume"
 ]
 
@@ -38,6 +38,15 @@ def as_float(name: str, value: float) -> float:
         return float(value)
     except (TypeError, ValueError, OverflowError):
         raise ValueError(f"{name} must be a finite real number, got {value!r}") from None
+
+
+def float_or_nan(value: float) -> float:
+    """``float(value)``, or NaN where it is not a real number or is an int beyond the floats (``10**400``): for a
+    range check that states its own range (``not lo <= v <= hi`` is then true)."""
+    try:
+        return float(value)
+    except (TypeError, ValueError, OverflowError):
+        return math.nan
 
 
 def require_finite(name: str, value: float) -> float:

@@ -43,7 +43,6 @@ tanh-sinh without the residue subtraction, turning points by ``mpmath.findroot``
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, fields
 from functools import lru_cache
 from typing import TYPE_CHECKING, Any, cast
@@ -51,7 +50,7 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.body import Body, float_or_nan
 from rocknroller.analysis.model.diagnostics import wrap_angle
 from rocknroller.analysis.model.invariants import rho_inv
 from rocknroller.analysis.routh.reduction import (E_MAX, NO_MOTION, OK, STATUS_TEXT, STEADY, D_coefficient,
@@ -279,10 +278,7 @@ def _blocked_half_integrals(args: _Points, body: Body, n: int) -> tuple[NDArray,
 def check_rtol(rtol: float, name: str = "rtol") -> float:
     """The quadrature tolerance as a float, or a ValueError naming ``name`` unless it lies in ``RTOL_RANGE``."""
     lo, hi = RTOL_RANGE
-    try:
-        value = float(rtol)
-    except (TypeError, ValueError, OverflowError):  # OverflowError: an int beyond the floats, like 10**400
-        value = math.nan
+    value = float_or_nan(rtol)
     if not lo <= value <= hi:  # also NaN
         raise ValueError(f"{name} must lie in [{lo:g}, {hi:g}] (below {lo:g} the change between the Gauss-Legendre "
                          f"rules is round-off, and points would stay unresolved), got {name}={rtol!r}")

@@ -55,7 +55,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.body import Body, float_or_nan
 from rocknroller.analysis.model.diagnostics import azimuth_span, span
 from rocknroller.analysis.model.equations import state_from_euler
 from rocknroller.analysis.model.invariants import V_phi, V_psi
@@ -234,10 +234,7 @@ def pendulum_constants(body: Body, theta0: float, *, rtol: float = 1e-10) -> Pen
 def _check_theta0(theta0: float) -> float:
     """θ0 as a float, or a ValueError naming it unless it lies in ``PENDULUM_THETA0_RANGE``."""
     lo, hi = PENDULUM_THETA0_RANGE
-    try:
-        value = float(theta0)
-    except (TypeError, ValueError, OverflowError):  # OverflowError: an int beyond the floats, like 10**400
-        value = math.nan
+    value = float_or_nan(theta0)
     if not lo <= value <= hi:  # also NaN
         raise ValueError(
             f"theta0 must lie in [{lo / math.pi:g}pi, {hi / math.pi:g}pi] = [{lo:.6g}, {hi:.6g}] for the pendulum "
@@ -400,12 +397,9 @@ def beat_prediction(body: Body, theta0: float) -> BeatPrediction:
         without bound from the crossover R² = 1 up): towards the pendulum (:func:`pendulum_prediction`).
     """
     hi = PENDULUM_THETA0_RANGE[1]
-    try:
-        theta0 = float(theta0)
-    except (TypeError, ValueError):
-        raise ValueError(f"theta0 must be a number in (0, {hi / math.pi:g}pi], got theta0={theta0!r}") from None
-    if not 0.0 < theta0 <= hi:  # also NaN
+    if not 0.0 < float_or_nan(theta0) <= hi:  # also NaN: not a number, or an int beyond the floats
         raise ValueError(f"theta0 must lie in (0, {hi / math.pi:g}pi] for the beat closed form, got theta0={theta0!r}")
+    theta0 = float(theta0)
     nu1, nu2 = small_amplitude_frequency(body, body.I1), small_amplitude_frequency(body, body.I2)
     R2 = regime_ratio(body, theta0)
     if R2 > 0.0:  # NaN for ε = 0

@@ -13,7 +13,7 @@ import tempfile
 from pathlib import Path
 from typing import Any, Iterable
 
-from rocknroller.analysis.model.body import PAPER_A, PAPER_G, PAPER_I3, Body, paper_I1
+from rocknroller.analysis.model.body import PAPER_A, PAPER_G, PAPER_I3, Body, float_or_nan, paper_I1
 from rocknroller.analysis.model.equations import FIG5_OMEGA0, EulerState
 
 __all__ = [
@@ -273,20 +273,16 @@ def add_budget_option(parser: argparse.ArgumentParser, what: str) -> None:
 
 def budget_from_args(args: argparse.Namespace) -> float | None:
     """The --budget of :func:`add_budget_option` as the API's ``budget`` (None: no limit)."""
-    from rocknroller.numerics.budget import WORK_BUDGET_SECONDS, check_budget
+    from rocknroller.numerics.budget import WORK_BUDGET_SECONDS
 
     if args.budget is None:
         return WORK_BUDGET_SECONDS
-    try:
-        value = float(args.budget)
-    except ValueError:
-        value = math.nan
+    value = float_or_nan(args.budget)
     if value == math.inf:
         return None
-    try:
-        return check_budget(value)
-    except ValueError:
-        raise ValueError(f"--budget must be a number of seconds > 0 or 'inf', got {args.budget!r}") from None
+    if not value > 0.0:  # also NaN
+        raise ValueError(f"--budget must be a number of seconds > 0 or 'inf', got {args.budget!r}")
+    return value
 
 
 def _require_writable(directory: Path, option: str) -> None:

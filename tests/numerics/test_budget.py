@@ -32,18 +32,22 @@ def test_check_work_names_the_estimate_and_the_way_out():
     assert [format_seconds(s) for s in (45, 720, 11520, 5 * 86400)] == ["45 s", "12 min", "3.2 h", "5.0 days"]
 
 
-def test_the_default_budget_holds_every_heyoka_run():
-    """One run within ``MAX_RADIANS`` is within the default budget with heyoka: only the slow check (DOP853) and
-    calls made of many runs or tables can exceed it."""
+def test_the_default_budget_holds_every_double_precision_heyoka_run():
+    """One run within ``MAX_RADIANS`` is within the default budget with heyoka in double precision: only the slower
+    integrations (extended precision, DOP853) and calls made of many runs or tables can exceed it."""
     assert MAX_RADIANS * budget.HEYOKA_SECONDS_PER_RADIAN < budget.WORK_BUDGET_SECONDS
+    assert MAX_RADIANS * budget.HEYOKA_EXTENDED_SECONDS_PER_RADIAN > budget.WORK_BUDGET_SECONDS
     assert MAX_RADIANS * budget.DOP853_SECONDS_PER_RADIAN > budget.WORK_BUDGET_SECONDS
 
 
 def test_a_long_dop853_run_is_refused_before_any_work():
     """``simulate --method scipy --turning-points-only --t-end 1e7`` was accepted (limits calibrated on heyoka) and
     ran ~5 h; now refused at once, naming ~8 h."""
-    with pytest.raises(WorkBudgetError, match=r"this run \(scipy, .* radians\) would take about [\d.]+ h of CPU"):
+    with pytest.raises(WorkBudgetError, match=r"this run \(scipy, double precision, .* radians\) would take about "
+                                              r"[\d.]+ h of CPU"):
         simulate(BODY, START, 1e7, method="scipy", samples=False)
+    with pytest.raises(WorkBudgetError, match=r"this run \(heyoka, extended precision, "):  # 5.6x double's cost
+        simulate(BODY, START, 3e7, samples=False, precision="extended", dt=1.0)
     # the same length with heyoka, and a short DOP853 run, are within the budget (the latter runs)
     assert len(simulate(BODY, START, 20.0, method="scipy", samples=False).maxima) > 0
 

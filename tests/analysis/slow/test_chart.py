@@ -20,13 +20,22 @@ def test_nodes_are_exactly_antisymmetric(n):
 
 
 def test_fit_matrix_interpolates_and_matches_numpy():
-    """c = A f is the interpolant at the nodes: it reproduces f there, and equals numpy's ``chebinterpolate``."""
+    """c = A f is the interpolant at the nodes: it reproduces f there, and equals numpy's ``chebinterpolate``.
+
+    Bounds: each c_k is a sum of n products (2/n) T_k(x_j) f_j with |T_k| ≤ 1 and T_k within k ≤ n ulps
+    (``chebvander``'s recurrence), so each computation errs by at most (n + n)·u·(2/n)·Σ|f| = 4·u·Σ|f|; the two
+    differ by twice that, doubled as a margin.  The interpolant's value at a node sums n terms c_k T_k: n·u·Σ|c_k|,
+    plus the coefficients' own error n times, doubled."""
     n = 24
-    f = np.exp(_cheb_nodes(n)) * np.sin(3 * _cheb_nodes(n))
+    u = np.finfo(float).eps / 2
+    x = _cheb_nodes(n)
+    f = np.exp(x) * np.sin(3 * x)
     c = _cheb_fit_matrix(n) @ f
-    np.testing.assert_allclose(cheb.chebval(_cheb_nodes(n), c), f, rtol=0, atol=20 * np.finfo(float).eps)
-    ref = cheb.chebinterpolate(lambda x: np.exp(x) * np.sin(3 * x), n - 1)
-    np.testing.assert_allclose(c, ref, rtol=0, atol=20 * np.finfo(float).eps)
+    coef_bound = 2.0 * 2.0 * (n + n) * u * (2.0 / n) * np.sum(np.abs(f))
+    ref = cheb.chebinterpolate(lambda t: np.exp(t) * np.sin(3 * t), n - 1)
+    np.testing.assert_allclose(c, ref, rtol=0, atol=coef_bound)
+    np.testing.assert_allclose(cheb.chebval(x, c), f, rtol=0,
+                               atol=2.0 * (n * u * np.sum(np.abs(c)) + n * coef_bound))
 
 
 def test_basis_is_chebvander_with_the_index_first_and_clipped():
