@@ -17,6 +17,9 @@ Imports only :mod:`rocknroller.analysis.model`.  In the order data flows through
 ``integrate``
     :func:`~rocknroller.numerics.integrate.simulate`: heyoka's Taylor integrator (or scipy's DOP853) with every
     turning point of θ found as an event.
+``megno``
+    Chaos indicators of an orbit sampled at its θ-maxima (MEGNO, the finite-time Lyapunov exponent): one formula
+    for the direct motion and the averaged slow map.
 ``ensemble``
     Many runs at once: in this process, in threads, or on a dask.distributed cluster.
 """
