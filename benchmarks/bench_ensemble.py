@@ -1,21 +1,27 @@
 """Throughput per trajectory of an ensemble of direct runs, side by side in one process.
 
-Run:  python benchmarks/bench_ensemble.py [--jobs N] [--t-end T]
+Run:  python benchmarks/bench_ensemble.py [--jobs N] [--t-end T] [--no-cluster]
 
 An atlas-like ensemble (paper body, ε = 1e-3, released from rest at θ0 = 0.95π, ψ0 spread over [0, π/2), each run
-1000 time units by default).  Reports the wall time per trajectory of
-* one-at-a-time calls of simulate(..., samples=False) and the summary of each (the reference);
-* run_ensemble in this process: a loop, and two threads;
-* run_ensemble on dask.distributed (if installed): a local cluster of two worker processes started for the call
-  (``workers=2``, its start-up included), and an existing two-worker cluster (``scheduler=``, start-up excluded);
-and the ratio of each to the reference (> 1: faster per trajectory).  Every path's summaries are checked to be
-bit-identical to the reference's.
+1000 time units by default; 64 jobs, the README's case).  Reports the CPU and wall time per trajectory of
+* before issue 24: one job after another in the scalar integrator with the unwrapping grid of that time
+  (``DT_RADIANS``: simulate(..., samples=False, dt=0.15/Λ), the turning points to the bit of today's scalar path);
+* run_ensemble(lanes=1): one job after another in the scalar integrator, today's unwrapping grid;
+* run_ensemble (default): batches in the lanes of heyoka's batch integrator (numerics/batch.py), in this process,
+  then in two threads;
+* run_ensemble on dask.distributed (if installed, not with --no-cluster): a local cluster of two worker processes;
+* CyRK's compiled DOP853 with compiled events (its C++ solver, a Cython right-hand side; needs the extra ``bench``),
+  one job after another at its smallest rtol (100 ε: DOP853 reaches no smaller energy error, while heyoka's is at
+  machine precision: the peer runs at a *larger* energy error, which favours it);
+and the ratio of each to the first (> 1: faster per trajectory).  The batch paths are checked to be bit-identical to
+each other, and the scalar ones to each other.
 """
 
 from __future__ import annotations
 
 import argparse
 import dataclasses
+import importlib.util
 import math
 import os
 import time
@@ -24,19 +30,21 @@ from typing import Callable
 import numpy as np
 
 from rocknroller.analysis.model.body import Body
-from rocknroller.numerics.ensemble import Job, RunSummary, run_ensemble
 from rocknroller.analysis.model.equations import EulerState
-from rocknroller.numerics.integrate import heyoka_integrator, simulate
+from rocknroller.numerics.batch import batch_integrator, batch_width
+from rocknroller.numerics.ensemble import Job, RunSummary, run_ensemble
+from rocknroller.numerics.integrate import DT_RADIANS, heyoka_integrator, rate_bound, simulate
 from rocknroller.numerics.trajectory import TurningPoints
 
 
-def best_of(fn: Callable[[], list[RunSummary]], n: int) -> tuple[float, list[RunSummary]]:
-    times, out = [], []
+def timed(fn: Callable[[], list], n: int) -> tuple[float, float, list]:
+    """Best of n: (CPU seconds of this process, wall seconds, result)."""
+    best, out = (math.inf, math.inf), []
     for _ in range(n):
-        t0 = time.perf_counter()
+        c0, w0 = time.process_time(), time.perf_counter()
         out = fn()
-        times.append(time.perf_counter() - t0)
-    return min(times), out
+        best = min(best, (time.process_time() - c0, time.perf_counter() - w0))
+    return best[0], best[1], out
 
 
 def identical(a: list[RunSummary], b: list[RunSummary]) -> bool:
@@ -46,44 +54,77 @@ def identical(a: list[RunSummary], b: list[RunSummary]) -> bool:
                for x, y in zip(a, b, strict=True))
 
 
+def same_turning_points(a: list[RunSummary], b: list[RunSummary]) -> bool:
+    return all(all(np.array_equal(getattr(x.maxima, f.name), getattr(y.maxima, f.name))
+                   for f in dataclasses.fields(TurningPoints)) for x, y in zip(a, b, strict=True))
+
+
+def cyrk_runner(body: Body):
+    """CyRK's compiled DOP853 with compiled events (benchmarks/bench_integrate.py builds it), or None and why not."""
+    try:
+        from bench_integrate import build_cysolve
+    except ImportError as exc:  # pragma: no cover
+        return None, f"CyRK row skipped: {exc}"
+    built, why, _ = build_cysolve(body)
+    if built is None:
+        return None, why
+    return built[0], ""
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--jobs", type=int, default=48)
+    parser.add_argument("--jobs", type=int, default=64)
     parser.add_argument("--t-end", type=float, default=1000.0)
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--no-cluster", action="store_true", help="skip the dask rows")
     args = parser.parse_args()
     body = Body.paper(1e-3)
     jobs = [Job(body, EulerState(0.95 * math.pi, psi=0.5 * math.pi * k / args.jobs), args.t_end)
             for k in range(args.jobs)]
     heyoka_integrator()  # compiled or loaded from the disk cache once, outside the timings
-    load = os.getloadavg()[0]  # the parallel paths gain only on idle cores: say how busy the machine was
+    batch_integrator(batch_width())
+    load = os.getloadavg()[0]
 
-    def one_at_a_time() -> list[RunSummary]:
-        return [RunSummary.from_run(simulate(j.body, j.initial, j.t_end, samples=False)) for j in jobs]
+    def before() -> list[RunSummary]:
+        return [RunSummary.from_run(simulate(j.body, j.initial, j.t_end, samples=False,
+                                             dt=DT_RADIANS / rate_bound(j.body, j.initial.to_body_state())))
+                for j in jobs]
 
-    t_ref, ref = best_of(one_at_a_time, 3)
-    rows = [("one-at-a-time simulate(samples=False)", t_ref, True)]
-    for label, kwargs in (("run_ensemble, in-process loop", {}), ("run_ensemble, threads=2", {"threads": 2})):
-        t, out = best_of(lambda: run_ensemble(jobs, progress=False, **kwargs), 3)
-        rows.append((label, t, identical(out, ref)))
-    try:
-        import distributed
-    except ImportError:
-        print('(dask.distributed not installed: python -m pip install -e ".[distributed]" in a clone for the cluster rows)')
+    c_ref, w_ref, ref = timed(before, args.repeats)
+    rows = [("before issue 24: scalar, one by one, 0.15-radian grid", c_ref, w_ref, "reference")]
+    c, w, scalar = timed(lambda: run_ensemble(jobs, progress=False, lanes=1), args.repeats)
+    rows.append(("run_ensemble(lanes=1): scalar, one by one", c, w,
+                 "same turning points" if same_turning_points(scalar, ref) else "DIFFERENT turning points"))
+    c, w, lanes = timed(lambda: run_ensemble(jobs, progress=False), args.repeats)
+    rows.append((f"run_ensemble: batches of {batch_width()} lanes", c, w, "batch reference"))
+    c, w, out = timed(lambda: run_ensemble(jobs, progress=False, threads=2), args.repeats)
+    rows.append((f"run_ensemble: batches of {batch_width()} lanes, threads=2", c, w,
+                 "bit-identical" if identical(out, lanes) else "NOT bit-identical"))
+    if not args.no_cluster:
+        if importlib.util.find_spec("distributed") is None:
+            print('(dask.distributed not installed: python -m pip install -e ".[distributed]" for the cluster row)')
+        else:
+            c, w, out = timed(lambda: run_ensemble(jobs, workers=2, progress=False), 1)
+            rows.append(("run_ensemble: workers=2 (LocalCluster start included)", c, w,
+                         "bit-identical" if identical(out, lanes) else "NOT bit-identical"))
+    run, why = cyrk_runner(body)
+    if run is None:
+        print(why)
     else:
-        t, out = best_of(lambda: run_ensemble(jobs, workers=2, progress=False), 1)
-        rows.append(("run_ensemble, workers=2 (LocalCluster start included)", t, identical(out, ref)))
-        with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                      dashboard_address=":0") as cluster:
-            address = cluster.scheduler_address
-            run_ensemble(jobs[:2], scheduler=address, progress=False)  # the workers load the integrator
-            t, out = best_of(lambda: run_ensemble(jobs, scheduler=address, progress=False), 3)
-            rows.append(("run_ensemble, scheduler= (running 2-worker cluster)", t, identical(out, ref)))
-    n_max = sum(s.n_maxima for s in ref) / len(ref)
-    print(f"{len(jobs)} jobs of {args.t_end:g} time units ({n_max:.0f} maxima, {ref[0].n_steps} steps each), "
-          f"best of 3 (cluster start: 1 run); {os.cpu_count()} cores, load average {load:.2f} at the start")
-    print(f"{'path':56s} {'ms/trajectory':>14s} {'ratio':>7s}  bit-identical")
-    for label, t, same in rows:
-        print(f"{label:56s} {t / len(jobs) * 1e3:14.2f} {t_ref / t:6.2f}x  {same}")
+        rtol = 100 * float(np.finfo(float).eps)
+
+        def cyrk() -> list:
+            return [run(np.asarray(j.initial.to_body_state(), float), np.asarray(j.body.params, float), j.t_end,
+                        rtol, 1e-20, np.empty(0)) for j in jobs]
+
+        c, w, _ = timed(cyrk, args.repeats)
+        rows.append((f"CyRK DOP853 compiled + events, rtol {rtol:.1e}, one by one", c, w, "peer"))
+    n_max = sum(s.n_maxima for s in lanes) / len(lanes)
+    print(f"{len(jobs)} jobs of {args.t_end:g} time units ({n_max:.0f} maxima each), best of {args.repeats}; "
+          f"{os.cpu_count()} cores, load average {load:.2f} at the start, {os.getloadavg()[0]:.2f} at the end")
+    print(f"{'path':62s} {'CPU ms/traj':>11s} {'wall ms/traj':>12s} {'CPU ratio':>9s}  check")
+    for label, c, w, check in rows:
+        print(f"{label:62s} {c / len(jobs) * 1e3:11.2f} {w / len(jobs) * 1e3:12.2f} {c_ref / c:8.2f}x  {check}")
 
 
 if __name__ == "__main__":

@@ -1,17 +1,20 @@
 """Many direct-ODE runs at once: in this process (a loop, or threads), or on a dask.distributed cluster.
 
-Each :class:`Job` (a body, an initial state, a final time; nothing else) is run by the package's own
-:func:`rocknroller.numerics.integrate.simulate` with ``samples=False`` (turning points only) and boiled down to a
-:class:`RunSummary` of plain arrays and floats: the θ-maxima and the slow diagnostics that the averaged map is
-compared with.  Every job runs the same scalar heyoka integrator at tolerance = machine epsilon, whose steps depend
-only on the job, so a job's summary is the same bit for bit in whichever process, thread or machine it runs
-(provided every worker has the same versions of rocknroller, heyoka and numpy, which :func:`run_ensemble` checks).
+Each :class:`Job` (a body, an initial state, a final time; nothing else) is run as
+:func:`rocknroller.numerics.integrate.simulate` runs it with ``samples=False`` (turning points only) and boiled down to
+a :class:`RunSummary` of plain arrays and floats: the θ-maxima and the slow diagnostics that the averaged map is
+compared with.  The jobs run in batches, in the lanes of heyoka's batch integrator (:mod:`rocknroller.numerics.batch`,
+as many lanes as heyoka recommends for the CPU: the SIMD width), at tolerance = machine epsilon.  A lane's steps
+depend only on its job, so a job's summary is the same bit for bit in whichever lane, batch, process, thread or
+machine it runs (provided every worker has the same versions of rocknroller, heyoka and numpy, which
+:func:`run_ensemble` checks).  ``lanes=1`` runs each job in the scalar integrator instead, as ``simulate`` does: the
+same turning points to the rounding of the integrators (tests/numerics/test_batch.py), not to the bit.
 
 Where the jobs run
 ------------------
-* ``run_ensemble(jobs)``: one after another in this process.
-* ``threads=N``: N threads of this process, each with its own copy of the compiled integrator
-  (:func:`rocknroller.numerics.integrate.heyoka_integrator`); heyoka releases the GIL while it integrates.
+* ``run_ensemble(jobs)``: batch after batch in this process.
+* ``threads=N``: N threads of this process, each running whole batches with its own copy of the compiled
+  integrator (:func:`rocknroller.numerics.batch.batch_integrator`); heyoka releases the GIL while it integrates.
 * ``workers=N``: a ``distributed.LocalCluster`` of N single-threaded worker processes on this machine, started for
   the call and closed after it.
 * ``scheduler="tcp://host:port"``: the workers of an existing dask.distributed cluster (``dask scheduler``, then
@@ -42,11 +45,12 @@ import numpy as np
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState
+from rocknroller.numerics.batch import MAX_LANES, MIN_LANES, batch_integrator, batch_width, run_batch
 from rocknroller.numerics.budget import HEYOKA_SECONDS_PER_RADIAN, WORK_BUDGET_SECONDS, check_work
 from rocknroller.numerics.integrate import check_run, heyoka_integrator, simulate
 from rocknroller.numerics.trajectory import TurningPointRun, TurningPoints
 
-__all__ = ["Job", "RunSummary", "run_job", "run_ensemble", "check_cluster", "MAX_JOBS", "MAX_WORKERS", "MAX_THREADS",
+__all__ = ["Job", "RunSummary", "run_job", "run_jobs", "run_ensemble", "check_cluster", "MAX_JOBS", "MAX_WORKERS", "MAX_THREADS",
            "DISTRIBUTED_HINT"]
 
 #: Most jobs in one call (each summary holds its θ-maxima: 17 floats, 136 bytes, per maximum).
@@ -77,8 +81,9 @@ class Job:
     initial : EulerState
         Initial Euler angles and rates (or body-frame ω, :meth:`EulerState.from_omega`).
     t_end : float
-        Final time, > 0, within ``MAX_RADIANS`` radians of the run's rate bound and with at most ``MAX_GRID_POINTS``
-        points of the default unwrapping grid (:mod:`rocknroller.numerics.integrate`).
+        Final time, > 0, within ``MAX_RADIANS`` radians of the run's rate bound (:mod:`rocknroller.numerics.integrate`;
+        the default unwrapping grid, one point per ``UNWRAP_RADIANS`` = 1 radian, then stays within
+        ``MAX_GRID_POINTS``).
 
     Raises
     ------
@@ -149,6 +154,21 @@ def run_job(job: Job) -> RunSummary:
     return RunSummary.from_run(run)
 
 
+def run_jobs(jobs: Sequence[Job], lanes: int) -> list[RunSummary]:
+    """Run jobs in one batch of ``lanes`` lanes (:func:`rocknroller.numerics.batch.run_batch`; ``lanes=1`` runs
+    each by :func:`run_job`, the scalar integrator), then their summaries."""
+    if lanes == 1:
+        return [run_job(job) for job in jobs]
+    return [RunSummary.from_run(run) for run in run_batch([(j.body, j.initial, j.t_end) for j in jobs], lanes)]
+
+
+def _batches(jobs: list[Job], lanes: int) -> list[list[int]]:
+    """The jobs' indices in batches of ``lanes``, the longest jobs (in radians Λ·t_end) together so that few lanes
+    idle while the others finish.  Which jobs share a batch does not change any job's result (:mod:`batch`)."""
+    order = sorted(range(len(jobs)), key=lambda i: -jobs[i].radians)
+    return [order[k:k + lanes] for k in range(0, len(order), lanes)]
+
+
 def _check_count(value: Any, name: str, limit: int) -> int | None:
     if value is None:
         return None
@@ -205,10 +225,12 @@ def check_cluster(scheduler: Any = None, workers: Any = None, threads: Any = Non
 
 def run_ensemble(jobs: Sequence[Job], *, scheduler: str | None = None, workers: int | None = None,
                  threads: int | None = None, progress: bool | None = None,
-                 budget: float | None = WORK_BUDGET_SECONDS) -> list[RunSummary]:
-    """Run every job (:func:`run_job`) and return their summaries in job order.
+                 budget: float | None = WORK_BUDGET_SECONDS, lanes: int | None = None) -> list[RunSummary]:
+    """Run every job and return their summaries in job order.
 
-    The result is the same bit for bit whichever way the jobs run (see the module docstring).
+    The jobs run in batches in the lanes of heyoka's batch integrator (:func:`run_jobs`), the longest together;
+    each thread or worker runs whole batches.  The result is the same bit for bit whichever way the jobs are
+    batched or run (see the module docstring).
 
     Parameters
     ----------
@@ -227,6 +249,10 @@ def run_ensemble(jobs: Sequence[Job], *, scheduler: str | None = None, workers: 
     budget : float or None
         CPU seconds the jobs may take together (:mod:`rocknroller.numerics.budget`; None: no limit), estimated before
         any work from their radians Λ·t_end; however many processes share them.
+    lanes : int, optional
+        Lanes per batch, in [``MIN_LANES``, ``MAX_LANES``] (default :func:`rocknroller.numerics.batch.batch_width`, the width
+        heyoka recommends for this CPU); 1 runs each job by itself in the scalar integrator (:func:`run_job`), as
+        ``simulate`` does, whose results differ from the lanes' in the last bits (:mod:`rocknroller.numerics.batch`).
 
     Returns
     -------
@@ -242,6 +268,11 @@ def run_ensemble(jobs: Sequence[Job], *, scheduler: str | None = None, workers: 
         whose versions of rocknroller, heyoka or numpy differ from this process's.
     """
     scheduler, workers = check_cluster(scheduler, workers, threads)
+    if lanes is not None and (isinstance(lanes, bool) or not isinstance(lanes, (int, np.integer))
+                              or not (lanes == 1 or MIN_LANES <= lanes <= MAX_LANES)):
+        raise ValueError(f"lanes must be 1 (the scalar integrator) or a whole number in [{MIN_LANES}, {MAX_LANES}] "
+                         f"(MIN_LANES, MAX_LANES), got lanes={lanes!r}")
+    lanes = batch_width() if lanes is None else int(lanes)
     if isinstance(jobs, (str, bytes)) or not isinstance(jobs, Sequence):
         raise ValueError(f"jobs must be a sequence (list or tuple) of Job, got {type(jobs).__name__}")
     if len(jobs) > MAX_JOBS:
@@ -255,9 +286,16 @@ def run_ensemble(jobs: Sequence[Job], *, scheduler: str | None = None, workers: 
     check_work(sum(job.radians for job in jobs) * HEYOKA_SECONDS_PER_RADIAN,
                f"{len(jobs)} direct run{'s' if len(jobs) > 1 else ''} (Λ t_end up to "
                f"{max(job.radians for job in jobs):.3g} radians)", budget)
+    batches = _batches(jobs, lanes)
     if scheduler is None and workers is None:
-        return _run_in_process(jobs, threads or 1, progress)
-    return _run_on_cluster(jobs, scheduler, workers, progress)
+        done = _run_in_process(jobs, batches, lanes, threads or 1, progress)
+    else:
+        done = _run_on_cluster(jobs, batches, lanes, scheduler, workers, progress)
+    results: list[RunSummary | None] = [None] * len(jobs)
+    for batch, summaries in zip(batches, done, strict=True):
+        for i, summary in zip(batch, summaries, strict=True):
+            results[i] = summary
+    return [r for r in results if r is not None]
 
 
 def _bar(total: int, enabled: bool | None) -> Any:
@@ -268,20 +306,21 @@ def _bar(total: int, enabled: bool | None) -> Any:
     return tqdm(total=total, disable=not enabled, unit="run", leave=False, file=sys.stderr)
 
 
-def _run_in_process(jobs: list[Job], threads: int, progress: bool | None) -> list[RunSummary]:
+def _run_in_process(jobs: list[Job], batches: list[list[int]], lanes: int, threads: int,
+                    progress: bool | None) -> list[list[RunSummary]]:
     with _bar(len(jobs), progress) as bar:
         if threads == 1:
             results = []
-            for job in jobs:
-                results.append(run_job(job))
-                bar.update(1)
+            for batch in batches:
+                results.append(run_jobs([jobs[i] for i in batch], lanes))
+                bar.update(len(batch))
             return results
-        with ThreadPoolExecutor(max_workers=min(threads, len(jobs))) as pool:
-            futures = [pool.submit(run_job, job) for job in jobs]
+        with ThreadPoolExecutor(max_workers=min(threads, len(batches))) as pool:
+            futures = {pool.submit(run_jobs, [jobs[i] for i in batch], lanes): len(batch) for batch in batches}
             try:
                 for future in as_completed(futures):
-                    future.result()  # the first failure stops the call: the jobs not yet started are dropped
-                    bar.update(1)
+                    future.result()  # the first failure stops the call: the batches not yet started are dropped
+                    bar.update(futures[future])
             except BaseException:
                 pool.shutdown(cancel_futures=True)
                 raise
@@ -306,24 +345,26 @@ def _import_distributed(what: str) -> Any:
     return distributed
 
 
-def _run_on_cluster(jobs: list[Job], scheduler: str | None, workers: int | None,
-                    progress: bool | None) -> list[RunSummary]:
+def _run_on_cluster(jobs: list[Job], batches: list[list[int]], lanes: int, scheduler: str | None,
+                    workers: int | None, progress: bool | None) -> list[list[RunSummary]]:
     what = f"scheduler={scheduler!r}" if scheduler is not None else f"workers={workers}"
     distributed = _import_distributed(what)
-    heyoka_integrator()  # fills heyoka's disk cache (if empty) before any worker needs the integrator
+    # fill heyoka's disk cache (if empty) before any worker needs the integrator
+    heyoka_integrator() if lanes == 1 else batch_integrator(lanes)
     if workers is not None:  # the scheduler's HTTP server on a free port: never a clash with another cluster's
         with distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                       dashboard_address=":0") as cluster, distributed.Client(cluster) as client:
-            return _submit(client, jobs, what, progress)
+            return _submit(client, jobs, batches, lanes, what, progress)
     try:
         client = distributed.Client(scheduler)
     except (OSError, TimeoutError) as exc:
         raise ValueError(f"scheduler={scheduler!r}: cannot connect to the dask scheduler ({exc})") from None
     with client:
-        return _submit(client, jobs, what, progress)
+        return _submit(client, jobs, batches, lanes, what, progress)
 
 
-def _submit(client: Any, jobs: list[Job], what: str, progress: bool | None) -> list[RunSummary]:
+def _submit(client: Any, jobs: list[Job], batches: list[list[int]], lanes: int, what: str,
+            progress: bool | None) -> list[list[RunSummary]]:
     import distributed
 
     here = _versions()
@@ -331,10 +372,11 @@ def _submit(client: Any, jobs: list[Job], what: str, progress: bool | None) -> l
     if odd:
         raise ValueError(f"{what}: workers run other versions of (rocknroller, heyoka, numpy) than {here}, so their "
                          f"results could differ: {odd}")
-    futures = client.map(run_job, jobs, pure=False)
+    futures = client.map(run_jobs, [[jobs[i] for i in batch] for batch in batches], lanes=lanes, pure=False)
+    sizes = {future.key: len(batch) for future, batch in zip(futures, batches)}
     with _bar(len(jobs), progress) as bar:
         for future in distributed.as_completed(futures):
             if future.status == "error":
                 future.result()  # re-raises the job's exception here; leaving the client drops the other jobs
-            bar.update(1)
+            bar.update(sizes[future.key])
     return client.gather(futures)

@@ -64,7 +64,7 @@ import math
 import sys
 import threading
 import warnings
-from typing import Any, Callable, Literal, NamedTuple, overload
+from typing import Any, Callable, Literal, NamedTuple, TypeVar, overload
 
 import numpy as np
 from numpy.typing import NDArray
@@ -73,7 +73,7 @@ from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import STATE_SIZE, EulerState, body_frame_rhs, turning_point_function
 from rocknroller.analysis.model.invariants import energy
 from rocknroller.numerics.budget import (DOP853_SECONDS_PER_RADIAN, HEYOKA_EXTENDED_SECONDS_PER_RADIAN,
-                                        HEYOKA_SECONDS_PER_RADIAN, WORK_BUDGET_SECONDS, check_work)
+                                         HEYOKA_SECONDS_PER_RADIAN, WORK_BUDGET_SECONDS, check_work)
 from rocknroller.numerics.cache import (CacheWarning, cache_dir, probe_writable,  # cache_dir: re-exported
                                         warn_unwritable)
 from rocknroller.numerics.events import _U, THETA_MIN, _turning_points, start_turning_point
@@ -81,9 +81,10 @@ from rocknroller.numerics.trajectory import (DenseOutput, Trajectory, TurningPoi
                                              energy_scale)
 
 __all__ = [
-    "simulate", "check_run", "RunPlan", "heyoka_integrator", "default_dt", "cache_dir", "rate_bound", "AccuracyWarning",
+    "simulate", "check_run", "finish_run", "check_diskcache", "RunPlan", "heyoka_integrator", "default_dt", "cache_dir", "rate_bound", "AccuracyWarning",
     "AccuracyError", "CacheWarning", "MAX_SAMPLES", "MAX_DENSE_RADIANS", "MAX_DENSE_STEPS", "MAX_RADIANS",
-    "MAX_GRID_POINTS", "GRID_CHUNK_POINTS", "GRID_BYTES_PER_POINT", "MOMENT_RANGE", "G_RANGE", "MAX_ENERGY_OVER_G"
+    "MAX_GRID_POINTS", "GRID_CHUNK_POINTS", "UNWRAP_RADIANS", "DT_RADIANS", "GRID_BYTES_PER_POINT", "MOMENT_RANGE",
+    "G_RANGE", "MAX_ENERGY_OVER_G"
 ]
 
 _METHODS = ("heyoka", "scipy")
@@ -104,6 +105,13 @@ G_RANGE = (1e-12, 1e12)
 MAX_ENERGY_OVER_G = 1e12
 #: Default output spacing in radians of Λ (≈ 0.05 time units for the paper's runs).
 DT_RADIANS = 0.15
+#: Default spacing, in radians of Λ, of the grid on which a run with ``samples=False`` unwraps φ and ψ and checks the
+#: energy: ≈ 0.35 time units, ≈ 40 points per rocking period, for the paper's runs.  The unwrapping does not rest on
+#: it: an interval over which an angle's rate at either end (φ̇, ψ̇ from the state, unbounded near the pole) would turn
+#: it by 2π/3 is bisected (:mod:`rocknroller.numerics.trajectory`), so the branch is the one a finer grid gives, and
+#: the turning points are the same to the bit (tests/numerics/test_batch.py); 6.7× fewer points than ``DT_RADIANS``
+#: cut a run's sampling by as much (issue 24).
+UNWRAP_RADIANS = 1.0
 #: Radians of Λ integrated per stretch when only the turning points are kept (≈ 5·10³ steps, ≈ 9 MB of dense output).
 #: Below glibc's largest mmap threshold (32 MB) a stretch's buffers, freed, are reused by the next: at 2·10⁴ radians
 #: (≈ 36 MB) each stretch mapped fresh pages, 10 % of a long run's CPU in page faults (issue 25, item 18;
@@ -173,7 +181,13 @@ def heyoka_integrator(precision: str = "double") -> Any:
 
 def _compile(precision: str) -> Any:
     """Build the integrator of ``precision`` (from heyoka's disk cache when it holds it), after checking that the
-    cache can be used.
+    cache can be used (:func:`check_diskcache`)."""
+    check_diskcache()
+    return _build_heyoka(float if precision == "double" else np.longdouble)
+
+
+def check_diskcache() -> None:
+    """Check that heyoka's disk cache can be used before anything is compiled.
 
     A cache heyoka cannot use (a directory that cannot be written or created, a ``cache.db`` that is not a database)
     makes heyoka log a ``[warning]`` line on stdout at every lookup and insertion, where it would corrupt the
@@ -195,7 +209,6 @@ def _compile(precision: str) -> Any:
             warn_unwritable(path, error, "heyoka's compilation cache is switched off, and every process compiles the "
                             "integrator (~6 s)",
                             fix="point HEYOKA_CACHE_DIR at a writable folder to keep heyoka's compilation cache")
-    return _build_heyoka(float if precision == "double" else np.longdouble)
 
 
 def rate_bound(body: Body, y0: NDArray[np.float64]) -> float:
@@ -205,11 +218,12 @@ def rate_bound(body: Body, y0: NDArray[np.float64]) -> float:
     return math.sqrt(2.0 * (E + body.g * body.a) / min(body.I1, body.I2, body.I3))
 
 
-def default_dt(t_end: float, rate: float) -> float:
+def default_dt(t_end: float, rate: float, samples: bool = True) -> float:
     """Default sample spacing: ``DT_RADIANS``/Λ (≈ 0.05 time units, ≈ 200 samples per rocking period, for
     the paper's runs), and at least 200 samples over the run (a t_end so small that t_end/200 underflows to 0
-    gets the two samples 0 and t_end)."""
-    return min(DT_RADIANS / rate, t_end / 200.0) or t_end
+    gets the two samples 0 and t_end).  With ``samples=False``, the unwrapping grid's: ``UNWRAP_RADIANS``/Λ, at least
+    200 points."""
+    return min((DT_RADIANS if samples else UNWRAP_RADIANS) / rate, t_end / 200.0) or t_end
 
 
 def _validate(body: Body, initial: EulerState, t_end: float) -> tuple[NDArray[np.float64], float]:
@@ -380,7 +394,7 @@ def _check_energy(run: Trajectory | TurningPointRun, strict: bool) -> None:
                f"{run.tolerance:.3g} allow: the run is not accurate")
         if strict:
             raise AccuracyError(msg)
-        warnings.warn(msg, AccuracyWarning, stacklevel=3)
+        warnings.warn(msg, AccuracyWarning, stacklevel=4)
 
 
 class RunPlan(NamedTuple):
@@ -429,7 +443,7 @@ def check_run(body: Body, initial: EulerState, t_end: float, *, dt: float | None
         raise ValueError(f"t_end={t_end!r} is too long: the run spans Λ t_end = {radians:.3g} radians of its rate bound "
                          f"Λ = {rate:.3g} (about as many integration steps), over the limit {limit_name} = {limit:g}{hint}")
     if dt is None:
-        dt = default_dt(t_end, rate)
+        dt = default_dt(t_end, rate, samples)
     dt = float(dt)
     if not math.isfinite(dt) or dt <= 0.0:
         raise ValueError(f"dt must be a finite number > 0, got dt={dt!r}")
@@ -485,7 +499,7 @@ def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "he
     dt : float, optional
         Spacing of the output grid (default :func:`default_dt`), at most ``MAX_SAMPLES`` samples; turning
         points are always added.  With ``samples=False``, the spacing of the grid on which φ and ψ are
-        unwrapped and the energy is checked.
+        unwrapped and the energy is checked (default ``UNWRAP_RADIANS``/Λ).
     precision : {"double", "extended"}
         heyoka only: 64-bit or 80-bit floating point.
     rtol, atol : float
@@ -547,12 +561,82 @@ def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "he
                 [t for t, d in events if d < 0], n_steps=run.n_steps, tolerance=run.tolerance)
         else:
             result = _turning_points_only(body, method, run, y0, t_end, dt, rate, on_turning_points)
+    return finish_run(result, initial, strict)
+
+
+_Run = TypeVar("_Run", Trajectory, TurningPointRun)
+
+
+def finish_run(result: _Run, initial: EulerState, strict: bool) -> _Run:
+    """The checks after a run: θ-maxima resolved (≥ ``THETA_MIN``), the energy error within its bound (a warning,
+    or :class:`AccuracyError` with ``strict``)."""
     if np.any(result.maxima.theta < THETA_MIN):  # a motion near the pole that the energy did not confine there
         raise ValueError(f"theta0={initial.theta!r}: theta has maxima as small as {result.maxima.theta.min():.3g} "
                          f"rad, below THETA_MIN = {THETA_MIN:.3g} rad, the smallest amplitude at which the integrator "
                          f"resolves the turning points of theta; give theta0 >= {THETA_MIN:.3g}")
     _check_energy(result, strict)
     return result
+
+
+def _stretch_end(t_a: float, t_end: float, stretch: float) -> float:
+    """The end of the stretch that starts at ``t_a``: ``stretch`` on, or ``t_end`` if that is within 1.5 stretches."""
+    return t_end if t_end - t_a <= 1.5 * stretch else t_a + stretch
+
+
+def _grid_pieces(t_a: float, t_b: float, dt: float,
+                 events: list[tuple[float, int]]) -> list[tuple[NDArray, NDArray, NDArray]]:
+    """The unwrapping grid of the stretch (t_a, t_b] (spacing ``dt``, as ``np.linspace`` computes it) in pieces of at
+    most ``GRID_CHUNK_POINTS`` points that share their end points, each with its maxima and minima among ``events``
+    (one on a shared end point is the earlier piece's)."""
+    n = int(math.ceil((t_b - t_a) / dt - 1e-9)) + 1  # the points of np.linspace(t_a, t_b, n), piece by piece
+    step = (t_b - t_a) / (n - 1)
+    ev_t, ev_d = np.array([t for t, _ in events], float), np.array([d for _, d in events], int)
+    pieces = []
+    for k0 in range(0, n - 1, GRID_CHUNK_POINTS - 1):
+        k1 = min(k0 + GRID_CHUNK_POINTS - 1, n - 1)
+        grid = np.arange(k0, k1 + 1) * step + t_a  # as np.linspace computes it, its last point t_b exactly
+        if k1 == n - 1:
+            grid[-1] = t_b
+        mine = slice(0 if k0 == 0 else np.searchsorted(ev_t, grid[0], "right"),
+                     np.searchsorted(ev_t, grid[-1], "right"))
+        t_ev, d_ev = ev_t[mine], ev_d[mine]
+        pieces.append((grid, t_ev[d_ev > 0], t_ev[d_ev < 0]))
+    return pieces
+
+
+class _RunRecord:
+    """The turning points and the largest energy error of a run with ``samples=False``, taken piece by piece of its
+    unwrapping grid (:func:`_grid_pieces`), the angles unwrapped from one piece into the next."""
+
+    def __init__(self, body: Body, y0: NDArray[np.float64]) -> None:
+        self.body, self.E0 = body, float(energy(body, y0[0:3], y0[3:6]))
+        self.worst, self.start = 0.0, None
+        self.maxima: list[TurningPoints] = []
+        self.minima: list[TurningPoints] = []
+        self._parts: tuple[list[TurningPoints], list[TurningPoints]] = ([], [])
+
+    def add(self, smp: _Samples) -> None:
+        """One piece sampled (``_Samples.take`` or ``take_lanes``, from ``self.start``)."""
+        self.start = smp.angles[1:, -1]
+        self.worst = max(self.worst, float(np.max(np.abs(energy(self.body, smp.y[:, 0:3].T, smp.y[:, 3:6].T)
+                                                         - self.E0))))
+        self._parts[0].append(smp.turning(self.body, smp.i_max))
+        self._parts[1].append(smp.turning(self.body, smp.i_min))
+
+    def end_stretch(self) -> tuple[TurningPoints, TurningPoints]:
+        """The maxima and minima of the pieces added since the last call."""
+        mx, mn = (TurningPoints.concatenate(parts) for parts in self._parts)
+        self._parts = ([], [])
+        self.maxima.append(mx)
+        self.minima.append(mn)
+        return mx, mn
+
+    def result(self, method: str, t_end: float, n_steps: int, tolerance: float) -> TurningPointRun:
+        return TurningPointRun(body=self.body, method=method, t_end=t_end,
+                               maxima=TurningPoints.concatenate(self.maxima),
+                               minima=TurningPoints.concatenate(self.minima),
+                               energy_rel_error=self.worst / energy_scale(self.body, self.E0), n_steps=n_steps,
+                               tolerance=tolerance)
 
 
 def _turning_points_only(body: Body, method: str, run: _HeyokaRun | _ScipyRun, y0: NDArray[np.float64],
@@ -563,37 +647,16 @@ def _turning_points_only(body: Body, method: str, run: _HeyokaRun | _ScipyRun, y
     Each stretch's grid (spacing ``dt``) is sampled in pieces of at most ``GRID_CHUNK_POINTS`` points that share
     their end points, the angles unwrapped from one piece into the next: the grid is never held whole.
     """
-    E0 = float(energy(body, y0[0:3], y0[3:6]))
+    record = _RunRecord(body, y0)
     stretch = max(CHUNK_RADIANS / rate, dt)
-    maxima, minima, worst, start, t_a = [], [], 0.0, None, 0.0
+    t_a = 0.0
     while t_a < t_end:
-        t_b = t_end if t_end - t_a <= 1.5 * stretch else t_a + stretch
+        t_b = _stretch_end(t_a, t_end, stretch)
         dense, events = run.advance(t_b)
-        n = int(math.ceil((t_b - t_a) / dt - 1e-9)) + 1  # the points of np.linspace(t_a, t_b, n), piece by piece
-        step = (t_b - t_a) / (n - 1)
-        ev_t, ev_d = np.array([t for t, _ in events], float), np.array([d for _, d in events], int)
-        mx_parts, mn_parts = [], []
-        for k0 in range(0, n - 1, GRID_CHUNK_POINTS - 1):
-            k1 = min(k0 + GRID_CHUNK_POINTS - 1, n - 1)
-            grid = np.arange(k0, k1 + 1) * step + t_a  # as np.linspace computes it, its last point t_b exactly
-            if k1 == n - 1:
-                grid[-1] = t_b
-            # the events in (grid[0], grid[-1]] (all from the first piece on): one on a shared end point is the
-            # earlier piece's
-            mine = slice(0 if k0 == 0 else np.searchsorted(ev_t, grid[0], "right"),
-                         np.searchsorted(ev_t, grid[-1], "right"))
-            t_ev, d_ev = ev_t[mine], ev_d[mine]
-            smp = _Samples.take(dense, grid, t_ev[d_ev > 0], t_ev[d_ev < 0], start)
-            start = smp.angles[1:, -1]
-            worst = max(worst, float(np.max(np.abs(energy(body, smp.y[:, 0:3].T, smp.y[:, 3:6].T) - E0))))
-            mx_parts.append(smp.turning(body, smp.i_max))
-            mn_parts.append(smp.turning(body, smp.i_min))
-        mx, mn = TurningPoints.concatenate(mx_parts), TurningPoints.concatenate(mn_parts)
-        maxima.append(mx)
-        minima.append(mn)
+        for grid, t_max, t_min in _grid_pieces(t_a, t_b, dt, events):
+            record.add(_Samples.take(dense, grid, t_max, t_min, record.start))
+        mx, mn = record.end_stretch()
         if on_turning_points is not None:
             on_turning_points(mx, mn)
         t_a = t_b
-    return TurningPointRun(body=body, method=method, t_end=t_end, maxima=TurningPoints.concatenate(maxima),
-                           minima=TurningPoints.concatenate(minima), energy_rel_error=worst / energy_scale(body, E0),
-                           n_steps=run.n_steps, tolerance=run.tolerance)
+    return record.result(method, t_end, run.n_steps, run.tolerance)

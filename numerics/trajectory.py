@@ -2,8 +2,10 @@
 
 φ and ψ are unwrapped continuously, also through passages near θ = 0 where they jump by about ±π:
 the sample grid always contains the θ-minima (found as events), and any interval over which an angle
-changes by more than 2π/3 (wrapped) is bisected on the dense output until none does, so the branch
-of every increment is resolved (the swing on each side of a near-vertical passage is about π/2).
+changes by more than 2π/3 (wrapped), or over which the faster of φ̇, ψ̇ at its ends would turn it by more
+than 2π/3, is bisected on the dense output until none does, so the branch of every increment is resolved
+(the swing on each side of a near-vertical passage is about π/2).  The second test catches an angle that
+turns by more than 4π/3 between two samples, which the first would mistake for a small step.
 """
 
 from __future__ import annotations
@@ -79,43 +81,109 @@ def energy_scale(body: Body, E0: float) -> float:
     return abs(float(E0)) + body.g * body.a
 
 
-def _unwrapped_angles(t: NDArray[np.float64], dense: DenseOutput,
-                      start: NDArray[np.float64] | None = None) -> tuple[NDArray, NDArray]:
-    """States at ``t`` and the unwrapped (θ, φ, ψ) there, refining the grid where needed.
+def _angle_rates(y: NDArray[np.float64]) -> NDArray[np.float64]:
+    """max(|φ̇|, |ψ̇|) at states ``y`` (N, 11): φ̇ = (ω1 γ1 + ω2 γ2)/(γ1² + γ2²), ψ̇ = ω3 − φ̇ γ3 (from
+    ω1 = φ̇ sin θ sin ψ + θ̇ cos ψ, ω2 = φ̇ sin θ cos ψ − θ̇ sin ψ, ω3 = φ̇ cos θ + ψ̇ with γ = (sin θ sin ψ,
+    sin θ cos ψ, cos θ)); inf at the pole, where φ and ψ are undefined."""
+    g1, g2, g3, w1, w2, w3 = y[:, 0], y[:, 1], y[:, 2], y[:, 3], y[:, 4], y[:, 5]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        phi_dot = (w1 * g1 + w2 * g2) / (g1 * g1 + g2 * g2)
+        fastest = np.maximum(np.abs(phi_dot), np.abs(w3 - phi_dot * g3))
+    return np.where(np.isnan(fastest), np.inf, fastest)
 
-    An interval that still jumps after bisection down to round-off is a passage through θ = 0
-    itself (θ_N at round-off level), where φ and ψ are undefined and only φ + ψ is: φ then takes
-    the wrapped jump (−π) and ψ the opposite one, so that φ + ψ stays continuous.
-    ``start`` = (φ, ψ) on the branch to continue at t[0] (a previous chunk's last unwrapped values).
+
+def _unresolved(t_lo: NDArray, t_hi: NDArray, ang_lo: NDArray, ang_hi: NDArray, rate_lo: NDArray,
+                rate_hi: NDArray) -> NDArray[np.bool_]:
+    """The intervals (t_lo, t_hi) to bisect: φ or ψ changes by more than 2π/3 (wrapped) over them, or would at the
+    faster rate of their ends; unless they are too short to split (64 u of t)."""
+    jumps = np.any(np.abs(wrap_angle(ang_hi[1:] - ang_lo[1:])) > _UNWRAP_LIMIT, axis=0)
+    width = t_hi - t_lo
+    fast = np.maximum(rate_lo, rate_hi) * width > _UNWRAP_LIMIT
+    return (jumps | fast) & (width > 64.0 * np.finfo(float).eps * np.maximum(1.0, np.abs(t_hi)))
+
+
+#: Dense output of several lanes at once: times (rows, W), one column per lane, to states (rows, 11, W).
+LaneDense = Callable[[NDArray[np.float64]], NDArray[np.float64]]
+
+
+def _unwrapped_angles(t: list[NDArray[np.float64]], y: list[NDArray[np.float64]], dense: LaneDense,
+                      columns: list[int], fill: NDArray[np.float64],
+                      starts: list[NDArray[np.float64] | None]) -> list[tuple[NDArray, NDArray]]:
+    """States and unwrapped (θ, φ, ψ) at the times ``t[j]`` of each lane j (states ``y[j]`` there), refining the
+    grids where needed.
+
+    Each interval to refine (:func:`_unresolved`) is bisected on its own, its halves checked again, down to
+    ``_MAX_BISECTIONS`` levels, the midpoints of every lane evaluated together (lane j in column ``columns[j]`` of
+    ``dense``, the other columns at their ``fill`` times); the points added are used for the unwrapping and dropped
+    from the result.  An interval that still jumps after bisection down to round-off is a passage through θ = 0
+    itself (θ_N at round-off level), where φ and ψ are undefined and only φ + ψ is: φ then takes the wrapped jump
+    (−π) and ψ the opposite one, so that φ + ψ stays continuous.  ``starts[j]`` = (φ, ψ) on the branch to continue
+    at t[j][0] (a previous piece's last unwrapped values).  A lane's result depends only on its own times and
+    states.
     """
-    grid = t.copy()
-    keep = np.ones(grid.size, bool)
+    lane_of = np.concatenate([np.full(tj.size, j) for j, tj in enumerate(t)])
+    tt, yy = np.concatenate(t), np.concatenate(y)
+    ang, rate = angles_from_frame(yy[:, 0:3].T, yy[:, 6:9].T), _angle_rates(yy)
+    inside = lane_of[:-1] == lane_of[1:]
+    bad = np.flatnonzero(inside & _unresolved(tt[:-1], tt[1:], ang[:, :-1], ang[:, 1:], rate[:-1], rate[1:]))
+    lane, cols = lane_of[bad], np.asarray(columns)
+    lo = (tt[bad], ang[:, bad], rate[bad])
+    hi = (tt[bad + 1], ang[:, bad + 1], rate[bad + 1])
+    added: list[tuple[NDArray, NDArray, NDArray, NDArray]] = []
     for _ in range(_MAX_BISECTIONS):
-        y = dense(grid)
-        ang = angles_from_frame(y[:, 0:3].T, y[:, 6:9].T)
-        steps = wrap_angle(np.diff(ang[1:], axis=1))
-        jumps = np.any(np.abs(steps) > _UNWRAP_LIMIT, axis=0)
-        width = np.diff(grid)
-        resolvable = width > 64.0 * np.finfo(float).eps * np.maximum(1.0, np.abs(grid[1:]))
-        bad = np.flatnonzero(jumps & resolvable)
-        if bad.size == 0:
-            through_pole = np.flatnonzero(jumps)
-            steps[1, through_pole] = wrap_angle(steps[0, through_pole] + steps[1, through_pole]) - steps[0, through_pole]
-            # every chosen step is the raw difference plus a whole number of turns: keep the angles as
-            # ang + 2π·(turns), exact integers, so no round-off accumulates along the series
-            turns = np.rint((steps - np.diff(ang[1:], axis=1)) / _TWO_PI)
-            first = np.zeros((2, 1))
-            if start is not None:  # the branch of ``start``: start + wrap(ang0 − start) = ang0 + 2π·first
-                s0, a0 = np.reshape(start, (2, 1)), ang[1:, :1]
-                first = np.rint((s0 + wrap_angle(a0 - s0) - a0) / _TWO_PI)
-            counts = np.concatenate([first, first + np.cumsum(turns, axis=1)], axis=1)
-            unwrapped = ang.copy()
-            unwrapped[1:] = ang[1:] + _TWO_PI * counts
-            return y[keep], unwrapped[:, keep]
-        mids = 0.5 * (grid[bad] + grid[bad + 1])
-        grid = np.insert(grid, bad + 1, mids)
-        keep = np.insert(keep, bad + 1, False)
-    raise RuntimeError("could not resolve the branch of phi/psi after repeated bisection")
+        if lane.size == 0:
+            break
+        t_mid = 0.5 * (lo[0] + hi[0])
+        order = np.argsort(lane, kind="stable")  # row of each midpoint: its rank among its lane's
+        rank = np.empty_like(order)
+        rank[order] = np.arange(order.size) - np.searchsorted(lane[order], lane[order], "left")
+        grid = np.repeat(np.asarray(fill, float)[None, :], int(rank.max()) + 1, axis=0)
+        grid[rank, cols[lane]] = t_mid
+        y_mid = np.asarray(dense(grid))[rank, :, cols[lane]]  # only the new points: the states elsewhere are kept
+        mid = (t_mid, angles_from_frame(y_mid[:, 0:3].T, y_mid[:, 6:9].T), _angle_rates(y_mid))
+        added.append((lane, t_mid, y_mid, mid[1]))
+        left = _unresolved(lo[0], mid[0], lo[1], mid[1], lo[2], mid[2])
+        right = _unresolved(mid[0], hi[0], mid[1], hi[1], mid[2], hi[2])
+        lo = tuple(np.concatenate([a[..., left], b[..., right]], axis=-1) for a, b in zip(lo, mid))
+        hi = tuple(np.concatenate([a[..., left], b[..., right]], axis=-1) for a, b in zip(mid, hi))
+        lane = np.concatenate([lane[left], lane[right]])
+    else:
+        if lane.size:
+            raise RuntimeError("could not resolve the branch of phi/psi after repeated bisection")
+    keep = np.ones(tt.size, bool)
+    if added:  # the added points among the lanes' own, each lane in time order
+        lane_of = np.concatenate([lane_of] + [a[0] for a in added])
+        order = np.lexsort((np.concatenate([tt] + [a[1] for a in added]), lane_of))
+        lane_of = lane_of[order]
+        yy = np.concatenate([yy] + [a[2] for a in added])[order]
+        ang = np.concatenate([ang] + [a[3] for a in added], axis=1)[:, order]
+        keep = np.concatenate([keep, np.zeros(yy.shape[0] - keep.size, bool)])[order]
+    ends = np.searchsorted(lane_of, np.arange(len(t) + 1))
+    out = []
+    for j in range(len(t)):
+        mine = slice(ends[j], ends[j + 1])
+        kj = keep[mine]
+        out.append((yy[mine][kj], _branch(ang[:, mine], starts[j])[:, kj]))
+    return out
+
+
+def _branch(ang: NDArray[np.float64], start: NDArray[np.float64] | None) -> NDArray[np.float64]:
+    """(θ, φ, ψ) samples ``ang`` fine enough that no step of φ or ψ is ambiguous, unwrapped (φ, ψ continuous), on
+    the branch of ``start`` (see :func:`_unwrapped_angles`)."""
+    steps = wrap_angle(np.diff(ang[1:], axis=1))
+    through_pole = np.flatnonzero(np.any(np.abs(steps) > _UNWRAP_LIMIT, axis=0))
+    steps[1, through_pole] = wrap_angle(steps[0, through_pole] + steps[1, through_pole]) - steps[0, through_pole]
+    # every chosen step is the raw difference plus a whole number of turns: keep the angles as
+    # ang + 2π·(turns), exact integers, so no round-off accumulates along the series
+    turns = np.rint((steps - np.diff(ang[1:], axis=1)) / _TWO_PI)
+    first = np.zeros((2, 1))
+    if start is not None:  # the branch of ``start``: start + wrap(ang0 − start) = ang0 + 2π·first
+        s0, a0 = np.reshape(start, (2, 1)), ang[1:, :1]
+        first = np.rint((s0 + wrap_angle(a0 - s0) - a0) / _TWO_PI)
+    counts = np.concatenate([first, first + np.cumsum(turns, axis=1)], axis=1)
+    unwrapped = ang.copy()
+    unwrapped[1:] = ang[1:] + _TWO_PI * counts
+    return unwrapped
 
 
 def energy_error_bound(tolerance: float, n_steps: int) -> float:
@@ -148,12 +216,34 @@ class _Samples:
     @classmethod
     def take(cls, dense: DenseOutput, t_grid: ArrayLike, t_maxima: ArrayLike, t_minima: ArrayLike,
              start: NDArray[np.float64] | None = None) -> "_Samples":
+        """Sample ``dense`` on the grid and at the turning points (one lane of :meth:`take_lanes`)."""
         t_grid = np.asarray(t_grid, float)
-        t_max, t_min = np.asarray(t_maxima, float), np.asarray(t_minima, float)
-        t_all, inverse = np.unique(np.concatenate([t_grid, t_max, t_min]), return_inverse=True)
-        y, angles = _unwrapped_angles(t_all, dense, start)
-        n_grid, n_max = t_grid.size, t_max.size
-        return cls(t_all, y, angles, inverse[n_grid:n_grid + n_max], inverse[n_grid + n_max:])
+        return cls.take_lanes(lambda times: dense(times[:, 0])[:, :, None], [(t_grid, t_maxima, t_minima)], [0],
+                              t_grid[:1], [start])[0]
+
+    @classmethod
+    def take_lanes(cls, dense: LaneDense, pieces: list[tuple[ArrayLike, ArrayLike, ArrayLike]], columns: list[int],
+                   fill: NDArray[np.float64], starts: list[NDArray[np.float64] | None]) -> list["_Samples"]:
+        """Sample several lanes' dense output (``dense``, lane j in column ``columns[j]``, the others at their
+        ``fill`` times) on each lane's grid and at its turning points, ``pieces[j]`` = (grid, maxima, minima), the
+        lanes evaluated together; ``starts`` as :func:`_unwrapped_angles`'s."""
+        t_all, inverse, sizes = [], [], []
+        for t_grid, t_max, t_min in pieces:
+            parts = [np.asarray(t_grid, float), np.asarray(t_max, float), np.asarray(t_min, float)]
+            ta, inv = np.unique(np.concatenate(parts), return_inverse=True)
+            t_all.append(ta)
+            inverse.append(inv)
+            sizes.append((parts[0].size, parts[1].size))
+        grid = np.repeat(np.asarray(fill, float)[None, :], max(ta.size for ta in t_all), axis=0)
+        for j, ta in enumerate(t_all):
+            grid[:ta.size, columns[j]] = ta
+        states = np.asarray(dense(grid))
+        y = [states[:ta.size, :, columns[j]] for j, ta in enumerate(t_all)]
+        out = []
+        for ta, inv, (n_grid, n_max), (yj, angles) in zip(t_all, inverse, sizes,
+                                                          _unwrapped_angles(t_all, y, dense, columns, fill, starts)):
+            out.append(cls(ta, yj, angles, inv[n_grid:n_grid + n_max], inv[n_grid + n_max:]))
+        return out
 
     def turning(self, body: Body, idx: NDArray[np.intp]) -> TurningPoints:
         ys = self.y[idx]

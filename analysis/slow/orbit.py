@@ -130,8 +130,10 @@ def _variational_integrator(order: int = 1, lanes: int | None = None) -> Any:
     key = f"batch{order}x{lanes}"
     if key not in _INTEGRATOR:
         eqs = _variational_system(order)
+        y = hy.make_vars("g1", "g2", "g3", "w1", "w2", "w3")
+        ev = hy.t_event_batch(turning_point_function(y), callback=_NextMaximum())
         _INTEGRATOR[key] = hy.taylor_adaptive_batch(eqs, np.zeros((len(eqs), lanes)), pars=np.zeros((5, lanes)),
-                                                    compact_mode=True)
+                                                    compact_mode=True, t_events=[ev])
     return _INTEGRATOR[key]
 
 
@@ -236,71 +238,59 @@ def first_order_step(body: Body, E: float, QR: float, QJ: float, psi: float, *,
     return first_order_steps(body, E, QR, QJ, psi, theta_X).at(0)
 
 
+class _NextMaximum:
+    """Terminal batch event callback on dγ3/dt (any direction): a lane's falling root is its θ-minimum (the lane goes
+    on); its first rising root after that is the next θ-maximum, where the lane stops.  A rising root before the
+    minimum is the start's own (the start is a maximum, dγ3/dt = 0 to its rounding) and is passed over."""
+
+    def __init__(self) -> None:
+        self.passed_min: NDArray[np.bool_] = np.zeros(0, bool)
+
+    def reset(self, lanes: int) -> None:
+        self.passed_min = np.zeros(lanes, bool)
+
+    def __call__(self, ta: Any, d_sgn: Any, lane: int) -> bool:
+        if int(d_sgn) < 0:
+            self.passed_min[lane] = True
+            return True
+        return not self.passed_min[lane]
+
+
+#: Most integration steps from a maximum to the next (a bound on one rocking period's: a few dozen are taken).
+_MAX_STEPS_TO_MAXIMUM = 100_000
+
+
 def _to_next_maxima(order: int, sym: Body, x0: NDArray[np.float64],
                     lanes: int | None = None) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Integrate the variational system of ``order`` (form (i) in its first 11 components, variational ones after)
     from the maxima x0[:11, k] at t = 0 with ε = 0 to the next maximum of θ, ``x0`` of shape (components, N), in
-    batches of the integrator's lanes (the last padded with copies): each lane steps until dγ3/dt rises through zero
-    after the minimum, then Newton on its dense output to round-off.  Returns (t1 (N,), the states at t1 (·, N))."""
+    batches of the integrator's lanes (the last padded with copies).  Each lane stops at its own next maximum, a
+    terminal event of heyoka's batch integrator (:class:`_NextMaximum`), located by heyoka on the Taylor series of
+    dγ3/dt and the state propagated to it there.  Returns (t1 (N,), the states at t1 (·, N))."""
     tb = _variational_integrator(order, lanes)
     lanes, n = tb.batch_size, x0.shape[1]
+    watch = tb.t_events[0].callback
     t1, out = np.empty(n), np.empty_like(x0)
-    p0 = sym.params
     for first in range(0, n, lanes):
         take = np.minimum(np.arange(first, first + lanes), n - 1)
         tb.set_time(np.zeros(lanes))
+        tb.reset_cooldowns()
         tb.state[:] = x0[:, take]
         tb.pars[:] = np.array([sym.a, sym.I1, sym.I3, sym.g, 0.0])[:, None]
-        h_prev = turning_point_function(x0[:11, take])
-        passed_min, done = np.zeros(lanes, bool), np.zeros(lanes, bool)
-        for _ in range(100000):
-            t_start = np.array(tb.time)
-            tb.step(write_tc=True)
-            failed = [r[0].name for r in tb.step_res if r[0].name != "success"]
-            if failed:
-                raise RuntimeError(f"heyoka step failed: {failed[0]}")
-            hv = turning_point_function(tb.state[:11])
-            passed_min |= (h_prev > 0.0) & (hv <= 0.0)
-            for k in np.flatnonzero(passed_min & (h_prev < 0.0) & (hv >= 0.0) & ~done):
-                times = np.array(tb.time)
-                t = _maximum_in_step(tb, times, int(k), float(t_start[k]), p0)
-                times[k] = t
-                tb.update_d_output(times)
-                if first + k < n:
-                    t1[first + k], out[:, first + k] = t, tb.d_output[:, k]
-                done[k] = True
-            if done.all():
-                break
-            h_prev = hv
-        else:  # pragma: no cover
-            raise RuntimeError("no next maximum of theta found")
+        watch.reset(lanes)
+        # a batch's propagation returns at the end of the step in which some lane's event stopped it (outcome
+        # -1 - i: terminal event i), the other lanes mid-way: they go on, the stopped ones are held where they are
+        stopped, steps = np.zeros(lanes, bool), 0
+        while not stopped.all():
+            if steps > _MAX_STEPS_TO_MAXIMUM:
+                raise RuntimeError(f"no next maximum of theta found within {_MAX_STEPS_TO_MAXIMUM} steps")
+            tb.propagate_until(np.where(stopped, tb.time, np.finfo(float).max), max_steps=_MAX_STEPS_TO_MAXIMUM)
+            stopped |= np.array([res[0].value == -1 for res in tb.propagate_res])
+            steps += max(int(res[3]) for res in tb.propagate_res)
+        keep = slice(0, min(lanes, n - first))
+        t1[first:first + lanes] = np.asarray(tb.time)[keep]
+        out[:, first:first + lanes] = np.asarray(tb.state)[:, keep]
     return t1, out
-
-
-def _maximum_in_step(tb: Any, times: NDArray[np.float64], k: int, t_start: float, p0: Any) -> float:
-    """The time of lane k's maximum of θ within its last step [t_start, times[k]], where dγ3/dt rises through zero:
-    Newton on the dense output from the step's end, kept inside the bracket (a Newton iterate outside it, or a zero
-    slope, is replaced by the bisection of the bracket: the dense output is a polynomial valid on the step only, and a
-    step that ends where dγ3/dt is nearly flat would send plain Newton far outside it), to round-off."""
-    lo, hi = t_start, float(times[k])
-    t = hi
-    for _ in range(200):
-        times[k] = t
-        tb.update_d_output(times)
-        Y = np.array(tb.d_output[:11, k])
-        h = turning_point_function(Y)
-        if h < 0.0:
-            lo = t
-        else:
-            hi = t
-        slope = float(directional_derivative(turning_point_function, Y, np.array(body_frame_rhs(Y, p0))))
-        new = t - h / slope if slope > 0.0 else math.nan
-        if not lo <= new <= hi:
-            new = 0.5 * (lo + hi)
-        dt, t = new - t, new
-        if abs(dt) <= 4e-16 * t or hi - lo <= 4e-16 * hi:
-            return t
-    raise RuntimeError(f"the maximum of theta in [{t_start!r}, {float(times[k])!r}] was not located")  # pragma: no cover
 
 
 def second_order_step(body: Body, E: float, QR: float, QJ: float, psi: float, *,

@@ -54,7 +54,7 @@ __all__ = [
 ]
 
 #: Bump when the table construction or its file format changes (part of the cache key).
-_TABLE_VERSION = "6"  # 6: numpy's Chebyshev nodes (exactly antisymmetric)
+_TABLE_VERSION = "7"  # 6: numpy's Chebyshev nodes (exactly antisymmetric); 7: maxima by batch terminal events
 
 
 class TableNotCachedError(ValueError):

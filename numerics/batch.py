@@ -1,0 +1,199 @@
+"""Direct runs in the lanes of heyoka's batch integrator: several runs integrated at once by one vectorised Taylor
+integrator (heyoka's batch mode), each run with its own body, initial state and final time.
+
+:func:`run_batch` gives what :func:`rocknroller.numerics.integrate.simulate` gives with ``samples=False`` (a
+:class:`~rocknroller.numerics.trajectory.TurningPointRun`: every turning point of θ, φ and ψ unwrapped, the largest
+energy error), by the same steps after the integrator's: the same check and location of the turning points on the
+dense output (:mod:`rocknroller.numerics.events`), the same unwrapping grid and the same energy check
+(``integrate._grid_pieces``, ``integrate._RunRecord``).  What differs is the integrator: heyoka's batch integrator
+takes the steps of each lane by the scalar integrator's rule, but in SIMD registers, so a lane's results differ from
+the scalar integrator's in the last bits, which the motion then amplifies (the bound is derived in
+``tests/numerics/test_batch.py``).  A lane's results do not depend on the other lanes (each lane has its own time,
+step size, events and stretches, and its stretches are set by its own rate bound, not by the width): the same job
+gives the same results bit for bit in any lane, any batch and at any width from 2 to ``MAX_LANES`` (tested at
+2, 4, 8 and 16).  Width 1 is not a batch: heyoka compiles it as scalar code, whose results differ in the last bits,
+so a batch has at least ``MIN_LANES`` = 2 lanes.
+
+The body's parameters are runtime parameters of the compiled system, so one batch holds jobs with different bodies.
+The integrator is compiled once per process and width and kept in heyoka's disk cache like the scalar one
+(:func:`rocknroller.numerics.integrate.heyoka_integrator`), and copied for each thread.
+"""
+
+from __future__ import annotations
+
+import copy
+import threading
+from typing import Any, Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.equations import STATE_SIZE, EulerState, body_frame_rhs, turning_point_function
+from rocknroller.numerics.events import _turning_points, start_turning_point
+from rocknroller.numerics.integrate import (CHUNK_RADIANS, _grid_pieces, _RunRecord, _stretch_end, check_diskcache,
+                                            check_run, finish_run)
+from rocknroller.numerics.trajectory import TurningPointRun, _Samples
+
+__all__ = ["batch_width", "batch_integrator", "run_batch", "MIN_LANES", "MAX_LANES", "BATCH_CHUNK_RADIANS"]
+
+#: Fewest lanes of a batch integrator (module docstring).
+MIN_LANES = 2
+#: Most lanes of a batch integrator (its stretches hold width × ``BATCH_CHUNK_RADIANS`` steps of dense output,
+#: ≈ 1.8 kB per step and lane: 18 MB at 16 lanes).
+MAX_LANES = 16
+#: Radians of Λ integrated per stretch of each lane (an eighth of the scalar path's ``CHUNK_RADIANS``, so that the
+#: dense output of a stretch of 8 lanes, ≈ 9 MB, is the scalar one's and is reused from the heap likewise).  Fixed,
+#: not divided by the width: a lane's stretches, and so its steps, are the same at every width.
+BATCH_CHUNK_RADIANS = CHUNK_RADIANS / 8
+_TEMPLATES: dict[int, Any] = {}
+_TEMPLATE_LOCK = threading.Lock()
+_PER_THREAD = threading.local()
+
+
+def batch_width() -> int:
+    """The batch width heyoka recommends for this CPU (``heyoka.recommended_simd_size()``: 8 with AVX-512, 4 with
+    AVX2), within [``MIN_LANES``, ``MAX_LANES``]."""
+    import heyoka as hy
+
+    return max(MIN_LANES, min(int(hy.recommended_simd_size()), MAX_LANES))
+
+
+class _BatchLog:
+    """Non-terminal batch event callback: records (time, direction, lane) of each turning point."""
+
+    def __init__(self) -> None:
+        self.events: list[tuple[float, int, int]] = []
+
+    def __call__(self, ta: Any, time: Any, d_sgn: Any, lane: Any) -> None:
+        self.events.append((float(time), int(d_sgn), int(lane)))
+
+
+def _check_width(width: Any) -> int:
+    if isinstance(width, bool) or not isinstance(width, (int, np.integer)) or not MIN_LANES <= width <= MAX_LANES:
+        raise ValueError(f"width must be a whole number in [{MIN_LANES}, {MAX_LANES}] (MIN_LANES, MAX_LANES), got "
+                         f"width={width!r}")
+    return int(width)
+
+
+def batch_integrator(width: int) -> Any:
+    """The compiled batch integrator of form (i) with ``width`` lanes: compiled once per process and width (from
+    heyoka's disk cache when it holds it), one copy per thread (as
+    :func:`rocknroller.numerics.integrate.heyoka_integrator`)."""
+    width = _check_width(width)
+    mine = _PER_THREAD.__dict__.setdefault("integrators", {})
+    if width not in mine:
+        with _TEMPLATE_LOCK:
+            if width not in _TEMPLATES:
+                _TEMPLATES[width] = _build(width)
+            mine[width] = copy.deepcopy(_TEMPLATES[width])
+    return mine[width]
+
+
+def _build(width: int) -> Any:
+    import heyoka as hy
+
+    check_diskcache()
+    y = hy.make_vars("g1", "g2", "g3", "w1", "w2", "w3", "x1", "x2", "x3", "X", "Y")
+    pars = [hy.par[i] for i in range(5)]
+    ev = hy.nt_event_batch(turning_point_function(y), _BatchLog())
+    return hy.taylor_adaptive_batch(list(zip(y, body_frame_rhs(y, pars))), np.zeros((STATE_SIZE, width)),
+                                    pars=np.zeros((5, width)), nt_events=[ev])
+
+
+class _Lane:
+    """One run in a lane: its plan, its turning points so far, its own stretch."""
+
+    def __init__(self, body: Body, initial: EulerState, t_end: float) -> None:
+        plan = check_run(body, initial, t_end, samples=False)
+        self.body, self.initial, self.t_end, self.dt = body, initial, plan.t_end, plan.dt
+        self.y0 = plan.y0
+        self.stretch = max(BATCH_CHUNK_RADIANS / plan.rate, plan.dt)
+        self.start = start_turning_point(body, plan.y0)
+        self.record = _RunRecord(body, plan.y0)
+        self.t_a, self.n_steps = 0.0, 0
+
+
+def run_batch(runs: Sequence[tuple[Body, EulerState, float]], width: int | None = None) -> list[TurningPointRun]:
+    """Integrate up to ``width`` runs at once in the lanes of heyoka's batch integrator, turning points only.
+
+    Parameters
+    ----------
+    runs : sequence of (body, initial, t_end)
+        At most ``width`` runs, each within the limits of ``simulate(..., samples=False)`` (checked first).
+    width : int, optional
+        Lanes of the integrator, in [``MIN_LANES``, ``MAX_LANES``] (default :func:`batch_width`); lanes beyond the
+        runs idle.
+
+    Returns
+    -------
+    list of TurningPointRun
+        One per run, in order: what ``simulate(body, initial, t_end, samples=False)`` returns, to the batch
+        integrator's rounding (module docstring); an :class:`~rocknroller.numerics.integrate.AccuracyWarning` for a
+        run whose energy error exceeds its bound.
+
+    Raises
+    ------
+    ValueError
+        A run outside ``simulate``'s limits, more runs than lanes, or a width out of range (before any work); a run
+        whose θ-maxima fall below ``THETA_MIN`` (after it).
+    """
+    width = batch_width() if width is None else _check_width(width)
+    if not 1 <= len(runs) <= width:
+        raise ValueError(f"runs: between 1 and width = {width} runs per batch, got {len(runs)}")
+    lanes = [_Lane(body, initial, t_end) for body, initial, t_end in runs]
+    ta = batch_integrator(width)
+    ta.set_time(0.0)
+    idle = lanes[0]  # lanes beyond the runs hold a copy of the first and never move
+    ta.state[:] = np.stack([(lanes[j] if j < len(lanes) else idle).y0 for j in range(width)], axis=1)
+    ta.pars[:] = np.stack([np.asarray((lanes[j] if j < len(lanes) else idle).body.params, float)
+                           for j in range(width)], axis=1)
+    log = ta.nt_events[0].callback
+    t_now = np.zeros(width)
+    while any(lane.t_a < lane.t_end for lane in lanes):
+        moving = [j for j, lane in enumerate(lanes) if lane.t_a < lane.t_end]
+        t_b = t_now.copy()
+        for j in moving:
+            t_b[j] = _stretch_end(lanes[j].t_a, lanes[j].t_end, lanes[j].stretch)
+        log.events.clear()
+        c_out = ta.propagate_until(t_b, c_output=True)[0]
+        for j in moving:
+            outcome, _, _, n = ta.propagate_res[j]
+            if outcome.name != "time_limit":
+                raise RuntimeError(f"heyoka stopped early at t={float(ta.time[j])!r} in lane {j}: {outcome}")
+            lanes[j].n_steps += int(n)
+        _stretch_samples(lanes, moving, c_out, t_b, log.events)
+        for j in moving:
+            lanes[j].record.end_stretch()
+            lanes[j].t_a = float(t_b[j])
+        t_now = t_b
+    return [finish_run(lane.record.result("heyoka", lane.t_end, lane.n_steps, float(np.finfo(float).eps)),
+                       lane.initial, strict=False) for lane in lanes]
+
+
+def _stretch_samples(lanes: list[_Lane], moving: list[int], c_out: Any, t_b: NDArray[np.float64],
+                     raw: list[tuple[float, int, int]]) -> None:
+    """Locate the turning points of each moving lane's stretch and sample its unwrapping grid, the pieces of all
+    lanes evaluated together on the batch dense output."""
+
+    def lane_dense(j: int) -> Any:
+        def dense(t: NDArray[np.float64]) -> NDArray[np.float64]:  # the other lanes at their stretch's end
+            times = np.repeat(t_b[None, :], np.size(t), axis=0)
+            times[:, j] = t
+            return np.asarray(c_out(times))[:, :, j]
+        return dense
+
+    dense = {j: lane_dense(j) for j in moving}
+    pieces = {}
+    for j in moving:
+        lane = lanes[j]
+        mine = [(t, d) for t, d, k in raw if k == j]
+        events = _turning_points(mine, lane.t_a, float(t_b[j]), dense[j], lane.body.params,
+                                 lane.start if lane.t_a == 0.0 else None)
+        pieces[j] = _grid_pieces(lane.t_a, float(t_b[j]), lane.dt, events)
+    for k in range(max(len(p) for p in pieces.values())):
+        here = [j for j in moving if k < len(pieces[j])]
+        samples = _Samples.take_lanes(c_out, [pieces[j][k] for j in here], here, t_b,
+                                      [lanes[j].record.start for j in here])
+        for j, smp in zip(here, samples):
+            lanes[j].record.add(smp)
