@@ -39,7 +39,7 @@ __all__ = [
     "__version__", "cite",
     # the body and the direct ODE
     "Body", "EulerState", "simulate", "Trajectory", "TurningPointRun", "TurningPoints", "AccuracyError",
-    "AccuracyWarning",
+    "AccuracyWarning", "direct_chaos_indicators", "DirectChaos",
     # many direct runs: in this process or on a dask.distributed cluster
     "Job", "RunSummary", "run_ensemble",
     # Routh's sphere: the reduction and the precession quadratures
@@ -60,8 +60,11 @@ __all__ = [
 ]
 
 #: Loaded on first use (PEP 562), each from its module: the Laurent expansions are symbolic (sympy takes ~0.3 s to
-#: import), the figures need matplotlib, the ODE check of a prediction the closed forms' scipy.special.
-_LAZY = {"laurent_coefficients": "rocknroller.analysis.criticality.laurent",
+#: import), the figures need matplotlib, the ODE check of a prediction the closed forms' scipy.special; the direct
+#: motion's chaos indicators compile their own integrator (heyoka's variational equations) on first use.
+_LAZY = {"direct_chaos_indicators": "rocknroller.numerics.variational",
+         "DirectChaos": "rocknroller.numerics.variational",
+         "laurent_coefficients": "rocknroller.analysis.criticality.laurent",
          "laurent_function": "rocknroller.analysis.criticality.laurent",
          "laurent_series": "rocknroller.analysis.criticality.laurent",
          "check_prediction": "rocknroller.papers.averaging_check",

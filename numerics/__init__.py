@@ -20,6 +20,9 @@ Imports only :mod:`rocknroller.analysis.model`.  In the order data flows through
 ``megno``
     Chaos indicators of an orbit sampled at its θ-maxima (MEGNO, the finite-time Lyapunov exponent): one formula
     for the direct motion and the averaged slow map.
+``variational``
+    The direct motion's chaos indicators: heyoka's variational equations along the ODE, a tangent vector sampled and
+    renormalised at the θ-maxima (:func:`~rocknroller.numerics.variational.direct_chaos_indicators`).
 ``ensemble``
     Many runs at once: in this process, in threads, or on a dask.distributed cluster.
 """

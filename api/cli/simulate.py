@@ -18,6 +18,8 @@ OUTPUTS = ("samples.csv", "turning_points.csv", "contact_track.png", "contact_tr
 OUTPUTS_TURNING_POINTS = ("turning_points.csv", "phi_at_maxima.png", "phi_at_maxima.pdf", "QR_QJ_orbit.png",
                           "QR_QJ_orbit.pdf")
 _TP_COLUMNS = ("kind", "t", "theta", "phi", "psi", "Q_R", "Q_J", "X", "Y")
+#: Written to --out with --chaos.
+OUTPUT_CHAOS = "chaos.csv"
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -46,6 +48,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--turning-points-only", action="store_true",
                    help="keep only the turning points and the invariants there (memory does not grow with t_end); "
                         "with --out, turning_points.csv is written as the run goes")
+    p.add_argument("--chaos", action="store_true",
+                   help="also integrate a tangent vector along the orbit (heyoka's variational equations, whatever "
+                        "--method) and print MEGNO, the finite-time Lyapunov exponent per unit time and per rock, and "
+                        "the verdict (chaotic when MEGNO > 3) from its samples at the theta-maxima; with --out, "
+                        f"{OUTPUT_CHAOS} holds them at every maximum (needs at least 8 maxima before --t-end)")
     p.add_argument("--strict", action="store_true",
                    help="fail (exit 1) instead of warning when the energy error exceeds what the integrator's "
                         "tolerance allows")
@@ -98,6 +105,29 @@ def _write_outputs(traj, body, initial, out: Path) -> list[Path]:
     return written + _plots(traj, body, out, OUTPUTS)
 
 
+def _chaos(body, initial, args: argparse.Namespace, budget, written: list[Path]) -> dict | None:
+    """With --chaos: the direct motion's chaos indicators (a summary for the JSON), and chaos.csv with --out."""
+    if not args.chaos:
+        return None
+    from rocknroller.numerics.megno import MEGNO_CHAOTIC
+    from rocknroller.numerics.variational import direct_chaos_indicators
+    from rocknroller.papers.output import write_csv
+
+    run = direct_chaos_indicators(body, initial, args.t_end, budget=budget, strict=args.strict)
+    ind = run.indicators
+    if args.out is not None:
+        header = _header("heyoka, variational", body, initial) + [
+            f"MEGNO={ind.megno!r} lambda={ind.lyapunov!r} per time unit, {ind.lyapunov_per_rock!r} per rock; "
+            f"tangent norm |dgamma|^2 + |domega|^2/Lambda^2, Lambda={run.rate!r}",
+            "rows: the theta-maxima; log_growth = ln|w(t)|/|w(0)| of the tangent vector, mean_megno = <Y> there"]
+        written.append(write_csv(args.out / OUTPUT_CHAOS, {"t": ind.t, "theta": run.theta_maxima,
+                                                         "log_growth": ind.log_growth,
+                                                         "mean_megno": ind.mean_megno}, header))
+    return {"megno": ind.megno, "lyapunov": ind.lyapunov, "lyapunov_per_rock": ind.lyapunov_per_rock,
+            "lyapunov_time": ind.lyapunov_time, "regular": ind.regular, "megno_threshold": MEGNO_CHAOTIC,
+            "n_maxima": len(ind.t), "energy_rel_error": run.energy_rel_error, "tangent_rate_scale": run.rate}
+
+
 def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller simulate`` with the parsed ``args``; returns the exit status."""
     from rocknroller.numerics.integrate import AccuracyWarning, simulate
@@ -108,7 +138,8 @@ def run(args: argparse.Namespace) -> int:
     initial = start_with_default_rates(args, initial)
     tp_only = args.turning_points_only
     if args.out is not None:
-        prepare_output_dir(args.out, "--out", args.force, OUTPUTS_TURNING_POINTS if tp_only else OUTPUTS)
+        names = (OUTPUTS_TURNING_POINTS if tp_only else OUTPUTS) + ((OUTPUT_CHAOS,) if args.chaos else ())
+        prepare_output_dir(args.out, "--out", args.force, names)
     kw = dict(method=args.method, dt=args.dt, progress=None if not args.quiet else False, strict=args.strict,
               budget=budget_from_args(args))
     with warnings.catch_warnings(record=True) as caught:
@@ -123,6 +154,7 @@ def run(args: argparse.Namespace) -> int:
         else:
             traj = simulate(body, initial, args.t_end, samples=not tp_only, **kw)
             written = _write_outputs(traj, body, initial, args.out) if args.out is not None else []
+        chaos = _chaos(body, initial, args, kw["budget"], written)  # its AccuracyWarning is caught here too
     messages = [str(w.message) for w in caught if issubclass(w.category, AccuracyWarning)]
     for w in caught:  # the others (an unusable cache, ...) reach the user too, on stderr, never in the JSON's stdout
         if not issubclass(w.category, AccuracyWarning):
@@ -130,6 +162,8 @@ def run(args: argparse.Namespace) -> int:
     summary = {"energy_rel_error": traj.energy_rel_error, "energy_tolerance": traj.energy_tolerance,
                "n_maxima": len(traj.maxima), "n_minima": len(traj.minima), "Phi": traj.Phi, "t_end": args.t_end,
                "n_steps": traj.n_steps, "warnings": messages}
+    if chaos is not None:
+        summary["chaos"] = chaos
     for msg in messages:
         print(f"rocknroller simulate: warning: {msg}", file=sys.stderr)
     if args.json:
@@ -140,6 +174,11 @@ def run(args: argparse.Namespace) -> int:
         print(f"method={traj.method}  t_end={args.t_end:g}  maxima={summary['n_maxima']}  "
               f"minima={summary['n_minima']}  Phi={summary['Phi']:.6f} rad  "
               f"energy_rel_error={summary['energy_rel_error']:.2e} (E(0) + g a scale)")
+        if chaos is not None:
+            print(f"chaos: MEGNO={chaos['megno']:.4g}  lambda={chaos['lyapunov']:.4g} per time unit "
+                  f"({chaos['lyapunov_per_rock']:.4g} per rock)  over {chaos['n_maxima']} maxima: "
+                  f"{'regular' if chaos['regular'] else 'chaotic'} (MEGNO {'<=' if chaos['regular'] else '>'} "
+                  f"{chaos['megno_threshold']:g})")
     for path in written:
         print(f"wrote {path}", file=sys.stderr)
     return 0

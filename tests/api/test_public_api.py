@@ -77,6 +77,8 @@ PUBLIC_NAMES = [
     "AccuracyError", "AccuracyWarning", "Atlas", "AtlasCheck", "Body", "CriticalStart", "EulerState", "F", "Job",
     # issue 25, item 13: the critical-line diagram and the ODE check of a prediction
     "DiagramData", "PredictionCheck", "check_prediction", "region_diagram",
+    # issue 23, item 2: the direct motion's chaos indicators
+    "DirectChaos", "direct_chaos_indicators",
     "NoMotionError", "PendulumConstants", "PeriodDoubling", "Precession", "QJ_crit", "QJ_crit_0", "QJ_crit_pi",
     "RunSummary", "SlowPrediction", "SteadyRollingError", "Trajectory", "TurningPointRun", "TurningPoints", "V_phi",
     "V_psi", "atlas_from_rest", "atlas_of_rates", "azimuth_span", "cite", "confirm_atlas", "cos_theta_z",

@@ -223,3 +223,47 @@ def test_json_stays_json_when_heyoka_cannot_use_its_cache(tmp_path):
     # the package says it once, in its own words, on stderr (simulate recorded it and printed only AccuracyWarnings)
     said = [line for line in proc.stderr.splitlines() if line.startswith("rocknroller simulate: warning:")]
     assert len(said) == 1 and "cache" in said[0], proc.stderr
+
+
+_RELEASE = ["--eps", "0.01", "--theta0", "0.95pi", "--theta-dot0", "0", "--phi-dot0", "0", "--psi-dot0", "0"]
+
+
+def test_chaos_option_prints_and_writes_the_indicators(tmp_path, capsys):
+    """--chaos: the direct motion's MEGNO and λ (those of rr.direct_chaos_indicators, to the bit) in the JSON and in
+    chaos.csv (one row per θ-maximum); the chaotic release of issue 23 (ψ0 = 0.1) is called chaotic."""
+    import csv
+
+    from rocknroller.analysis.model.body import Body
+    from rocknroller.analysis.model.equations import EulerState
+    from rocknroller.numerics.variational import direct_chaos_indicators
+
+    argv = ["simulate", "--t-end", "1300", "--quiet", "--psi0", "0.1", *_RELEASE, "--turning-points-only", "--chaos"]
+    assert main(argv + ["--json", "--out", str(tmp_path)]) == 0
+    chaos = _json(capsys)["chaos"]
+    ref = direct_chaos_indicators(Body.paper(1e-2), EulerState(0.95 * math.pi, 0.0, 0.1), 1300.0).indicators
+    assert chaos["megno"] == ref.megno and chaos["lyapunov"] == ref.lyapunov
+    assert chaos["lyapunov_per_rock"] == ref.lyapunov_per_rock and chaos["n_maxima"] == len(ref.t)
+    assert chaos["regular"] is False and chaos["megno"] > chaos["megno_threshold"] == 3.0
+    text = (tmp_path / "chaos.csv").read_text().splitlines()
+    assert text[0] == f"# {PRODUCER}" and any("MEGNO=" in line for line in text if line.startswith("#"))
+    rows = list(csv.DictReader(line for line in text if not line.startswith("#")))
+    assert len(rows) == len(ref.t) and float(rows[-1]["mean_megno"]) == ref.megno
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert "chaos: MEGNO=" in out and "chaotic (MEGNO > 3)" in out
+
+
+def test_chaos_option_regular_release_and_too_short_run(capsys):
+    argv = ["simulate", "--quiet", "--psi0", "pi/4", *_RELEASE, "--turning-points-only", "--chaos"]
+    assert main(argv + ["--t-end", "600"]) == 0
+    assert "regular (MEGNO <= 3)" in capsys.readouterr().out
+    assert main(argv + ["--t-end", "50"]) == 2
+    err = capsys.readouterr().err
+    assert "--t-end=50.0: the indicators need at least 8 samples" in err and "Traceback" not in err
+
+
+def test_chaos_option_has_help(capsys):
+    with pytest.raises(SystemExit):
+        main(["simulate", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "--chaos" in text and "MEGNO" in text and "Lyapunov exponent per unit time and per rock" in text
