@@ -23,8 +23,12 @@ In the order data flows through them:
     The run-time form of a table and the compiled drift–kick–drift iteration (C kernel ``_kernel``).
 ``second_order``
     The second-order kick k₂ and its tables.
+``chaos``
+    Order and chaos of the map: its chaos indicators (MEGNO, Lyapunov exponent) from a tangent vector carried through
+    the compiled map, its per-step error against the exact step, and the predictability horizon.
 ``prediction``
-    :func:`predict_slow_motion`: the prediction from a release or a state, with its diagnostics.
+    :func:`predict_slow_motion`: the prediction from a release or a state, with its diagnostics, chaos indicators
+    and predictability horizon.
 ``pendulum``
     The closed form near pure rocking: the standard map and its pendulum limit.
 ``period_doubling``

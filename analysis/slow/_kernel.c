@@ -14,7 +14,8 @@
  * from the tables.  tests/test_averaging.py::_reference_map evaluates the same map plainly in NumPy
  * (fixed-point kick) and the tests compare the two.
  *
- * iterate(rows, rows_jac, geom, out, U, alpha, beta, dx, nv, eps, u, v, Th, t, phi, t_end[, rows2])
+ * iterate(rows, rows_jac, geom, out, U, alpha, beta, dx, nv, eps, u, v, Th, t, phi, t_end[, rows2, tangent,
+ *         rows_dw, rows_kt, rows2_kt, scale])
  *     rows      C-contiguous float64 buffer (Nf, 18 * nv): the 18 run-time functions (Chebyshev in eta)
  *     rows_jac  C-contiguous float64 buffer (Nf, 48 * nv): those, their xi-derivatives at fixed eta divided
  *               by U, and their eta-derivatives, for the kick functions 0-14
@@ -23,13 +24,26 @@
  *     the state (u, v, Theta, t, phi) at a maximum, and t_end
  *     rows2     optional C-contiguous float64 buffer (Nf, 25 * nv): the second-order kick k2 (harmonics c0, c1, s1,
  *               c2, s2 in Theta of its u, v, Theta, t and phi components); the kick function is then k1 + eps k2
+ *     tangent   optional writable C-contiguous float64 buffer of 4: a tangent vector w = (w_u, w_v, w_Theta) and its
+ *               accumulated logarithmic growth l, carried through the steps (in and out); then out has 6 columns
+ *               (t, u, v, Theta, phi, l) and rows_dw, rows_kt (and with rows2, rows2_kt) must be given:
+ *     rows_dw   (Nf, 3 * nv): the drift W and dW/du, dW/dv (tabulated like rows_jac)
+ *     rows_kt   (Nf, 27 * nv): the kick functions 0-8 (u, v, Theta harmonics), their d/du and d/dv
+ *     rows2_kt  (Nf, 45 * nv): the second-order kick's u, v, Theta harmonics (15), their d/du and d/dv
+ *     scale     the norm of w is sqrt(scale^2 (w_u^2 + w_v^2) + w_Theta^2); w is renormalised to 1 every step and
+ *               the logarithms of the norms added to l (see tangent_step)
  * returns (n, status, u_bad, v_bad, n_jacobian, n_plain): n rows written; status 0 = t_end reached,
  *     1 = out is full, 2 = the orbit left the table at (u_bad, v_bad), 3 = the implicit kick did not
  *     converge; the numbers of table evaluations with and without the Jacobian rows.
  *
  * evaluate(rows, geom, width, nv, U, alpha, beta, dx, u, v)
- *     the `width` (18 or 48) functions of rows at (u, v), or None outside the table; with width 48 the
- *     derivatives are d/du and d/dv at (u, v).
+ *     the `width` (18, 48, 25, 3, 27 or 45) functions of rows at (u, v), or None outside the table; with width
+ *     48, 3, 27 or 45 the tabulated derivatives (the last 2 x 15, 2 x 1, 2 x 9, 2 x 15 functions) are d/du and d/dv
+ *     at (u, v).
+ *
+ * The tangent map (tangent_step) is the derivative of the step as implemented: the drifts' dW, and the implicit
+ * midpoint's by the implicit function theorem, dm = (I - (eps/2) dk/dm)^-1 da at the converged midpoint m, with
+ * dk/dm from the tabulated d/du, d/dv and the analytic Theta-derivative of the harmonics.
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -39,6 +53,9 @@
 #define N_KICK 15
 #define N_JAC 48    /* N_FUN + 2 * N_KICK */
 #define N_K2 25     /* second order: the harmonics (c0, c1, s1, c2, s2) of k2_u, k2_v, k2_Theta, k2_t, k2_phi */
+#define N_DW 3      /* tangent: W, dW/du, dW/dv */
+#define N_KT 27     /* tangent: kick functions 0-8, their d/du (9) and d/dv (9) */
+#define N_K2T 45    /* tangent: second-order kick functions 0-14 (u, v, Theta), their d/du (15) and d/dv (15) */
 #define MAX_NV 128
 #define MAX_ITER 60
 #define KICK_RTOL 1e-13
@@ -48,6 +65,7 @@ enum { DONE = 0, FULL = 1, LEFT_TABLE = 2, NO_CONVERGENCE = 3 };
 
 typedef struct {
     const double *rows, *rows_jac, *geom, *rows2; /* rows2: NULL (first order) or the N_K2 second-order rows */
+    const double *rows_dw, *rows_kt, *rows2_kt; /* the tangent's rows (NULL without a tangent vector) */
     Py_ssize_t n_fine;
     double U, alpha, beta, sinh_alpha, sinh_beta, dx;
     int nv;
@@ -76,8 +94,30 @@ static double ulp(double x)
     return nextafter(x, INFINITY) - x;
 }
 
-/* the `width` functions of `rows` (stride width * nv) at (u, v); 0 if inside the table.  With width N_JAC
-   the tabulated (d/dxi at fixed eta)/U and d/deta become d/du and d/dv by the chain rule through the chart:
+/* the number of tabulated derivative pairs of a row layout of `width` functions (the last 2 n_deriv functions are
+   d/du and d/dv of n_deriv of them), or -1 for an unknown width */
+static int n_deriv(int width)
+{
+    switch (width) {
+    case N_FUN:
+    case N_K2:
+        return 0;
+    case N_JAC:
+        return N_KICK;
+    case N_DW:
+        return 1;
+    case N_KT:
+        return 9;
+    case N_K2T:
+        return 15;
+    default:
+        return -1;
+    }
+}
+
+/* the `width` functions of `rows` (stride width * nv) at (u, v); 0 if inside the table.  With a width that has
+   derivatives (n_deriv; e.g. N_JAC) the tabulated (d/dxi at fixed eta)/U and d/deta become d/du and d/dv by the
+   chain rule through the chart:
    d/du = (d/dxi)(dxi/dx)/U + (d/deta) deta/du, d/dv = (d/deta) deta/dv, with deta/dv = (deta/dtau)/w and
    deta/du = -(c'/U + tau w'/U) deta/dv (v = c(x) + tau w(x)). */
 static int evaluate(const table_t *tb, const double *rows, int width, double u, double v,
@@ -128,12 +168,12 @@ static int evaluate(const table_t *tb, const double *rows, int width, double u, 
         }
         val[f] = acc;
     }
-    if (width == N_JAC)
-        for (int f = 0; f < N_KICK; f++) {
-            double f_eta = val[N_FUN + N_KICK + f];
-            val[N_FUN + N_KICK + f] = f_eta * deta_dv;
-            val[N_FUN + f] = val[N_FUN + f] * dxi_dx + f_eta * deta_du;
-        }
+    int nd = n_deriv(width);
+    for (int f = width - 2 * nd; f < width - nd; f++) {
+        double f_eta = val[f + nd];
+        val[f + nd] = f_eta * deta_dv;
+        val[f] = val[f] * dxi_dx + f_eta * deta_du;
+    }
     return 0;
 }
 
@@ -147,7 +187,7 @@ static double harmonics5(const double *k, const double *cs)
    kick function is k1 + eps k2 (k2 left out of the simplified Newton's Jacobian: it sets the speed of convergence,
    not the converged value) */
 static int implicit_kick(const table_t *tb, double eps, double u, double v, double th, const double *k0,
-                         double *res, double *bad, Py_ssize_t *counts)
+                         double *res, double *mid, double *bad, Py_ssize_t *counts)
 {
     double h = 0.5 * eps;
     double c = cos(th), s = sin(th);
@@ -230,11 +270,67 @@ static int implicit_kick(const table_t *tb, double eps, double u, double v, doub
             res[2] = th1;
             res[3] = eps * kt;
             res[4] = eps * kp;
+            mid[0] = mu;
+            mid[1] = mv;
+            mid[2] = mt;
             return DONE;
         }
         prev = change;
     }
     return NO_CONVERGENCE;
+}
+
+/* the derivative of the Theta-harmonics c0 + c1 cos + s1 sin (+ c2 cos 2 + s2 sin 2 with n = 5) of k at cs */
+static double harmonics_dtheta(const double *k, const double *cs, int n)
+{
+    double d = k[2] * cs[0] - k[1] * cs[1];
+    return n == 5 ? d + 2.0 * (k[4] * cs[2] - k[3] * cs[3]) : d;
+}
+
+/* The tangent map of one step, w <- M w, with M the derivative of (u, v, Theta) -> (u', v', Theta') as implemented:
+   a = (u, v, Theta + W(u, v)/2), m = a + h k(m) (h = eps/2; k = k1 + eps k2), x = 2m - a, Theta' = x_Theta +
+   W(x_u, x_v)/2.  By the implicit function theorem dm = (I - h dk/dm)^-1 da at the converged m (its error, the
+   kick tolerance 1e-13, is far below any finite difference of the step), dx = 2 dm - da.  dwa, dwb: (dW/du, dW/dv)
+   at the start and at the end of the step.  Returns LEFT_TABLE if m is outside the tangent rows' table. */
+static int tangent_step(const table_t *tb, double eps, const double *m, const double *dwa, const double *dwb,
+                        double *w)
+{
+    double kt[N_KT], k2[N_K2T], A[9], cs[4];
+    if (evaluate(tb, tb->rows_kt, N_KT, m[0], m[1], kt))
+        return LEFT_TABLE;
+    cs[0] = cos(m[2]);
+    cs[1] = sin(m[2]);
+    cs[2] = cs[0] * cs[0] - cs[1] * cs[1];
+    cs[3] = 2.0 * cs[1] * cs[0];
+    double h = 0.5 * eps;
+    for (int i = 0; i < 3; i++) { /* row i of dk/dm: d/du, d/dv, d/dTheta of component i (u, v, Theta) */
+        A[3 * i] = kt[9 + 3 * i] + kt[10 + 3 * i] * cs[0] + kt[11 + 3 * i] * cs[1];
+        A[3 * i + 1] = kt[18 + 3 * i] + kt[19 + 3 * i] * cs[0] + kt[20 + 3 * i] * cs[1];
+        A[3 * i + 2] = harmonics_dtheta(kt + 3 * i, cs, 3);
+    }
+    if (tb->rows2 != NULL) {
+        if (evaluate(tb, tb->rows2_kt, N_K2T, m[0], m[1], k2))
+            return LEFT_TABLE;
+        for (int i = 0; i < 3; i++) {
+            A[3 * i] += eps * harmonics5(k2 + 15 + 5 * i, cs);
+            A[3 * i + 1] += eps * harmonics5(k2 + 30 + 5 * i, cs);
+            A[3 * i + 2] += eps * harmonics_dtheta(k2 + 5 * i, cs, 5);
+        }
+    }
+    for (int j = 0; j < 9; j++) /* I - h dk/dm */
+        A[j] = (j % 4 == 0 ? 1.0 : 0.0) - h * A[j];
+    double da[3] = {w[0], w[1], w[2] + 0.5 * (dwa[0] * w[0] + dwa[1] * w[1])};
+    /* dm = A^-1 da by Cramer's rule (cofactors, as the simplified Newton's Jacobian) */
+    double c0 = A[4] * A[8] - A[5] * A[7], c3 = A[5] * A[6] - A[3] * A[8], c6 = A[3] * A[7] - A[4] * A[6];
+    double det = A[0] * c0 + A[1] * c3 + A[2] * c6;
+    double dm0 = (c0 * da[0] + (A[2] * A[7] - A[1] * A[8]) * da[1] + (A[1] * A[5] - A[2] * A[4]) * da[2]) / det;
+    double dm1 = (c3 * da[0] + (A[0] * A[8] - A[2] * A[6]) * da[1] + (A[2] * A[3] - A[0] * A[5]) * da[2]) / det;
+    double dm2 = (c6 * da[0] + (A[1] * A[6] - A[0] * A[7]) * da[1] + (A[0] * A[4] - A[1] * A[3]) * da[2]) / det;
+    double dx0 = 2.0 * dm0 - da[0], dx1 = 2.0 * dm1 - da[1], dx2 = 2.0 * dm2 - da[2];
+    w[0] = dx0;
+    w[1] = dx1;
+    w[2] = dx2 + 0.5 * (dwb[0] * dx0 + dwb[1] * dx1);
+    return DONE;
 }
 
 static int get_buffer(PyObject *obj, Py_buffer *view, int writable, const char *name)
@@ -250,66 +346,74 @@ static int get_buffer(PyObject *obj, Py_buffer *view, int writable, const char *
     return 0;
 }
 
+/* the buffers of iterate; the optional ones: rows2, tangent, rows_dw, rows_kt, rows2_kt */
+enum { B_ROWS, B_JAC, B_GEOM, B_OUT, B_ROWS2, B_TAN, B_DW, B_KT, B_K2T, N_BUF };
+
+static void release_all(Py_buffer *b, const int *held)
+{
+    for (int k = 0; k < N_BUF; k++)
+        if (held[k])
+            PyBuffer_Release(&b[k]);
+}
+
 static PyObject *iterate(PyObject *self, PyObject *args)
 {
-    PyObject *o_rows, *o_jac, *o_geom, *o_out, *o_rows2 = Py_None;
-    double U, alpha, beta, dx, eps, u, v, Th, t, phi, t_end;
+    static const char *names[N_BUF] = {"rows", "rows_jac", "geom", "out", "rows2", "tangent", "rows_dw", "rows_kt",
+                                       "rows2_kt"};
+    PyObject *o[N_BUF] = {NULL, NULL, NULL, NULL, Py_None, Py_None, Py_None, Py_None, Py_None};
+    double U, alpha, beta, dx, eps, u, v, Th, t, phi, t_end, scale = 1.0;
     int nv;
-    if (!PyArg_ParseTuple(args, "OOOOddddiddddddd|O", &o_rows, &o_jac, &o_geom, &o_out, &U, &alpha, &beta, &dx, &nv,
-                          &eps, &u, &v, &Th, &t, &phi, &t_end, &o_rows2))
+    if (!PyArg_ParseTuple(args, "OOOOddddiddddddd|OOOOOd", &o[B_ROWS], &o[B_JAC], &o[B_GEOM], &o[B_OUT], &U, &alpha,
+                          &beta, &dx, &nv, &eps, &u, &v, &Th, &t, &phi, &t_end, &o[B_ROWS2], &o[B_TAN], &o[B_DW],
+                          &o[B_KT], &o[B_K2T], &scale))
         return NULL;
     if (nv < 2 || nv > MAX_NV) {
         PyErr_Format(PyExc_ValueError, "nv must be in [2, %d], got %d", MAX_NV, nv);
         return NULL;
     }
-    Py_buffer b_rows, b_jac, b_geom, b_out;
-    if (get_buffer(o_rows, &b_rows, 0, "rows") < 0)
-        return NULL;
-    if (get_buffer(o_jac, &b_jac, 0, "rows_jac") < 0) {
-        PyBuffer_Release(&b_rows);
-        return NULL;
-    }
-    if (get_buffer(o_geom, &b_geom, 0, "geom") < 0) {
-        PyBuffer_Release(&b_rows);
-        PyBuffer_Release(&b_jac);
+    int second = o[B_ROWS2] != Py_None, tangent = o[B_TAN] != Py_None;
+    if (tangent && (o[B_DW] == Py_None || o[B_KT] == Py_None || (second && o[B_K2T] == Py_None)
+                    || !(isfinite(scale) && scale > 0.0))) {
+        PyErr_SetString(PyExc_ValueError, "a tangent vector needs rows_dw, rows_kt (and with rows2, rows2_kt) and "
+                                          "a finite scale > 0");
         return NULL;
     }
-    if (get_buffer(o_out, &b_out, 1, "out") < 0) {
-        PyBuffer_Release(&b_rows);
-        PyBuffer_Release(&b_jac);
-        PyBuffer_Release(&b_geom);
-        return NULL;
+    Py_buffer b[N_BUF];
+    int held[N_BUF] = {0};
+    for (int k = 0; k < N_BUF; k++) {
+        if (o[k] == Py_None || (!second && k == B_K2T) || (!tangent && k > B_TAN))
+            continue;
+        if (get_buffer(o[k], &b[k], k == B_OUT || k == B_TAN, names[k]) < 0) {
+            release_all(b, held);
+            return NULL;
+        }
+        held[k] = 1;
     }
-    Py_buffer b_rows2;
-    int second = o_rows2 != Py_None;
-    if (second && get_buffer(o_rows2, &b_rows2, 0, "rows2") < 0) {
-        PyBuffer_Release(&b_rows);
-        PyBuffer_Release(&b_jac);
-        PyBuffer_Release(&b_geom);
-        PyBuffer_Release(&b_out);
-        return NULL;
-    }
-    table_t tb = {(const double *)b_rows.buf, (const double *)b_jac.buf, (const double *)b_geom.buf,
-                  second ? (const double *)b_rows2.buf : NULL, b_rows.len / (8 * N_FUN * nv), U, alpha, beta,
-                  sinh(alpha), sinh(beta), dx, nv};
-    Py_ssize_t n_max = b_out.len / (8 * 5);
-    if (tb.n_fine < 6 || b_rows.len != tb.n_fine * 8 * N_FUN * nv || b_jac.len != tb.n_fine * 8 * N_JAC * nv
-        || b_geom.len != tb.n_fine * 8 * N_GEOM || (second && b_rows2.len != tb.n_fine * 8 * N_K2 * nv)) {
-        PyBuffer_Release(&b_rows);
-        PyBuffer_Release(&b_jac);
-        PyBuffer_Release(&b_geom);
-        PyBuffer_Release(&b_out);
-        if (second)
-            PyBuffer_Release(&b_rows2);
+    const double *buf[N_BUF] = {NULL};
+    for (int k = 0; k < N_BUF; k++)
+        buf[k] = held[k] ? (const double *)b[k].buf : NULL;
+    Py_ssize_t n_fine = b[B_ROWS].len / (8 * N_FUN * nv);
+    table_t tb = {buf[B_ROWS], buf[B_JAC], buf[B_GEOM], buf[B_ROWS2], buf[B_DW], buf[B_KT], buf[B_K2T], n_fine, U,
+                  alpha, beta, sinh(alpha), sinh(beta), dx, nv};
+    int width = tangent ? 6 : 5;
+    Py_ssize_t n_max = b[B_OUT].len / (8 * width);
+    if (n_fine < 6 || b[B_ROWS].len != n_fine * 8 * N_FUN * nv || b[B_JAC].len != n_fine * 8 * N_JAC * nv
+        || b[B_GEOM].len != n_fine * 8 * N_GEOM || (second && b[B_ROWS2].len != n_fine * 8 * N_K2 * nv)
+        || (tangent && (b[B_TAN].len != 4 * 8 || b[B_DW].len != n_fine * 8 * N_DW * nv
+                        || b[B_KT].len != n_fine * 8 * N_KT * nv
+                        || (second && b[B_K2T].len != n_fine * 8 * N_K2T * nv)))) {
+        release_all(b, held);
         PyErr_SetString(PyExc_ValueError, "rows, rows_jac, geom (and rows2) must hold (Nf >= 6) x 18 x nv, "
-                                          "Nf x 48 x nv and Nf x 4 (and Nf x 25 x nv) values");
+                                          "Nf x 48 x nv and Nf x 4 (and Nf x 25 x nv) values; a tangent 4 values, "
+                                          "rows_dw, rows_kt (and rows2_kt) Nf x 3, 27 (and 45) x nv");
         return NULL;
     }
-    double *out = (double *)b_out.buf, f[N_FUN], f1[N_FUN], res[5], bad[2] = {NAN, NAN};
+    double *out = (double *)b[B_OUT].buf, *tv = tangent ? (double *)b[B_TAN].buf : NULL;
+    double f[N_FUN], f1[N_FUN], res[5], mid[3], bad[2] = {NAN, NAN}, w[3], dwa[N_DW], dwb[N_DW];
     Py_ssize_t n = 0, counts[2] = {0, 0}; /* evaluations with and without the Jacobian */
     int status = DONE;
     Py_BEGIN_ALLOW_THREADS
-    if (evaluate(&tb, tb.rows, N_FUN, u, v, f)) {
+    if (evaluate(&tb, tb.rows, N_FUN, u, v, f) || (tangent && evaluate(&tb, tb.rows_dw, N_DW, u, v, dwa))) {
         bad[0] = u;
         bad[1] = v;
         status = LEFT_TABLE;
@@ -320,10 +424,11 @@ static PyObject *iterate(PyObject *self, PyObject *args)
             status = FULL;
             break;
         }
-        status = implicit_kick(&tb, eps, u, v, Th + 0.5 * f[N_KICK + 1], f, res, bad, counts);
+        status = implicit_kick(&tb, eps, u, v, Th + 0.5 * f[N_KICK + 1], f, res, mid, bad, counts);
         if (status != DONE)
             break;
-        if (evaluate(&tb, tb.rows, N_FUN, res[0], res[1], f1)) {
+        if (evaluate(&tb, tb.rows, N_FUN, res[0], res[1], f1)
+            || (tangent && evaluate(&tb, tb.rows_dw, N_DW, res[0], res[1], dwb))) {
             bad[0] = res[0];
             bad[1] = res[1];
             status = LEFT_TABLE;
@@ -333,26 +438,39 @@ static PyObject *iterate(PyObject *self, PyObject *args)
         double t_next = t + 0.5 * (f[N_KICK] + f1[N_KICK]) + res[3];
         if (t_next > t_end)
             break;
+        if (tangent) {
+            memcpy(w, tv, sizeof w);
+            if (tangent_step(&tb, eps, mid, dwa + 1, dwb + 1, w)) {
+                bad[0] = mid[0];
+                bad[1] = mid[1];
+                status = LEFT_TABLE;
+                break;
+            }
+            counts[0]++;
+            double norm = sqrt(scale * scale * (w[0] * w[0] + w[1] * w[1]) + w[2] * w[2]);
+            tv[0] = w[0] / norm;
+            tv[1] = w[1] / norm;
+            tv[2] = w[2] / norm;
+            tv[3] += log(norm);
+            memcpy(dwa, dwb, sizeof dwa);
+        }
         phi += 0.5 * (f[N_KICK + 2] + f1[N_KICK + 2]) + res[4];
         t = t_next;
         u = res[0];
         v = res[1];
         memcpy(f, f1, sizeof f);
         Th = res[2] + 0.5 * f[N_KICK + 1];
-        double *row = out + 5 * n++;
+        double *row = out + width * n++;
         row[0] = t;
         row[1] = u;
         row[2] = v;
         row[3] = Th;
         row[4] = phi;
+        if (tangent)
+            row[5] = tv[3];
     }
     Py_END_ALLOW_THREADS
-    PyBuffer_Release(&b_rows);
-    PyBuffer_Release(&b_jac);
-    PyBuffer_Release(&b_geom);
-    PyBuffer_Release(&b_out);
-    if (second)
-        PyBuffer_Release(&b_rows2);
+    release_all(b, held);
     return Py_BuildValue("niddnn", n, status, bad[0], bad[1], counts[0], counts[1]);
 }
 
@@ -363,8 +481,9 @@ static PyObject *evaluate_py(PyObject *self, PyObject *args)
     int width, nv;
     if (!PyArg_ParseTuple(args, "OOiidddddd", &o_rows, &o_geom, &width, &nv, &U, &alpha, &beta, &dx, &u, &v))
         return NULL;
-    if (nv < 2 || nv > MAX_NV || (width != N_FUN && width != N_JAC && width != N_K2)) {
-        PyErr_Format(PyExc_ValueError, "nv must be in [2, %d] and width %d, %d or %d", MAX_NV, N_FUN, N_JAC, N_K2);
+    if (nv < 2 || nv > MAX_NV || n_deriv(width) < 0) {
+        PyErr_Format(PyExc_ValueError, "nv must be in [2, %d] and width one of %d, %d, %d, %d, %d, %d", MAX_NV, N_FUN,
+                     N_JAC, N_K2, N_DW, N_KT, N_K2T);
         return NULL;
     }
     Py_buffer b, bg;
@@ -374,9 +493,9 @@ static PyObject *evaluate_py(PyObject *self, PyObject *args)
         PyBuffer_Release(&b);
         return NULL;
     }
-    table_t tb = {(const double *)b.buf, NULL, (const double *)bg.buf, NULL, b.len / (8 * (Py_ssize_t)width * nv), U,
-                  alpha, beta, sinh(alpha), sinh(beta), dx, nv};
-    double val[N_JAC];
+    table_t tb = {(const double *)b.buf, NULL, (const double *)bg.buf, NULL, NULL, NULL, NULL,
+                  b.len / (8 * (Py_ssize_t)width * nv), U, alpha, beta, sinh(alpha), sinh(beta), dx, nv};
+    double val[N_JAC]; /* N_JAC is the widest layout */
     int out = (tb.n_fine < 6 || bg.len != tb.n_fine * 8 * N_GEOM) ? -1 : evaluate(&tb, tb.rows, width, u, v, val);
     PyBuffer_Release(&b);
     PyBuffer_Release(&bg);
@@ -402,7 +521,8 @@ static PyObject *evaluate_py(PyObject *self, PyObject *args)
 
 static PyMethodDef methods[] = {
     {"iterate", iterate, METH_VARARGS,
-     "iterate(rows, rows_jac, geom, out, U, alpha, beta, dx, nv, eps, u, v, Theta, t, phi, t_end[, rows2])\n"
+     "iterate(rows, rows_jac, geom, out, U, alpha, beta, dx, nv, eps, u, v, Theta, t, phi, t_end[, rows2, tangent, "
+     "rows_dw, rows_kt, rows2_kt, scale])\n"
      "    -> (n, status, u_bad, v_bad, n_jacobian, n_plain)\n\n"
      "Step the slow map from a maximum until t_end; see analysis/slow/_kernel.c."},
     {"evaluate", evaluate_py, METH_VARARGS,

@@ -11,8 +11,8 @@ grid along the chart, Chebyshev series across it; the most recently used forms a
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -26,7 +26,12 @@ from rocknroller.numerics.cache import MemoryCache
 if TYPE_CHECKING:
     import pandas
 
-__all__ = ["SlowSeries", "iterate_slow_map", "centre_period"]
+__all__ = ["SlowSeries", "iterate_slow_map", "centre_period", "TANGENT_START", "tangent_start"]
+
+#: The tangent vector w of every run of the map with ``tangent=True``, in the scaled coordinates (S u, S v, Θ) with
+#: S = |∇W| at Q = 0 (the table's, per table; a change δQ changes the twist by ≈ S |δQ|, so both parts of w are phases,
+#: the standard map's (p, Θ)): the unit vector (1, 1, 1)/√3.  Its norm is √(S²(w_u² + w_v²) + w_Θ²).
+TANGENT_START = (1.0, 1.0, 1.0)
 
 
 @dataclass(frozen=True)
@@ -34,6 +39,8 @@ class SlowSeries:
     """Samples of the slow map at the θ-maxima n = 1, 2, ... with t_n ≤ t_end.
 
     ``Theta`` is unwrapped (continuous); ``phi`` is the accumulated azimuth modulo π-jumps (use mod π).
+    ``log_growth`` (a run with ``tangent=True``, else None): ℓ_n = ln(‖w_n‖/‖w_0‖) of the tangent vector carried from
+    ``TANGENT_START`` at the start of the run, at each maximum.
     """
 
     t: NDArray[np.float64]
@@ -41,6 +48,7 @@ class SlowSeries:
     QJ: NDArray[np.float64]
     Theta: NDArray[np.float64]
     phi: NDArray[np.float64]
+    log_growth: NDArray[np.float64] | None = field(default=None, repr=False)
 
     @property
     def psi_mod_pi(self) -> NDArray[np.float64]:
@@ -62,7 +70,8 @@ class SlowSeries:
 #: Points of the fine uniform grid in u used at run time per Chebyshev term along it (6-point Lagrange
 #: interpolation between them; 64 nu + 1 = 8193 for the release tables' nu = 128), and their most: the run-time form
 #: holds points × (18 + 48 + 25 for order 2) functions × nv doubles, ≤ 8193 × 91 × 128 × 8 B = 0.76 GB whatever nu
-#: (≤ 4096) is.
+#: (≤ 4096) is; a run with a tangent vector adds its rows (``_TangentRows``: 3 + 27 + 45 for order 2 functions,
+#: ≤ 0.63 GB more, cached under their own key).
 _FINE_PER_TERM = 64
 _FINE_MAX = 8193
 #: Run-time functions: 0-8 the harmonics (c0, c1, s1) of k_u = e·k_Q, k_v = n·k_Q and k_Θ (solved for
@@ -84,6 +93,20 @@ def _at_points(coef: NDArray[np.float64], basis: NDArray[np.float64]) -> NDArray
     return np.tensordot(basis, coef, axes=([0], [1]))
 
 
+def _kick_and_drift(table: SlowMapTable) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The Chebyshev coefficients of the run-time functions (``_N_KICK``): the 15 kick functions (the harmonics of
+    k_u = e·k_Q, k_v = n·k_Q, k_Θ, then of the time and φ kicks) and the 3 drifts (T_θ, W, Δφ)."""
+    c, e, n = table.coef, table.e, table.n
+    rows = []
+    for h in _HARM:
+        qr, qj = c[_IDX[f"kQR_{h}"]], c[_IDX[f"kQJ_{h}"]]
+        rows.append((e[0] * qr + e[1] * qj, n[0] * qr + n[1] * qj))
+    kick = [rows[m][0] for m in range(3)] + [rows[m][1] for m in range(3)]
+    kick += [c[_IDX[f"{pre}_{h}"]] for pre in ("kTh", "dt", "dphi1") for h in _HARM]
+    drift = [c[_IDX[name]] for name in ("T", "W", "dphi")]
+    return np.array(kick), np.array(drift)
+
+
 class _FastTable:
     """Run-time form of a SlowMapTable: values on a fine uniform grid in x = u/U, Chebyshev series in τ.
 
@@ -100,13 +123,7 @@ class _FastTable:
     def __init__(self, table: SlowMapTable, second: SecondOrderTable | None = None) -> None:
         c = table.coef
         e, n = table.e, table.n
-        rows = []
-        for h in _HARM:
-            qr, qj = c[_IDX[f"kQR_{h}"]], c[_IDX[f"kQJ_{h}"]]
-            rows.append((e[0] * qr + e[1] * qj, n[0] * qr + n[1] * qj))
-        kick = [rows[m][0] for m in range(3)] + [rows[m][1] for m in range(3)]
-        kick += [c[_IDX[f"{pre}_{h}"]] for pre in ("kTh", "dt", "dphi1") for h in _HARM]
-        drift = [c[_IDX[name]] for name in ("T", "W", "dphi")]
+        kick, drift = _kick_and_drift(table)
         self.U, self.nv = float(table.U), c.shape[2]
         self.e, self.n = e, n
         self.n_fine = min(_FINE_PER_TERM * c.shape[1] + 1, _FINE_MAX)
@@ -115,24 +132,29 @@ class _FastTable:
         self.alpha, self.beta = float(table.alpha), float(table.beta)
         self.geom = np.ascontiguousarray(np.stack(table._sides(stretch(xi, self.alpha)), axis=1))
         Bu = _cheb_basis(xi, c.shape[1])                                  # (nu, Nf)
-        fine = np.concatenate([_at_points(np.array(kick), Bu),
-                               _at_points(np.array(drift), Bu)], axis=1)  # (Nf, 18, nv)
-        kick_coef = np.array(kick)
-        du = np.polynomial.chebyshev.chebder(kick_coef, axis=1) / self.U            # (15, nu − 1, nv)
-        dv = np.polynomial.chebyshev.chebder(kick_coef, axis=2)                     # (15, nu, nv − 1), d/dτ
-        dv = np.concatenate([dv, np.zeros(dv.shape[:2] + (1,))], axis=2)
-        fine_d = np.concatenate([_at_points(du, Bu[: du.shape[1]]),
-                                 _at_points(dv, Bu)], axis=1)         # (Nf, 30, nv)
+        kick_d = self._values_and_derivatives(kick).reshape(self.n_fine, 3 * _N_KICK, self.nv)  # values, ∂ξ/U, ∂τ
+        fine = np.concatenate([kick_d[:, :_N_KICK], _at_points(drift, Bu)], axis=1)  # (Nf, 18, nv)
         self.rows = np.ascontiguousarray(fine.reshape(self.n_fine, -1))
-        self.rows_jac = np.ascontiguousarray(np.concatenate([fine, fine_d], axis=1).reshape(self.n_fine, -1))
+        self.rows_jac = np.ascontiguousarray(np.concatenate([fine, kick_d[:, _N_KICK:]], axis=1).reshape(self.n_fine,
+                                                                                                       -1))
         self.table = table
         self.second = second
         self.rows2 = None if second is None else self._second_order_rows(second)
 
-    def _second_order_rows(self, second: "SecondOrderTable") -> NDArray[np.float64]:
-        """The run-time rows (Nf, 25 · nv) of a :class:`rocknroller.analysis.slow.chart.SecondOrderTable` on this
-        table's chart: k₂_u = e·k₂_Q, k₂_v = n·k₂_Q, k₂_Θ, k₂_t, k₂_φ, five harmonics each, Chebyshev in τ (its
-        series padded to this table's nv terms)."""
+    def _values_and_derivatives(self, coef: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Run-time rows (Nf, 3 F · nv) of F Chebyshev series (F, nu, nv) on this chart: their values, then their
+        ξ-derivatives over U and their τ-derivatives (the kernel turns these into ∂/∂u, ∂/∂v)."""
+        xi = np.linspace(-1.0, 1.0, self.n_fine)
+        B = _cheb_basis(xi, coef.shape[1])
+        du = np.asarray(np.polynomial.chebyshev.chebder(coef, axis=1), float) / self.U  # (F, nu − 1, nv)
+        dv = np.asarray(np.polynomial.chebyshev.chebder(coef, axis=2), float)            # (F, nu, nv − 1), d/dτ
+        dv = np.concatenate([dv, np.zeros(dv.shape[:2] + (1,))], axis=2)
+        fine = np.concatenate([_at_points(coef, B), _at_points(du, B[: du.shape[1]]), _at_points(dv, B)], axis=1)
+        return np.ascontiguousarray(fine.reshape(self.n_fine, -1))
+
+    def _second_order_coef(self, second: "SecondOrderTable") -> NDArray[np.float64]:
+        """k₂_u = e·k₂_Q, k₂_v = n·k₂_Q, k₂_Θ, k₂_t, k₂_φ, five harmonics each: Chebyshev coefficients (25, nu₂, nv)
+        in τ padded to this table's nv terms."""
         c2 = np.asarray(second.coef, float).reshape(5, 5, *second.coef.shape[1:])  # (component, harmonic, ξ, η)
         nu2, nv2 = c2.shape[2:]
         if nv2 > self.nv:
@@ -142,8 +164,15 @@ class _FastTable:
         comps = [e[0] * c2[0] + e[1] * c2[1], n[0] * c2[0] + n[1] * c2[1], c2[2], c2[3], c2[4]]
         coef = np.zeros((25, nu2, self.nv))
         coef[:, :, :nv2] = np.concatenate(comps).reshape(25, nu2, nv2)
+        return coef
+
+    def _second_order_rows(self, second: "SecondOrderTable") -> NDArray[np.float64]:
+        """The run-time rows (Nf, 25 · nv) of a :class:`rocknroller.analysis.slow.chart.SecondOrderTable` on this
+        table's chart: k₂_u = e·k₂_Q, k₂_v = n·k₂_Q, k₂_Θ, k₂_t, k₂_φ, five harmonics each, Chebyshev in τ (its
+        series padded to this table's nv terms)."""
+        coef = self._second_order_coef(second)
         xi = np.linspace(-1.0, 1.0, self.n_fine)
-        fine = _at_points(coef, _cheb_basis(xi, nu2))  # (Nf, 25, nv)
+        fine = _at_points(coef, _cheb_basis(xi, coef.shape[1]))  # (Nf, 25, nv)
         return np.ascontiguousarray(fine.reshape(self.n_fine, -1))
 
     def _evaluate(self, rows: NDArray[np.float64], u: float, v: float) -> list[float]:
@@ -163,18 +192,26 @@ class _FastTable:
         return self._evaluate(self.rows_jac, u, v)
 
     def iterate(self, eps: float, u: float, v: float, Th: float, phi: float, t_end: float,
-                n_steps: int | None) -> tuple[NDArray[np.float64], tuple[int, int]]:
+                n_steps: int | None, tangent: "_TangentRows | None" = None
+                ) -> tuple[NDArray[np.float64], tuple[int, int]]:
         """Rows (t, u, v, Θ, φ) of the maxima after the start with t ≤ t_end (at most ``n_steps``),
-        and the numbers of table evaluations with and without the Jacobian rows."""
+        and the numbers of table evaluations with and without the Jacobian rows.  With ``tangent`` (the tangent rows
+        of this form) a tangent vector is carried along from ``TANGENT_START`` and each row gains ℓ, the logarithm of
+        its growth since the start (:func:`iterate_slow_map`)."""
         # room for t_end / (T_θ(0)/2) maxima, at most _CHUNK rows at a time
         cap = min(int(t_end / (0.5 * abs(self.values(0.0, 0.0)[_N_KICK]))) + 8, _CHUNK)
         cap = cap if n_steps is None else min(int(n_steps), cap)
         chunks, t, counts = [], 0.0, [0, 0]
+        width = 5 if tangent is None else 6
+        extra: tuple[Any, ...] = ()
+        if tangent is not None:
+            w = np.array([*tangent_start(tangent.scale), 0.0])  # (w_u, w_v, w_Θ, ℓ), carried from chunk to chunk
+            extra = (w, tangent.rows_dw, tangent.rows_kt, tangent.rows2_kt, tangent.scale)
         while True:
-            out = np.empty((max(cap, 1), 5))
+            out = np.empty((max(cap, 1), width))
             n, status, ub, vb, n_jac, n_plain = _kernel.iterate(self.rows, self.rows_jac, self.geom, out, self.U,
                                                                  self.alpha, self.beta, self.dx, self.nv, eps, u, v,
-                                                                 Th, t, phi, t_end, self.rows2)
+                                                                 Th, t, phi, t_end, self.rows2, *extra)
             counts[0] += n_jac
             counts[1] += n_plain
             chunks.append(out[:n])
@@ -189,9 +226,37 @@ class _FastTable:
             if done > MAX_MAXIMA:  # t_end was checked against T_θ(0)/2 per maximum; T_θ ≥ 0.7 T_θ(0) on the tables
                 raise ValueError(f"t_end={t_end!r} gives more than MAX_MAXIMA = {MAX_MAXIMA} maxima")
             assert status == _FULL
-            t, u, v, Th, phi = (float(x) for x in out[n - 1])  # out was full: go on from the last maximum
+            t, u, v, Th, phi = (float(x) for x in out[n - 1, :5])  # out was full: go on from the last maximum
             cap = _CHUNK if n_steps is None else min(_CHUNK, n_steps - done)
         return np.concatenate(chunks), (counts[0], counts[1])
+
+
+class _TangentRows:
+    """The run-time rows a tangent vector needs beside a :class:`_FastTable` (kept in the same memory cache, under
+    their own key): ``rows_dw`` (W, ∂W/∂u, ∂W/∂v), ``rows_kt`` (the kick functions 0-8 and
+    their ∂/∂u, ∂/∂v), ``rows2_kt`` (k₂'s u, v, Θ harmonics and their ∂/∂u, ∂/∂v; order 2 only) and ``scale``, the
+    norm's weight of (u, v): ``TANGENT_SCALE``."""
+
+    def __init__(self, ft: _FastTable) -> None:
+        self.table, self.second = ft.table, ft.second
+        kick, drift = _kick_and_drift(ft.table)
+        self.rows_dw = ft._values_and_derivatives(drift[1:2])
+        self.rows_kt = ft._values_and_derivatives(kick[:9])
+        self.rows2_kt = None if ft.second is None else ft._values_and_derivatives(ft._second_order_coef(ft.second)[:15])
+        out = _kernel.evaluate(self.rows_dw, ft.geom, 3, ft.nv, ft.U, ft.alpha, ft.beta, ft.dx, 0.0, 0.0)
+        assert out is not None, "Q = 0 lies on every table"
+        self.scale = math.hypot(out[1], out[2])
+        if not (math.isfinite(self.scale) and self.scale > 0.0):
+            raise ValueError(f"the averaging table gives |grad W| = {self.scale!r} at Q = 0, not a positive number: it "
+                             "is damaged or not a table of this version")
+
+
+def tangent_start(scale: float) -> tuple[float, float, float]:
+    """The tangent vector every run starts from, ``TANGENT_START`` normalised in the scaled coordinates
+    (S u, S v, Θ), S = ``scale``, and given in (u, v, Θ)."""
+    wu, wv, wt = TANGENT_START
+    c = 1.0 / math.sqrt(wu * wu + wv * wv + wt * wt)
+    return c * wu / scale, c * wv / scale, c * wt
 
 
 def centre_period(table: SlowMapTable) -> float:
@@ -220,9 +285,18 @@ def _fast(table: SlowMapTable, second: SecondOrderTable | None = None) -> _FastT
     return ft
 
 
+def _tangent_rows(ft: _FastTable) -> _TangentRows:
+    key = (id(ft.table), id(ft.second), "tangent")
+    tr = _FAST.get(key)
+    if tr is None or tr.table is not ft.table or tr.second is not ft.second:
+        tr = _TangentRows(ft)
+        _FAST[key] = tr
+    return tr
+
+
 def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float, *,
                      Q0: ArrayLike = (0.0, 0.0), phi0: float = 0.0, n_steps: int | None = None,
-                     second: SecondOrderTable | None = None) -> SlowSeries:
+                     second: SecondOrderTable | None = None, tangent: bool = False) -> SlowSeries:
     """Iterate the reversible drift–kick–drift slow map from a maximum at t = 0.
 
     One step: Θ += W(Q)/2; (Q, Θ) += ε k(midpoint) (implicit midpoint, solved by simplified Newton
@@ -230,6 +304,14 @@ def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float,
     η/(1 − η) × change below 1e-3 of that; Hairer & Wanner, Solving ODEs II, §IV.8); Θ += W(Q')/2;
     t += ½[T_θ(Q) + T_θ(Q')] + ε k_t(midpoint); φ += ½[Δφ(Q) + Δφ(Q')] + ε k_φ(midpoint).
     The loop runs in the compiled kernel ``rocknroller.analysis.slow._kernel``.
+
+    With ``tangent=True`` a tangent vector w of (u, v, Θ) (Q = u e + v n) is carried along by the tangent map of the
+    step as implemented (the drifts' ∇W; the implicit midpoint's derivative by the implicit function theorem,
+    dm = (I − (ε/2) ∂k/∂m)⁻¹ da at the converged midpoint m, with ∂k/∂m from the tables' derivatives and the analytic
+    Θ-derivative of the harmonics; second order: of k₁ + ε k₂), starting from ``TANGENT_START``, renormalised every
+    step in the norm √(S²(w_u² + w_v²) + w_Θ²) (S = |∇W(0)|) and the logarithms of the norms summed: the series'
+    ``log_growth``, the samples of :func:`rocknroller.numerics.megno.chaos_indicators`.  It costs ~1.5× the map
+    alone (benchmarks/bench_chaos_map.py).
 
     Parameters
     ----------
@@ -245,8 +327,10 @@ def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float,
     n_steps : int, optional
         Stop after this many steps (even before t_end), 1 ≤ n_steps ≤ ``MAX_MAXIMA``.
     second : SecondOrderTable, optional
-        The second-order kick k₂ on this table's chart (:mod:`rocknroller.analysis.slow.second_order`): the kick function
-        becomes k₁ + ε k₂, the map second order in ε and still reversible.
+        The second-order kick k₂ on this table's chart (:mod:`rocknroller.analysis.slow.second_order`): the kick
+        function becomes k₁ + ε k₂, the map second order in ε and still reversible.
+    tangent : bool
+        Carry a tangent vector along (above) and return its ``log_growth``.
 
     Raises
     ------
@@ -270,6 +354,8 @@ def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float,
     Q0 = np.asarray(Q0, float)
     if Q0.shape != (2,) or not np.all(np.isfinite(Q0)) or not math.isfinite(float(phi0)):
         raise ValueError(f"Q0 must be two finite numbers (Q_R, Q_J) and phi0 finite, got Q0={Q0!r}, phi0={phi0!r}")
-    arr, _ = ft.iterate(eps, float(ft.e @ Q0), float(ft.n @ Q0), 2.0 * psi0, float(phi0), t_end, n_steps)
+    arr, _ = ft.iterate(eps, float(ft.e @ Q0), float(ft.n @ Q0), 2.0 * psi0, float(phi0), t_end, n_steps,
+                        _tangent_rows(ft) if tangent else None)
     Q = np.outer(arr[:, 1], ft.e) + np.outer(arr[:, 2], ft.n)
-    return SlowSeries(t=arr[:, 0], QR=Q[:, 0], QJ=Q[:, 1], Theta=unwrap_phase(arr[:, 3]), phi=arr[:, 4])
+    return SlowSeries(t=arr[:, 0], QR=Q[:, 0], QJ=Q[:, 1], Theta=unwrap_phase(arr[:, 3]), phi=arr[:, 4],
+                      log_growth=arr[:, 5] if tangent else None)

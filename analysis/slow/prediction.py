@@ -70,6 +70,7 @@ from rocknroller.analysis.model.body import Body, as_float
 from rocknroller.analysis.model.diagnostics import azimuth_span, slow_period, span, unwrap_phase
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.routh.reduction import u_ends
+from rocknroller.analysis.slow.chaos import HORIZON_FRACTION, StepErrorProbe, predictability_horizon, run_indicators
 from rocknroller.analysis.slow.chart import TABLE_FUNCTIONS, SlowMapTable  # noqa: F401 (re-exported)
 from rocknroller.analysis.slow.compiled_map import SlowSeries, centre_period, iterate_slow_map
 from rocknroller.analysis.slow.family import first_maximum, rest_energy
@@ -81,6 +82,7 @@ from rocknroller.analysis.slow.limits import (K_PERIOD_DOUBLING, MAX_MAXIMA, THE
 from rocknroller.analysis.slow.orbit import symmetric_data
 from rocknroller.analysis.slow.table import (REGION_TABLE_ACCURACY, TableNotCachedError, build_table,  # noqa: F401
                                              load_or_build_table)
+from rocknroller.numerics.megno import ChaosIndicators
 
 if TYPE_CHECKING:
     import pandas
@@ -165,6 +167,13 @@ class SlowPrediction:
         and Φ are 0 and the slow period and line slope are None.
     start : the initial state of a start with velocity (None for a release from rest).
     order : the map's order in ε (1 or 2).
+    chaos : the map's chaos indicators (:func:`rocknroller.analysis.slow.chaos.map_indicators`: MEGNO, the
+        finite-time Lyapunov exponent per unit time and per rock, ``regular`` by MEGNO ≤ 3), from a tangent vector
+        carried along the map from its start (the first maximum, for a start with velocity).  None for pure rocking
+        (ε = 0 from rest: the map is the identity in Q there, Q ≡ 0 and Θ fixed, and no map is run), for a run of
+        fewer than ``MIN_SAMPLES`` = 8 maxima (too short to measure), and with ``indicators=False``.
+    error_probe : the map's own per-step error along the run, computed when the horizon is first asked for
+        (:class:`rocknroller.analysis.slow.chaos.StepErrorProbe`); None where ``chaos`` is.
     """
 
     eps: float
@@ -184,6 +193,41 @@ class SlowPrediction:
     pure_rocking: bool = False
     start: EulerState | None = field(default=None, repr=False)
     order: int = 1
+    chaos: ChaosIndicators | None = None
+    error_probe: StepErrorProbe | None = field(default=None, repr=False, compare=False)
+
+    @property
+    def regular(self) -> bool | None:
+        """The map's verdict, regular (MEGNO ≤ 3) or chaotic, over the run; None where ``chaos`` is None."""
+        return None if self.chaos is None else self.chaos.regular
+
+    def horizon(self, fraction: float = HORIZON_FRACTION) -> float:
+        """The predictability horizon: the time at which the map's own per-step error, grown at the measured rate
+        (e^(λt) on a chaotic orbit, linearly by the shear on a regular one), reaches ``fraction`` of the larger extent
+        (:func:`rocknroller.analysis.slow.chaos.predictability_horizon`, where the formulas are derived).  Past it the
+        point predictions are statistical only.  The first call runs four exact steps of the direct ODE (~0.1 s).
+
+        Raises
+        ------
+        ValueError
+            For ε = 0 (the map is exact: Routh's sphere is integrable, Q is conserved, and no error grows), without
+            indicators (a run of fewer than 8 maxima, or ``indicators=False``), for an orbit without extent (a fixed
+            point of the map), or ``fraction`` outside (0, 1].
+        """
+        if self.eps == 0.0:
+            raise ValueError("a predictability horizon is not defined for eps = 0: the map is then exact (Routh's "
+                             "sphere is integrable: Q_R, Q_J are conserved, and released from rest it rocks in a fixed "
+                             "plane), so there is no error to grow")
+        if self.chaos is None or self.error_probe is None:
+            raise ValueError("a predictability horizon needs the chaos indicators: they are measured on runs of at "
+                             "least 8 maxima (give a longer t_end) with indicators=True")
+        probe = self.error_probe
+        return probe.t0 + predictability_horizon(self.chaos, probe.step_error(), max(self.QR_extent, self.QJ_extent),
+                                                 probe.scale, fraction)
+
+    def beyond_horizon(self, fraction: float = HORIZON_FRACTION) -> bool:
+        """True if t_end lies past :meth:`horizon` (same errors)."""
+        return self.t_end > self.horizon(fraction)
 
     @property
     def rocks_per_region(self) -> dict[str, int]:
@@ -213,7 +257,8 @@ class SlowPrediction:
 def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | None = None,
                         t_end: float = 1000.0, *,
                         table: SlowMapTable | None = None, build: bool = True, order: int | None = None,
-                        second: "SecondOrderTable | None" = None, progress: bool | None = None) -> SlowPrediction:
+                        second: "SecondOrderTable | None" = None, progress: bool | None = None,
+                        indicators: bool = True) -> SlowPrediction:
     """Predict the slow (Q_R, Q_J) motion of ``body`` released from rest at θ0 with spin angle ψ0, or from any
     initial state.
 
@@ -248,6 +293,10 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
     progress : bool or None
         Tables built here (seconds to a minute each; docs/slow_howto.md) show a tqdm bar on stderr that names them
         and the time left; None: only if stderr is a terminal.  Tables from memory or the disk cache show none.
+    indicators : bool
+        Carry a tangent vector along the map and give the prediction its chaos indicators (``chaos``, ``regular``)
+        and its predictability horizon (:meth:`SlowPrediction.horizon`); ~1.5× the map's own cost
+        (benchmarks/bench_chaos_map.py).
 
     Returns
     -------
@@ -273,13 +322,13 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
         if psi0 is not None:
             raise ValueError("psi0 is part of the initial state: give either (theta0, psi0) or an EulerState")
         return _predict_from_state(body, theta0, t_end, table=table, build=build, order=order, second=second,
-                                   progress=progress)
+                                   progress=progress, indicators=indicators)
     if psi0 is None:
         raise ValueError("psi0 must be given with a release angle theta0")
     theta0 = check_release_theta0(theta0)
     if table is None and releases_on_region_tables(theta0):
         return _predict_from_state(body, EulerState(float(theta0), 0.0, float(psi0)), t_end, table=None, build=build,
-                                   order=order, second=second, progress=progress)
+                                   order=order, second=second, progress=progress, indicators=indicators)
     theta0 = check_map_theta0(theta0)
     eps, psi0 = body.epsilon, as_float("psi0", psi0)
     if not math.isfinite(psi0):
@@ -313,8 +362,12 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
             second = load_or_build_second_order_table(body, theta0, build=build, progress=progress)
         elif abs(second.theta0 - theta0) > 1e-15 or second.E0 != table.E0:
             raise ValueError(f"the second-order table is for theta0={second.theta0!r}, not {theta0!r}")
-    series = iterate_slow_map(table, eps, psi0, t_end, second=second if order == 2 else None)
-    return replace(_prediction(eps, theta0, psi0, t_end, K, series, table.body), order=order)
+    second = second if order == 2 else None
+    series = iterate_slow_map(table, eps, psi0, t_end, second=second, tangent=indicators)
+    chaos, probe = (run_indicators(table.body, eps, table, second, series, (0.0, 0.0, 2.0 * psi0)) if indicators
+                    else (None, None))
+    return replace(_prediction(eps, theta0, psi0, t_end, K, series, table.body), order=order, chaos=chaos,
+                   error_probe=probe)
 
 
 def _warn_validity(eps: float, table: SlowMapTable) -> None:
@@ -372,7 +425,7 @@ def _prediction(eps: float, theta0: float, psi0: float, t_end: float, K: float, 
 
 def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: SlowMapTable | None,
                         build: bool, order: int = 1, second: "SecondOrderTable | None" = None,
-                        progress: bool | None = None) -> SlowPrediction:
+                        progress: bool | None = None, indicators: bool = True) -> SlowPrediction:
     """predict_slow_motion from an initial state: its first maximum, then the map on the region tables (and for
     order 2 the second-order tables on their chart)."""
     from rocknroller.analysis.routh.steady_rolling import boundary_distance
@@ -419,16 +472,21 @@ def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: S
             raise ValueError(f"the second-order table is for E={second.E0!r}, not this start's E={fm.E!r}")
     eps = body.epsilon
     _warn_validity(eps, table)
-    rest = iterate_slow_map(table, eps, fm.psi, t_end - fm.t, Q0=(fm.QR, fm.QJ), phi0=fm.phi,
-                            second=second if order == 2 else None)
+    second = second if order == 2 else None
+    rest = iterate_slow_map(table, eps, fm.psi, t_end - fm.t, Q0=(fm.QR, fm.QJ), phi0=fm.phi, second=second,
+                            tangent=indicators)
+    chaos, probe = (run_indicators(table.body, eps, table, second, rest, (fm.QR, fm.QJ, 2.0 * fm.psi), fm.t)
+                    if indicators else (None, None))
     first = [fm.t > 0.0]  # a start that is itself a maximum is not a sample (the ODE reports none at t = 0)
     series = SlowSeries(t=np.concatenate([[fm.t][: sum(first)], fm.t + rest.t]),
                         QR=np.concatenate([[fm.QR][: sum(first)], rest.QR]),
                         QJ=np.concatenate([[fm.QJ][: sum(first)], rest.QJ]),
                         Theta=unwrap_phase(np.concatenate([[2.0 * fm.psi][: sum(first)], rest.Theta])),
-                        phi=np.concatenate([[fm.phi][: sum(first)], rest.phi]))
+                        phi=np.concatenate([[fm.phi][: sum(first)], rest.phi]),
+                        log_growth=None if rest.log_growth is None
+                        else np.concatenate([[0.0][: sum(first)], rest.log_growth]))
     return replace(_prediction(eps, float(start.theta), float(start.psi), t_end, eps * table.kappa, series,
-                               table.body, start=start), order=order)
+                               table.body, start=start), order=order, chaos=chaos, error_probe=probe)
 
 
 def critical_regions(QR: ArrayLike, QJ: ArrayLike, t: ArrayLike, body: Body):

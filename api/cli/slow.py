@@ -10,6 +10,14 @@ undefined is null: the slow period when the samples cross their mean fewer than 
 (ε = 0, where the closed form's period is infinite), the line slope when all samples coincide, the
 closed form when ψ0 is its unstable equilibrium, and the relative errors of a quantity the ODE gives as 0
 or that is undefined.
+
+Order and chaos (issue 23).  Every prediction reports the map's verdict, regular or chaotic (MEGNO ≤ 3 or above;
+:mod:`rocknroller.numerics.megno`), MEGNO, the finite-time Lyapunov exponent per unit time and per rock, and the
+predictability horizon (:meth:`rocknroller.analysis.slow.prediction.SlowPrediction.horizon`: the time at which the map's
+own per-step error, grown at that rate, reaches 10 % of the extents).  A t_end past the horizon is labelled
+(``beyond_horizon``; "predictions past t = ... are statistical only"), in the text, the JSON and the CSV (``--csv``:
+the maxima, each with ``beyond_horizon``).  For ε = 0 from rest (pure rocking) there are no indicators and no horizon
+(null, with the reason).
 """
 
 from __future__ import annotations
@@ -28,6 +36,11 @@ from rocknroller.cli.options import (add_body_options, add_critical_line_options
 from rocknroller.numerics.parallel import check_processes
 
 _QUANTITIES = ("slow_period", "QR_extent", "QJ_extent", "Phi")
+#: What the horizon's label says about the quantities past it.
+_STATISTICAL = ("predictions past t = {t:.6g} are statistical only: the orbit's Q, Theta at a given time and the order "
+                "of its region runs and crossings are not predicted past it; its extents, Phi and rocks per region "
+                "over the run describe the region the orbit fills")
+CSV_NAME = "slow_maxima.csv"
 #: Body options (attribute, flag), for error messages that name what the user gave.
 _BODY_OPTIONS = (("a", "--a"), ("I1", "--I1"), ("I2", "--I2"), ("eps", "--eps"), ("I3", "--I3"), ("g", "--g"),
                  ("polar_cap", "--polar-cap"))
@@ -50,7 +63,10 @@ def register(sub: argparse._SubParsersAction) -> None:
         "the map on the tables of its energy over the whole (Q_R, Q_J) region, built once per body and energy, "
         "and cached; the costs of every build: docs/performance.md). Prints the slow "
         "period of Theta = 2 psi, the extents of Q_R and Q_J, the azimuth span Phi of phi mod pi, the rocks "
-        "spent in each critical region, and the period-doubling eps. Valid for 0 <= eps with K = eps*kappa < 4 "
+        "spent in each critical region, the period-doubling eps, and the map's order or chaos: regular or chaotic "
+        "(MEGNO <= 3 or above), MEGNO, the Lyapunov exponent per unit time and per rock, and the predictability "
+        "horizon (the time at which the map's own per-step error, grown at that rate, reaches 10% of the extents; a t_end past it is "
+        "labelled: the predictions past it are statistical only). Valid for 0 <= eps with K = eps*kappa < 4 "
         f"and, for releases from rest, 0 < theta0 <= {_HI:g}pi: the release tables in [{_LO:g}pi, {_HI:g}pi], the "
         "region tables below (to ~1e-9: over the whole region up to the energy of a release from 0.65pi, above it "
         "over the band about Q_J,pi^crit, where the paper's reversal starts live). "
@@ -93,6 +109,11 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="releases from rest: also compute the eps at which rocking about the stable axis "
                         "period-doubles from the exact one-step map (all orders in eps; seconds), beside the first-order "
                         "4/kappa and, with --order 2, the second-order map's")
+    p.add_argument("--csv", type=Path, default=None, metavar="DIR",
+                   help=f"write the predicted maxima to DIR/{CSV_NAME} (t, Q_R, Q_J, Theta, phi, critical region, the "
+                        "tangent vector's log-growth, and beyond_horizon: true past the predictability horizon; the "
+                        "header records the parameters, the indicators and the horizon); DIR is created if missing, "
+                        "an existing file is not overwritten without --force")
     p.add_argument("--plot", type=Path, default=None, metavar="DIR",
                    help="draw the predicted slow orbit over the direct ODE's turning points (slow_orbit.png and .pdf "
                         "in DIR, created if missing; existing files are not overwritten without --force)")
@@ -181,6 +202,8 @@ def run(args: argparse.Namespace) -> int:
 
     if args.plot is not None:
         prepare_output_dir(args.plot, "--plot", args.force, ["slow_orbit.png", "slow_orbit.pdf"])
+    if args.csv is not None:
+        prepare_output_dir(args.csv, "--csv", args.force, [CSV_NAME])
     check_processes(args.processes, "--processes")
     given = _given(args)
     body = _body(args, given)
@@ -289,7 +312,10 @@ def _finish(args: argparse.Namespace, body: Any, pred: Any, pend: Any, start: An
         if pend is not None:
             summary["pendulum"]["rel_error"] = {q: summary["rel_error"][q] if pred.pure_rocking else
                                                 relative_errors(pend, ode)[q] for q in _QUANTITIES}
+    summary.update(_chaos_summary(pred))
     written = _plot(pred, ode, body, theta0, psi0, args.plot) if args.plot is not None else []
+    if args.csv is not None:
+        written.append(_write_csv(args.csv / CSV_NAME, pred, body, summary))
     summary["warnings"] = messages
     for msg in messages:
         print(f"rocknroller slow: warning: {msg}", file=sys.stderr)
@@ -300,6 +326,74 @@ def _finish(args: argparse.Namespace, body: Any, pred: Any, pend: Any, start: An
     for path in written:
         print(f"wrote {path}", file=sys.stderr)
     return 0
+
+
+def _chaos_summary(pred: Any) -> dict[str, Any]:
+    """The summary's entries on order and chaos: ``chaos`` (regular, MEGNO, λ, 1/λ; null with ``chaos_note`` where
+    there are no indicators), ``horizon`` (t, fraction, the per-step error, the label; null with ``horizon_note`` where
+    it is not defined) and ``beyond_horizon`` (t_end past the horizon; null without one)."""
+    from rocknroller.analysis.slow.chaos import HORIZON_FRACTION
+
+    out: dict[str, Any] = {"chaos": None, "horizon": None, "beyond_horizon": None}
+    ch = pred.chaos
+    if ch is None:
+        out["chaos_note"] = ("eps = 0 from rest: pure rocking, the map is the identity in Q (no indicators)"
+                             if pred.pure_rocking else "fewer than 8 maxima: too short to measure the indicators")
+    else:
+        out["chaos"] = {"regular": ch.regular, "megno": ch.megno, "lyapunov": ch.lyapunov,
+                        "lyapunov_per_rock": ch.lyapunov_per_rock,
+                        "lyapunov_time": None if ch.lyapunov == 0.0 else ch.lyapunov_time}  # 1/λ; null for λ = 0
+    try:
+        t_h = pred.horizon()
+    except ValueError as exc:
+        out["horizon_note"] = str(exc)
+        return out
+    beyond = bool(pred.t_end > t_h)
+    out["horizon"] = {"t": t_h, "fraction": HORIZON_FRACTION, "step_error": pred.error_probe.step_error(),
+                      "statistical_only": _STATISTICAL.format(t=t_h) if beyond else None}
+    out["beyond_horizon"] = beyond
+    return out
+
+
+def _chaos_lines(s: dict[str, Any]) -> list[str]:
+    """The text lines on order and chaos (:func:`_chaos_summary`)."""
+    ch, h = s["chaos"], s["horizon"]
+    if ch is None:
+        lines = [f"order/chaos: not measured ({s['chaos_note']})"]
+    else:
+        kind = "regular" if ch["regular"] else "CHAOTIC"
+        lines = [f"order/chaos: {kind} (MEGNO = {ch['megno']:.4g}; <= 3 regular); Lyapunov exponent "
+                 f"{ch['lyapunov']:.4g} per unit time, {ch['lyapunov_per_rock']:.4g} per rock"]
+    if h is None:
+        lines.append(f"predictability horizon: not defined ({s['horizon_note']})")
+        return lines
+    lines.append(f"predictability horizon: t = {h['t']:.6g} (the map's per-step error {h['step_error']:.3g}, grown at "
+                 f"the measured rate, reaches {h['fraction']:.0%} of the extents)")
+    if s["beyond_horizon"]:
+        lines.append(f"beyond the horizon: t_end = {s['t_end']:g} > {h['t']:.6g}: {h['statistical_only']}")
+    return lines
+
+
+def _write_csv(path: Path, pred: Any, body: Any, s: dict[str, Any]) -> Path:
+    """The predicted maxima with their regions, log-growth and ``beyond_horizon``; the header records the run."""
+    import numpy as np
+
+    from rocknroller.papers.output import write_csv
+
+    ser = pred.series
+    t_h = None if s["horizon"] is None else s["horizon"]["t"]
+    header = [f"rocknroller slow: body {body.describe()}; eps={body.epsilon!r}; theta0={s['theta0']!r}; "
+              f"psi0={s['psi0']!r}; t_end={s['t_end']!r}; map of order {pred.order} in eps; K={s['K']!r}",
+              *_chaos_lines(s),
+              "columns: the maxima of theta: t, Q_R, Q_J, Theta = 2 psi (unwrapped), phi, critical region, "
+              "log_growth = ln(|w|/|w0|) of the tangent vector since the map's start (empty without indicators), "
+              "beyond_horizon (true past the predictability horizon: statistical only; empty without a horizon)"]
+    n = ser.t.size
+    ell = [None] * n if ser.log_growth is None else ser.log_growth
+    beyond = [None] * n if t_h is None else ["true" if x else "false" for x in ser.t > t_h]
+    regions = [None] * n if pred.regions is None else list(np.asarray(pred.regions))
+    return write_csv(path, {"t": ser.t, "QR": ser.QR, "QJ": ser.QJ, "Theta": ser.Theta, "phi": ser.phi,
+                            "region": regions, "log_growth": ell, "beyond_horizon": beyond}, header)
 
 
 def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: float, start: Any = None) -> None:
@@ -334,6 +428,8 @@ def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: flo
         print(f"exact one-step map: period doubling at eps = {pd['eps_exact']:.8g} (first order 4/kappa = "
               f"{pd['eps_first_order']:.8g}; K = eps*kappa = {pd['K_exact']:.8g} = 4 {'-' if pd['correction'] < 0 else '+'} "
               f"{abs(pd['correction']):.4g} eps)")
+    for line in _chaos_lines(s):
+        print(line)
     if s["pure_rocking"]:
         print(_PURE_ROCKING)
         return

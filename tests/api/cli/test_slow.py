@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import warnings
 
 import pytest
 
@@ -254,6 +255,8 @@ def test_start_with_velocity(fresh_cache, tmp_path, capsys):
     assert any("interpolate the map's coefficients only" in w for w in out["warnings"])  # coarse tables: said so
     assert out["rocks_per_region"] == out["ode"]["rocks_per_region"]
     assert (tmp_path / "fig" / "slow_orbit.png").stat().st_size > 1000
+    # the map from the first maximum carries its indicators and horizon too
+    assert out["chaos"]["megno"] > 0.0 and out["horizon"]["t"] > out["first_maximum"]["t"]
 
 
 def test_start_on_a_critical_line(fresh_cache, capsys):
@@ -317,3 +320,70 @@ def test_region_table_options_are_refused_for_a_release(extra, capsys):
     assert main(["slow", "--theta0", "0.95pi", "--cached-only", *extra]) == 2
     err = capsys.readouterr().err
     assert "--nodes and --chart set the region tables" in err and "leave them out" in err
+
+
+def test_chaos_and_horizon_in_text_json_and_csv(fresh_cache, tmp_path, capsys):
+    """Issue 23, item 6: the chaotic release of the issue's table (ε = 1e-2, ψ0 = 0.1, θ0 = 0.95π) is called chaotic,
+    with MEGNO, λ per unit time and per rock and the horizon equal to the API's (the same tables and map), and a t_end
+    past the horizon is labelled as such in the text, the JSON and the CSV (each maximum past it: beyond_horizon)."""
+    import csv
+
+    argv = ["slow", "--order", "1", "--eps", "1e-2", "--psi0", "0.1", "--t-end", "3000"]
+    assert main([*argv, "--json", "--csv", str(tmp_path / "out")]) == 0
+    out = json.loads(capsys.readouterr().out)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", av.AveragingValidityWarning)  # K = 4.26 > 4: the issue's case
+        api = av.predict_slow_motion(Body.paper(1e-2), 0.95 * math.pi, 0.1, 3000.0, order=1)
+    assert out["chaos"] == {"regular": False, "megno": api.chaos.megno, "lyapunov": api.chaos.lyapunov,
+                            "lyapunov_per_rock": api.chaos.lyapunov_per_rock,
+                            "lyapunov_time": 1.0 / api.chaos.lyapunov}
+    assert out["chaos"]["megno"] > 3.0
+    assert out["horizon"]["t"] == api.horizon() < 3000.0 and out["horizon"]["fraction"] == 0.1
+    assert out["beyond_horizon"] is True
+    assert "statistical only" in out["horizon"]["statistical_only"]
+    path = tmp_path / "out" / "slow_maxima.csv"
+    lines = path.read_text().splitlines()
+    head = [line for line in lines if line.startswith("#")]
+    assert any("CHAOTIC" in line for line in head) and any("statistical only" in line for line in head)
+    rows = list(csv.DictReader(line for line in lines if not line.startswith("#")))
+    assert len(rows) == out["n_maxima"]
+    for row in rows:
+        assert row["beyond_horizon"] == ("true" if float(row["t"]) > out["horizon"]["t"] else "false")
+    assert {row["beyond_horizon"] for row in rows} == {"true", "false"}
+    assert main(argv) == 0
+    text = capsys.readouterr().out
+    assert "order/chaos: CHAOTIC" in text and "per rock" in text
+    assert f"predictions past t = {out['horizon']['t']:.6g} are statistical only" in text
+
+
+def test_regular_release_within_its_horizon(fresh_cache, capsys):
+    """ε = 1e-3, ψ0 = π/4 (regular): MEGNO ≤ 3 (1.15 over these 75 rocks, 6.5 slow periods; it tends to 2 slowly,
+    1.81 after 20000 time units), and t_end = 1000 lies within the horizon (~2000): nothing is labelled."""
+    assert main(["slow", "--order", "1", "--t-end", "1000", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["chaos"]["regular"] is True and 0.0 < out["chaos"]["megno"] <= 3.0
+    assert out["horizon"]["t"] > 1000.0 and out["beyond_horizon"] is False
+    assert out["horizon"]["statistical_only"] is None
+    assert main(["slow", "--order", "1", "--t-end", "1000"]) == 0
+    text = capsys.readouterr().out
+    assert "order/chaos: regular" in text and "statistical only" not in text
+
+
+def test_no_indicators_said_so(fresh_cache, capsys):
+    """ε = 0 (pure rocking) and a run of fewer than 8 maxima: no indicators, no horizon, and the reason (null in
+    JSON, never NaN)."""
+    assert main(["slow", "--eps", "0", "--t-end", "300", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["chaos"] is None and out["horizon"] is None and out["beyond_horizon"] is None
+    assert "pure rocking" in out["chaos_note"] and "eps = 0" in out["horizon_note"]
+    assert main(["slow", "--order", "1", "--t-end", "60", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["n_maxima"] < 8 and out["chaos"] is None and "fewer than 8" in out["chaos_note"]
+    assert main(["slow", "--eps", "0", "--t-end", "300"]) == 0
+    assert "predictability horizon: not defined" in capsys.readouterr().out
+
+
+def test_csv_directory_is_checked_before_computing(tmp_path, capsys):
+    (tmp_path / "slow_maxima.csv").write_text("keep")
+    assert main(["slow", "--csv", str(tmp_path)]) == 2
+    assert "--csv" in capsys.readouterr().err and (tmp_path / "slow_maxima.csv").read_text() == "keep"
