@@ -28,6 +28,7 @@ from rocknroller.analysis.routh.turning_points import solve_turning_points, turn
 from rocknroller.analysis.slow.atlas import Atlas, AtlasCheck, atlas_from_rest, atlas_of_rates, confirm_atlas
 from rocknroller.analysis.slow.pendulum import PendulumConstants, pendulum_constants, pendulum_prediction
 from rocknroller.analysis.slow.period_doubling import PeriodDoubling, period_doubling
+from rocknroller.analysis.slow.periodic_orbits import Branch, PeriodicOrbit, continue_orbit, periodic_orbit
 from rocknroller.analysis.slow.prediction import SlowPrediction, predict_slow_motion
 from rocknroller.numerics.ensemble import Job, RunSummary, run_ensemble
 from rocknroller.numerics.integrate import AccuracyError, AccuracyWarning, simulate
@@ -52,11 +53,11 @@ __all__ = [
     "laurent_coefficients", "laurent_series", "laurent_function",
     # the slow motion of the rock'n'roller
     "predict_slow_motion", "SlowPrediction", "pendulum_constants", "pendulum_prediction", "PendulumConstants",
-    "period_doubling", "PeriodDoubling",
+    "period_doubling", "PeriodDoubling", "periodic_orbit", "continue_orbit", "PeriodicOrbit", "Branch",
     "azimuth_span", "atlas_from_rest", "atlas_of_rates", "confirm_atlas", "Atlas", "AtlasCheck",
     "check_prediction", "PredictionCheck",
     # figures
-    "region_diagram", "DiagramData",
+    "region_diagram", "DiagramData", "bifurcation_diagram",
 ]
 
 #: Loaded on first use (PEP 562), each from its module: the Laurent expansions are symbolic (sympy takes ~0.3 s to
@@ -70,7 +71,8 @@ _LAZY = {"direct_chaos_indicators": "rocknroller.numerics.variational",
          "check_prediction": "rocknroller.papers.averaging_check",
          "PredictionCheck": "rocknroller.papers.averaging_check",
          "region_diagram": "rocknroller.papers.plotting",
-         "DiagramData": "rocknroller.papers.plotting"}
+         "DiagramData": "rocknroller.papers.plotting",
+         "bifurcation_diagram": "rocknroller.papers.bifurcation"}
 
 
 def __getattr__(name: str) -> object:

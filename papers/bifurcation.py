@@ -1,0 +1,166 @@
+"""The bifurcation diagram of rocking near the period doubling: the rocking fixed points and the period-2 orbit of
+the slow map continued in ε (:mod:`rocknroller.analysis.slow.periodic_orbits`), stable solid and unstable dashed,
+with the exact one-step map's orbits (direct ODE) as markers; the standard map's angle ϑ = Θ + W(Q)/2 at the kick
+against ε/ε_pd (ε_pd of the exact map, :func:`rocknroller.analysis.slow.period_doubling.period_doubling`), and
+Greene's residues below.  :func:`bifurcation_data` computes, :func:`bifurcation_diagram` writes PNG, PDF and CSV.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.slow.limits import check_map_theta0
+from rocknroller.analysis.slow.period_doubling import period_doubling
+from rocknroller.analysis.slow.periodic_orbits import K_MAX, Branch, PeriodicOrbit, continue_orbit, periodic_orbit
+from rocknroller.papers.output import new_figure, save_figure, write_csv
+
+__all__ = ["BifurcationData", "bifurcation_data", "bifurcation_diagram"]
+
+#: ε/ε_pd at which the exact map's orbits are found (the acceptance of issue 23, item 4).
+EXACT_FRACTIONS = (0.9, 1.05, 1.2, 1.5)
+#: Points of each slow-map branch; at most this many (each costs 13–20 slow-map steps, ~1 ms).
+_MAX_POINTS = 2000
+
+
+@dataclass(frozen=True)
+class BifurcationData:
+    """The orbits of one release angle.
+
+    Attributes
+    ----------
+    theta0, eps_pd : the release angle and the exact map's ε_pd.
+    fixed, unstable_fixed : the slow map's fixed points about the stable and the unstable axis.
+    period2 : the slow map's period-2 branch (from just above its own ε_pd, 4/κ).
+    exact_fixed, exact_period2 : the exact map's orbits at ``EXACT_FRACTIONS`` (period 2 above ε_pd only).
+    slow_period2 : the slow map's period-2 orbits at the ε of ``exact_period2``, for the comparison.
+    order : the slow map's order.
+    """
+
+    theta0: float
+    eps_pd: float
+    fixed: Branch
+    unstable_fixed: Branch
+    period2: Branch
+    exact_fixed: tuple[PeriodicOrbit, ...]
+    exact_period2: tuple[PeriodicOrbit, ...]
+    slow_period2: tuple[PeriodicOrbit, ...]
+    order: int
+
+
+def bifurcation_data(body: Body, theta0: float, *, fractions: tuple[float, float] = (0.6, 1.55), n_points: int = 111,
+                     exact_fractions: Sequence[float] = EXACT_FRACTIONS, order: int = 1,
+                     workers: int = 1) -> BifurcationData:
+    """The orbits of the diagram at θ0: the slow map's branches at ``n_points`` values of ε/ε_pd over ``fractions``
+    (within K = εκ ≤ K_MAX), the exact map's at ``exact_fractions``.
+
+    Raises
+    ------
+    ValueError
+        θ0 outside ``THETA0_RANGE``, ``n_points`` outside [3, 2000], ``fractions`` not 0 < lo < hi with K ≤ K_MAX
+        at hi, or an exact fraction outside (0, hi].
+    """
+    theta0 = check_map_theta0(theta0)
+    if int(n_points) != n_points or not 3 <= n_points <= _MAX_POINTS:
+        raise ValueError(f"n_points must be an integer in [3, {_MAX_POINTS}], got n_points={n_points!r}")
+    lo, hi = (float(f) for f in fractions)
+    pd = period_doubling(body, theta0)
+    if not (0.0 < lo < hi and hi * pd.eps_exact * pd.kappa <= K_MAX):
+        raise ValueError(f"fractions must satisfy 0 < lo < hi <= {K_MAX / (pd.eps_exact * pd.kappa):.4g} "
+                         f"(K = eps*kappa <= K_MAX = {K_MAX:g}), got fractions={fractions!r}")
+    if not all(0.0 < float(f) <= hi for f in exact_fractions):
+        raise ValueError(f"exact_fractions must lie in (0, {hi:g}], got exact_fractions={exact_fractions!r}")
+    eps = np.linspace(lo, hi, int(n_points)) * pd.eps_exact
+    kw: dict[str, Any] = dict(order=order, workers=workers)
+    fixed = continue_orbit(body, theta0, eps, 1, **kw)
+    unstable = continue_orbit(body, theta0, eps, 1, axis="unstable", **kw)
+    # the period-2 branch from 0.2 % above the slow map's own threshold (where its fixed point's residue passes 1)
+    above = [o.eps for o in fixed.orbits if o.residue > 1.0]
+    e_start = max(1.002 * min(above), eps[0]) if above else hi * pd.eps_exact
+    period2 = continue_orbit(body, theta0, np.concatenate([[e_start], eps[eps > e_start]]), 2, **kw)
+    exact_fixed = tuple(periodic_orbit(body, theta0, f * pd.eps_exact, 1, map="exact") for f in exact_fractions)
+    exact_p2, slow_p2 = [], []
+    for f in sorted(f for f in exact_fractions if f > 1.0):
+        slow_p2.append(periodic_orbit(body, theta0, f * pd.eps_exact, 2, **kw))  # also the exact map's start
+        exact_p2.append(periodic_orbit(body, theta0, f * pd.eps_exact, 2, map="exact", start=slow_p2[-1].points[0]))
+    return BifurcationData(theta0=theta0, eps_pd=pd.eps_exact, fixed=fixed, unstable_fixed=unstable, period2=period2,
+                           exact_fixed=exact_fixed, exact_period2=tuple(exact_p2), slow_period2=tuple(slow_p2),
+                           order=order)
+
+
+def _rows(d: BifurcationData) -> list[dict[str, Any]]:
+    rows = []
+    for kind, orbits in (("fixed_stable_axis", d.fixed.orbits), ("fixed_unstable_axis", d.unstable_fixed.orbits),
+                         ("period2", d.period2.orbits), ("fixed_stable_axis", d.exact_fixed),
+                         ("period2", d.exact_period2), ("period2_at_exact", d.slow_period2)):
+        for o in orbits:
+            for k in range(o.period):
+                rows.append(dict(theta0=d.theta0, map=o.map, order=o.order, orbit=kind, eps=o.eps,
+                                 eps_over_pd=o.eps / d.eps_pd, K=o.K, point=k, u=o.points[k, 0], v=o.points[k, 1],
+                                 QR=o.Q[k, 0], QJ=o.Q[k, 1], Theta=o.points[k, 2], kick_phase=o.kick_phase[k],
+                                 residue=o.residue, stable=int(o.stable), residual=o.residual))
+    return rows
+
+
+def _segments(x: np.ndarray, y: np.ndarray, stable: np.ndarray) -> list[tuple[np.ndarray, np.ndarray, bool]]:
+    """Runs of equal stability, each closed with the next point so that the line is continuous."""
+    out, start = [], 0
+    for i in range(1, len(x) + 1):
+        if i == len(x) or stable[i] != stable[start]:
+            end = min(i + 1, len(x))
+            out.append((x[start:end], y[start:end], bool(stable[start])))
+            start = i
+    return out
+
+
+def _plot(axes: Any, d: BifurcationData) -> None:
+    top, bottom = axes
+    for branch, colour in ((d.fixed, "C0"), (d.unstable_fixed, "C2"), (d.period2, "C1")):
+        x = branch.eps / d.eps_pd
+        phase = branch.kick_phase
+        for j in range(phase.shape[1]):
+            for xs, ys, st in _segments(x, phase[:, j], branch.stable):
+                top.plot(xs, ys, color=colour, ls="-" if st else "--", lw=1.4)
+        for xs, ys, st in _segments(x, branch.residue, branch.stable):
+            bottom.plot(xs, ys, color=colour, ls="-" if st else "--", lw=1.4)
+    for orbits, colour in ((d.exact_fixed, "C0"), (d.exact_period2, "C1")):
+        for o in orbits:
+            face = colour if o.stable else "none"
+            top.plot([o.eps / d.eps_pd] * o.period, o.kick_phase, "o", mfc=face, mec="k", ms=6)
+            bottom.plot(o.eps / d.eps_pd, o.residue, "o", mfc=face, mec="k", ms=6)
+    top.set_title(rf"$\theta_0 = {d.theta0 / math.pi:.3g}\pi$, $\varepsilon_{{pd}} = {d.eps_pd:.6g}$")
+    top.set_ylabel(r"kick phase $\vartheta = \Theta + W(Q)/2$")
+    top.set_ylim(-0.5 * math.pi, 1.5 * math.pi)
+    bottom.axhline(0.0, color="0.6", lw=0.7)
+    bottom.axhline(1.0, color="0.6", lw=0.7)
+    bottom.set_ylim(-1.7, 1.8)
+    bottom.set_ylabel("Greene's residue R")
+    bottom.set_xlabel(r"$\varepsilon/\varepsilon_{pd}$")
+
+
+def bifurcation_diagram(body: Body, out_dir: str | Path, theta0s: Sequence[float] = (0.9 * math.pi, 0.95 * math.pi),
+                        **kwargs: Any) -> tuple[list[Path], list[BifurcationData]]:
+    """Compute (:func:`bifurcation_data`, ``kwargs``) and write ``bifurcation.png``, ``.pdf`` and ``.csv`` to
+    ``out_dir``: one column per θ0, the kick phase above and Greene's residue below; slow map lines (solid stable,
+    dashed unstable; blue the stable axis's fixed point, green the unstable axis's, orange the period-2 orbit), exact
+    map markers (filled stable, open unstable).  Returns the paths and the data."""
+    data = [bifurcation_data(body, t, **kwargs) for t in theta0s]
+    fig = new_figure(figsize=(5.0 * len(data), 7.0))
+    axes = fig.subplots(2, len(data), squeeze=False, sharex="col")
+    for j, d in enumerate(data):
+        _plot(axes[:, j], d)
+    fig.suptitle("Rocking near its period doubling: slow map (lines) and exact map (markers)")
+    paths = save_figure(fig, out_dir, "bifurcation")
+    rows = [r for d in data for r in _rows(d)]
+    header = [f"body: a={body.a!r} I1={body.I1!r} I3={body.I3!r} g={body.g!r} (I2 = (1 + eps) I1)",
+              f"slow map order {data[0].order if data else 1}; theta0/pi: {[d.theta0 / math.pi for d in data]}",
+              f"eps_pd (exact map): {[d.eps_pd for d in data]}",
+              f"kwargs: {kwargs!r}",
+              "kick_phase = Theta + W(Q)/2 mod 2 pi in [-pi/2, 3 pi/2) (the standard map's angle); residue = (3 - tr M)/4; stable: 0 < R < 1"]
+    paths.append(write_csv(Path(out_dir) / "bifurcation.csv", {k: [r[k] for r in rows] for k in rows[0]}, header))
+    return paths, data
