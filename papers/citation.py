@@ -278,6 +278,7 @@ USES: dict[str, tuple[str, ...]] = {
     "diagram": ("heyoka",),
     "slow": ("heyoka",),
     "atlas": ("heyoka",),
+    "portrait": ("heyoka",),
     "verify": ("heyoka", "scipy", "mpmath"),
 }
 

@@ -85,6 +85,9 @@ PUBLIC_NAMES = [
     "period_doubling", "precession", "precession_from_turning_point", "precession_mp", "predict_slow_motion", "region",
     "reversal_analysis", "run_ensemble", "simulate", "solve_turning_points", "state_from_turning_point", "theta_e",
     "theta_z", "theta_z_expansion", "turning_points",
+    # issue 23: statistics where the slow motion is chaotic, and the phase portrait
+    "StartBall", "map_ensemble", "ode_ensemble", "compare_ensembles", "EnsembleStatistics", "EnsembleComparison",
+    "slow_portrait", "write_portrait", "SlowPortrait",
 ]
 
 
