@@ -12,6 +12,8 @@ Prints, for five releases from rest at θ0 = 0.95π (paper body) whose slow moti
   :mod:`rocknroller.analysis.slow.ensemble_statistics` the means ± standard errors, the two-sample KS p-value, the
   difference of the means in standard errors and the verdict of the stated test (KS p > 0.01 or means within 3
   standard errors);
+* the same check for two regular releases (ε = 1e-2, ψ0 = π/4 and 1.2), and the spread of the full-angle reversal
+  counts over the members of each ball, with the regular ball ψ0 = π/4 ± δ as a control;
 * the CPU time of each part.
 
 64 members, 10⁴ time units: about 100 s of direct runs in all (one thread), the map 2 s.
@@ -38,6 +40,8 @@ from rocknroller.numerics.megno import chaos_indicators
 THETA0 = 0.95 * math.pi
 #: (ε, ψ0): the three chaotic starts of issue 23's table, and two found chaotic by the same check.
 STARTS = ((1e-2, 0.1), (1e-2, 0.3), (3e-3, 0.001), (5e-3, 0.05), (7e-3, 0.02))
+#: Regular releases at the same θ0 (issue 23's table), run through the same check and, the first, as a control ball.
+REGULAR = ((1e-2, math.pi / 4), (1e-2, 1.2))
 SEED = 23
 #: Span of the chaos check: ≈ 200 maxima at θ0 = 0.95π.
 CHECK_T_END = 2600.0
@@ -65,14 +69,15 @@ def main() -> None:
 
     print(f"Chaos check: two direct runs from rest at theta0 = 0.95 pi, psi0 and psi0 + 1e-10, {CHECK_T_END:g} t.u.")
     print()
-    print("| ε | ψ0 | K = εκ | distance at 100 maxima | at 200 | MEGNO (first 100 maxima) |")
-    print("|---|---|---|---|---|---|")
+    print("| ε | ψ0 | K = εκ | distance at 100 maxima | at 200 | MEGNO (first 100 maxima) | kind |")
+    print("|---|---|---|---|---|---|---|")
     t0 = time.process_time()
-    for eps, psi0 in STARTS:
+    for eps, psi0 in STARTS + REGULAR:
         body = Body.paper(eps)
         d100, d200, megno = chaos_check(body, psi0)
         K = eps * load_or_build_table(body, THETA0).kappa
-        print(f"| {eps:g} | {psi0:g} | {K:.3g} | {d100:.1e} | {d200:.1e} | {megno:.1f} |", flush=True)
+        kind = "regular (control)" if (eps, psi0) in REGULAR else "chaotic"
+        print(f"| {eps:g} | {psi0:.4g} | {K:.3g} | {d100:.1e} | {d200:.1e} | {megno:.1f} | {kind} |", flush=True)
     print(f"\n(chaos check: {time.process_time() - t0:.1f} s CPU)\n")
 
     print(f"Ensembles: {args.members} releases from rest at theta0 = 0.95 pi, psi0 uniform in psi0 +- {args.delta:g} "
@@ -83,8 +88,8 @@ def main() -> None:
     print("| ε | ψ0 | statistic | map mean ± SE | ODE mean ± SE | KS p | Δ/SE | consistent |")
     print("|---|---|---|---|---|---|---|---|")
     t_map = t_ode = 0.0
-    verdicts, accepted = [], []
-    for eps, psi0 in STARTS:
+    verdicts, accepted, spread = [], [], []
+    for eps, psi0 in STARTS + REGULAR[:1]:
         body = Body.paper(eps)
         ball = StartBall(THETA0, psi0, args.delta, args.members, seed=SEED)
         t0 = time.process_time()
@@ -93,6 +98,9 @@ def main() -> None:
         t0 = time.process_time()
         o = ode_ensemble(body, ball, args.t_end, threads=args.threads if args.threads > 1 else None, progress=False)
         t_ode += time.process_time() - t0
+        spread.append((eps, psi0, m.values["full_reversals"], o.values["full_reversals"]))
+        if (eps, psi0) in REGULAR:
+            continue
         c = compare_ensembles(m, o)
         verdicts.append(c.consistent)
         accepted.append(c.consistent_on(DISTRIBUTION_STATISTICS))
@@ -100,6 +108,15 @@ def main() -> None:
             s = c[name]
             print(f"| {eps:g} | {psi0:g} | {name} | {s.mean_a:.4g} ± {s.se_a:.2g} | {s.mean_b:.4g} ± {s.se_b:.2g} | "
                   f"{s.ks_pvalue:.3g} | {s.n_se:.2f} | {'yes' if s.consistent else '**no**'} |", flush=True)
+    print()
+    print("Spread of the members' full-angle reversals per 1000 time units (min - max), chaotic balls and the regular "
+          "control ball:")
+    print()
+    print("| ε | ψ0 | kind | map | ODE |")
+    print("|---|---|---|---|---|")
+    for eps, psi0, rm, ro in spread:
+        kind = "regular (control)" if (eps, psi0) in REGULAR else "chaotic"
+        print(f"| {eps:g} | {psi0:.4g} | {kind} | {rm.min():.3g} - {rm.max():.3g} | {ro.min():.3g} - {ro.max():.3g} |")
     print()
     print(f"Region fractions and reversal counts consistent at {sum(accepted)} of {len(accepted)} starts; all "
           f"statistics (with the extents) at {sum(verdicts)} of {len(verdicts)}.  CPU: map {t_map:.1f} s, "
