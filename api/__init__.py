@@ -26,6 +26,8 @@ from rocknroller.analysis.routh.reduction import (F, NoMotionError, SteadyRollin
                                                   invariants_from_euler, state_from_turning_point)
 from rocknroller.analysis.routh.turning_points import solve_turning_points, turning_points
 from rocknroller.analysis.slow.atlas import Atlas, AtlasCheck, atlas_from_rest, atlas_of_rates, confirm_atlas
+from rocknroller.analysis.slow.ensemble_statistics import (EnsembleComparison, EnsembleStatistics, StartBall,
+                                                           compare_ensembles, map_ensemble, ode_ensemble)
 from rocknroller.analysis.slow.pendulum import PendulumConstants, pendulum_constants, pendulum_prediction
 from rocknroller.analysis.slow.period_doubling import PeriodDoubling, period_doubling
 from rocknroller.analysis.slow.periodic_orbits import Branch, PeriodicOrbit, continue_orbit, periodic_orbit
@@ -56,8 +58,10 @@ __all__ = [
     "period_doubling", "PeriodDoubling", "periodic_orbit", "continue_orbit", "PeriodicOrbit", "Branch",
     "azimuth_span", "atlas_from_rest", "atlas_of_rates", "confirm_atlas", "Atlas", "AtlasCheck",
     "check_prediction", "PredictionCheck",
+    # statistics where the slow motion is chaotic: map and ODE ensembles over a ball of starts, and their test
+    "StartBall", "map_ensemble", "ode_ensemble", "compare_ensembles", "EnsembleStatistics", "EnsembleComparison",
     # figures
-    "region_diagram", "DiagramData", "bifurcation_diagram",
+    "region_diagram", "DiagramData", "bifurcation_diagram", "slow_portrait", "write_portrait", "SlowPortrait",
 ]
 
 #: Loaded on first use (PEP 562), each from its module: the Laurent expansions are symbolic (sympy takes ~0.3 s to
@@ -72,7 +76,10 @@ _LAZY = {"direct_chaos_indicators": "rocknroller.numerics.variational",
          "PredictionCheck": "rocknroller.papers.averaging_check",
          "region_diagram": "rocknroller.papers.plotting",
          "DiagramData": "rocknroller.papers.plotting",
-         "bifurcation_diagram": "rocknroller.papers.bifurcation"}
+         "bifurcation_diagram": "rocknroller.papers.bifurcation",
+         "slow_portrait": "rocknroller.papers.portrait",
+         "write_portrait": "rocknroller.papers.portrait",
+         "SlowPortrait": "rocknroller.papers.portrait"}
 
 
 def __getattr__(name: str) -> object:

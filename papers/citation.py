@@ -279,6 +279,7 @@ USES: dict[str, tuple[str, ...]] = {
     "slow": ("heyoka",),
     "atlas": ("heyoka",),
     "bifurcation": ("heyoka", "scipy"),
+    "portrait": ("heyoka",),
     "verify": ("heyoka", "scipy", "mpmath"),
 }
 

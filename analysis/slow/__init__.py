@@ -35,4 +35,6 @@ In the order data flows through them:
     The period doubling of stable rocking, from the exact step.
 ``atlas``
     The slow motion over a plane of starts, by the map or the direct ODE.
+``ensemble_statistics``
+    Where the slow motion is chaotic: statistics over a ball of starts, by the map and the direct ODE, and their test.
 """

@@ -18,7 +18,8 @@ import sys
 from rocknroller.cli.options import accept_negative_values
 from rocknroller.numerics.provenance import __version__
 
-COMMANDS = ("reproduce", "simulate", "animate", "table", "diagram", "slow", "atlas", "bifurcation", "verify", "cite")
+COMMANDS = ("reproduce", "simulate", "animate", "table", "diagram", "slow", "atlas", "bifurcation", "portrait", "verify",
+            "cite")
 
 
 def build_parser() -> argparse.ArgumentParser:

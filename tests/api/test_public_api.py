@@ -89,6 +89,9 @@ PUBLIC_NAMES = [
     "theta_z", "theta_z_expansion", "turning_points",
     # issue 23, item 4: periodic orbits near the period doubling and their diagram
     "Branch", "PeriodicOrbit", "bifurcation_diagram", "continue_orbit", "periodic_orbit",
+    # issue 23: statistics where the slow motion is chaotic, and the phase portrait
+    "StartBall", "map_ensemble", "ode_ensemble", "compare_ensembles", "EnsembleStatistics", "EnsembleComparison",
+    "slow_portrait", "write_portrait", "SlowPortrait",
 ]
 
 

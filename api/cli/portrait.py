@@ -1,0 +1,124 @@
+"""``rocknroller portrait``: the phase portrait of the slow motion, the averaged map's orbits from a grid of starts in the
+(Θ, p) plane of the standard map and in the (Q_R, Q_J) plane over the critical lines, with the direct ODE's θ-maxima
+of chosen starts overlaid (:mod:`rocknroller.papers.portrait`)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from rocknroller.cli.options import (add_body_options, add_budget_option, add_force_option, body_from_args,
+                                     budget_from_args, parse_angle, prepare_output_dir, print_json)
+
+#: Files written to --out.
+OUTPUTS = ("portrait.png", "portrait.pdf", "portrait.csv")
+#: Default asymmetry: K = eps kappa = 2.1 at theta0 = 0.95pi, a mixed phase space (islands and a chaotic sea).
+EPS_DEFAULT = 5e-3
+#: Default grid of Theta = 2 psi.
+THETA_DEFAULT = "0.05pi:1.95pi:12"
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``portrait`` subcommand and its ``--help`` to ``sub``."""
+    p = sub.add_parser(
+        "portrait",
+        help="phase portrait of the slow motion: the averaged map's orbits in the (Theta, p) and (Q_R, Q_J) planes",
+        description="At (body, theta0 or E, eps), iterate the eps-averaged slow map from a grid of starts in the "
+        "(Theta, p) plane of the standard map (Theta = 2 psi at a maximum of theta, p = gradW(0).Q; the start's Q lies "
+        "on the kick direction of the release tables, with the energy of the release from rest at theta0) and draw "
+        "every orbit at its maxima in the (Theta mod 2pi, p) plane and in the (Q_R, Q_J) plane over the critical "
+        "lines, coloured by one value per orbit (--values, else the orbit's index), with the releases from rest "
+        "marked (the line p = 0, the point Q = 0) and the direct ODE's maxima from the --ode-start starts overlaid. "
+        "Writes portrait.png, portrait.pdf and portrait.csv (every sample, header with the parameters).",
+    )
+    add_body_options(p, eps_default=EPS_DEFAULT)
+    p.add_argument("--theta0", type=str, default=None,
+                   help="release angle of the tables, in [0.75pi, 0.999pi] (default 0.95pi); exclusive with --E")
+    p.add_argument("--E", type=float, default=None,
+                   help="energy instead of --theta0: that of the release from rest at the theta0 with U(theta0) = E")
+    p.add_argument("--Theta", type=str, default=THETA_DEFAULT, metavar="LO:HI:N",
+                   help=f"grid of Theta = 2 psi, in [-2pi, 2pi] (default {THETA_DEFAULT})")
+    p.add_argument("--p", type=str, default=None, metavar="LO:HI:N",
+                   help="grid of p = gradW(0).Q, within the tables (default: 9 values over +-1.5 times the half-width "
+                        "2 sqrt(K) of the main resonance)")
+    p.add_argument("--t-end", type=float, default=2000.0, help="time span of each orbit (default 2000)")
+    p.add_argument("--order", type=int, choices=(1, 2), default=1,
+                   help="order of the map in eps (default 1; 2 builds the second-order tables once per body and "
+                        "theta0, then cached)")
+    p.add_argument("--ode-start", action="append", default=[], metavar="THETA,P",
+                   help="overlay the direct ODE's maxima from this start (Theta, p), e.g. 0.2,0 for the release from "
+                        "rest at psi0 = 0.1; repeat for more (default: none)")
+    p.add_argument("--ode-t-end", type=float, default=None, help="time span of the direct runs (default --t-end)")
+    p.add_argument("--values", type=Path, default=None, metavar="FILE",
+                   help="colour the orbits by the numbers in FILE, one per orbit in grid order (Theta outer, p inner; "
+                        "numpy.loadtxt); default: the orbit's index")
+    p.add_argument("--out", type=Path, default=Path("portrait"), metavar="DIR",
+                   help="write portrait.png, .pdf and .csv to DIR (default ./portrait; existing files are not "
+                        "overwritten without --force)")
+    add_force_option(p)
+    add_budget_option(p, "the direct runs")
+    p.add_argument("--cached-only", action="store_true",
+                   help="fail instead of building the averaging tables when none are cached for this body/theta0")
+    p.add_argument("--json", action="store_true", help="print a one-object JSON summary on stdout")
+    p.add_argument("--quiet", action="store_true", help="no progress bars")
+    p.set_defaults(run=run)
+
+
+def _grid(text: str, option: str) -> np.ndarray:
+    """``LO:HI:N`` or one value, as ``rocknroller atlas`` reads its grids."""
+    from rocknroller.cli.atlas import angle_grid
+
+    return angle_grid(text, option)
+
+
+def _ode_start(text: str) -> tuple[float, float]:
+    try:
+        Th, p = text.split(",")
+        return parse_angle(Th), float(p)
+    except ValueError:
+        raise ValueError(f"--ode-start must be THETA,P (e.g. 0.2,0 or pi/2,1.5), got {text!r}") from None
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run ``rocknroller portrait`` with the parsed ``args``; returns the exit status."""
+    from rocknroller.papers.portrait import slow_portrait, theta0_of_energy, write_portrait
+
+    body = body_from_args(args)
+    if args.E is not None and args.theta0 is not None:
+        raise ValueError("give either --theta0 or --E, not both")
+    theta0 = theta0_of_energy(body, args.E) if args.E is not None else parse_angle(args.theta0 or "0.95pi",
+                                                                                     "--theta0")
+    Theta = _grid(args.Theta, "--Theta")
+    p = None if args.p is None else _grid(args.p, "--p")
+    starts = [_ode_start(s) for s in args.ode_start]
+    values = None
+    if args.values is not None:
+        try:
+            values = np.atleast_1d(np.loadtxt(args.values, dtype=float))
+        except (OSError, ValueError) as exc:
+            raise ValueError(f"--values: cannot read numbers from {str(args.values)!r} ({exc})") from None
+    prepare_output_dir(args.out, "--out", args.force, OUTPUTS)
+    progress = False if args.quiet else None
+    portrait = slow_portrait(body, theta0, Theta, p, args.t_end, order=args.order, ode_starts=starts,
+                             ode_t_end=args.ode_t_end, build=not args.cached_only, progress=progress,
+                             budget=budget_from_args(args))
+    paths = write_portrait(portrait, args.out, values=values)
+    summary: dict[str, Any] = {
+        "body": body.describe(), "theta0": portrait.theta0, "E": portrait.E, "K": portrait.K,
+        "order": portrait.order, "t_end": portrait.t_end, "n_orbits": len(portrait.orbits),
+        "left_tables": list(portrait.left), "n_ode": len(portrait.ode), "files": [str(q) for q in paths]}
+    if args.json:
+        print_json(summary)
+    else:
+        print(f"body: {body.describe()}; theta0 = {theta0 / np.pi:.6g} pi (E = {portrait.E:.6g}), "
+              f"K = eps kappa = {portrait.K:.4g}, map order {portrait.order}, t_end = {portrait.t_end:g}")
+        print(f"{len(portrait.orbits)} orbits of the map, {len(portrait.ode)} direct runs")
+        if portrait.left:
+            print(f"{len(portrait.left)} orbits left the tables before t_end (drawn up to there): "
+                  f"{list(portrait.left)}")
+        for q in paths:
+            print(f"wrote {q}")
+    return 0

@@ -1,0 +1,348 @@
+"""Phase portrait of the slow motion: the averaged map's orbits from a grid of starts, in the (Θ, p) plane of the
+standard map and in the (Q_R, Q_J) plane over the critical lines, with the direct ODE's θ-maxima of chosen starts
+overlaid (issue 23, item 3; ``rocknroller portrait``).
+
+The plane.  Near pure rocking the slow map is Chirikov's standard map p' = p + K sin Θ, Θ' = Θ + p' with
+K = ε κ and p = ∇W(0)·Q (docs/averaging.md, "Closed forms"; :mod:`rocknroller.analysis.slow.pendulum`).  A start
+(Θ, p) of the grid is the maximum of θ with Θ = 2ψ and Q = (p / ∇W(0)·e) e on the kick direction e = C0/|C0| of
+the release tables of (body, θ0) (:class:`rocknroller.analysis.slow.chart.SlowMapTable`: Q = (p/κ) C0, the pendulum's
+line), with the energy E = U(θ0) of the release from rest at θ0; every orbit is plotted at its maxima as
+(Θ mod 2π, ∇W(0)·Q) and as (Q_R, Q_J).  The releases from rest at θ0 are the line p = 0 (Q = 0, the origin of the
+(Q_R, Q_J) plane), drawn in both panels.  For κ > 0 the stable rocking (ψ = π/2) is Θ = π, the unstable Θ = 0.
+
+The map runs on the release tables (:func:`rocknroller.analysis.slow.compiled_map.iterate_slow_map`, order 1 or 2); an
+orbit that leaves the tables is cut where it leaves and listed in ``SlowPortrait.left``.  The ODE's starts are the
+same maxima (:func:`rocknroller.analysis.slow.family.maximum_state`), run by
+:func:`rocknroller.numerics.ensemble.run_ensemble`.
+
+Colour.  Each orbit is coloured by one value (:func:`orbit_values`): the values passed in, else each orbit's MEGNO
+where every orbit carries one (an object with a ``chaos`` attribute whose ``.megno`` is set, as the slow map's
+predictions will), else the orbit's index in the grid.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from rocknroller.analysis.model.body import Body, as_float
+from rocknroller.analysis.slow import prediction as av
+from rocknroller.analysis.slow.compiled_map import SlowSeries, iterate_slow_map
+from rocknroller.analysis.slow.family import maximum_state, rest_energy
+from rocknroller.numerics.budget import WORK_BUDGET_SECONDS
+from rocknroller.papers.output import new_figure, save_figure, write_csv
+from rocknroller.papers.plotting import draw_critical_lines
+
+__all__ = ["MAX_PORTRAIT_ORBITS", "MAX_ODE_STARTS", "N_P_DEFAULT", "SlowPortrait", "orbit_values", "theta0_of_energy",
+           "slow_portrait", "plot_portrait", "write_portrait"]
+
+#: Most map orbits of one portrait (grid points; each ~1 ms per 1000 time units).
+MAX_PORTRAIT_ORBITS = 10_000
+#: Most direct-ODE starts overlaid on one portrait.
+MAX_ODE_STARTS = 100
+
+
+@dataclass(frozen=True)
+class SlowPortrait:
+    """The slow map's orbits from a grid of starts in the (Θ, p) plane, and the ODE's maxima from chosen starts.
+
+    Attributes
+    ----------
+    body : the asymmetric body (ε = body.epsilon).
+    theta0, E : the release angle of the tables and its energy U(θ0) (every orbit's).
+    t_end, order : time span of every orbit, the map's order.
+    K : ε κ, the standard-map parameter.
+    grad_W : ∇W(0) in (Q_R, Q_J), so that p = grad_W·Q.
+    e : the kick direction (unit vector in (Q_R, Q_J)) along which the grid's Q lie.
+    Theta0, p0 : the grid's starts, one per orbit.
+    orbits : the map's samples at the θ-maxima of each orbit (t ≤ t_end, or until it left the tables).
+    left : indices of the orbits that left the tables before t_end.
+    ode_starts : the (Θ, p) of the direct runs.
+    ode : the direct runs' θ-maxima (``TurningPoints``), one per ODE start.
+    """
+
+    body: Body
+    theta0: float
+    E: float
+    t_end: float
+    order: int
+    K: float
+    grad_W: NDArray[np.float64]
+    e: NDArray[np.float64]
+    Theta0: NDArray[np.float64]
+    p0: NDArray[np.float64]
+    orbits: tuple[SlowSeries, ...] = field(repr=False)
+    left: tuple[int, ...] = ()
+    ode_starts: tuple[tuple[float, float], ...] = ()
+    ode: tuple[Any, ...] = field(default=(), repr=False)
+
+    def p(self, QR: ArrayLike, QJ: ArrayLike) -> NDArray[np.float64]:
+        """p = ∇W(0)·Q of samples (Q_R, Q_J)."""
+        return self.grad_W[0] * np.asarray(QR, float) + self.grad_W[1] * np.asarray(QJ, float)
+
+
+def orbit_values(orbits: Sequence[Any], values: ArrayLike | None = None) -> tuple[NDArray[np.float64], str]:
+    """One colour value per orbit and its label: ``values`` if given (finite, one per orbit); else the MEGNO of every
+    orbit if each has ``chaos.megno`` (``getattr(orbit, "chaos", None)``); else the orbits' indices.
+
+    Raises
+    ------
+    ValueError
+        ``values`` of another length than ``orbits``, or not finite.
+    """
+    if values is not None:
+        v = np.asarray(values, float)
+        if v.shape != (len(orbits),) or not np.all(np.isfinite(v)):
+            raise ValueError(f"values must be {len(orbits)} finite numbers, one per orbit, got shape {v.shape}")
+        return v, "value"
+    megno = [getattr(getattr(o, "chaos", None), "megno", None) for o in orbits]
+    if orbits and all(m is not None for m in megno):
+        return np.array(megno, dtype=float), "MEGNO"
+    return np.arange(len(orbits), dtype=float), "orbit index"
+
+
+def theta0_of_energy(body: Body, E: float) -> float:
+    """The release angle θ0 in ``THETA0_RANGE`` whose energy from rest U(θ0) is E (Brent's method on
+    :func:`rocknroller.analysis.slow.family.rest_energy`).
+
+    Raises
+    ------
+    ValueError
+        If E is not the energy of a release in ``THETA0_RANGE`` (naming the range of E).
+    """
+    from scipy.optimize import brentq
+
+    sym = body.symmetric()
+    lo, hi = av.THETA0_RANGE
+    E_lo, E_hi = rest_energy(sym, lo), rest_energy(sym, hi)
+    E = as_float("E", E)
+    if not E_lo <= E <= E_hi:
+        raise ValueError(f"E must be the energy of a release from rest in THETA0_RANGE = [0.75pi, 0.999pi], "
+                         f"[{E_lo:.6g}, {E_hi:.6g}] for this body, got E={E!r}")
+    return float(brentq(lambda th: rest_energy(sym, th) - E, lo, hi, xtol=1e-15, rtol=8.9e-16))
+
+
+def _check_grid(name: str, values: ArrayLike, lo: float, hi: float) -> NDArray[np.float64]:
+    a = np.atleast_1d(np.asarray(values, float))
+    if a.ndim != 1 or a.size == 0 or not np.all(np.isfinite(a)) or np.any((a < lo) | (a > hi)):
+        raise ValueError(f"{name} must be a non-empty 1-D grid of finite values in [{lo:.6g}, {hi:.6g}], "
+                         f"got {values!r}")
+    return a
+
+
+def _bar(total: int, progress: bool | None, desc: str) -> Any:
+    from tqdm import tqdm
+
+    enabled = sys.stderr.isatty() if progress is None else progress
+    return tqdm(total=total, desc=desc, unit="orbit", disable=not enabled, leave=False, file=sys.stderr)
+
+
+#: Default number of p values of the grid when none are given (:func:`slow_portrait`).
+N_P_DEFAULT = 9
+
+
+def slow_portrait(body: Body, theta0: float, Theta: ArrayLike, p: ArrayLike | None = None, t_end: float = 2000.0, *,
+                  order: int = 1, ode_starts: Sequence[tuple[float, float]] = (), ode_t_end: float | None = None,
+                  build: bool = True, progress: bool | None = None,
+                  budget: float | None = WORK_BUDGET_SECONDS) -> SlowPortrait:
+    """The slow map's orbits from the grid Θ × p at (body, θ0, ε = body.epsilon), and the direct ODE's θ-maxima
+    from ``ode_starts`` (module docstring).
+
+    Parameters
+    ----------
+    body : Body
+        The asymmetric body, ε > 0.
+    theta0 : float
+        Release angle of the tables, in ``THETA0_RANGE`` = [0.75π, 0.999π] (the energy of every orbit is U(θ0);
+        :func:`theta0_of_energy` gives θ0 from an energy).
+    Theta, p : array_like
+        The grid's values of Θ = 2ψ, in [−2π, 2π], and of p = ∇W(0)·Q, |p| within the tables (their half-length
+        along the kick direction, |∇W(0)·e| U); one orbit per pair, at most ``MAX_PORTRAIT_ORBITS``.  p None:
+        ``N_P_DEFAULT`` values evenly over ±1.5 times the half-width 2√K of the standard map's main resonance
+        (within 0.9 of the tables' half-length).
+    t_end : float
+        Time span of each orbit (checked as ``iterate_slow_map`` checks it).
+    order : {1, 2}
+        The map's order (2 builds or loads the second-order tables of (body, θ0)).
+    ode_starts : sequence of (Θ, p)
+        Starts run by the direct ODE over ``ode_t_end`` (default ``t_end``), at most ``MAX_ODE_STARTS``.
+    build : bool
+        Build the tables if they are not cached (else ValueError).
+    progress : bool or None
+        tqdm bars over the grid and the direct runs on stderr (None: only if stderr is a terminal).
+    budget : float or None
+        CPU seconds the direct runs may take together (:func:`rocknroller.numerics.ensemble.run_ensemble`).
+
+    Raises
+    ------
+    ValueError
+        Naming the parameter: ε ≤ 0, θ0 out of range, a grid value out of range or too many orbits, a bad order.
+    """
+    eps = body.epsilon
+    if not eps > 0.0:
+        raise ValueError(f"eps must be > 0 for a portrait of the slow motion (at eps = 0 there is none), got "
+                         f"eps={eps!r}")
+    if order not in (1, 2) or isinstance(order, bool):
+        raise ValueError(f"order must be 1 or 2, got order={order!r}")
+    theta0 = av.check_map_theta0(theta0)
+    Th = _check_grid("Theta", Theta, -2.0 * math.pi, 2.0 * math.pi)
+    table = av.load_or_build_table(body, theta0, build=build, progress=progress)
+    gu, gv = table.gradient("W", (0.0, 0.0))
+    grad_W = gu * table.e + gv * table.n
+    e = np.asarray(table.e, float)
+    p_max = abs(float(grad_W @ e)) * table.U
+    if p is None:
+        p = np.linspace(-1.0, 1.0, N_P_DEFAULT) * min(3.0 * math.sqrt(eps * abs(table.kappa)), 0.9 * p_max)
+    pp = _check_grid("p", p, -p_max, p_max)
+    n = Th.size * pp.size
+    if n > MAX_PORTRAIT_ORBITS:
+        raise ValueError(f"the grid has {n} starts (Theta x p), at most MAX_PORTRAIT_ORBITS = {MAX_PORTRAIT_ORBITS}")
+    pairs = [tuple(map(float, s)) for s in ode_starts]
+    if len(pairs) > MAX_ODE_STARTS or any(len(s) != 2 for s in pairs):
+        raise ValueError(f"ode_starts must be at most MAX_ODE_STARTS = {MAX_ODE_STARTS} pairs (Theta, p), "
+                         f"got {ode_starts!r}")
+    starts = [(s[0], s[1]) for s in pairs]
+    for s_Th, s_p in starts:
+        _check_grid("ode_starts Theta", s_Th, -2.0 * math.pi, 2.0 * math.pi)
+        _check_grid("ode_starts p", s_p, -p_max, p_max)
+    second = None
+    if order == 2:
+        from rocknroller.analysis.slow.second_order import load_or_build_second_order_table
+
+        second = load_or_build_second_order_table(body, theta0, build=build)
+    T, P = (g.ravel() for g in np.meshgrid(Th, pp, indexing="ij"))
+    along = float(grad_W @ e)
+    from rocknroller.numerics.ensemble import Job, run_ensemble
+
+    jobs = []  # made (and checked: t_end, the run's limits) before any work
+    for s_Th, s_p in starts:
+        QR, QJ = (s_p / along) * e
+        state = maximum_state(body.symmetric(), eps, table.E0, QR, QJ, 0.5 * s_Th)[2]
+        jobs.append(Job(body, state, t_end if ode_t_end is None else ode_t_end))
+    orbits, left = [], []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", av.AveragingValidityWarning)  # K > 4 is stated in the portrait's title
+        with _bar(n, progress, "portrait") as bar:
+            for k, (th, pk) in enumerate(zip(T, P)):
+                Q0 = (pk / along) * e
+                try:
+                    s = iterate_slow_map(table, eps, 0.5 * th, t_end, Q0=Q0, second=second)
+                except av.AveragingRangeError:
+                    s = _until_left(table, eps, 0.5 * th, t_end, Q0, second)
+                    left.append(k)
+                orbits.append(s)
+                bar.update(1)
+    ode = [] if not jobs else [r.maxima for r in run_ensemble(jobs, progress=progress, budget=budget)]
+    return SlowPortrait(body=body, theta0=theta0, E=float(table.E0), t_end=float(t_end), order=order,
+                        K=eps * table.kappa, grad_W=np.asarray(grad_W, float), e=e, Theta0=T, p0=P,
+                        orbits=tuple(orbits), left=tuple(left), ode_starts=tuple(starts), ode=tuple(ode))
+
+
+def _until_left(table: Any, eps: float, psi0: float, t_end: float, Q0: NDArray[np.float64],
+                second: Any) -> SlowSeries:
+    """The orbit up to its last maximum inside the tables: the longest n_steps that does not leave them (bisection on
+    the number of steps; the map is deterministic, so a prefix is the same orbit)."""
+    lo, hi = 0, 1
+    while True:  # grow until it leaves
+        try:
+            iterate_slow_map(table, eps, psi0, t_end, Q0=Q0, n_steps=hi, second=second)
+        except av.AveragingRangeError:
+            break
+        lo, hi = hi, 2 * hi
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        try:
+            iterate_slow_map(table, eps, psi0, t_end, Q0=Q0, n_steps=mid, second=second)
+            lo = mid
+        except av.AveragingRangeError:
+            hi = mid
+    if lo == 0:
+        empty = np.empty(0)
+        return SlowSeries(t=empty, QR=empty.copy(), QJ=empty.copy(), Theta=empty.copy(), phi=empty.copy())
+    return iterate_slow_map(table, eps, psi0, t_end, Q0=Q0, n_steps=lo, second=second)
+
+
+def plot_portrait(portrait: SlowPortrait, values: ArrayLike | None = None, *, cmap: str = "viridis",
+                  orbits: Sequence[Any] | None = None) -> Any:
+    """Draw the portrait: (Θ mod 2π, p) on the left, (Q_R, Q_J) over the critical lines on the right; the map's
+    orbits as dots coloured by :func:`orbit_values` (of ``orbits``, default ``portrait.orbits``), the release line
+    p = 0 (and its point Q = 0), and the ODE's maxima as black crosses.  Returns the figure."""
+    from matplotlib import colors
+
+    vals, label = orbit_values(portrait.orbits if orbits is None else orbits, values)
+    norm = colors.Normalize(vmin=float(vals.min()), vmax=float(vals.max()) if vals.max() > vals.min()
+                            else float(vals.min()) + 1.0)
+    fig = new_figure(figsize=(11, 4.6), layout="constrained")
+    ax_p, ax_q = fig.subplots(1, 2)
+    c = np.concatenate([np.full(s.t.size, v) for s, v in zip(portrait.orbits, vals)] + [np.empty(0)])
+    QR, QJ, Th = (np.concatenate([getattr(s, k) for s in portrait.orbits] + [np.empty(0)])
+                  for k in ("QR", "QJ", "Theta"))
+    dots = dict(c=c, s=0.6, cmap=cmap, norm=norm, linewidths=0, rasterized=True)
+    ax_p.scatter(np.mod(Th, 2.0 * math.pi), portrait.p(QR, QJ), **dots)
+    ax_q.scatter(QR, QJ, **dots)
+    for k, m in enumerate(portrait.ode):
+        kw = dict(marker="x", s=6, color="k", linewidths=0.6, label="direct ODE (maxima)" if k == 0 else None)
+        ax_p.scatter(np.mod(2.0 * m.psi, 2.0 * math.pi), portrait.p(m.QR, m.QJ), **kw)
+        ax_q.scatter(m.QR, m.QJ, **kw)
+    ax_p.axhline(0.0, color="tab:orange", ls=":", lw=1.2, label="release from rest (p = 0)")
+    ax_p.set_xlim(0.0, 2.0 * math.pi)
+    ax_p.set_xlabel(r"$\Theta = 2\psi$ mod $2\pi$")
+    ax_p.set_ylabel(r"$p = \nabla W(0)\cdot Q$")
+    ax_p.legend(fontsize=7, loc="upper right")
+    QR_all = np.concatenate([QR] + [m.QR for m in portrait.ode] + [np.zeros(1)])
+    QJ_all = np.concatenate([QJ] + [m.QJ for m in portrait.ode] + [np.zeros(1)])
+    pad = 0.05 * max(float(np.ptp(QR_all)), 1e-12)
+    draw_critical_lines(ax_q, portrait.body, float(QR_all.min()) - pad, float(QR_all.max()) + pad)
+    ax_q.plot([0.0], [0.0], "o", color="tab:orange", ms=4, label="release from rest (Q = 0)")
+    qj_pad = 0.05 * max(float(np.ptp(QJ_all)), 1e-12)
+    ax_q.set_ylim(float(QJ_all.min()) - qj_pad, float(QJ_all.max()) + qj_pad)
+    ax_q.set_xlabel("$Q_R$")
+    ax_q.set_ylabel("$Q_J$")
+    ax_q.legend(fontsize=7, loc="upper left")
+    from matplotlib.cm import ScalarMappable
+
+    sm = ScalarMappable(norm=norm, cmap=cmap)
+    fig.colorbar(sm, ax=[ax_p, ax_q], label=label, shrink=0.9, aspect=30)
+    fig.suptitle(rf"slow map (order {portrait.order}) at $\varepsilon$ = {portrait.body.epsilon:.4g}, "
+                 rf"$\theta_0$ = {portrait.theta0 / math.pi:.4g}$\pi$, K = $\varepsilon\kappa$ = {portrait.K:.3g}, "
+                 f"t_end = {portrait.t_end:g}", fontsize=10)
+    return fig
+
+
+def write_portrait(portrait: SlowPortrait, out: str | Path, name: str = "portrait",
+                   values: ArrayLike | None = None, orbits: Sequence[Any] | None = None) -> list[Path]:
+    """Save the figure (:func:`plot_portrait`) as ``name.png`` and ``name.pdf`` and the samples as ``name.csv``
+    (one row per θ-maximum: source ``map`` or ``ode``, orbit index, its start (Θ0, p0), colour value, t, Θ mod 2π, p,
+    Q_R, Q_J; header with the parameters); returns the paths."""
+    vals, label = orbit_values(portrait.orbits if orbits is None else orbits, values)
+    paths = save_figure(plot_portrait(portrait, values, orbits=orbits), out, name)
+    cols: dict[str, list] = {k: [] for k in ("source", "orbit", "Theta0", "p0", "value", "t", "Theta", "p", "QR",
+                                              "QJ")}
+
+    def add(source: str, k: int, th0: float, p0: float, v: float | None, t: Any, Th: Any, QR: Any, QJ: Any) -> None:
+        m = len(t)
+        for key, col in (("source", [source] * m), ("orbit", [k] * m), ("Theta0", [th0] * m), ("p0", [p0] * m),
+                         ("value", [v] * m), ("t", list(t)), ("Theta", list(np.mod(Th, 2.0 * math.pi))),
+                         ("p", list(portrait.p(QR, QJ))), ("QR", list(QR)), ("QJ", list(QJ))):
+            cols[key].extend(col)
+
+    for k, s in enumerate(portrait.orbits):
+        add("map", k, float(portrait.Theta0[k]), float(portrait.p0[k]), float(vals[k]), s.t, s.Theta, s.QR, s.QJ)
+    for k, (m, (th0, p0)) in enumerate(zip(portrait.ode, portrait.ode_starts)):
+        add("ode", k, th0, p0, None, m.t, 2.0 * m.psi, m.QR, m.QJ)
+    header = [f"rocknroller portrait: body {portrait.body.describe()}",
+              f"theta0 {portrait.theta0!r} (E {portrait.E!r}), K = eps kappa {portrait.K!r}, map order "
+              f"{portrait.order}, t_end {portrait.t_end!r}",
+              f"p = gradW(0).Q with gradW(0) = ({portrait.grad_W[0]!r}, {portrait.grad_W[1]!r}); grid starts at "
+              f"Q = (p0 / gradW.e) e, e = ({portrait.e[0]!r}, {portrait.e[1]!r}); Theta = 2 psi mod 2 pi",
+              f"value: {label}; orbits that left the tables before t_end: {list(portrait.left)}",
+              "source ode: the direct ODE from the same maxima (value empty)"]
+    paths.append(write_csv(Path(out) / f"{name}.csv", cols, header))
+    return paths

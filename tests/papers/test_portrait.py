@@ -1,0 +1,125 @@
+"""The phase portrait of the slow motion (:mod:`rocknroller.papers.portrait`): its orbits are the map's, p is the
+standard map's, its files are written, bad input refused."""
+
+from __future__ import annotations
+
+import math
+import types
+import warnings
+
+import numpy as np
+import pytest
+
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.equations import EulerState
+from rocknroller.analysis.slow.compiled_map import iterate_slow_map
+from rocknroller.analysis.slow.family import rest_energy
+from rocknroller.analysis.slow.limits import AveragingRangeError, AveragingValidityWarning
+from rocknroller.analysis.slow.prediction import load_or_build_table, predict_slow_motion
+from rocknroller.numerics.integrate import simulate
+from rocknroller.papers.portrait import (MAX_PORTRAIT_ORBITS, orbit_values, slow_portrait, theta0_of_energy,
+                                         write_portrait)
+
+THETA0 = 0.95 * math.pi
+
+
+def test_release_line_orbits_are_the_predictions_and_the_ode_overlay_is_the_direct_run(tmp_path):
+    """A grid start on p = 0 is the release from rest at ψ0 = Θ/2: its orbit is predict_slow_motion's (order 1)
+    bit for bit.  The ODE overlay of that start is the direct run from rest (maximum_state at Q = 0 gives θ0 to
+    rounding: maxima within 1e-10 in Q over 15 rocks, far below the map's own error).  The figure and the CSV are
+    written, the CSV with one row per sample and the parameters in its header."""
+    body = Body.paper(5e-3)
+    P = slow_portrait(body, THETA0, [0.2, 1.0, 2.5], [0.0, 1.0], 200.0, ode_starts=[(0.2, 0.0)], progress=False)
+    assert P.Theta0.tolist() == [0.2, 0.2, 1.0, 1.0, 2.5, 2.5] and P.p0.tolist() == [0.0, 1.0] * 3
+    for k in (0, 2, 4):
+        pred = predict_slow_motion(body, THETA0, 0.5 * P.Theta0[k], 200.0, order=1)
+        for name in ("t", "QR", "QJ", "Theta"):
+            np.testing.assert_array_equal(getattr(P.orbits[k], name), getattr(pred.series, name))
+    ode = simulate(body, EulerState(THETA0, 0.0, 0.1), 200.0, samples=False).maxima
+    (m,) = P.ode
+    assert len(m) == len(ode)
+    assert np.max(np.hypot(m.QR - ode.QR, m.QJ - ode.QJ)) < 1e-10
+    paths = write_portrait(P, tmp_path)
+    assert sorted(p.name for p in paths) == ["portrait.csv", "portrait.pdf", "portrait.png"]
+    assert all(p.stat().st_size > 0 for p in paths)
+    text = (tmp_path / "portrait.csv").read_text().splitlines()
+    header = [ln for ln in text if ln.startswith("#")]
+    rows = [ln for ln in text if not ln.startswith("#")]
+    assert any("K = eps kappa" in ln for ln in header) and any("value: orbit index" in ln for ln in header)
+    assert rows[0] == "source,orbit,Theta0,p0,value,t,Theta,p,QR,QJ"
+    assert len(rows) - 1 == sum(o.t.size for o in P.orbits) + len(m)
+
+
+def test_p_is_the_standard_map_momentum():
+    """One step from (Θ0, p = 0): the standard map gives p1 = K sin Θ0 (K = ε κ from the table).  The map's p1 differs
+    by O(ε²) relatively (the kick is ε C0 sin Θ + O(ε²) at Q = O(ε)): the deviation falls 4× per halving of ε."""
+    dev = []
+    for eps in (5e-3, 2.5e-3):
+        P = slow_portrait(Body.paper(eps), THETA0, [0.5, 1.0, 2.0], [0.0], 100.0, progress=False)
+        p1 = np.array([P.p(o.QR[0], o.QJ[0]) for o in P.orbits])
+        dev.append(np.max(np.abs(p1 / (P.K * np.sin(P.Theta0)) - 1.0)))
+        assert P.K == pytest.approx(eps * load_or_build_table(Body.paper(eps), THETA0).kappa, rel=1e-15)
+    assert dev[0] < 1e-3
+    assert 3.6 < dev[0] / dev[1] < 4.4  # slope 2 within ±0.15 in log2
+
+
+def test_orbits_that_leave_the_tables_are_cut_and_listed():
+    """At ε = 1e-2 (K = 4.3) starts at 0.99 of the tables' reach in p leave them within a step or two: listed in
+    ``left``, each drawn up to its last maximum inside (one step more leaves)."""
+    body = Body.paper(1e-2)
+    table = load_or_build_table(body, THETA0)
+    P0 = slow_portrait(body, THETA0, [1.0], [0.0], 50.0, progress=False)
+    reach = abs(float(P0.grad_W @ P0.e)) * table.U
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AveragingValidityWarning)
+        P = slow_portrait(body, THETA0, [math.pi / 2, -math.pi / 2], [0.99 * reach, -0.99 * reach], 300.0,
+                          progress=False)
+    assert P.left and set(P.left) <= set(range(4))
+    for k in P.left:
+        n = P.orbits[k].t.size
+        with pytest.raises(AveragingRangeError):
+            iterate_slow_map(table, body.epsilon, 0.5 * P.Theta0[k], 300.0, Q0=(P.p0[k] / float(P.grad_W @ P.e)) * P.e,
+                             n_steps=n + 1)
+
+
+def test_orbit_values():
+    orbits = [object(), object(), object()]
+    v, label = orbit_values(orbits)
+    assert label == "orbit index" and v.tolist() == [0.0, 1.0, 2.0]
+    v, label = orbit_values(orbits, [3.0, 2.0, 1.0])
+    assert label == "value" and v.tolist() == [3.0, 2.0, 1.0]
+    chaotic = [types.SimpleNamespace(chaos=types.SimpleNamespace(megno=m)) for m in (2.0, 2.1, 9.5)]
+    v, label = orbit_values(chaotic)
+    assert label == "MEGNO" and v.tolist() == [2.0, 2.1, 9.5]
+    v, label = orbit_values(chaotic[:2] + [object()])  # not every orbit has one: the index
+    assert label == "orbit index"
+    for bad in ([1.0, 2.0], [1.0, math.nan, 2.0]):
+        with pytest.raises(ValueError, match="values must be 3 finite numbers"):
+            orbit_values(orbits, bad)
+
+
+def test_theta0_of_energy_inverts_the_rest_energy():
+    sym = Body.paper(0.0)
+    for th in (0.8 * math.pi, THETA0, 0.99 * math.pi):
+        assert theta0_of_energy(Body.paper(5e-3), rest_energy(sym, th)) == pytest.approx(th, rel=1e-14)
+    with pytest.raises(ValueError, match="E must be the energy"):
+        theta0_of_energy(sym, 10.0)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(body=Body.paper(0.0)), "eps must be > 0"),
+    (dict(theta0=0.5 * math.pi), "theta0"),
+    (dict(Theta=[7.0]), "Theta must be"),
+    (dict(p=[1e3]), "p must be"),
+    (dict(Theta=np.linspace(0, 1, 101), p=np.linspace(-1, 1, 100)), "MAX_PORTRAIT_ORBITS"),
+    (dict(order=3), "order must be 1 or 2"),
+    (dict(ode_starts=[(1.0,)]), "ode_starts must be"),
+    (dict(ode_starts=[(1.0, 1e3)]), "ode_starts p"),
+    (dict(ode_starts=[(0.2, 0.0)], ode_t_end=-1.0), "t_end"),
+    (dict(t_end=math.inf), "t_end"),
+])
+def test_bad_input_is_refused(kwargs, match):
+    assert 101 * 100 > MAX_PORTRAIT_ORBITS
+    args = dict(body=Body.paper(5e-3), theta0=THETA0, Theta=[1.0], p=[0.0], t_end=100.0) | kwargs
+    with pytest.raises(ValueError, match=match):
+        slow_portrait(args.pop("body"), args.pop("theta0"), args.pop("Theta"), args.pop("p"), **args, progress=False)
