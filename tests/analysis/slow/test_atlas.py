@@ -114,17 +114,18 @@ def rates_atlas():
 
 
 def test_rates_atlas_points_are_their_own_runs(rates_atlas):
-    """Rows ψ̇0, columns φ̇0: every point is simulate's run from (θ0, ψ0) with those rates, its diagnostics and its
-    crossings of the critical lines counted as for the map (a 2 × 3 grid, so a transposed grid cannot pass)."""
+    """Rows ψ̇0, columns φ̇0: every point is the direct run from (θ0, ψ0) with those rates (its lane of the batch
+    integrator, as run_ensemble runs it), its diagnostics and its crossings of the critical lines counted as for the
+    map (a 2 × 3 grid, so a transposed grid cannot pass)."""
     from rocknroller.analysis.model.equations import EulerState
     from rocknroller.analysis.slow.prediction import critical_regions
-    from rocknroller.numerics.integrate import simulate
+    from rocknroller.numerics.batch import run_batch
 
     assert rates_atlas.values["Phi"].shape == (2, 3) and (rates_atlas.row_name, rates_atlas.col_name) == (
         "psi_dot0", "phi_dot0")
     for i, sd in enumerate(PSI_DOT0):
         for j, pd in enumerate(PHI_DOT0):
-            run = simulate(BODY, EulerState(RATES_AT[0], 0.0, RATES_AT[1], 0.0, pd, sd), 200.0, samples=False)
+            (run,) = run_batch([(BODY, EulerState(RATES_AT[0], 0.0, RATES_AT[1], 0.0, pd, sd), 200.0)])
             m = run.maxima
             full, visible = at.reversal_counts(critical_regions(m.QR, m.QJ, m.t, BODY.symmetric())[2], 200.0)
             assert rates_atlas.values["Phi"][i, j] == run.Phi and rates_atlas.values["QJ_extent"][i, j] == run.QJ_extent
