@@ -24,9 +24,16 @@ OUT = HERE.parent / "docs" / "performance.md"
 BENCHMARKS = [
     ("bench_integrate.py", [], "the direct ODE: heyoka against scipy's DOP853 and CyRK's compiled DOP853"),
     ("bench_quadrature.py", [], "the precession quadratures against scipy.integrate.quad and mpmath"),
-    ("bench_ensemble.py", [], "ensembles of direct runs: in process, in threads, on a dask cluster"),
+    ("bench_ensemble.py", [], "ensembles of direct runs: scalar or in batch lanes, in process, in threads, on a dask "
+     "cluster, and CyRK's compiled DOP853"),
+    ("bench_atlas_lanes.py", [], "the atlases' direct runs (rates plane, a 676-point confirmation): scalar vs batch "
+     "lanes"),
+    ("bench_variational.py", [], "the direct ODE's chaos indicators (variational equations) against plain simulate"),
+    ("bench_chaos_map.py", [], "the slow map's chaos indicators (tangent map) against the map alone"),
     ("bench_averaging.py", [], "the averaged map and the closed form against the direct ODE"),
     ("bench_tables.py", [], "the averaging tables' builds; a first prediction from a start with velocity"),
+    ("bench_table_maxima.py", [], "the tables' orbits to their next maxima: a Python step loop vs batch terminal "
+     "events"),
     ("bench_atlas.py", ["20"], "a release atlas by the map from cached tables, and its ODE confirmation"),
     ("bench_atlas.py", ["rates"], "the plane of rates by the direct ODE: in process, in threads, on a dask cluster"),
     ("bench_budget.py", [], "the rates behind the work budgets"),
