@@ -208,8 +208,9 @@ def _turning_points_lanes(raws: list[list[tuple[float, int]]], t_a: list[float],
     parts = []
     for j, (times, dirs, ends), y_ends in zip(lanes, checks, np.split(at_ends, split)):
         signs = _resolved_sign(y_ends.T)
-        if starts[j] is not None:  # dγ3/dt at the start is round-off: its sign after the start's own root is the kind
-            signs[0] = starts[j].kind
+        start = starts[j]
+        if start is not None:  # dγ3/dt at the start is round-off: its sign after the start's own root is the kind
+            signs[0] = start.kind
         if times.size == 0:
             bad = np.array([signs[0] != signs[-1]])
             parts.append((times, times, dirs, times, np.full(0, j)))

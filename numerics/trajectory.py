@@ -143,8 +143,8 @@ def _unwrapped_angles(t: list[NDArray[np.float64]], y: list[NDArray[np.float64]]
     inside = lane_of[:-1] == lane_of[1:]
     bad = np.flatnonzero(inside & _unresolved(tt[:-1], tt[1:], ang[:, :-1], ang[:, 1:], rate[:-1], rate[1:]))
     lane, cols = lane_of[bad], np.asarray(columns)
-    lo = (tt[bad], ang[:, bad], rate[bad])
-    hi = (tt[bad + 1], ang[:, bad + 1], rate[bad + 1])
+    lo: tuple[NDArray, ...] = (tt[bad], ang[:, bad], rate[bad])
+    hi: tuple[NDArray, ...] = (tt[bad + 1], ang[:, bad + 1], rate[bad + 1])
     added: list[tuple[NDArray, NDArray, NDArray, NDArray]] = []
     for _ in range(_MAX_BISECTIONS):
         if lane.size == 0:
