@@ -30,7 +30,7 @@ from numpy.typing import NDArray
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import STATE_SIZE, EulerState, body_frame_rhs, turning_point_function
-from rocknroller.numerics.events import _turning_points, start_turning_point
+from rocknroller.numerics.events import _turning_points_lanes, start_turning_point
 from rocknroller.numerics.integrate import (CHUNK_RADIANS, _grid_pieces, _RunRecord, _stretch_end, check_diskcache,
                                             check_run, finish_run)
 from rocknroller.numerics.trajectory import TurningPointRun, _Samples
@@ -173,24 +173,13 @@ def run_batch(runs: Sequence[tuple[Body, EulerState, float]], width: int | None 
 
 def _stretch_samples(lanes: list[_Lane], moving: list[int], c_out: Any, t_b: NDArray[np.float64],
                      raw: list[tuple[float, int, int]]) -> None:
-    """Locate the turning points of each moving lane's stretch and sample its unwrapping grid, the pieces of all
-    lanes evaluated together on the batch dense output."""
-
-    def lane_dense(j: int) -> Any:
-        def dense(t: NDArray[np.float64]) -> NDArray[np.float64]:  # the other lanes at their stretch's end
-            times = np.repeat(t_b[None, :], np.size(t), axis=0)
-            times[:, j] = t
-            return np.asarray(c_out(times))[:, :, j]
-        return dense
-
-    dense = {j: lane_dense(j) for j in moving}
-    pieces = {}
-    for j in moving:
-        lane = lanes[j]
-        mine = [(t, d) for t, d, k in raw if k == j]
-        events = _turning_points(mine, lane.t_a, float(t_b[j]), dense[j], lane.body.params,
-                                 lane.start if lane.t_a == 0.0 else None)
-        pieces[j] = _grid_pieces(lane.t_a, float(t_b[j]), lane.dt, events)
+    """Locate the turning points of each moving lane's stretch and sample its unwrapping grid, all lanes evaluated
+    together on the batch dense output."""
+    found = _turning_points_lanes([[(t, d) for t, d, k in raw if k == j] for j in moving],
+                                  [lanes[j].t_a for j in moving], [float(t_b[j]) for j in moving], c_out, moving,
+                                  t_b, [lanes[j].body.params for j in moving],
+                                  [lanes[j].start if lanes[j].t_a == 0.0 else None for j in moving])
+    pieces = {j: _grid_pieces(lanes[j].t_a, float(t_b[j]), lanes[j].dt, events) for j, events in zip(moving, found)}
     for k in range(max(len(p) for p in pieces.values())):
         here = [j for j in moving if k < len(pieces[j])]
         samples = _Samples.take_lanes(c_out, [pieces[j][k] for j in here], here, t_b,

@@ -16,7 +16,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import body_frame_rhs, turning_point_function
-from rocknroller.numerics.trajectory import DenseOutput
+from rocknroller.numerics.trajectory import DenseOutput, LaneDense, lane_states
 
 __all__ = ["START_ROOT_ULPS", "StartRoot", "start_turning_point", "H_ROUND_ULPS", "THETA_MIN"]
 
@@ -134,17 +134,19 @@ def _scan(lo: float, hi: float, dense: DenseOutput) -> tuple[NDArray, NDArray, N
         found, n = brackets, 16 * n
 
 
-def _locate(lo: NDArray, hi: NDArray, d: NDArray, guess: NDArray, dense: DenseOutput,
-            params: tuple[float, ...]) -> NDArray[np.float64]:
-    """The roots of dγ3/dt in the brackets (lo, hi), where it changes sign in direction d, on the dense output:
-    Newton's method from ``guess``, kept inside the shrinking bracket by bisection, to the rounding of t."""
+def _locate(lo: NDArray, hi: NDArray, d: NDArray, guess: NDArray, lane: NDArray, dense: LaneDense, columns: list[int],
+            fill: NDArray, params: NDArray) -> NDArray[np.float64]:
+    """The roots of dγ3/dt in the brackets (lo, hi) of lanes ``lane`` (as :func:`lane_states`), where it changes sign
+    in direction d, on the dense output: Newton's method from ``guess``, kept inside the shrinking bracket by
+    bisection, to the rounding of t; every lane's roots together.  ``params``: each lane's (a, I1, I2, I3, g), (L, 5).
+    """
     lo, hi, t = lo.astype(float), hi.astype(float), np.clip(guess, lo, hi).astype(float)
     active = np.arange(t.size)
     for _ in range(_MAX_POLISH):
         if active.size == 0:
             break
         ta, da = t[active], d[active]
-        h, rate = _h_and_rate(dense(ta).T, params)
+        h, rate = _h_and_rate(lane_states(dense, ta, lane[active], columns, fill).T, tuple(params[lane[active]].T))
         below = da * h < 0  # before the root
         lo[active] = np.where(below, ta, lo[active])
         hi[active] = np.where(da * h > 0, ta, hi[active])
@@ -162,7 +164,17 @@ def _locate(lo: NDArray, hi: NDArray, d: NDArray, guess: NDArray, dense: DenseOu
 def _turning_points(raw: list[tuple[float, int]], t_a: float, t_b: float, dense: DenseOutput,
                     params: tuple[float, ...], start: StartRoot | None) -> list[tuple[float, int]]:
     """The turning points of θ in (t_a, t_b] as (time, direction), from the integrator's events checked and located
-    on the dense output.
+    on the dense output: :func:`_turning_points_lanes` for one lane."""
+    return _turning_points_lanes([raw], [t_a], [t_b], lambda times: dense(times[:, 0])[:, :, None], [0],
+                                 np.array([t_b]), [params], [start])[0]
+
+
+def _turning_points_lanes(raws: list[list[tuple[float, int]]], t_a: list[float], t_b: list[float], dense: LaneDense,
+                          columns: list[int], fill: NDArray[np.float64], params: list[tuple[float, ...]],
+                          starts: list[StartRoot | None]) -> list[list[tuple[float, int]]]:
+    """The turning points of θ in (t_a[j], t_b[j]] of each lane j as (time, direction), from the integrator's events
+    ``raws[j]`` checked and located on the dense output (lane j in column ``columns[j]`` of ``dense``, the other
+    columns at their ``fill`` times; every lane's evaluations together).
 
     The integrator finds the roots of dγ3/dt on the Taylor polynomial of the event function, truncated at the
     integrator's order.  dγ3/dt ≈ −θ θ̇ is a product of two series of the motion's frequency, so near the pole
@@ -175,34 +187,50 @@ def _turning_points(raw: list[tuple[float, int]], t_a: float, t_b: float, dense:
     interval where the check fails is scanned on the dense output for its sign changes.  A root at t_a belongs to
     the previous stretch; at the start of the run, the start's own root (``start``) to no one.
     """
-    def own(t: float, d: int) -> bool:
-        return t <= t_a or (start is not None and t <= t_a + start.window and d == start.kind)
+    lanes = range(len(raws))
+    checks = []
+    for j in lanes:
+        start = starts[j]
 
-    events = sorted((t, d) for t, d in raw if not own(t, d))
-    lo_edge = t_a + start.window if start is not None else t_a
-    times = np.array([t for t, _ in events], float)
-    dirs = np.array([d for _, d in events], int)
-    ends = np.concatenate([[lo_edge], 0.5 * (times[1:] + times[:-1]), [t_b]])
-    signs = _resolved_sign(dense(ends).T)
-    if start is not None:  # dγ3/dt at the start is round-off: its sign after the start's own root is the kind
-        signs[0] = start.kind
-    # brackets (lo, hi, direction, first guess): the checked events', then those of each run of neighbouring failed
-    # checks, scanned as one interval (without events: the whole stretch, if dγ3/dt changes sign over it)
-    if times.size == 0:
-        bad = np.array([signs[0] != signs[-1]])
-        parts = [(times, times, dirs, times)]
-    else:
-        ok = (signs[:-1] == -dirs) & (signs[1:] == dirs)
-        bad = ~ok
-        parts = [(ends[:-1][ok], ends[1:][ok], dirs[ok], times[ok])]
-    first = np.flatnonzero(bad & ~np.concatenate([[False], bad[:-1]]))
-    last = np.flatnonzero(bad & ~np.concatenate([bad[1:], [False]]))
-    for i, j in zip(first, last):
-        s_lo, s_hi, s_d = _scan(ends[i], ends[j + 1], dense)
-        parts.append((s_lo, s_hi, s_d, 0.5 * (s_lo + s_hi)))
-    lo, hi, d, guess = (np.concatenate(column) for column in zip(*parts))
-    roots = _locate(lo, hi, d, guess, dense, params)
-    order = np.argsort(roots, kind="stable")
-    return [(float(roots[k]), int(d[k])) for k in order]
+        def own(t: float, d: int) -> bool:
+            return t <= t_a[j] or (start is not None and t <= t_a[j] + start.window and d == start.kind)
 
+        events = sorted((t, d) for t, d in raws[j] if not own(t, d))
+        lo_edge = t_a[j] + start.window if start is not None else t_a[j]
+        times = np.array([t for t, _ in events], float)
+        dirs = np.array([d for _, d in events], int)
+        checks.append((times, dirs, np.concatenate([[lo_edge], 0.5 * (times[1:] + times[:-1]), [t_b[j]]])))
+    at_ends = lane_states(dense, np.concatenate([c[2] for c in checks]),
+                          np.concatenate([np.full(c[2].size, j) for j, c in zip(lanes, checks)]), columns, fill)
+    split = np.cumsum([c[2].size for c in checks])[:-1]
+    # brackets (lo, hi, direction, first guess, lane): the checked events', then those of each run of neighbouring
+    # failed checks, scanned as one interval (without events: the whole stretch, if dγ3/dt changes sign over it)
+    parts = []
+    for j, (times, dirs, ends), y_ends in zip(lanes, checks, np.split(at_ends, split)):
+        signs = _resolved_sign(y_ends.T)
+        start = starts[j]
+        if start is not None:  # dγ3/dt at the start is round-off: its sign after the start's own root is the kind
+            signs[0] = start.kind
+        if times.size == 0:
+            bad = np.array([signs[0] != signs[-1]])
+            parts.append((times, times, dirs, times, np.full(0, j)))
+        else:
+            ok = (signs[:-1] == -dirs) & (signs[1:] == dirs)
+            bad = ~ok
+            parts.append((ends[:-1][ok], ends[1:][ok], dirs[ok], times[ok], np.full(int(ok.sum()), j)))
+        first = np.flatnonzero(bad & ~np.concatenate([[False], bad[:-1]]))
+        last = np.flatnonzero(bad & ~np.concatenate([bad[1:], [False]]))
+        for i, k in zip(first, last):
+            def lane_dense(t: NDArray[np.float64], j: int = j) -> NDArray[np.float64]:
+                return lane_states(dense, t, np.full(np.size(t), j), columns, fill)
 
+            s_lo, s_hi, s_d = _scan(ends[i], ends[k + 1], lane_dense)
+            parts.append((s_lo, s_hi, s_d, 0.5 * (s_lo + s_hi), np.full(s_lo.size, j)))
+    lo, hi, d, guess, lane = (np.concatenate(column) for column in zip(*parts))
+    roots = _locate(lo, hi, d, guess, lane.astype(np.intp), dense, columns, fill, np.asarray(params, float))
+    out = []
+    for j in lanes:
+        mine = np.flatnonzero(lane == j)
+        order = mine[np.argsort(roots[mine], kind="stable")]
+        out.append([(float(roots[k]), int(d[k])) for k in order])
+    return out

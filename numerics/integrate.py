@@ -564,7 +564,7 @@ def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "he
     return finish_run(result, initial, strict)
 
 
-_Run = TypeVar("_Run", Trajectory, TurningPointRun)
+_Run = TypeVar("_Run", bound=Trajectory | TurningPointRun)
 
 
 def finish_run(result: _Run, initial: EulerState, strict: bool) -> _Run:
@@ -610,7 +610,8 @@ class _RunRecord:
 
     def __init__(self, body: Body, y0: NDArray[np.float64]) -> None:
         self.body, self.E0 = body, float(energy(body, y0[0:3], y0[3:6]))
-        self.worst, self.start = 0.0, None
+        self.worst = 0.0
+        self.start: NDArray[np.float64] | None = None  # (φ, ψ) at the end of the last piece: its branch continues
         self.maxima: list[TurningPoints] = []
         self.minima: list[TurningPoints] = []
         self._parts: tuple[list[TurningPoints], list[TurningPoints]] = ([], [])

@@ -106,6 +106,22 @@ def _unresolved(t_lo: NDArray, t_hi: NDArray, ang_lo: NDArray, ang_hi: NDArray, 
 LaneDense = Callable[[NDArray[np.float64]], NDArray[np.float64]]
 
 
+def lane_states(dense: LaneDense, t: NDArray[np.float64], lane: NDArray[np.intp], columns: ArrayLike,
+                fill: ArrayLike) -> NDArray[np.float64]:
+    """The states (m, 11) at times ``t`` (m,) of lanes ``lane`` (m,), evaluated together: lane j is column
+    ``columns[j]`` of ``dense``, the other columns at their ``fill`` times; the k-th time of a lane goes in row k."""
+    lane = np.asarray(lane, np.intp)
+    if lane.size == 0:
+        return np.empty((0, 11))
+    order = np.argsort(lane, kind="stable")  # row of each time: its rank among its lane's
+    rank = np.empty_like(order)
+    rank[order] = np.arange(order.size) - np.searchsorted(lane[order], lane[order], "left")
+    cols = np.asarray(columns, np.intp)[lane]
+    grid = np.repeat(np.asarray(fill, float)[None, :], int(rank.max()) + 1, axis=0)
+    grid[rank, cols] = t
+    return np.asarray(dense(grid))[rank, :, cols]
+
+
 def _unwrapped_angles(t: list[NDArray[np.float64]], y: list[NDArray[np.float64]], dense: LaneDense,
                       columns: list[int], fill: NDArray[np.float64],
                       starts: list[NDArray[np.float64] | None]) -> list[tuple[NDArray, NDArray]]:
@@ -127,19 +143,14 @@ def _unwrapped_angles(t: list[NDArray[np.float64]], y: list[NDArray[np.float64]]
     inside = lane_of[:-1] == lane_of[1:]
     bad = np.flatnonzero(inside & _unresolved(tt[:-1], tt[1:], ang[:, :-1], ang[:, 1:], rate[:-1], rate[1:]))
     lane, cols = lane_of[bad], np.asarray(columns)
-    lo = (tt[bad], ang[:, bad], rate[bad])
-    hi = (tt[bad + 1], ang[:, bad + 1], rate[bad + 1])
+    lo: tuple[NDArray, ...] = (tt[bad], ang[:, bad], rate[bad])
+    hi: tuple[NDArray, ...] = (tt[bad + 1], ang[:, bad + 1], rate[bad + 1])
     added: list[tuple[NDArray, NDArray, NDArray, NDArray]] = []
     for _ in range(_MAX_BISECTIONS):
         if lane.size == 0:
             break
         t_mid = 0.5 * (lo[0] + hi[0])
-        order = np.argsort(lane, kind="stable")  # row of each midpoint: its rank among its lane's
-        rank = np.empty_like(order)
-        rank[order] = np.arange(order.size) - np.searchsorted(lane[order], lane[order], "left")
-        grid = np.repeat(np.asarray(fill, float)[None, :], int(rank.max()) + 1, axis=0)
-        grid[rank, cols[lane]] = t_mid
-        y_mid = np.asarray(dense(grid))[rank, :, cols[lane]]  # only the new points: the states elsewhere are kept
+        y_mid = lane_states(dense, t_mid, lane, cols, fill)  # only the new points: the states elsewhere are kept
         mid = (t_mid, angles_from_frame(y_mid[:, 0:3].T, y_mid[:, 6:9].T), _angle_rates(y_mid))
         added.append((lane, t_mid, y_mid, mid[1]))
         left = _unresolved(lo[0], mid[0], lo[1], mid[1], lo[2], mid[2])
