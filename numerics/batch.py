@@ -31,8 +31,8 @@ from numpy.typing import NDArray
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import STATE_SIZE, EulerState, body_frame_rhs, turning_point_function
 from rocknroller.numerics.events import _turning_points_lanes, start_turning_point
-from rocknroller.numerics.integrate import (CHUNK_RADIANS, _grid_pieces, _RunRecord, _stretch_end, check_diskcache,
-                                            check_run, finish_run)
+from rocknroller.numerics.integrate import (CHUNK_RADIANS, DT_RADIANS, _grid_pieces, _RunRecord, _stretch_end,
+                                            check_diskcache, check_run, finish_run)
 from rocknroller.numerics.trajectory import TurningPointRun, _Samples
 
 __all__ = ["batch_width", "batch_integrator", "run_batch", "MIN_LANES", "MAX_LANES", "BATCH_CHUNK_RADIANS"]
@@ -109,6 +109,7 @@ class _Lane:
         self.body, self.initial, self.t_end, self.dt = body, initial, plan.t_end, plan.dt
         self.y0 = plan.y0
         self.stretch = max(BATCH_CHUNK_RADIANS / plan.rate, plan.dt)
+        self.fine = DT_RADIANS / plan.rate  # where the unwrapping's rate test stops, as simulate's
         self.start = start_turning_point(body, plan.y0)
         self.record = _RunRecord(body, plan.y0)
         self.t_a, self.n_steps = 0.0, 0
@@ -183,6 +184,6 @@ def _stretch_samples(lanes: list[_Lane], moving: list[int], c_out: Any, t_b: NDA
     for k in range(max(len(p) for p in pieces.values())):
         here = [j for j in moving if k < len(pieces[j])]
         samples = _Samples.take_lanes(c_out, [pieces[j][k] for j in here], here, t_b,
-                                      [lanes[j].record.start for j in here])
+                                      [lanes[j].record.start for j in here], [lanes[j].fine for j in here])
         for j, smp in zip(here, samples):
             lanes[j].record.add(smp)

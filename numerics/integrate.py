@@ -108,9 +108,10 @@ DT_RADIANS = 0.15
 #: Default spacing, in radians of Λ, of the grid on which a run with ``samples=False`` unwraps φ and ψ and checks the
 #: energy: ≈ 0.35 time units, ≈ 40 points per rocking period, for the paper's runs.  The unwrapping does not rest on
 #: it: an interval over which an angle's rate at either end (φ̇, ψ̇ from the state, unbounded near the pole) would turn
-#: it by 2π/3 is bisected (:mod:`rocknroller.numerics.trajectory`), so the branch is the one a finer grid gives, and
-#: the turning points are the same to the bit (tests/numerics/test_batch.py); 6.7× fewer points than ``DT_RADIANS``
-#: cut a run's sampling by as much (issue 24).
+#: it by 2π/3 is bisected down to the output grid's spacing ``DT_RADIANS``/Λ (:mod:`rocknroller.numerics.trajectory`),
+#: so wherever the angles turn fast the grid is at least as fine as the one used before (issue 24), and the turning
+#: points are the same to the bit (tests/numerics/test_batch.py); elsewhere 6.7× fewer points than ``DT_RADIANS``
+#: cut a run's sampling by as much.
 UNWRAP_RADIANS = 1.0
 #: Radians of Λ integrated per stretch when only the turning points are kept (≈ 5·10³ steps, ≈ 9 MB of dense output).
 #: Below glibc's largest mmap threshold (32 MB) a stretch's buffers, freed, are reused by the next: at 2·10⁴ radians
@@ -655,7 +656,7 @@ def _turning_points_only(body: Body, method: str, run: _HeyokaRun | _ScipyRun, y
         t_b = _stretch_end(t_a, t_end, stretch)
         dense, events = run.advance(t_b)
         for grid, t_max, t_min in _grid_pieces(t_a, t_b, dt, events):
-            record.add(_Samples.take(dense, grid, t_max, t_min, record.start))
+            record.add(_Samples.take(dense, grid, t_max, t_min, record.start, DT_RADIANS / rate))
         mx, mn = record.end_stretch()
         if on_turning_points is not None:
             on_turning_points(mx, mn)

@@ -2,10 +2,11 @@
 
 φ and ψ are unwrapped continuously, also through passages near θ = 0 where they jump by about ±π:
 the sample grid always contains the θ-minima (found as events), and any interval over which an angle
-changes by more than 2π/3 (wrapped), or over which the faster of φ̇, ψ̇ at its ends would turn it by more
-than 2π/3, is bisected on the dense output until none does, so the branch of every increment is resolved
-(the swing on each side of a near-vertical passage is about π/2).  The second test catches an angle that
-turns by more than 4π/3 between two samples, which the first would mistake for a small step.
+changes by more than 2π/3 (wrapped) is bisected on the dense output until none does, so the branch of every
+increment is resolved (the swing on each side of a near-vertical passage is about π/2).  A run that unwraps on a
+grid coarser than its output spacing (``simulate(..., samples=False)``) also bisects, down to that spacing, every
+interval over which the faster of φ̇, ψ̇ at its ends would turn an angle by more than 2π/3: that catches an angle
+turning by more than 4π/3 between two samples, which the first test would mistake for a small step.
 """
 
 from __future__ import annotations
@@ -93,12 +94,14 @@ def _angle_rates(y: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def _unresolved(t_lo: NDArray, t_hi: NDArray, ang_lo: NDArray, ang_hi: NDArray, rate_lo: NDArray,
-                rate_hi: NDArray) -> NDArray[np.bool_]:
-    """The intervals (t_lo, t_hi) to bisect: φ or ψ changes by more than 2π/3 (wrapped) over them, or would at the
-    faster rate of their ends; unless they are too short to split (64 u of t)."""
+                rate_hi: NDArray, fine: NDArray) -> NDArray[np.bool_]:
+    """The intervals (t_lo, t_hi) to bisect: φ or ψ changes by more than 2π/3 (wrapped) over them, or, while they
+    are longer than ``fine``, would at the faster rate of their ends; unless they are too short to split (64 u of
+    t).  The rate test stops at ``fine`` so that its work is bounded (near the pole φ̇ and ψ̇ grow without bound:
+    a tilt that stays within 1e-6 of the pole turns φ ~10⁵ times a time unit, which no grid resolves)."""
     jumps = np.any(np.abs(wrap_angle(ang_hi[1:] - ang_lo[1:])) > _UNWRAP_LIMIT, axis=0)
     width = t_hi - t_lo
-    fast = np.maximum(rate_lo, rate_hi) * width > _UNWRAP_LIMIT
+    fast = (np.maximum(rate_lo, rate_hi) * width > _UNWRAP_LIMIT) & (width > fine)
     return (jumps | fast) & (width > 64.0 * np.finfo(float).eps * np.maximum(1.0, np.abs(t_hi)))
 
 
@@ -123,8 +126,8 @@ def lane_states(dense: LaneDense, t: NDArray[np.float64], lane: NDArray[np.intp]
 
 
 def _unwrapped_angles(t: list[NDArray[np.float64]], y: list[NDArray[np.float64]], dense: LaneDense,
-                      columns: list[int], fill: NDArray[np.float64],
-                      starts: list[NDArray[np.float64] | None]) -> list[tuple[NDArray, NDArray]]:
+                      columns: list[int], fill: NDArray[np.float64], starts: list[NDArray[np.float64] | None],
+                      fine: ArrayLike) -> list[tuple[NDArray, NDArray]]:
     """States and unwrapped (θ, φ, ψ) at the times ``t[j]`` of each lane j (states ``y[j]`` there), refining the
     grids where needed.
 
@@ -134,14 +137,16 @@ def _unwrapped_angles(t: list[NDArray[np.float64]], y: list[NDArray[np.float64]]
     from the result.  An interval that still jumps after bisection down to round-off is a passage through θ = 0
     itself (θ_N at round-off level), where φ and ψ are undefined and only φ + ψ is: φ then takes the wrapped jump
     (−π) and ψ the opposite one, so that φ + ψ stays continuous.  ``starts[j]`` = (φ, ψ) on the branch to continue
-    at t[j][0] (a previous piece's last unwrapped values).  A lane's result depends only on its own times and
-    states.
+    at t[j][0] (a previous piece's last unwrapped values); ``fine[j]`` the width below which lane j's rate test stops
+    (:func:`_unresolved`).  A lane's result depends only on its own times and states.
     """
     lane_of = np.concatenate([np.full(tj.size, j) for j, tj in enumerate(t)])
     tt, yy = np.concatenate(t), np.concatenate(y)
     ang, rate = angles_from_frame(yy[:, 0:3].T, yy[:, 6:9].T), _angle_rates(yy)
     inside = lane_of[:-1] == lane_of[1:]
-    bad = np.flatnonzero(inside & _unresolved(tt[:-1], tt[1:], ang[:, :-1], ang[:, 1:], rate[:-1], rate[1:]))
+    fine = np.asarray(fine, float)
+    bad = np.flatnonzero(inside & _unresolved(tt[:-1], tt[1:], ang[:, :-1], ang[:, 1:], rate[:-1], rate[1:],
+                                              fine[lane_of[1:]]))
     lane, cols = lane_of[bad], np.asarray(columns)
     lo: tuple[NDArray, ...] = (tt[bad], ang[:, bad], rate[bad])
     hi: tuple[NDArray, ...] = (tt[bad + 1], ang[:, bad + 1], rate[bad + 1])
@@ -153,8 +158,8 @@ def _unwrapped_angles(t: list[NDArray[np.float64]], y: list[NDArray[np.float64]]
         y_mid = lane_states(dense, t_mid, lane, cols, fill)  # only the new points: the states elsewhere are kept
         mid = (t_mid, angles_from_frame(y_mid[:, 0:3].T, y_mid[:, 6:9].T), _angle_rates(y_mid))
         added.append((lane, t_mid, y_mid, mid[1]))
-        left = _unresolved(lo[0], mid[0], lo[1], mid[1], lo[2], mid[2])
-        right = _unresolved(mid[0], hi[0], mid[1], hi[1], mid[2], hi[2])
+        left = _unresolved(lo[0], mid[0], lo[1], mid[1], lo[2], mid[2], fine[lane])
+        right = _unresolved(mid[0], hi[0], mid[1], hi[1], mid[2], hi[2], fine[lane])
         lo = tuple(np.concatenate([a[..., left], b[..., right]], axis=-1) for a, b in zip(lo, mid))
         hi = tuple(np.concatenate([a[..., left], b[..., right]], axis=-1) for a, b in zip(mid, hi))
         lane = np.concatenate([lane[left], lane[right]])
@@ -226,18 +231,20 @@ class _Samples:
 
     @classmethod
     def take(cls, dense: DenseOutput, t_grid: ArrayLike, t_maxima: ArrayLike, t_minima: ArrayLike,
-             start: NDArray[np.float64] | None = None) -> "_Samples":
-        """Sample ``dense`` on the grid and at the turning points (one lane of :meth:`take_lanes`)."""
+             start: NDArray[np.float64] | None = None, fine: float = math.inf) -> "_Samples":
+        """Sample ``dense`` on the grid and at the turning points (one lane of :meth:`take_lanes`; ``fine``: where
+        the rate test stops, by default nowhere finer than the grid itself)."""
         t_grid = np.asarray(t_grid, float)
         return cls.take_lanes(lambda times: dense(times[:, 0])[:, :, None], [(t_grid, t_maxima, t_minima)], [0],
-                              t_grid[:1], [start])[0]
+                              t_grid[:1], [start], [fine])[0]
 
     @classmethod
     def take_lanes(cls, dense: LaneDense, pieces: list[tuple[ArrayLike, ArrayLike, ArrayLike]], columns: list[int],
-                   fill: NDArray[np.float64], starts: list[NDArray[np.float64] | None]) -> list["_Samples"]:
+                   fill: NDArray[np.float64], starts: list[NDArray[np.float64] | None],
+                   fine: ArrayLike) -> list["_Samples"]:
         """Sample several lanes' dense output (``dense``, lane j in column ``columns[j]``, the others at their
         ``fill`` times) on each lane's grid and at its turning points, ``pieces[j]`` = (grid, maxima, minima), the
-        lanes evaluated together; ``starts`` as :func:`_unwrapped_angles`'s."""
+        lanes evaluated together; ``starts`` and ``fine`` as :func:`_unwrapped_angles`'s."""
         t_all, inverse, sizes = [], [], []
         for t_grid, t_max, t_min in pieces:
             parts = [np.asarray(t_grid, float), np.asarray(t_max, float), np.asarray(t_min, float)]
@@ -252,7 +259,7 @@ class _Samples:
         y = [states[:ta.size, :, columns[j]] for j, ta in enumerate(t_all)]
         out = []
         for ta, inv, (n_grid, n_max), (yj, angles) in zip(t_all, inverse, sizes,
-                                                          _unwrapped_angles(t_all, y, dense, columns, fill, starts)):
+                                                          _unwrapped_angles(t_all, y, dense, columns, fill, starts, fine)):
             out.append(cls(ta, yj, angles, inv[n_grid:n_grid + n_max], inv[n_grid + n_max:]))
         return out
 
