@@ -134,8 +134,9 @@ def plot_atlas_check(atlas: Atlas, check: AtlasCheck, out: Path, title: str) -> 
     ax.plot(x[diff], y[diff], "o", ms=12, mfc="none", mec="tab:red", label="reversal counts differ")
     if "megno" in check.ode:
         differs = ~check.verdict_agrees.filled(True)
-        ax.plot(x[differs], y[differs], "s", ms=15, mfc="none", mec="k", label="regular/chaotic verdict differs")
-        diff = diff | differs
+        if differs.any():
+            ax.plot(x[differs], y[differs], "s", ms=15, mfc="none", mec="k", label="regular/chaotic verdict differs")
+            diff = diff | differs
     ax.set_xlim(*_edges(atlas.cols / xs)[[0, -1]])
     ax.set_ylim(*_edges(atlas.rows / ys)[[0, -1]])
     _decorate(ax, atlas, None)

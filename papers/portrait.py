@@ -223,7 +223,7 @@ def slow_portrait(body: Body, theta0: float, Theta: ArrayLike, p: ArrayLike | No
         CPU seconds the direct runs may take together (:func:`rocknroller.numerics.ensemble.run_ensemble`).
     chaos : bool
         Carry the map's tangent vector along each orbit and give it its chaos indicators (``SlowPortrait.chaos``,
-        the colour of the orbits by default; ~1.8x the map's own cost, the orbits the same to the bit).
+        the colour of the orbits by default; ~1.5-1.8x the map's own cost, the orbits the same to the bit).
 
     Raises
     ------

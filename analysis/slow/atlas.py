@@ -24,7 +24,7 @@ bit), and the map's relative errors there are returned beside the atlas.
 Order and chaos (issue 23, item 6).  A map-made release atlas also carries, by default, the map's own chaos
 indicators at every point (``CHAOS_OBSERVABLES``): MEGNO and the finite-time Lyapunov exponent per unit time of the
 run (:func:`rocknroller.analysis.slow.chaos.map_indicators`, the tangent vector that ``predict_slow_motion`` carries;
-~1.8x the map's cost without it, measured below), masked where a run has fewer than
+~1.5-1.8x the map's cost without it: benchmarks/bench_chaos_map.py), masked where a run has fewer than
 :data:`~rocknroller.numerics.megno.MIN_SAMPLES` maxima.  Its verdict, regular (MEGNO ≤
 :data:`~rocknroller.numerics.megno.MEGNO_CHAOTIC` = 3) or chaotic, is :attr:`Atlas.regular`.  :func:`confirm_atlas`
 checks that layer at its sample against the direct motion's indicators over the same span
@@ -283,7 +283,7 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
         CPU seconds the atlas may take (:mod:`rocknroller.numerics.budget`; None: no limit), estimated before any
         work: for the map, one table build per θ0 whose tables are not cached; for the ODE, the runs' radians.
     chaos : bool or None
-        The map: add the chaos layer, ``CHAOS_OBSERVABLES`` (module docstring; the map's tangent vector, ~1.8x the
+        The map: add the chaos layer, ``CHAOS_OBSERVABLES`` (module docstring; the map's tangent vector, ~1.5-1.8x the
         map's cost without it); None: True for the map, False for the ODE (an atlas made by the ODE has no chaos
         layer: True is refused there).
 

@@ -78,9 +78,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_force_option(p)
     add_budget_option(p, "the atlas (its table builds, or its direct runs) and its ODE confirmation each")
     p.add_argument("--no-chaos", action="store_true",
-                   help="the map: leave out the chaos layer (the map's MEGNO and Lyapunov exponent, ~1.8x the map's "
-                        "own cost, and the direct runs' variational equations at the confirmed points, ~1-3x a plain "
-                        "run each); an atlas by the direct ODE has none")
+                   help="the map: leave out the chaos layer (the map's MEGNO and Lyapunov exponent, ~1.5-1.8x the "
+                        "map's own cost, and the direct runs' variational equations at the confirmed points, ~1-3x a "
+                        "plain run each); an atlas by the direct ODE has none")
     p.add_argument("--cached-only", action="store_true",
                    help="the map: fail instead of building the averaging tables of a theta0 when none are cached")
     p.add_argument("--json", action="store_true", help="print a one-object JSON summary on stdout")

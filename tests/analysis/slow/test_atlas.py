@@ -262,6 +262,8 @@ def test_atlas_command_chaos_layer(tmp_path, capsys):
         assert name in cols, name
     assert [r[cols.index("verdict_agrees")] for r in rows[1:]] == ["true", "true"]
     assert float(rows[1][cols.index("megno")]) > 3.0 >= float(rows[2][cols.index("megno")])
+    for name in ("atlas.png", "atlas.pdf", "atlas_check.png", "atlas_check.pdf"):
+        assert (out / name).stat().st_size > 1000, name
     assert main(argv + ["--force", "--no-chaos"]) == 0
     assert "chaos" not in json.loads(capsys.readouterr().out)
     cols = [ln for ln in (out / "atlas.csv").read_text().splitlines() if not ln.startswith("#")][0].split(",")
