@@ -1,6 +1,8 @@
 """Figures of a recession atlas (:mod:`rocknroller.analysis.slow.atlas`): heat maps over (ψ0, θ0) or (φ̇0, ψ̇0), the
 paper's starts marked (and, over the rates, the starts on the critical lines drawn), and the map's errors at the
-points the direct ODE confirmed."""
+points the direct ODE confirmed.  An atlas with its chaos layer gets two more panels: the map's MEGNO (colours
+clipped to [0, :data:`rocknroller.papers.plotting.MEGNO_CLIP`], the line MEGNO = 3 between regular and chaotic
+drawn) and its Lyapunov exponent."""
 
 from __future__ import annotations
 
@@ -12,8 +14,10 @@ import numpy as np
 
 from rocknroller.analysis.criticality.starts import PSI0, THETA0, paper_rate_starts
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.slow.atlas import ATLAS_OBSERVABLES, Atlas, AtlasCheck
+from rocknroller.analysis.slow.atlas import Atlas, AtlasCheck
+from rocknroller.numerics.megno import MEGNO_CHAOTIC
 from rocknroller.papers.output import new_figure, save_figure
+from rocknroller.papers.plotting import MEGNO_CLIP
 
 __all__ = ["PAPER_RELEASES", "LABELS", "AXIS_LABELS", "plot_atlas", "plot_atlas_check"]
 
@@ -22,7 +26,9 @@ PAPER_RELEASES = tuple((0.95 * math.pi, psi) for psi in (math.pi / 8, math.pi / 
 #: Panel titles.
 LABELS = {"slow_period": "slow period of $\\Theta = 2\\psi$", "Phi": "azimuth span $\\Phi$ (rad)",
           "QR_extent": "$Q_R$ extent", "QJ_extent": "$Q_J$ extent",
-          "full_reversals": "full-angle reversals / 1000 t.u.", "visible_reversals": "visible reversals / 1000 t.u."}
+          "full_reversals": "full-angle reversals / 1000 t.u.", "visible_reversals": "visible reversals / 1000 t.u.",
+          "megno": f"map's MEGNO (clipped at {MEGNO_CLIP:g}; > {MEGNO_CHAOTIC:g}: chaotic)",
+          "lyapunov": "map's Lyapunov exponent (per unit time)"}
 #: Axis labels of the initial values (angles in units of π).
 AXIS_LABELS = {"theta0": "$\\theta_0/\\pi$", "psi0": "$\\psi_0/\\pi$", "phi_dot0": "$\\dot\\phi_0$",
                "psi_dot0": "$\\dot\\psi_0$"}
@@ -79,14 +85,25 @@ def _decorate(ax: Any, atlas: Atlas, body: Body | None) -> None:
 
 
 def plot_atlas(atlas: Atlas, out: Path, title: str, body: Body | None = None) -> list[Path]:
-    """Six heat maps of ``ATLAS_OBSERVABLES`` over the atlas's plane, the paper's starts starred (and over a plane of
-    rates, given the ``body``, the critical lines: red solid Q_J,π^crit, blue dashed Q_J,0^crit); PNG and PDF."""
-    fig = new_figure(figsize=(13, 7.5))
-    axes = fig.subplots(2, 3).ravel()
+    """Heat maps of the atlas's observables (``Atlas.observables``: six, and the two of its chaos layer) over its
+    plane, the paper's starts starred (and over a plane of rates, given the ``body``, the critical lines: red solid
+    Q_J,π^crit, blue dashed Q_J,0^crit); PNG and PDF."""
+    names = atlas.observables
+    n_cols = (len(names) + 1) // 2
+    fig = new_figure(figsize=(13 * n_cols / 3, 7.5))
+    axes = fig.subplots(2, n_cols).ravel()
     xe, ye = _edges(atlas.cols / _scale(atlas.col_name)), _edges(atlas.rows / _scale(atlas.row_name))
-    for ax, name in zip(axes, ATLAS_OBSERVABLES):
-        mesh = ax.pcolormesh(xe, ye, atlas.values[name], shading="flat", cmap="viridis")
-        fig.colorbar(mesh, ax=ax)
+    for ax, name in zip(axes, names):
+        if name == "megno":
+            mesh = ax.pcolormesh(xe, ye, atlas.values[name], shading="flat", cmap="plasma", vmin=0.0, vmax=MEGNO_CLIP)
+            bar = fig.colorbar(mesh, ax=ax, extend="max")
+            bar.ax.axhline(MEGNO_CHAOTIC, color="w", lw=1.5)
+            if atlas.rows.size > 1 and atlas.cols.size > 1 and np.ma.count(atlas.values[name]) > 0:
+                ax.contour(atlas.cols / _scale(atlas.col_name), atlas.rows / _scale(atlas.row_name),
+                           atlas.values[name], levels=[MEGNO_CHAOTIC], colors="w", linewidths=1.0)
+        else:
+            mesh = ax.pcolormesh(xe, ye, atlas.values[name], shading="flat", cmap="viridis")
+            fig.colorbar(mesh, ax=ax)
         _decorate(ax, atlas, body)
         ax.set_xlim(xe[0], xe[-1])
         ax.set_ylim(ye[0], ye[-1])
@@ -98,7 +115,8 @@ def plot_atlas(atlas: Atlas, out: Path, title: str, body: Body | None = None) ->
 
 def plot_atlas_check(atlas: Atlas, check: AtlasCheck, out: Path, title: str) -> list[Path]:
     """Where the direct ODE confirmed the map: the largest |relative error| of the slow period, Φ and the extents
-    at each confirmed point (colour, log scale), and the points whose reversal counts differ (red ring)."""
+    at each confirmed point (colour, log scale), the points whose reversal counts differ (red ring) and, with the
+    chaos layer, those where the map's regular/chaotic verdict differs from the ODE's (black square)."""
     from matplotlib.colors import LogNorm
 
     fig = new_figure(figsize=(6.5, 5))
@@ -114,6 +132,11 @@ def plot_atlas_check(atlas: Atlas, check: AtlasCheck, out: Path, title: str) -> 
         fig.colorbar(sc, ax=ax, label="largest |map/ODE - 1| (slow period, $\\Phi$, extents)")
     diff = (np.ma.abs(check.rel_error["full_reversals"]) + np.ma.abs(check.rel_error["visible_reversals"])).filled(0) > 0
     ax.plot(x[diff], y[diff], "o", ms=12, mfc="none", mec="tab:red", label="reversal counts differ")
+    if "megno" in check.ode:
+        differs = ~check.verdict_agrees.filled(True)
+        if differs.any():
+            ax.plot(x[differs], y[differs], "s", ms=15, mfc="none", mec="k", label="regular/chaotic verdict differs")
+            diff = diff | differs
     ax.set_xlim(*_edges(atlas.cols / xs)[[0, -1]])
     ax.set_ylim(*_edges(atlas.rows / ys)[[0, -1]])
     _decorate(ax, atlas, None)

@@ -29,9 +29,13 @@ from rocknroller.papers.output import new_figure
 if TYPE_CHECKING:  # pragma: no cover
     from rocknroller.numerics.trajectory import Trajectory
 
-__all__ = ["LINE_STYLE", "DiagramData", "critical_line_data", "draw_critical_lines", "free_spots",
+__all__ = ["LINE_STYLE", "MEGNO_CLIP", "DiagramData", "critical_line_data", "draw_critical_lines", "free_spots",
            "plot_V_phi", "region_diagram"]
 
+#: Top of the colour scales of MEGNO (the atlas's layer, the portrait's orbits): a regular orbit's MEGNO is ≈ 2 (0 on
+#: a stable periodic one), a chaotic one's grows as λt/2 without bound (above 3: chaotic,
+#: ``numerics.megno.MEGNO_CHAOTIC``); larger values get the top colour (the colour bar's arrow).
+MEGNO_CLIP = 5.0
 #: Paper fig. 4 conventions: Q_J,π^crit red solid, Q_J,0^crit blue dashed.
 LINE_STYLE = {
     "pi": dict(color="tab:red", ls="-", lw=1.4, label=r"$Q_J=Q_{J,\pi}^{\mathrm{crit}}$ (visible-angle reversal)"),

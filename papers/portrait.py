@@ -15,9 +15,14 @@ orbit that leaves the tables is cut where it leaves and listed in ``SlowPortrait
 same maxima (:func:`rocknroller.analysis.slow.family.maximum_state`), run by
 :func:`rocknroller.numerics.ensemble.run_ensemble`.
 
-Colour.  Each orbit is coloured by one value (:func:`orbit_values`): the values passed in, else each orbit's MEGNO
-where every orbit carries one (an object with a ``chaos`` attribute whose ``.megno`` is set, as the slow map's
-predictions will), else the orbit's index in the grid.
+Colour.  Each orbit is coloured by one value (:func:`portrait_values`): the values passed in; else, by default, the
+orbit's MEGNO (``SlowPortrait.chaos``: the map's tangent vector carried along the orbit,
+``iterate_slow_map(..., tangent=True)``, and :func:`rocknroller.analysis.slow.chaos.map_indicators`, the indicators
+``predict_slow_motion`` gives a release), on a colour scale clipped to [0, ``MEGNO_CLIP``] = [0, 5] (regular ≈ 2, a
+stable periodic orbit 0, chaotic above 3, marked on the colour bar), grey where an orbit has fewer than
+:data:`~rocknroller.numerics.megno.MIN_SAMPLES` maxima (it left the tables early); with ``chaos=False``, or for other
+``orbits`` given (:func:`orbit_values`: their ``chaos.megno`` where every one carries it), as those say, else the
+orbit's index in the grid.
 """
 
 from __future__ import annotations
@@ -34,14 +39,16 @@ from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.model.body import Body, as_float
 from rocknroller.analysis.slow import prediction as av
+from rocknroller.analysis.slow.chaos import map_indicators
 from rocknroller.analysis.slow.compiled_map import SlowSeries, iterate_slow_map
 from rocknroller.analysis.slow.family import maximum_state, rest_energy
 from rocknroller.numerics.budget import WORK_BUDGET_SECONDS
+from rocknroller.numerics.megno import MEGNO_CHAOTIC, MIN_SAMPLES, ChaosIndicators
 from rocknroller.papers.output import new_figure, save_figure, write_csv
-from rocknroller.papers.plotting import draw_critical_lines
+from rocknroller.papers.plotting import MEGNO_CLIP, draw_critical_lines
 
-__all__ = ["MAX_PORTRAIT_ORBITS", "MAX_ODE_STARTS", "N_P_DEFAULT", "SlowPortrait", "orbit_values", "theta0_of_energy",
-           "slow_portrait", "plot_portrait", "write_portrait"]
+__all__ = ["MAX_PORTRAIT_ORBITS", "MAX_ODE_STARTS", "N_P_DEFAULT", "SlowPortrait", "orbit_values", "portrait_values",
+           "theta0_of_energy", "slow_portrait", "plot_portrait", "write_portrait"]
 
 #: Most map orbits of one portrait (grid points; each ~1 ms per 1000 time units).
 MAX_PORTRAIT_ORBITS = 10_000
@@ -66,6 +73,8 @@ class SlowPortrait:
     left : indices of the orbits that left the tables before t_end.
     ode_starts : the (Θ, p) of the direct runs.
     ode : the direct runs' θ-maxima (``TurningPoints``), one per ODE start.
+    chaos : the map's chaos indicators of each orbit (None for an orbit of fewer than ``MIN_SAMPLES`` maxima); empty
+        for a portrait made with ``chaos=False``.
     """
 
     body: Body
@@ -82,6 +91,20 @@ class SlowPortrait:
     left: tuple[int, ...] = ()
     ode_starts: tuple[tuple[float, float], ...] = ()
     ode: tuple[Any, ...] = field(default=(), repr=False)
+    chaos: tuple[ChaosIndicators | None, ...] = field(default=(), repr=False)
+
+    @property
+    def megno(self) -> NDArray[np.float64]:
+        """Each orbit's MEGNO, NaN where it has none (fewer than ``MIN_SAMPLES`` maxima).
+
+        Raises
+        ------
+        ValueError
+            A portrait made with ``chaos=False``.
+        """
+        if len(self.chaos) != len(self.orbits):
+            raise ValueError("this portrait has no chaos indicators: make it with slow_portrait(..., chaos=True)")
+        return np.array([math.nan if c is None else c.megno for c in self.chaos], dtype=float)
 
     def p(self, QR: ArrayLike, QJ: ArrayLike) -> NDArray[np.float64]:
         """p = ∇W(0)·Q of samples (Q_R, Q_J)."""
@@ -106,6 +129,25 @@ def orbit_values(orbits: Sequence[Any], values: ArrayLike | None = None) -> tupl
     if orbits and all(m is not None for m in megno):
         return np.array(megno, dtype=float), "MEGNO"
     return np.arange(len(orbits), dtype=float), "orbit index"
+
+
+def portrait_values(portrait: SlowPortrait, values: ArrayLike | None = None,
+                    orbits: Sequence[Any] | None = None) -> tuple[NDArray[np.float64], str]:
+    """One colour value per orbit of ``portrait`` and its label: ``values`` if given, else :func:`orbit_values` of
+    ``orbits`` if given; else the orbits' MEGNO (``SlowPortrait.megno``, NaN where not measured; label
+    ``"MEGNO"``) if the portrait has its indicators; else the orbits' indices.
+
+    Raises
+    ------
+    ValueError
+        ``values`` or ``orbits`` of another length than the portrait's orbits, or ``values`` not finite.
+    """
+    n = len(portrait.orbits)
+    if orbits is not None and len(orbits) != n:
+        raise ValueError(f"orbits must be {n} objects, one per orbit of the portrait, got {len(orbits)}")
+    if values is not None or orbits is not None or len(portrait.chaos) != n:
+        return orbit_values(portrait.orbits if orbits is None else orbits, values)
+    return portrait.megno, "MEGNO"
 
 
 def theta0_of_energy(body: Body, E: float) -> float:
@@ -151,7 +193,7 @@ N_P_DEFAULT = 9
 def slow_portrait(body: Body, theta0: float, Theta: ArrayLike, p: ArrayLike | None = None, t_end: float = 2000.0, *,
                   order: int = 1, ode_starts: Sequence[tuple[float, float]] = (), ode_t_end: float | None = None,
                   build: bool = True, progress: bool | None = None,
-                  budget: float | None = WORK_BUDGET_SECONDS) -> SlowPortrait:
+                  budget: float | None = WORK_BUDGET_SECONDS, chaos: bool = True) -> SlowPortrait:
     """The slow map's orbits from the grid Θ × p at (body, θ0, ε = body.epsilon), and the direct ODE's θ-maxima
     from ``ode_starts`` (module docstring).
 
@@ -179,12 +221,17 @@ def slow_portrait(body: Body, theta0: float, Theta: ArrayLike, p: ArrayLike | No
         tqdm bars over the grid and the direct runs on stderr (None: only if stderr is a terminal).
     budget : float or None
         CPU seconds the direct runs may take together (:func:`rocknroller.numerics.ensemble.run_ensemble`).
+    chaos : bool
+        Carry the map's tangent vector along each orbit and give it its chaos indicators (``SlowPortrait.chaos``,
+        the colour of the orbits by default; ~1.5-1.8x the map's own cost, the orbits the same to the bit).
 
     Raises
     ------
     ValueError
         Naming the parameter: ε ≤ 0, θ0 out of range, a grid value out of range or too many orbits, a bad order.
     """
+    if not isinstance(chaos, bool):
+        raise ValueError(f"chaos must be True or False, got chaos={chaos!r}")
     eps = body.epsilon
     if not eps > 0.0:
         raise ValueError(f"eps must be > 0 for a portrait of the slow motion (at eps = 0 there is none), got "
@@ -226,29 +273,33 @@ def slow_portrait(body: Body, theta0: float, Theta: ArrayLike, p: ArrayLike | No
         QR, QJ = (s_p / along) * e
         state = maximum_state(body.symmetric(), eps, table.E0, QR, QJ, 0.5 * s_Th)[2]
         jobs.append(Job(body, state, t_end if ode_t_end is None else ode_t_end))
-    orbits, left = [], []
+    orbits, left, indicators = [], [], []
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", av.AveragingValidityWarning)  # K > 4 is stated in the portrait's title
         with _bar(n, progress, "portrait") as bar:
             for k, (th, pk) in enumerate(zip(T, P)):
                 Q0 = (pk / along) * e
                 try:
-                    s = iterate_slow_map(table, eps, 0.5 * th, t_end, Q0=Q0, second=second)
+                    s = iterate_slow_map(table, eps, 0.5 * th, t_end, Q0=Q0, second=second, tangent=chaos)
                 except av.AveragingRangeError:
-                    s = _until_left(table, eps, 0.5 * th, t_end, Q0, second)
+                    s = _until_left(table, eps, 0.5 * th, t_end, Q0, second, chaos)
                     left.append(k)
                 orbits.append(s)
+                if chaos:
+                    indicators.append(None if s.log_growth is None else map_indicators(s.t, s.log_growth))
                 bar.update(1)
     ode = [] if not jobs else [r.maxima for r in run_ensemble(jobs, progress=progress, budget=budget)]
     return SlowPortrait(body=body, theta0=theta0, E=float(table.E0), t_end=float(t_end), order=order,
                         K=eps * table.kappa, grad_W=np.asarray(grad_W, float), e=e, Theta0=T, p0=P,
-                        orbits=tuple(orbits), left=tuple(left), ode_starts=tuple(starts), ode=tuple(ode))
+                        orbits=tuple(orbits), left=tuple(left), ode_starts=tuple(starts), ode=tuple(ode),
+                        chaos=tuple(indicators))
 
 
 def _until_left(table: Any, eps: float, psi0: float, t_end: float, Q0: NDArray[np.float64],
-                second: Any) -> SlowSeries:
+                second: Any, tangent: bool) -> SlowSeries:
     """The orbit up to its last maximum inside the tables: the longest n_steps that does not leave them (bisection on
-    the number of steps; the map is deterministic, so a prefix is the same orbit)."""
+    the number of steps; the map is deterministic, so a prefix is the same orbit), with its tangent vector if
+    ``tangent`` (log_growth None for an empty orbit)."""
     lo, hi = 0, 1
     while True:  # grow until it leaves
         try:
@@ -266,25 +317,33 @@ def _until_left(table: Any, eps: float, psi0: float, t_end: float, Q0: NDArray[n
     if lo == 0:
         empty = np.empty(0)
         return SlowSeries(t=empty, QR=empty.copy(), QJ=empty.copy(), Theta=empty.copy(), phi=empty.copy())
-    return iterate_slow_map(table, eps, psi0, t_end, Q0=Q0, n_steps=lo, second=second)
+    return iterate_slow_map(table, eps, psi0, t_end, Q0=Q0, n_steps=lo, second=second, tangent=tangent)
 
 
 def plot_portrait(portrait: SlowPortrait, values: ArrayLike | None = None, *, cmap: str = "viridis",
                   orbits: Sequence[Any] | None = None) -> Any:
     """Draw the portrait: (Θ mod 2π, p) on the left, (Q_R, Q_J) over the critical lines on the right; the map's
-    orbits as dots coloured by :func:`orbit_values` (of ``orbits``, default ``portrait.orbits``), the release line
-    p = 0 (and its point Q = 0), and the ODE's maxima as black crosses.  Returns the figure."""
+    orbits as dots coloured by :func:`portrait_values` (by default their MEGNO, clipped to [0, ``MEGNO_CLIP``], grey
+    where not measured), the release line p = 0 (and its point Q = 0), and the ODE's maxima as black crosses.
+    Returns the figure."""
+    import matplotlib
     from matplotlib import colors
 
-    vals, label = orbit_values(portrait.orbits if orbits is None else orbits, values)
-    norm = colors.Normalize(vmin=float(vals.min()), vmax=float(vals.max()) if vals.max() > vals.min()
-                            else float(vals.min()) + 1.0)
+    vals, label = portrait_values(portrait, values, orbits)
+    megno = label == "MEGNO"
+    cm = matplotlib.colormaps[cmap]
+    if megno:
+        norm = colors.Normalize(vmin=0.0, vmax=MEGNO_CLIP)
+        cm = cm.with_extremes(bad="0.75")
+    else:
+        norm = colors.Normalize(vmin=float(vals.min()), vmax=float(vals.max()) if vals.max() > vals.min()
+                                else float(vals.min()) + 1.0)
     fig = new_figure(figsize=(11, 4.6), layout="constrained")
     ax_p, ax_q = fig.subplots(1, 2)
     c = np.concatenate([np.full(s.t.size, v) for s, v in zip(portrait.orbits, vals)] + [np.empty(0)])
     QR, QJ, Th = (np.concatenate([getattr(s, k) for s in portrait.orbits] + [np.empty(0)])
                   for k in ("QR", "QJ", "Theta"))
-    dots = dict(c=c, s=0.6, cmap=cmap, norm=norm, linewidths=0, rasterized=True)
+    dots = dict(c=c, s=0.6, cmap=cm, norm=norm, linewidths=0, rasterized=True)
     ax_p.scatter(np.mod(Th, 2.0 * math.pi), portrait.p(QR, QJ), **dots)
     ax_q.scatter(QR, QJ, **dots)
     for k, m in enumerate(portrait.ode):
@@ -308,8 +367,13 @@ def plot_portrait(portrait: SlowPortrait, values: ArrayLike | None = None, *, cm
     ax_q.legend(fontsize=7, loc="upper left")
     from matplotlib.cm import ScalarMappable
 
-    sm = ScalarMappable(norm=norm, cmap=cmap)
-    fig.colorbar(sm, ax=[ax_p, ax_q], label=label, shrink=0.9, aspect=30)
+    sm = ScalarMappable(norm=norm, cmap=cm)
+    if megno:
+        bar = fig.colorbar(sm, ax=[ax_p, ax_q], label=f"MEGNO (clipped at {MEGNO_CLIP:g}; > {MEGNO_CHAOTIC:g} "
+                           f"chaotic; grey: < {MIN_SAMPLES} maxima)", shrink=0.9, aspect=30, extend="max")
+        bar.ax.axhline(MEGNO_CHAOTIC, color="w", lw=1.5)
+    else:
+        fig.colorbar(sm, ax=[ax_p, ax_q], label=label, shrink=0.9, aspect=30)
     fig.suptitle(rf"slow map (order {portrait.order}) at $\varepsilon$ = {portrait.body.epsilon:.4g}, "
                  rf"$\theta_0$ = {portrait.theta0 / math.pi:.4g}$\pi$, K = $\varepsilon\kappa$ = {portrait.K:.3g}, "
                  f"t_end = {portrait.t_end:g}", fontsize=10)
@@ -319,9 +383,9 @@ def plot_portrait(portrait: SlowPortrait, values: ArrayLike | None = None, *, cm
 def write_portrait(portrait: SlowPortrait, out: str | Path, name: str = "portrait",
                    values: ArrayLike | None = None, orbits: Sequence[Any] | None = None) -> list[Path]:
     """Save the figure (:func:`plot_portrait`) as ``name.png`` and ``name.pdf`` and the samples as ``name.csv``
-    (one row per θ-maximum: source ``map`` or ``ode``, orbit index, its start (Θ0, p0), colour value, t, Θ mod 2π, p,
-    Q_R, Q_J; header with the parameters); returns the paths."""
-    vals, label = orbit_values(portrait.orbits if orbits is None else orbits, values)
+    (one row per θ-maximum: source ``map`` or ``ode``, orbit index, its start (Θ0, p0), colour value (empty where
+    not measured), t, Θ mod 2π, p, Q_R, Q_J; header with the parameters); returns the paths."""
+    vals, label = portrait_values(portrait, values, orbits)
     paths = save_figure(plot_portrait(portrait, values, orbits=orbits), out, name)
     cols: dict[str, list] = {k: [] for k in ("source", "orbit", "Theta0", "p0", "value", "t", "Theta", "p", "QR",
                                               "QJ")}
@@ -334,7 +398,9 @@ def write_portrait(portrait: SlowPortrait, out: str | Path, name: str = "portrai
             cols[key].extend(col)
 
     for k, s in enumerate(portrait.orbits):
-        add("map", k, float(portrait.Theta0[k]), float(portrait.p0[k]), float(vals[k]), s.t, s.Theta, s.QR, s.QJ)
+        v = float(vals[k])
+        add("map", k, float(portrait.Theta0[k]), float(portrait.p0[k]), v if math.isfinite(v) else None, s.t, s.Theta,
+            s.QR, s.QJ)
     for k, (m, (th0, p0)) in enumerate(zip(portrait.ode, portrait.ode_starts)):
         add("ode", k, th0, p0, None, m.t, 2.0 * m.psi, m.QR, m.QJ)
     header = [f"rocknroller portrait: body {portrait.body.describe()}",
@@ -342,7 +408,9 @@ def write_portrait(portrait: SlowPortrait, out: str | Path, name: str = "portrai
               f"{portrait.order}, t_end {portrait.t_end!r}",
               f"p = gradW(0).Q with gradW(0) = ({portrait.grad_W[0]!r}, {portrait.grad_W[1]!r}); grid starts at "
               f"Q = (p0 / gradW.e) e, e = ({portrait.e[0]!r}, {portrait.e[1]!r}); Theta = 2 psi mod 2 pi",
-              f"value: {label}; orbits that left the tables before t_end: {list(portrait.left)}",
+              f"value: {label}" + (f" of the map's orbit over its run (> {MEGNO_CHAOTIC:g}: chaotic; empty: fewer than "
+                                   f"{MIN_SAMPLES} maxima)" if label == "MEGNO" else "")
+              + f"; orbits that left the tables before t_end: {list(portrait.left)}",
               "source ode: the direct ODE from the same maxima (value empty)"]
     paths.append(write_csv(Path(out) / f"{name}.csv", cols, header))
     return paths

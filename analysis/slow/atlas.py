@@ -20,6 +20,18 @@ units: crossings of the critical lines by the maxima's (Q_R, Q_J), as
 A sample of a map-made atlas's points (and any the caller names) is run by the direct ODE as an ensemble
 (:func:`rocknroller.numerics.ensemble.run_ensemble`: in process, threads, or a dask cluster, the same numbers bit for
 bit), and the map's relative errors there are returned beside the atlas.
+
+Order and chaos (issue 23, item 6).  A map-made release atlas also carries, by default, the map's own chaos
+indicators at every point (``CHAOS_OBSERVABLES``): MEGNO and the finite-time Lyapunov exponent per unit time of the
+run (:func:`rocknroller.analysis.slow.chaos.map_indicators`, the tangent vector that ``predict_slow_motion`` carries;
+~1.5-1.8x the map's cost without it: benchmarks/bench_chaos_map.py), masked where a run has fewer than
+:data:`~rocknroller.numerics.megno.MIN_SAMPLES` maxima.  Its verdict, regular (MEGNO ≤
+:data:`~rocknroller.numerics.megno.MEGNO_CHAOTIC` = 3) or chaotic, is :attr:`Atlas.regular`.  :func:`confirm_atlas`
+checks that layer at its sample against the direct motion's indicators over the same span
+(:func:`rocknroller.numerics.variational.direct_chaos_indicators`: heyoka's variational equations, which do not run
+through ``run_ensemble``; they run in this process, on ``threads`` threads) and reports where the two verdicts agree
+(:attr:`AtlasCheck.verdict_agrees`).  An atlas made by the ODE has no chaos layer (a variational run costs ~1-3
+plain runs a point; ``direct_chaos_indicators`` gives it for any start).
 """
 
 from __future__ import annotations
@@ -35,15 +47,19 @@ from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import RATE_MAX, EulerState
 from rocknroller.analysis.slow import prediction as av
 from rocknroller.numerics.budget import REGION_TABLE_SECONDS, RELEASE_TABLE_SECONDS, WORK_BUDGET_SECONDS, check_work
+from rocknroller.numerics.megno import MEGNO_CHAOTIC
 from rocknroller.numerics.parallel import check_processes, map_blocks
 
 __all__ = [
-    "ATLAS_OBSERVABLES", "PLANES", "METHODS", "MAX_ATLAS_POINTS", "MAX_ODE_ATLAS_POINTS", "Atlas", "AtlasCheck",
-    "reversal_counts", "atlas_from_rest", "atlas_of_rates", "confirm_atlas"
+    "ATLAS_OBSERVABLES", "CHAOS_OBSERVABLES", "PLANES", "METHODS", "MAX_ATLAS_POINTS", "MAX_ODE_ATLAS_POINTS", "Atlas",
+    "AtlasCheck", "reversal_counts", "atlas_from_rest", "atlas_of_rates", "confirm_atlas"
 ]
 
 #: What the atlas maps, per point: the map's diagnostics and the reversals per 1000 time units.
 ATLAS_OBSERVABLES = ("slow_period", "Phi", "QR_extent", "QJ_extent", "full_reversals", "visible_reversals")
+#: The chaos layer of a map-made release atlas (module docstring): the map's MEGNO and its finite-time Lyapunov
+#: exponent per unit time.
+CHAOS_OBSERVABLES = ("megno", "lyapunov")
 #: Most points of one atlas (≈ 1 ms and 48 bytes each once the tables are cached).
 MAX_ATLAS_POINTS = 250_000
 
@@ -55,9 +71,13 @@ def reversal_counts(crossings: Sequence[tuple[float, str, str, str]] | None, t_e
     return (scale * sum("QJ0crit" in s for s in lines), scale * sum("QJpicrit" in s for s in lines))
 
 
-def _values(pred: Any, t_end: float) -> list[float | None]:
+def _values(pred: Any, t_end: float, chaos: bool) -> list[float | None]:
     full, visible = reversal_counts(pred.crossings, t_end)
-    return [pred.slow_period, pred.Phi, pred.QR_extent, pred.QJ_extent, full, visible]
+    out = [pred.slow_period, pred.Phi, pred.QR_extent, pred.QJ_extent, full, visible]
+    if chaos:
+        ch = pred.chaos
+        out += [None, None] if ch is None else [ch.megno, ch.lyapunov]
+    return out
 
 
 #: The planes of starts an atlas covers: the initial values along its rows and its columns.
@@ -79,8 +99,10 @@ class Atlas:
     at : (θ0, ψ0) of a ``"rates"`` plane; None for ``"release"``.
     method : ``"map"`` (the averaged map) or ``"ode"`` (the direct ODE at every point).
     values : dict
-        For each of ``ATLAS_OBSERVABLES``, a masked array (len(rows), len(cols)); masked where the quantity is
-        undefined (the slow period of a run with fewer than two crossings of its mean).
+        For each of ``ATLAS_OBSERVABLES`` (and, for a map-made atlas with its chaos layer, ``CHAOS_OBSERVABLES``), a
+        masked array (len(rows), len(cols)); masked where the quantity is undefined (the slow period of a run with
+        fewer than two crossings of its mean; the indicators of a run with fewer than ``MIN_SAMPLES`` maxima, or of
+        pure rocking at ε = 0).
     warnings : the distinct validity warnings of the predictions (e.g. K = ε κ > 4, coarse region tables).
     """
 
@@ -93,6 +115,25 @@ class Atlas:
     at: tuple[float, float] | None = None
     method: str = "map"
     warnings: tuple[str, ...] = ()
+
+    @property
+    def observables(self) -> tuple[str, ...]:
+        """The names of the layers in ``values``: ``ATLAS_OBSERVABLES``, then ``CHAOS_OBSERVABLES`` if it has them."""
+        return ATLAS_OBSERVABLES + (CHAOS_OBSERVABLES if "megno" in self.values else ())
+
+    @property
+    def regular(self) -> np.ma.MaskedArray:
+        """The map's verdict at each point, MEGNO ≤ ``MEGNO_CHAOTIC`` (regular) or not, masked where MEGNO is.
+
+        Raises
+        ------
+        ValueError
+            An atlas without the chaos layer (made by the ODE, or with ``chaos=False``).
+        """
+        if "megno" not in self.values:
+            raise ValueError("this atlas has no chaos layer (made by the ODE, or by the map with chaos=False): "
+                             "make it with atlas_from_rest(..., method='map', chaos=True)")
+        return self.values["megno"] <= MEGNO_CHAOTIC
 
     @property
     def row_name(self) -> str:
@@ -119,19 +160,21 @@ def _check_grid(name: str, values: ArrayLike, lo: float, hi: float) -> NDArray[n
     return a
 
 
-def _rows(body: Body, theta0: NDArray[np.float64], psi0: NDArray[np.float64], t_end: float,
-          build: bool) -> tuple[NDArray[np.float64], NDArray[np.bool_], list[str]]:
-    """The map's observables (len(ATLAS_OBSERVABLES), len(theta0), len(psi0)), where they are undefined, and the
-    validity warnings, for some rows of a release atlas (in this process)."""
-    out = np.zeros((len(ATLAS_OBSERVABLES), theta0.size, psi0.size))
+def _rows(body: Body, theta0: NDArray[np.float64], psi0: NDArray[np.float64], t_end: float, build: bool,
+          chaos: bool) -> tuple[NDArray[np.float64], NDArray[np.bool_], list[str]]:
+    """The map's observables (len(names), len(theta0), len(psi0)), names ``ATLAS_OBSERVABLES`` and, with ``chaos``,
+    ``CHAOS_OBSERVABLES``, where they are undefined, and the validity warnings, for some rows of a release atlas (in
+    this process)."""
+    out = np.zeros((len(ATLAS_OBSERVABLES) + (len(CHAOS_OBSERVABLES) if chaos else 0), theta0.size, psi0.size))
     mask = np.zeros_like(out, dtype=bool)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", av.AveragingValidityWarning)
         for i, t0 in enumerate(theta0):
             table = None if av.releases_on_region_tables(t0) else av.load_or_build_table(body, t0, build=build)
             for j, p0 in enumerate(psi0):
-                pred = av.predict_slow_motion(body, float(t0), float(p0), t_end, table=table, build=build, order=1)
-                for k, v in enumerate(_values(pred, t_end)):
+                pred = av.predict_slow_motion(body, float(t0), float(p0), t_end, table=table, build=build, order=1,
+                                              indicators=chaos)
+                for k, v in enumerate(_values(pred, t_end, chaos)):
                     mask[k, i, j] = v is None
                     out[k, i, j] = 0.0 if v is None else v
     return out, mask, [str(w.message) for w in caught if issubclass(w.category, av.AveragingValidityWarning)]
@@ -209,7 +252,8 @@ def _check_method(method: str) -> str:
 def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float = 1000.0, *,
                     method: str = "map", progress: bool | None = None, build: bool = True, processes: int = 1,
                     scheduler: str | None = None, workers: int | None = None,
-                    threads: int | None = None, budget: float | None = WORK_BUDGET_SECONDS) -> Atlas:
+                    threads: int | None = None, budget: float | None = WORK_BUDGET_SECONDS,
+                    chaos: bool | None = None) -> Atlas:
     """Map the slow motion over the releases from rest at every (θ0, ψ0) of the grid (module docstring).
 
     Parameters
@@ -238,6 +282,10 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
     budget : float or None
         CPU seconds the atlas may take (:mod:`rocknroller.numerics.budget`; None: no limit), estimated before any
         work: for the map, one table build per θ0 whose tables are not cached; for the ODE, the runs' radians.
+    chaos : bool or None
+        The map: add the chaos layer, ``CHAOS_OBSERVABLES`` (module docstring; the map's tangent vector, ~1.5-1.8x the
+        map's cost without it); None: True for the map, False for the ODE (an atlas made by the ODE has no chaos
+        layer: True is refused there).
 
     Raises
     ------
@@ -247,20 +295,29 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
     """
     th = _check_grid("theta0", theta0, np.nextafter(0.0, 1.0), av.THETA0_RANGE[1])
     ps = _check_grid("psi0", psi0, -1e6, 1e6)
+    if chaos is not None and not isinstance(chaos, bool):
+        raise ValueError(f"chaos must be True, False or None, got chaos={chaos!r}")
     if _check_method(method) == "ode":
+        if chaos:
+            raise ValueError("chaos=True needs method='map': an atlas made by the direct ODE has no chaos layer "
+                             "(give chaos=False; rocknroller.numerics.variational.direct_chaos_indicators gives the "
+                             "ODE's MEGNO of any start, and confirm_atlas checks the map's layer against it)")
         return _ode_atlas(body, "release", th, ps, None, t_end, scheduler, workers, threads, progress, budget)
     _check_size(th.size, ps.size, MAX_ATLAS_POINTS, "MAX_ATLAS_POINTS")
+    chaos = chaos is not False
     processes = check_processes(processes, "processes")
     if build:
         _check_table_work(body, th, budget)
     blocks = np.array_split(np.arange(th.size), min(processes, th.size) if processes > 1 else th.size)
-    parts = map_blocks(_rows, [(body, th[rows], ps, float(t_end), build) for rows in blocks], [b.size for b in blocks],
+    parts = map_blocks(_rows, [(body, th[rows], ps, float(t_end), build, chaos) for rows in blocks],
+                       [b.size for b in blocks],
                        processes=processes, desc="atlas rows", unit="theta0", progress=progress)
     out = np.concatenate([p[0] for p in parts], axis=1)
     mask = np.concatenate([p[1] for p in parts], axis=1)
     caught_all = [msg for p in parts for msg in p[2]]
+    names = ATLAS_OBSERVABLES + (CHAOS_OBSERVABLES if chaos else ())
     return Atlas(eps=body.epsilon, t_end=float(t_end), plane="release", rows=th, cols=ps,
-                 values={name: np.ma.MaskedArray(out[k], mask[k]) for k, name in enumerate(ATLAS_OBSERVABLES)},
+                 values={name: np.ma.MaskedArray(out[k], mask[k]) for k, name in enumerate(names)},
                  warnings=tuple(dict.fromkeys(caught_all)))
 
 
@@ -309,32 +366,100 @@ class AtlasCheck:
     Attributes
     ----------
     index : ndarray (n, 2) of int, the (row, column) of each point.
-    ode : dict, for each of ``ATLAS_OBSERVABLES``, the ODE's values (masked where undefined).
+    ode : dict, for each of the atlas's observables (``Atlas.observables``), the ODE's values (masked where
+        undefined); ``megno`` and ``lyapunov`` are those of the direct motion's variational run over the same span
+        (:func:`rocknroller.numerics.variational.direct_chaos_indicators`), masked where the map has none.
     rel_error : dict, the map's value / the ODE's − 1 (masked where either is undefined or the ODE's is 0);
-        for the reversal counts, the difference map − ODE (per 1000 time units) instead.
+        for the reversal counts, MEGNO and the Lyapunov exponent, the difference map − ODE instead (a regular
+        orbit's MEGNO is ≈ 2 and its finite-time exponent ≈ 0 by either method: a ratio would measure noise).
+    map : dict, the atlas's own values at those points, for the same names as ``ode``.
     """
 
     index: NDArray[np.int64]
     ode: dict[str, np.ma.MaskedArray] = field(repr=False)
     rel_error: dict[str, np.ma.MaskedArray] = field(repr=False)
+    map: dict[str, np.ma.MaskedArray] = field(default_factory=dict, repr=False)
+
+    @property
+    def verdict_agrees(self) -> np.ma.MaskedArray:
+        """At each confirmed point, whether the map and the ODE give the same verdict, regular (MEGNO ≤
+        ``MEGNO_CHAOTIC``) or chaotic; masked where either has no MEGNO.
+
+        Raises
+        ------
+        ValueError
+            A check without the chaos layer.
+        """
+        if "megno" not in self.ode:
+            raise ValueError("this check has no chaos layer (the atlas was made with chaos=False, or confirm_atlas "
+                             "was called with chaos=False)")
+        return (self.map["megno"] <= MEGNO_CHAOTIC) == (self.ode["megno"] <= MEGNO_CHAOTIC)
+
+    @property
+    def verdict_agreement(self) -> float | None:
+        """The fraction of the points with both MEGNOs at which the verdicts agree (None: no such point)."""
+        agrees = self.verdict_agrees
+        n = int(np.ma.count(agrees))
+        return None if n == 0 else float(np.ma.sum(agrees)) / n
+
+
+def _check_chaos_work(body: Body, states: Sequence[EulerState], t_end: float, budget: float | None) -> None:
+    """Refuse variational runs from ``states`` whose estimated cost together (Λ t_end each, at
+    ``VARIATIONAL_SECONDS_PER_RADIAN``) exceeds ``budget``."""
+    from rocknroller.numerics.integrate import check_run
+    from rocknroller.numerics.variational import VARIATIONAL_SECONDS_PER_RADIAN
+
+    radians = sum(check_run(body, s, t_end, samples=False)[4] * t_end for s in states)
+    check_work(radians * VARIATIONAL_SECONDS_PER_RADIAN,
+               f"the atlas's {len(states)} variational runs (Λ t_end = {radians:.3g} radians in all)", budget)
+
+
+def _ode_chaos(body: Body, states: Sequence[EulerState], t_end: float, threads: int | None) -> NDArray[np.float64]:
+    """(MEGNO, λ) of the direct motion from each state over [0, t_end], shape (2, len(states)): one variational run
+    each (:func:`rocknroller.numerics.variational.direct_chaos_indicators`), on ``threads`` threads of this process
+    (each run is the same whichever thread makes it)."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from rocknroller.numerics.variational import direct_chaos_indicators
+
+    def one(state: EulerState) -> tuple[float, float]:
+        ind = direct_chaos_indicators(body, state, t_end, budget=None).indicators
+        return ind.megno, ind.lyapunov
+
+    with ThreadPoolExecutor(max_workers=max(1, threads or 1)) as pool:
+        found = list(pool.map(one, states))
+    return np.array(found, dtype=float).reshape(-1, 2).T
 
 
 def confirm_atlas(atlas: Atlas, body: Body, *, every: int | None = 50, points: Sequence[tuple[int, int]] = (),
                   scheduler: str | None = None, workers: int | None = None, threads: int | None = None,
-                  progress: bool | None = None, budget: float | None = WORK_BUDGET_SECONDS) -> AtlasCheck:
+                  progress: bool | None = None, budget: float | None = WORK_BUDGET_SECONDS,
+                  chaos: bool | None = None) -> AtlasCheck:
     """Run the direct ODE at 1 point in ``every`` (row-major, starting at the first; None: none) and at ``points``
     (row, column) of a map-made atlas, as an ensemble (:func:`rocknroller.numerics.ensemble.run_ensemble`; where it
-    runs does not change the numbers); ``budget``: the CPU seconds the runs may take (as for ``run_ensemble``).
+    runs does not change the numbers); ``budget``: the CPU seconds the runs may take (as for ``run_ensemble``), and
+    separately the variational runs.
+
+    ``chaos`` (None: whether the atlas has its chaos layer) also confirms the map's MEGNO and λ there by the direct
+    motion's (:func:`rocknroller.numerics.variational.direct_chaos_indicators` over the atlas's t_end, at the points
+    where the map has them; on ``threads`` threads of this process whatever ``scheduler`` and ``workers`` say: the
+    variational runs do not go through ``run_ensemble``); :attr:`AtlasCheck.verdict_agrees` compares the verdicts.
 
     Raises
     ------
     ValueError
         An atlas made by the ODE (there is nothing to confirm), ``every`` not an integer ≥ 1, a point outside the
-        grid, or the ensemble's own limits, naming them.
+        grid, ``chaos=True`` for an atlas without the chaos layer, or the ensemble's own limits, naming them.
     """
     if atlas.method != "map":
         raise ValueError(f"atlas.method must be 'map' to be confirmed by the ODE, got {atlas.method!r} (an atlas made "
                          "by the ODE is its own confirmation)")
+    has_chaos = "megno" in atlas.values
+    if chaos is None:
+        chaos = has_chaos
+    elif not isinstance(chaos, bool) or (chaos and not has_chaos):
+        raise ValueError(f"chaos must be None, False, or True for an atlas with its chaos layer (atlas_from_rest's "
+                         f"chaos=True), got chaos={chaos!r} for an atlas {'with' if has_chaos else 'without'} it")
     n_t, n_p = atlas.rows.size, atlas.cols.size
     if every is not None and (int(every) != every or every < 1):
         raise ValueError(f"every must be an integer >= 1 or None, got every={every!r}")
@@ -347,15 +472,24 @@ def confirm_atlas(atlas: Atlas, body: Body, *, every: int | None = 50, points: S
     if not flat:
         raise ValueError("nothing to confirm: give every or points")
     index = np.array([divmod(f, n_p) for f in flat], dtype=np.int64).reshape(-1, 2)
-    out, mask = _ode_values(body, [atlas.state(i, j) for i, j in index], atlas.t_end, scheduler, workers, threads,
-                            progress, budget)
+    states = [atlas.state(i, j) for i, j in index]
+    names = ATLAS_OBSERVABLES + (CHAOS_OBSERVABLES if chaos else ())
+    have = ~np.ma.getmaskarray(atlas.values["megno"][index[:, 0], index[:, 1]]) if chaos else np.zeros(0, bool)
+    chaos_states = [s for s, h in zip(states, have) if h]
+    _check_chaos_work(body, chaos_states, atlas.t_end, budget)
+    out, mask = _ode_values(body, states, atlas.t_end, scheduler, workers, threads, progress, budget)
     ode = {name: np.ma.MaskedArray(out[k], mask[k]) for k, name in enumerate(ATLAS_OBSERVABLES)}
+    if chaos:
+        found = np.zeros((len(CHAOS_OBSERVABLES), len(states)))
+        if chaos_states:
+            found[:, have] = _ode_chaos(body, chaos_states, atlas.t_end, threads)
+        ode.update({name: np.ma.MaskedArray(found[k], ~have) for k, name in enumerate(CHAOS_OBSERVABLES)})
     rel: dict[str, np.ma.MaskedArray] = {}
-    for name in ATLAS_OBSERVABLES:
-        mv = atlas.values[name][index[:, 0], index[:, 1]]
-        if name.endswith("reversals"):
+    own = {name: atlas.values[name][index[:, 0], index[:, 1]] for name in names}
+    for name, mv in own.items():
+        if name.endswith("reversals") or name in CHAOS_OBSERVABLES:
             rel[name] = mv - ode[name]
         else:
             with np.errstate(divide="ignore", invalid="ignore"):
                 rel[name] = np.ma.masked_invalid(mv / np.ma.masked_equal(ode[name], 0.0) - 1.0)
-    return AtlasCheck(index=index, ode=ode, rel_error=rel)
+    return AtlasCheck(index=index, ode=ode, rel_error=rel, map=own)

@@ -77,6 +77,10 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "are not overwritten without --force)")
     add_force_option(p)
     add_budget_option(p, "the atlas (its table builds, or its direct runs) and its ODE confirmation each")
+    p.add_argument("--no-chaos", action="store_true",
+                   help="the map: leave out the chaos layer (the map's MEGNO and Lyapunov exponent, ~1.5-1.8x the "
+                        "map's own cost, and the direct runs' variational equations at the confirmed points, ~1-3x a "
+                        "plain run each); an atlas by the direct ODE has none")
     p.add_argument("--cached-only", action="store_true",
                    help="the map: fail instead of building the averaging tables of a theta0 when none are cached")
     p.add_argument("--json", action="store_true", help="print a one-object JSON summary on stdout")
@@ -119,16 +123,16 @@ def _grids(args: argparse.Namespace) -> tuple[str, dict[str, str]]:
     if args.plane == "rates" and method == "map":
         raise ValueError("--method map covers the release plane only: each start of the rates plane has its own "
                          "energy, and the map's tables are per energy; use --method ode")
-    if method == "ode" and (args.confirm_every is not None or args.confirm or args.cached_only):
-        raise ValueError("--confirm-every, --confirm and --cached-only apply to --method map (an atlas made by the "
-                         "direct ODE is its own confirmation)")
+    if method == "ode" and (args.confirm_every is not None or args.confirm or args.cached_only or args.no_chaos):
+        raise ValueError("--confirm-every, --confirm, --cached-only and --no-chaos apply to --method map (an atlas "
+                         "made by the direct ODE is its own confirmation, and has no chaos layer)")
     texts = {k: d[k] if getattr(args, k) is None else getattr(args, k) for k in d if k != "method"}  # "" is refused
     return method, texts
 
 
 def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller atlas`` with the parsed ``args``; returns the exit status."""
-    from rocknroller.analysis.slow.atlas import ATLAS_OBSERVABLES, atlas_from_rest, atlas_of_rates, confirm_atlas
+    from rocknroller.analysis.slow.atlas import atlas_from_rest, atlas_of_rates, confirm_atlas
     from rocknroller.papers.atlas_plots import plot_atlas, plot_atlas_check
     from rocknroller.papers.output import write_csv
 
@@ -154,7 +158,9 @@ def run(args: argparse.Namespace) -> int:
     else:
         atlas = atlas_from_rest(body, grids["theta0"], grids["psi0"], args.t_end, method=method, progress=progress,
                                 build=not args.cached_only, processes=args.processes, scheduler=scheduler,
-                                workers=workers, threads=threads, budget=budget)
+                                workers=workers, threads=threads, budget=budget,
+                                chaos=method == "map" and not args.no_chaos)
+    names = atlas.observables
     named = [_nearest(atlas, s) for s in args.confirm]
     check = None
     if method == "map" and (confirm_every > 0 or named):
@@ -173,21 +179,31 @@ def run(args: argparse.Namespace) -> int:
               f"plane {args.plane} ({starts}), " + ", ".join(f"{k} grid {v}" for k, v in texts.items())
               + f", t_end {args.t_end:g}", f"method {method}: {how}",
               "reversals per 1000 time units; ode_* and err_* only at confirmed points "
-              "(err: map/ODE - 1, or map - ODE for the reversal counts)"]
+              "(err: map/ODE - 1, or map - ODE for the reversal counts, megno and lyapunov)"]
+    if "megno" in names:
+        header.append("megno, lyapunov: the map's MEGNO and finite-time Lyapunov exponent per unit time over t_end "
+                      "(regular: MEGNO <= 3); ode_megno, ode_lyapunov: the direct motion's (variational equations "
+                      "over the same span); verdict_agrees: the same regular/chaotic verdict")
     R, C = np.meshgrid(atlas.rows, atlas.cols, indexing="ij")
     cols: dict[str, list] = {atlas.row_name: R.ravel().tolist(), atlas.col_name: C.ravel().tolist()}
-    for name in ATLAS_OBSERVABLES:
+    for name in names:
         cols[name] = atlas.values[name].ravel().tolist(fill_value=None)  # undefined: an empty cell
     n_c = atlas.cols.size
     if method == "map":
         for prefix, src in (("ode_", None if check is None else check.ode),
                             ("err_", None if check is None else check.rel_error)):
-            for name in ATLAS_OBSERVABLES:
+            for name in names:
                 col: list = [None] * R.size
                 if check is not None and src is not None:  # src: a table of check
                     for (i, j), v in zip(check.index, src[name].tolist(fill_value=None)):
                         col[i * n_c + j] = v
                 cols[prefix + name] = col
+        if "megno" in names:
+            col = [None] * R.size
+            if check is not None:
+                for (i, j), v in zip(check.index, check.verdict_agrees.tolist(fill_value=None)):
+                    col[i * n_c + j] = None if v is None else str(bool(v)).lower()
+            cols["verdict_agrees"] = col
     written = [write_csv(args.out / "atlas.csv", cols, header)]
     written += plot_atlas(atlas, args.out, title, body)
     if check is not None:
@@ -197,7 +213,12 @@ def run(args: argparse.Namespace) -> int:
                                "warnings": list(atlas.warnings), "files": [str(p) for p in written]}
     if check is not None:
         summary["max_abs_error"] = {n: (None if np.ma.count(check.rel_error[n]) == 0 else
-                                        float(np.ma.max(np.ma.abs(check.rel_error[n])))) for n in ATLAS_OBSERVABLES}
+                                        float(np.ma.max(np.ma.abs(check.rel_error[n])))) for n in names}
+        if "megno" in names:
+            summary["chaos"] = _verdicts(atlas, check)
+    if "megno" in names:
+        reg = atlas.regular
+        summary["map_regular_fraction"] = None if np.ma.count(reg) == 0 else float(np.ma.mean(reg))
     for msg in atlas.warnings:
         print(f"rocknroller atlas: warning: {msg}", file=sys.stderr)
     if args.json:
@@ -205,8 +226,27 @@ def run(args: argparse.Namespace) -> int:
     else:
         print(f"atlas of {summary['n_points']} starts ({args.plane} plane, {how})")
         for n, v in (summary.get("max_abs_error") or {}).items():
-            print(f"  largest map-ODE {'difference' if n.endswith('reversals') else 'relative error'} of {n}: "
-                  f"{'n/a' if v is None else f'{v:.3g}'}")
+            kind = "difference" if n.endswith("reversals") or n in ("megno", "lyapunov") else "relative error"
+            print(f"  largest map-ODE {kind} of {n}: {'n/a' if v is None else f'{v:.3g}'}")
+        if summary.get("map_regular_fraction") is not None:
+            print(f"  the map calls {summary['map_regular_fraction']:.1%} of the starts regular (MEGNO <= 3)")
+        ch = summary.get("chaos")
+        if ch is not None:
+            print(f"  regular/chaotic verdict: map and ODE agree at {ch['agree']} of {ch['n']} confirmed points"
+                  + "".join(f"\n    differs at theta0={d['theta0'] / np.pi:.4g}pi, psi0={d['psi0'] / np.pi:.4g}pi: "
+                            f"MEGNO map {d['map_megno']:.3g}, ODE {d['ode_megno']:.3g}" for d in ch["disagreements"]))
     for path in written:
         print(f"wrote {path}", file=sys.stderr)
     return 0
+
+
+def _verdicts(atlas: Any, check: Any) -> dict[str, Any]:
+    """The agreement of the map's regular/chaotic verdict with the ODE's at the confirmed points, and every
+    disagreement with both MEGNO values."""
+    flags = check.verdict_agrees.tolist(fill_value=None)
+    bad = [k for k, v in enumerate(flags) if v is False]
+    return {"n": sum(v is not None for v in flags), "agree": sum(v is True for v in flags),
+            "fraction": check.verdict_agreement,
+            "disagreements": [{"theta0": float(atlas.rows[check.index[k, 0]]),
+                               "psi0": float(atlas.cols[check.index[k, 1]]), "map_megno": float(check.map["megno"][k]),
+                               "ode_megno": float(check.ode["megno"][k])} for k in bad]}

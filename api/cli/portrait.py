@@ -30,7 +30,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         "(Theta, p) plane of the standard map (Theta = 2 psi at a maximum of theta, p = gradW(0).Q; the start's Q lies "
         "on the kick direction of the release tables, with the energy of the release from rest at theta0) and draw "
         "every orbit at its maxima in the (Theta mod 2pi, p) plane and in the (Q_R, Q_J) plane over the critical "
-        "lines, coloured by one value per orbit (--values, else the orbit's index), with the releases from rest "
+        "lines, coloured by one value per orbit (--values, else the orbit's MEGNO: the map's tangent vector along "
+        "the orbit, colours clipped at 5, above 3 chaotic, grey for an orbit of fewer than 8 maxima), with the "
+        "releases from rest "
         "marked (the line p = 0, the point Q = 0) and the direct ODE's maxima from the --ode-start starts overlaid. "
         "Writes portrait.png, portrait.pdf and portrait.csv (every sample, header with the parameters).",
     )
@@ -54,7 +56,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--ode-t-end", type=float, default=None, help="time span of the direct runs (default --t-end)")
     p.add_argument("--values", type=Path, default=None, metavar="FILE",
                    help="colour the orbits by the numbers in FILE, one per orbit in grid order (Theta outer, p inner; "
-                        "numpy.loadtxt); default: the orbit's index")
+                        "numpy.loadtxt); default: the orbit's MEGNO")
     p.add_argument("--out", type=Path, default=Path("portrait"), metavar="DIR",
                    help="write portrait.png, .pdf and .csv to DIR (default ./portrait; existing files are not "
                         "overwritten without --force)")
@@ -84,6 +86,7 @@ def _ode_start(text: str) -> tuple[float, float]:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller portrait`` with the parsed ``args``; returns the exit status."""
+    from rocknroller.numerics.megno import MEGNO_CHAOTIC
     from rocknroller.papers.portrait import slow_portrait, theta0_of_energy, write_portrait
 
     body = body_from_args(args)
@@ -110,12 +113,17 @@ def run(args: argparse.Namespace) -> int:
         "body": body.describe(), "theta0": portrait.theta0, "E": portrait.E, "K": portrait.K,
         "order": portrait.order, "t_end": portrait.t_end, "n_orbits": len(portrait.orbits),
         "left_tables": list(portrait.left), "n_ode": len(portrait.ode), "files": [str(q) for q in paths]}
+    megno = portrait.megno
+    measured = megno[np.isfinite(megno)]
+    summary.update(n_megno=int(measured.size), n_chaotic=int(np.sum(measured > MEGNO_CHAOTIC)),
+                   megno_range=[float(measured.min()), float(measured.max())] if measured.size else None)
     if args.json:
         print_json(summary)
     else:
         print(f"body: {body.describe()}; theta0 = {theta0 / np.pi:.6g} pi (E = {portrait.E:.6g}), "
               f"K = eps kappa = {portrait.K:.4g}, map order {portrait.order}, t_end = {portrait.t_end:g}")
-        print(f"{len(portrait.orbits)} orbits of the map, {len(portrait.ode)} direct runs")
+        print(f"{len(portrait.orbits)} orbits of the map, {len(portrait.ode)} direct runs; {summary['n_chaotic']} of "
+              f"the {summary['n_megno']} orbits with a MEGNO are chaotic (MEGNO > {MEGNO_CHAOTIC:g})")
         if portrait.left:
             print(f"{len(portrait.left)} orbits left the tables before t_end (drawn up to there): "
                   f"{list(portrait.left)}")

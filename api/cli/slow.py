@@ -17,7 +17,9 @@ predictability horizon (:meth:`rocknroller.analysis.slow.prediction.SlowPredicti
 own per-step error, grown at that rate, reaches 10 % of the extents).  A t_end past the horizon is labelled
 (``beyond_horizon``; "predictions past t = ... are statistical only"), in the text, the JSON and the CSV (``--csv``:
 the maxima, each with ``beyond_horizon``).  For ε = 0 from rest (pure rocking) there are no indicators and no horizon
-(null, with the reason).
+(null, with the reason).  Beside a release's past-horizon numbers stands the statistical prediction, the map's
+ensemble over a stated small ball of releases (``--statistics``; :mod:`rocknroller.cli.slow_statistics`): in the
+text, the JSON (``statistics``) and, with ``--csv``, ``slow_statistics.csv`` and the maxima's header.
 """
 
 from __future__ import annotations
@@ -33,6 +35,8 @@ from rocknroller.analysis.slow import prediction as av
 from rocknroller.cli.options import (add_body_options, add_critical_line_options, add_force_option,
                                      add_initial_state_options, body_from_args, check_critical_line_options,
                                      critical_line_state, parse_angle, prepare_output_dir, print_json, rates_given)
+from rocknroller.cli.slow_statistics import (STATISTICS_CSV, add_statistics_options, check_statistics_options,
+                                             statistics_lines, statistics_summary, write_statistics_csv)
 from rocknroller.numerics.parallel import check_processes
 
 _QUANTITIES = ("slow_period", "QR_extent", "QJ_extent", "Phi")
@@ -66,7 +70,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         "spent in each critical region, the period-doubling eps, and the map's order or chaos: regular or chaotic "
         "(MEGNO <= 3 or above), MEGNO, the Lyapunov exponent per unit time and per rock, and the predictability "
         "horizon (the time at which the map's own per-step error, grown at that rate, reaches 10% of the extents; a t_end past it is "
-        "labelled: the predictions past it are statistical only). Valid for 0 <= eps with K = eps*kappa < 4 "
+        "labelled: the predictions past it are statistical only, and for a release from rest the "
+        "statistical prediction, the map's ensemble over a small ball of releases, is given beside them: "
+        "--statistics). Valid for 0 <= eps with K = eps*kappa < 4 "
         f"and, for releases from rest, 0 < theta0 <= {_HI:g}pi: the release tables in [{_LO:g}pi, {_HI:g}pi], the "
         "region tables below (to ~1e-9: over the whole region up to the energy of a release from 0.65pi, above it "
         "over the band about Q_J,pi^crit, where the paper's reversal starts live). "
@@ -112,11 +118,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--csv", type=Path, default=None, metavar="DIR",
                    help=f"write the predicted maxima to DIR/{CSV_NAME} (t, Q_R, Q_J, Theta, phi, critical region, the "
                         "tangent vector's log-growth, and beyond_horizon: true past the predictability horizon; the "
-                        "header records the parameters, the indicators and the horizon); DIR is created if missing, "
-                        "an existing file is not overwritten without --force")
+                        "header records the parameters, the indicators, the horizon and the statistical prediction), "
+                        f"and, when the ensemble ran (--statistics), its statistics to DIR/{STATISTICS_CSV}; DIR is "
+                        "created if missing, an existing file is not overwritten without --force")
     p.add_argument("--plot", type=Path, default=None, metavar="DIR",
                    help="draw the predicted slow orbit over the direct ODE's turning points (slow_orbit.png and .pdf "
                         "in DIR, created if missing; existing files are not overwritten without --force)")
+    add_statistics_options(p)
     add_force_option(p)
     p.add_argument("--quiet", action="store_true", help="no progress bars (table builds, the --check ODE)")
     p.add_argument("--cached-only", action="store_true",
@@ -203,7 +211,7 @@ def run(args: argparse.Namespace) -> int:
     if args.plot is not None:
         prepare_output_dir(args.plot, "--plot", args.force, ["slow_orbit.png", "slow_orbit.pdf"])
     if args.csv is not None:
-        prepare_output_dir(args.csv, "--csv", args.force, [CSV_NAME])
+        prepare_output_dir(args.csv, "--csv", args.force, [CSV_NAME, STATISTICS_CSV])
     check_processes(args.processes, "--processes")
     given = _given(args)
     body = _body(args, given)
@@ -216,6 +224,7 @@ def run(args: argparse.Namespace) -> int:
         if args.period_doubling:
             raise ValueError("--period-doubling applies to releases from rest (the rocking it follows is that of the "
                              "release's energy): give --theta0 and --psi0 only")
+        check_statistics_options(args, release=False)
         start, _ = critical_line_state(args, body)
         pred, extra, messages = _from_state(args, body, start, av.default_order(start) if args.order is None
                                             else args.order)
@@ -228,6 +237,7 @@ def run(args: argparse.Namespace) -> int:
                         "pendulum": None, **extra})
         return _finish(args, body, pred, None, start, summary, messages)
     check_critical_line_options(args)  # --QR and --offset place a start on a line; a release reads neither
+    check_statistics_options(args, release=True)
     if args.nodes is not None or args.chart != "auto":  # the release tables have their own chart and grid
         raise ValueError(f"--nodes and --chart set the region tables of a start with velocity (or of a release below "
                          f"{_LO:g}pi); a release from rest at --theta0 in [{_LO:g}pi, {_HI:g}pi] uses the release "
@@ -313,9 +323,12 @@ def _finish(args: argparse.Namespace, body: Any, pred: Any, pend: Any, start: An
             summary["pendulum"]["rel_error"] = {q: summary["rel_error"][q] if pred.pure_rocking else
                                                 relative_errors(pend, ode)[q] for q in _QUANTITIES}
     summary.update(_chaos_summary(pred))
+    summary.update(statistics_summary(args, body, pred, summary, release=start is None))
     written = _plot(pred, ode, body, theta0, psi0, args.plot) if args.plot is not None else []
     if args.csv is not None:
         written.append(_write_csv(args.csv / CSV_NAME, pred, body, summary))
+        if summary["statistics"] is not None:
+            written.append(write_statistics_csv(args.csv / STATISTICS_CSV, body, summary))
     summary["warnings"] = messages
     for msg in messages:
         print(f"rocknroller slow: warning: {msg}", file=sys.stderr)
@@ -384,7 +397,7 @@ def _write_csv(path: Path, pred: Any, body: Any, s: dict[str, Any]) -> Path:
     t_h = None if s["horizon"] is None else s["horizon"]["t"]
     header = [f"rocknroller slow: body {body.describe()}; eps={body.epsilon!r}; theta0={s['theta0']!r}; "
               f"psi0={s['psi0']!r}; t_end={s['t_end']!r}; map of order {pred.order} in eps; K={s['K']!r}",
-              *_chaos_lines(s),
+              *_chaos_lines(s), *statistics_lines(s),
               "columns: the maxima of theta: t, Q_R, Q_J, Theta = 2 psi (unwrapped), phi, critical region, "
               "log_growth = ln(|w|/|w0|) of the tangent vector since the map's start (empty without indicators), "
               "beyond_horizon (true past the predictability horizon: statistical only; empty without a horizon)"]
@@ -428,7 +441,7 @@ def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: flo
         print(f"exact one-step map: period doubling at eps = {pd['eps_exact']:.8g} (first order 4/kappa = "
               f"{pd['eps_first_order']:.8g}; K = eps*kappa = {pd['K_exact']:.8g} = 4 {'-' if pd['correction'] < 0 else '+'} "
               f"{abs(pd['correction']):.4g} eps)")
-    for line in _chaos_lines(s):
+    for line in _chaos_lines(s) + statistics_lines(s):
         print(line)
     if s["pure_rocking"]:
         print(_PURE_ROCKING)

@@ -17,8 +17,10 @@ from rocknroller.analysis.slow.family import rest_energy
 from rocknroller.analysis.slow.limits import AveragingRangeError, AveragingValidityWarning
 from rocknroller.analysis.slow.prediction import load_or_build_table, predict_slow_motion
 from rocknroller.numerics.integrate import simulate
-from rocknroller.papers.portrait import (MAX_PORTRAIT_ORBITS, orbit_values, slow_portrait, theta0_of_energy,
-                                         write_portrait)
+from rocknroller.numerics.megno import MIN_SAMPLES
+from rocknroller.numerics.variational import direct_chaos_indicators
+from rocknroller.papers.portrait import (MAX_PORTRAIT_ORBITS, orbit_values, plot_portrait, portrait_values,
+                                         slow_portrait, theta0_of_energy, write_portrait)
 
 THETA0 = 0.95 * math.pi
 
@@ -45,7 +47,7 @@ def test_release_line_orbits_are_the_predictions_and_the_ode_overlay_is_the_dire
     text = (tmp_path / "portrait.csv").read_text().splitlines()
     header = [ln for ln in text if ln.startswith("#")]
     rows = [ln for ln in text if not ln.startswith("#")]
-    assert any("K = eps kappa" in ln for ln in header) and any("value: orbit index" in ln for ln in header)
+    assert any("K = eps kappa" in ln for ln in header) and any("value: MEGNO" in ln for ln in header)
     assert rows[0] == "source,orbit,Theta0,p0,value,t,Theta,p,QR,QJ"
     assert len(rows) - 1 == sum(o.t.size for o in P.orbits) + len(m)
 
@@ -75,7 +77,10 @@ def test_orbits_that_leave_the_tables_are_cut_and_listed():
         P = slow_portrait(body, THETA0, [math.pi / 2, -math.pi / 2], [0.99 * reach, -0.99 * reach], 300.0,
                           progress=False)
     assert P.left and set(P.left) <= set(range(4))
-    for k in P.left:
+    assert any(P.orbits[k].t.size < MIN_SAMPLES for k in P.left)
+    for k in P.left:  # too short for indicators: no MEGNO (grey in the figure), never a number made up
+        assert (P.chaos[k] is None) == (P.orbits[k].t.size < MIN_SAMPLES)
+        assert math.isnan(P.megno[k]) == (P.orbits[k].t.size < MIN_SAMPLES)
         n = P.orbits[k].t.size
         with pytest.raises(AveragingRangeError):
             iterate_slow_map(table, body.epsilon, 0.5 * P.Theta0[k], 300.0, Q0=(P.p0[k] / float(P.grad_W @ P.e)) * P.e,
@@ -117,9 +122,45 @@ def test_theta0_of_energy_inverts_the_rest_energy():
     (dict(ode_starts=[(1.0, 1e3)]), "ode_starts p"),
     (dict(ode_starts=[(0.2, 0.0)], ode_t_end=-1.0), "t_end"),
     (dict(t_end=math.inf), "t_end"),
+    (dict(chaos="yes"), "chaos must be True or False"),
 ])
 def test_bad_input_is_refused(kwargs, match):
     assert 101 * 100 > MAX_PORTRAIT_ORBITS
     args = dict(body=Body.paper(5e-3), theta0=THETA0, Theta=[1.0], p=[0.0], t_end=100.0) | kwargs
     with pytest.raises(ValueError, match=match):
         slow_portrait(args.pop("body"), args.pop("theta0"), args.pop("Theta"), args.pop("p"), **args, progress=False)
+
+
+def test_orbits_are_coloured_by_their_megno(tmp_path):
+    """By default each orbit carries the map's indicators along its run, the same to the bit as predict_slow_motion's
+    for a release (p = 0), and is coloured by its MEGNO: at ε = 5e-3, θ0 = 0.95π (K = 2.1) the release at ψ0 = 0.05
+    (Θ = 0.1) lies in the separatrix's chaotic layer (MEGNO > 3), as the direct motion's MEGNO over the same 1000 time
+    units says too, and the one near the stable rocking (Θ = 3.0, ψ0 = 1.5) is regular.  The orbits are those of a
+    portrait without indicators (chaos=False, coloured by index) to the bit; values override the colours."""
+    body = Body.paper(5e-3)
+    P = slow_portrait(body, THETA0, [0.1, 3.0], [0.0], 1000.0, progress=False)
+    for k in range(2):
+        pred = predict_slow_motion(body, THETA0, 0.5 * P.Theta0[k], 1000.0, order=1)
+        assert P.chaos[k].megno == pred.chaos.megno and P.chaos[k].lyapunov == pred.chaos.lyapunov
+    assert P.megno[0] > 3.0 >= P.megno[1]
+    for k, psi0 in ((0, 0.05), (1, 1.5)):
+        ode = direct_chaos_indicators(body, EulerState(THETA0, 0.0, psi0), 1000.0).indicators
+        assert ode.regular == P.chaos[k].regular, (psi0, ode.megno, P.megno[k])
+    vals, label = portrait_values(P)
+    assert label == "MEGNO" and vals.tolist() == P.megno.tolist()
+    assert portrait_values(P, [5.0, 6.0]) == (pytest.approx([5.0, 6.0]), "value")
+    plain = slow_portrait(body, THETA0, [0.1, 3.0], [0.0], 1000.0, progress=False, chaos=False)
+    assert plain.chaos == () and portrait_values(plain)[1] == "orbit index"
+    for a, b in zip(P.orbits, plain.orbits):
+        np.testing.assert_array_equal(a.QR, b.QR)
+        np.testing.assert_array_equal(a.Theta, b.Theta)
+    with pytest.raises(ValueError, match="no chaos indicators"):
+        plain.megno
+    with pytest.raises(ValueError, match="orbits must be 2 objects"):
+        portrait_values(P, orbits=[object()])
+    fig = plot_portrait(P)
+    assert fig.axes[-1].get_ylabel().startswith("MEGNO (clipped at 5")
+    write_portrait(P, tmp_path)
+    rows = [ln.split(",") for ln in (tmp_path / "portrait.csv").read_text().splitlines() if not ln.startswith("#")]
+    value = {int(r[1]): float(r[4]) for r in rows[1:] if r[0] == "map"}
+    assert value == {0: P.megno[0], 1: P.megno[1]}

@@ -144,6 +144,7 @@ def test_ode_release_atlas_is_the_confirmation(small_atlas):
     """The release plane by the ODE gives, at every point, what confirm_atlas's ODE gives there (bit for bit)."""
     ode = at.atlas_from_rest(BODY, THETA0, PSI0, 400.0, method="ode", progress=False, threads=2)
     check = at.confirm_atlas(small_atlas, BODY, every=1, progress=False)
+    assert ode.observables == at.ATLAS_OBSERVABLES  # the ODE's atlas has no chaos layer
     for name in at.ATLAS_OBSERVABLES:
         assert np.array_equal(ode.values[name].filled(np.nan).ravel(), check.ode[name].filled(np.nan),
                               equal_nan=True), name
@@ -184,3 +185,89 @@ def test_atlas_command_rates_plane(tmp_path, capsys):
         assert msg in capsys.readouterr().err
     assert main(["atlas", "--phi-dot0", "0:0.1:2", "--out", str(tmp_path / "y")]) == 2
     assert "give them with --plane rates" in capsys.readouterr().err
+
+
+# --- the chaos layer (issue 23, item 6) ---
+
+CHAOS_BODY = Body.paper(1e-2)
+#: θ0 = 0.95π, ε = 1e-2 (issue 23's table): ψ0 = 0.05 in the chaotic layer along the separatrix (two direct runs 1e-10
+#: apart separate to 3e-3 in 100 rocks), ψ0 = π/4 regular (1.6e-10).
+CHAOS_PSI0 = (0.05, 0.25 * math.pi)
+
+
+@pytest.fixture(scope="module")
+def chaos_atlas():
+    return at.atlas_from_rest(CHAOS_BODY, [0.95 * math.pi], CHAOS_PSI0, 1000.0, progress=False)
+
+
+def test_chaos_layer_is_the_maps_indicators(small_atlas):
+    """Each point's MEGNO and λ are predict_slow_motion's (order 1) to the bit, and its verdict MEGNO <= 3; without
+    the layer (chaos=False: no tangent vector) the other observables are the same to the bit."""
+    from rocknroller.analysis.slow.prediction import predict_slow_motion
+
+    assert small_atlas.observables == at.ATLAS_OBSERVABLES + at.CHAOS_OBSERVABLES
+    pred = predict_slow_motion(BODY, THETA0[1], PSI0[2], 400.0, order=1)
+    assert small_atlas.values["megno"][1, 2] == pred.chaos.megno
+    assert small_atlas.values["lyapunov"][1, 2] == pred.chaos.lyapunov
+    assert small_atlas.regular[1, 2] == pred.chaos.regular
+    plain = at.atlas_from_rest(BODY, THETA0, PSI0, 400.0, progress=False, chaos=False)
+    assert plain.observables == at.ATLAS_OBSERVABLES and "megno" not in plain.values
+    for name in at.ATLAS_OBSERVABLES:
+        assert np.array_equal(plain.values[name].filled(np.nan), small_atlas.values[name].filled(np.nan),
+                              equal_nan=True), name
+    with pytest.raises(ValueError, match="no chaos layer"):
+        plain.regular
+    with pytest.raises(ValueError, match="chaos=True needs method='map'"):
+        at.atlas_from_rest(BODY, THETA0, PSI0, 400.0, method="ode", chaos=True)
+    with pytest.raises(ValueError, match="chaos must be True, False or None"):
+        at.atlas_from_rest(BODY, THETA0, PSI0, 400.0, chaos="yes")
+    with pytest.raises(ValueError, match="chaos must be None, False, or True"):
+        at.confirm_atlas(plain, BODY, every=1, chaos=True)
+    check = at.confirm_atlas(plain, BODY, every=5, progress=False)  # no layer, nothing to confirm of it
+    assert "megno" not in check.ode
+    with pytest.raises(ValueError, match="no chaos layer"):
+        check.verdict_agrees
+
+
+def test_chaos_layer_confirmed_by_the_odes_megno(chaos_atlas):
+    """At ε = 1e-2, θ0 = 0.95π the map calls ψ0 = 0.05 chaotic and ψ0 = π/4 regular, and so does the direct motion's
+    MEGNO over the same 1000 time units; the ODE's values are direct_chaos_indicators' of the same start to the bit
+    (whichever thread ran them)."""
+    from rocknroller.numerics.variational import direct_chaos_indicators
+
+    assert chaos_atlas.regular.tolist() == [[False, True]]
+    check = at.confirm_atlas(chaos_atlas, CHAOS_BODY, every=1, progress=False, threads=2)
+    assert check.verdict_agrees.tolist() == [True, True] and check.verdict_agreement == 1.0
+    assert check.ode["megno"][0] > 3.0 >= check.ode["megno"][1]
+    ref = direct_chaos_indicators(CHAOS_BODY, chaos_atlas.state(0, 0), 1000.0).indicators
+    assert check.ode["megno"][0] == ref.megno and check.ode["lyapunov"][0] == ref.lyapunov
+    assert check.rel_error["megno"][0] == chaos_atlas.values["megno"][0, 0] - ref.megno
+    assert check.map["megno"][1] == chaos_atlas.values["megno"][0, 1]
+    with pytest.raises(ValueError, match="variational runs"):
+        at.confirm_atlas(chaos_atlas, CHAOS_BODY, every=1, progress=False, budget=1e-4)
+
+
+def test_atlas_command_chaos_layer(tmp_path, capsys):
+    """The CSV carries the map's megno and lyapunov at every point and the ODE's and the verdict at the confirmed
+    ones; the JSON the agreement; --no-chaos leaves them out, and is refused with --method ode."""
+    out = tmp_path / "atlas"
+    argv = ["atlas", "--eps", "1e-2", "--theta0", "0.95pi", "--psi0", "0.05:0.25pi:2", "--t-end", "1000",
+            "--confirm-every", "1", "--out", str(out), "--json", "--quiet", "--processes", "1"]
+    assert main(argv) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["chaos"]["n"] == 2 and summary["chaos"]["agree"] == 2 and summary["chaos"]["disagreements"] == []
+    assert summary["map_regular_fraction"] == 0.5
+    rows = [ln.split(",") for ln in (out / "atlas.csv").read_text().splitlines() if not ln.startswith("#")]
+    cols = rows[0]
+    for name in ("megno", "lyapunov", "ode_megno", "err_megno", "verdict_agrees"):
+        assert name in cols, name
+    assert [r[cols.index("verdict_agrees")] for r in rows[1:]] == ["true", "true"]
+    assert float(rows[1][cols.index("megno")]) > 3.0 >= float(rows[2][cols.index("megno")])
+    for name in ("atlas.png", "atlas.pdf", "atlas_check.png", "atlas_check.pdf"):
+        assert (out / name).stat().st_size > 1000, name
+    assert main(argv + ["--force", "--no-chaos"]) == 0
+    assert "chaos" not in json.loads(capsys.readouterr().out)
+    cols = [ln for ln in (out / "atlas.csv").read_text().splitlines() if not ln.startswith("#")][0].split(",")
+    assert not [c for c in cols if "megno" in c or "lyapunov" in c or "verdict" in c]
+    assert main(["atlas", "--method", "ode", "--no-chaos", "--out", str(tmp_path / "x")]) == 2
+    assert "--no-chaos apply to --method map" in capsys.readouterr().err

@@ -41,6 +41,18 @@ def test_small_run_writes_the_figure_and_the_csv(tmp_path, capsys):
     assert "--force" in capsys.readouterr().err
 
 
+def test_default_colour_is_the_megno(tmp_path, capsys):
+    """Without --values the orbits are coloured by their MEGNO (ε = 5e-3, θ0 = 0.95π: Θ = 0.1 on p = 0, ψ0 = 0.05, in
+    the separatrix's chaotic layer; Θ = 3.0 near the stable rocking, regular), counted in the JSON and the text."""
+    argv = ["portrait", "--Theta", "0.1:3.0:2", "--p", "0", "--t-end", "1000", "--out", str(tmp_path / "p"), "--quiet"]
+    assert main([*argv, "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["n_megno"] == 2 and summary["n_chaotic"] == 1 and summary["megno_range"][1] > 3.0
+    assert "# value: MEGNO of the map's orbit" in (tmp_path / "p" / "portrait.csv").read_text()
+    assert main([*argv, "--force"]) == 0
+    assert "1 of the 2 orbits with a MEGNO are chaotic" in capsys.readouterr().out
+
+
 @pytest.mark.parametrize("extra, match", [
     (["--theta0", "0.5pi"], "theta0"),
     (["--theta0", "0.95pi", "--E", "0.98"], "either --theta0 or --E"),

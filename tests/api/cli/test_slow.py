@@ -387,3 +387,73 @@ def test_csv_directory_is_checked_before_computing(tmp_path, capsys):
     (tmp_path / "slow_maxima.csv").write_text("keep")
     assert main(["slow", "--csv", str(tmp_path)]) == 2
     assert "--csv" in capsys.readouterr().err and (tmp_path / "slow_maxima.csv").read_text() == "keep"
+
+
+def test_statistics_beside_the_past_horizon_numbers(fresh_cache, tmp_path, capsys):
+    """Issue 23, item 6: past the horizon of the chaotic release (ε = 1e-2, ψ0 = 0.1) the statistical prediction
+    stands beside the point prediction, by default the map's ensemble of AUTO_MEMBERS releases within ±1e-3 in ψ0:
+    its means, standard deviations and standard errors are map_ensemble's of that ball, and the point values
+    member_statistics' of the API's prediction, in the JSON, the text, slow_statistics.csv and the maxima's header."""
+    import csv
+
+    import numpy as np
+
+    from rocknroller.analysis.slow.ensemble_statistics import STATISTICS, StartBall, map_ensemble, member_statistics
+    from rocknroller.cli.slow_statistics import AUTO_MEMBERS
+
+    body, argv = Body.paper(1e-2), ["slow", "--order", "1", "--eps", "1e-2", "--psi0", "0.1", "--t-end", "3000"]
+    assert main([*argv, "--json", "--csv", str(tmp_path / "out")]) == 0
+    out = json.loads(capsys.readouterr().out)
+    st = out["statistics"]
+    assert out["beyond_horizon"] is True and st["members"] == AUTO_MEMBERS and st["delta"] == 1e-3
+    assert st["label"] == f"statistical (map ensemble of {AUTO_MEMBERS} starts within +-0.001 in psi0)"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", av.AveragingValidityWarning)  # K = 4.26 > 4: the issue's case
+        ens = map_ensemble(body, StartBall(0.95 * math.pi, 0.1, 1e-3, AUTO_MEMBERS, seed=0), 3000.0, order=1)
+        api = av.predict_slow_motion(body, 0.95 * math.pi, 0.1, 3000.0, order=1)
+    point = member_statistics(body, api.series.t, api.series.QR, api.series.QJ, 3000.0)
+    assert list(st["values"]) == list(STATISTICS)
+    for name, v in st["values"].items():
+        assert v == {"point": point[name], "mean": ens.mean(name), "std": float(np.std(ens.values[name], ddof=1)),
+                     "standard_error": ens.standard_error(name)}, name
+    assert st["values"]["QR_extent"]["std"] > 0.0  # the members differ: the ball is resolved past the horizon
+    rows = list(csv.DictReader(ln for ln in (tmp_path / "out" / "slow_statistics.csv").read_text().splitlines()
+                               if not ln.startswith("#")))
+    assert [r["statistic"] for r in rows] == list(STATISTICS)
+    for r in rows:
+        assert float(r["mean"]) == st["values"][r["statistic"]]["mean"]
+        assert float(r["point"]) == st["values"][r["statistic"]]["point"]
+    head = [ln for ln in (tmp_path / "out" / "slow_maxima.csv").read_text().splitlines() if ln.startswith("#")]
+    assert any(st["label"] in ln for ln in head) and any("fraction_I " in ln for ln in head)
+    assert main([*argv, "--statistics", "4", "--statistics-delta", "0.01", "--statistics-seed", "3"]) == 0
+    text = capsys.readouterr().out
+    assert "statistical (map ensemble of 4 starts within +-0.01 in psi0)" in text and "seed 3" in text
+    assert "point prediction (past the horizon)" in text and "ensemble mean +- std" in text
+    assert main([*argv, "--statistics", "0", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["statistics"] is None and "--statistics 0" in out["statistics_note"]
+
+
+def test_no_statistics_within_the_horizon_unless_asked(fresh_cache, capsys):
+    """A regular release within its horizon gets none by default (and says why); asked for, it gets them."""
+    assert main(["slow", "--order", "1", "--t-end", "1000", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["beyond_horizon"] is False and out["statistics"] is None
+    assert "within the predictability horizon" in out["statistics_note"]
+    assert main(["slow", "--order", "1", "--t-end", "1000", "--json", "--statistics", "3"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["statistics"]["members"] == 3 and out["statistics"]["order"] == 1
+
+
+@pytest.mark.parametrize("extra, named", [
+    (["--statistics", "1"], "--statistics must be 0 (none) or a number of members in [2, 10000]"),
+    (["--statistics", "-2"], "--statistics must be"),
+    (["--statistics", "100000"], "--statistics must be"),
+    (["--statistics-delta", "0"], "--statistics-delta must be a half-width in (0, pi/2]"),
+    (["--statistics-delta", "2"], "--statistics-delta must be"),
+    (["--statistics-seed", "-1"], "--statistics-seed must be >= 0"),
+    (["--statistics", "4", "--psi-dot0", "0.1"], "--statistics applies to releases from rest"),
+])
+def test_bad_statistics_options_are_refused(extra, named, capsys):
+    assert main(["slow", "--cached-only", *extra]) == 2
+    assert named in capsys.readouterr().err
