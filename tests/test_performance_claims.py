@@ -17,7 +17,7 @@ ROOT = Path(__file__).resolve().parents[1]
 #: is a setting, not a measurement).
 FIGURE = re.compile(r"(?<!= )(?<![\w.])\d(?:[\d.,–-]*\d)?\s?(?:ms|µs|s|min|h|kB|MB|GB|MiB|GiB)\b")
 PAGES = ["README.md", "docs/index.md", "docs/install.md", "docs/slow_howto.md", "docs/averaging.md",
-         "docs/slow_validation.md", "docs/errata.md", "docs/theory/reduction.md", "docs/theory/criticality.md"]
+         "docs/slow_validation.md", "docs/errata.md", "docs/order_and_chaos.md", "docs/theory/reduction.md", "docs/theory/criticality.md"]
 
 
 def _prose(path: Path) -> list[tuple[int, str]]:

@@ -33,7 +33,8 @@ fractions over the run are what the chaotic orbit fills, not where it is.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -47,10 +48,16 @@ if TYPE_CHECKING:
     from rocknroller.analysis.slow.chart import SecondOrderTable, SlowMapTable
 
 __all__ = ["HORIZON_FRACTION", "map_indicators", "tangent_scale", "StepErrorProbe", "run_indicators", "shear_rate",
-           "predictability_horizon"]
+           "predictability_horizon", "LAYER_GRID", "LayerWidth", "layer_width"]
 
 #: Fraction of the extents that the grown error may reach at the predictability horizon.
 HORIZON_FRACTION = 0.1
+#: The decreasing log grid of ψ0 scanned by :func:`layer_width`: 16 points per decade from 1 down to 1e-10 (at
+#: K ≈ 1.3 an island chain inside the layer leaves a regular band ψ0 ≈ 0.06-0.078 at θ0 = 0.95π, ε = 3e-3, below a
+#: chaotic one at 0.08-0.09, which a grid of 4 points per decade steps over).
+LAYER_GRID = 10.0 ** np.arange(0.0, -10.001, -1.0 / 16)
+#: Most bisection steps :func:`layer_width` takes (2⁻³⁰ of a grid step is far below any orbit's resolution).
+_MAX_BISECTIONS = 30
 #: Maxima of a run, besides its start, at which :class:`StepErrorProbe` compares the map's step with the exact one.
 _PROBES = 3
 
@@ -177,3 +184,81 @@ def predictability_horizon(chaos: ChaosIndicators, step_error: float, extent: fl
         lam = chaos.lyapunov_per_rock
         n_h = math.log1p(lam * R) / lam if lam > 0.0 else R
     return n_h * t_bar
+
+
+@dataclass(frozen=True)
+class LayerWidth:
+    """The separatrix layer's width along the release line (:func:`layer_width`).
+
+    Attributes
+    ----------
+    width : the geometric mean of ``bracket``.
+    bracket : (ψ_in, ψ_out): the largest ψ0 found chaotic and the smallest above it found regular.
+    megno_in, megno_out : MEGNO of the releases at ψ_in and ψ_out.
+    runs : releases evaluated.
+    """
+
+    width: float
+    bracket: tuple[float, float]
+    megno_in: float
+    megno_out: float
+    runs: int
+
+
+def layer_width(chaos: Callable[[float], ChaosIndicators], grid: ArrayLike = LAYER_GRID,
+                bisections: int = 2) -> LayerWidth:
+    """The width of the chaotic layer about the unstable rocking axis ψ0 = 0, along the line of releases from rest.
+
+    Definition: ψ0 is scanned down the decreasing grid ``grid`` to the first (largest) ψ0 whose release is chaotic
+    (``not chaos(psi0).regular``: MEGNO > 3 over the span ``chaos`` integrates); then ln ψ0 is bisected ``bisections``
+    times between it and the grid point above it (regular), keeping a chaotic lower and a regular upper end.  The
+    width is the geometric mean of the final bracket.  The layer is not a clean interval (island chains sit in it,
+    and a chaotic band above a regular one narrower than a grid step is not seen): the width is that of the
+    outermost chaotic release the scan meets.
+
+    Parameters
+    ----------
+    chaos : the indicators of the release at ψ0 (the map's, or the direct ODE's, over a fixed span).
+    grid : at least two ψ0 in (0, π/2], strictly decreasing (default ``LAYER_GRID``: 10^(−j/16), j = 0..160).
+    bisections : 0 ≤ bisections ≤ 30; each halves the bracket in ln ψ0 (2 on the default grid: a factor 1.037).
+
+    Returns
+    -------
+    LayerWidth
+
+    Raises
+    ------
+    ValueError
+        A grid that is not as stated, ``bisections`` out of range, the grid's first (largest) ψ0 chaotic (no edge
+        below it), or no chaotic ψ0 on the grid (the layer is thinner than its smallest ψ0, or the span too short).
+    """
+    psi = np.asarray(grid, float)
+    if psi.ndim != 1 or psi.size < 2 or not (np.all(np.isfinite(psi)) and psi[-1] > 0.0 and psi[0] <= 0.5 * math.pi
+                                             and np.all(np.diff(psi) < 0.0)):
+        raise ValueError("grid must be at least two psi0 in (0, pi/2], strictly decreasing")
+    if not (isinstance(bisections, int) and 0 <= bisections <= _MAX_BISECTIONS):
+        raise ValueError(f"bisections must be an integer in [0, {_MAX_BISECTIONS}], got bisections={bisections!r}")
+    runs = 0
+    above: tuple[float, ChaosIndicators] | None = None
+    for p in psi:
+        c = chaos(float(p))
+        runs += 1
+        if not c.regular:
+            if above is None:
+                raise ValueError(f"the release at the grid's largest psi0={p:g} is chaotic: the layer's edge lies "
+                                 "above the grid; start the grid higher")
+            (lo, c_lo), (hi, c_hi) = (float(p), c), above
+            break
+        above = (float(p), c)
+    else:
+        raise ValueError(f"no release on the grid (psi0 down to {psi[-1]:g}) is chaotic over the span: the layer is "
+                         "thinner than the grid reaches, or the span too short for MEGNO to exceed 3")
+    for _ in range(bisections):
+        mid = math.sqrt(lo * hi)
+        c = chaos(mid)
+        runs += 1
+        if c.regular:
+            hi, c_hi = mid, c
+        else:
+            lo, c_lo = mid, c
+    return LayerWidth(math.sqrt(lo * hi), (lo, hi), c_lo.megno, c_hi.megno, runs)
