@@ -120,8 +120,9 @@ def run_batch(runs: Sequence[tuple[Body, EulerState, float]], width: int | None 
 
     Parameters
     ----------
-    runs : sequence of (body, initial, t_end)
-        At most ``width`` runs, each within the limits of ``simulate(..., samples=False)`` (checked first).
+    runs : sequence of tuple
+        (body, initial state, final time) of each run, at most ``width`` of them, each within the limits of
+        ``simulate(..., samples=False)`` (checked first).
     width : int, optional
         Lanes of the integrator, in [``MIN_LANES``, ``MAX_LANES``] (default :func:`batch_width`); lanes beyond the
         runs idle.

@@ -146,7 +146,7 @@ def body_frame_rhs(y: _Components, p: _Components) -> list[Any]:
     return [*gdot, *wdot, *exdot, _dot(om, ey), -_dot(om, ex)]
 
 
-#: Largest |rate| of an initial state (θ̇, φ̇, ψ̇ or a component of ω): the body-frame ω, its square in the
+#: Largest absolute rate of an initial state (θ̇, φ̇, ψ̇ or a component of ω): the body-frame ω, its square in the
 #: energy and φ̇ = ω/sin²θ-type conversions stay in double range.  (simulate() refuses far smaller energies.)
 RATE_MAX = 1e150
 
