@@ -27,7 +27,8 @@ from rocknroller.analysis.model.kinematics import angles_from_frame
 if TYPE_CHECKING:
     import pandas
 
-__all__ = ["TurningPoints", "Trajectory", "TurningPointRun", "energy_scale", "energy_error_bound", "ENERGY_SLACK"]
+__all__ = ["TurningPoints", "Trajectory", "TurningPointRun", "energy_scale", "energy_error_bound", "ENERGY_SLACK",
+           "lane_states"]
 
 DenseOutput = Callable[[NDArray[np.float64]], NDArray[np.float64]]
 
