@@ -78,10 +78,10 @@ from rocknroller.numerics.cache import (CacheWarning, cache_dir, probe_writable,
                                         warn_unwritable)
 from rocknroller.numerics.events import _U, THETA_MIN, _turning_points, start_turning_point
 from rocknroller.numerics.trajectory import (DenseOutput, Trajectory, TurningPointRun, TurningPoints, _Samples,
-                                             energy_scale)
+                                             energy_error_bound, energy_scale)
 
 __all__ = [
-    "simulate", "check_run", "finish_run", "check_diskcache", "RunPlan", "heyoka_integrator", "default_dt", "cache_dir", "rate_bound", "AccuracyWarning",
+    "simulate", "check_run", "finish_run", "check_energy_error", "check_theta_resolved", "check_diskcache", "RunPlan", "heyoka_integrator", "default_dt", "cache_dir", "rate_bound", "AccuracyWarning",
     "AccuracyError", "CacheWarning", "MAX_SAMPLES", "MAX_DENSE_RADIANS", "MAX_DENSE_STEPS", "MAX_RADIANS",
     "MAX_GRID_POINTS", "GRID_CHUNK_POINTS", "UNWRAP_RADIANS", "DT_RADIANS", "GRID_BYTES_PER_POINT", "MOMENT_RANGE",
     "G_RANGE", "MAX_ENERGY_OVER_G"
@@ -388,14 +388,27 @@ class _ScipyRun:
         return dense, _turning_points(raw, t_a, t_b, dense, params, self.start if t_a == 0.0 else None)
 
 
-def _check_energy(run: Trajectory | TurningPointRun, strict: bool) -> None:
-    err, tol = run.energy_rel_error, run.energy_tolerance
-    if err > tol:
-        msg = (f"the relative energy error {err:.3g} exceeds {tol:.3g}, the most that {run.n_steps} steps at tolerance "
-               f"{run.tolerance:.3g} allow: the run is not accurate")
+def check_energy_error(err: float, n_steps: int, tolerance: float, strict: bool, what: str = "",
+                       stacklevel: int = 2) -> None:
+    """Warn (:class:`AccuracyWarning`), or raise :class:`AccuracyError` with ``strict``, if a run's relative energy
+    error ``err`` exceeds what ``n_steps`` steps at ``tolerance`` allow (:func:`energy_error_bound`); ``what`` names
+    where it was measured; ``stacklevel`` counts from the caller of this function."""
+    bound = energy_error_bound(tolerance, n_steps)
+    if err > bound:
+        msg = (f"the relative energy error {err:.3g}{what} exceeds {bound:.3g}, the most that {n_steps} steps at "
+               f"tolerance {tolerance:.3g} allow: the run is not accurate")
         if strict:
             raise AccuracyError(msg)
-        warnings.warn(msg, AccuracyWarning, stacklevel=4)
+        warnings.warn(msg, AccuracyWarning, stacklevel=stacklevel + 1)
+
+
+def check_theta_resolved(theta_maxima: NDArray[np.float64], initial: EulerState) -> None:
+    """Refuse a motion near the pole that the energy did not confine there: θ-maxima below ``THETA_MIN``, where the
+    integrator does not resolve the turning points (:mod:`rocknroller.numerics.events`)."""
+    if np.any(theta_maxima < THETA_MIN):
+        raise ValueError(f"theta0={initial.theta!r}: theta has maxima as small as {theta_maxima.min():.3g} "
+                         f"rad, below THETA_MIN = {THETA_MIN:.3g} rad, the smallest amplitude at which the integrator "
+                         f"resolves the turning points of theta; give theta0 >= {THETA_MIN:.3g}")
 
 
 class RunPlan(NamedTuple):
@@ -569,13 +582,10 @@ _Run = TypeVar("_Run", bound=Trajectory | TurningPointRun)
 
 
 def finish_run(result: _Run, initial: EulerState, strict: bool) -> _Run:
-    """The checks after a run: θ-maxima resolved (≥ ``THETA_MIN``), the energy error within its bound (a warning,
-    or :class:`AccuracyError` with ``strict``)."""
-    if np.any(result.maxima.theta < THETA_MIN):  # a motion near the pole that the energy did not confine there
-        raise ValueError(f"theta0={initial.theta!r}: theta has maxima as small as {result.maxima.theta.min():.3g} "
-                         f"rad, below THETA_MIN = {THETA_MIN:.3g} rad, the smallest amplitude at which the integrator "
-                         f"resolves the turning points of theta; give theta0 >= {THETA_MIN:.3g}")
-    _check_energy(result, strict)
+    """The checks after a run: θ-maxima resolved (:func:`check_theta_resolved`), the energy error within its bound
+    (:func:`check_energy_error`)."""
+    check_theta_resolved(result.maxima.theta, initial)
+    check_energy_error(result.energy_rel_error, result.n_steps, result.tolerance, strict, stacklevel=3)
     return result
 
 

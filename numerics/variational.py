@@ -60,7 +60,6 @@ from __future__ import annotations
 import copy
 import math
 import threading
-import warnings
 from array import array
 from dataclasses import dataclass, field
 from typing import Any
@@ -72,10 +71,10 @@ from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState, body_frame_rhs, turning_point_function
 from rocknroller.analysis.model.invariants import energy
 from rocknroller.numerics.budget import WORK_BUDGET_SECONDS, check_work
-from rocknroller.numerics.events import THETA_MIN, start_turning_point
-from rocknroller.numerics.integrate import AccuracyError, AccuracyWarning, check_run, heyoka_integrator
+from rocknroller.numerics.events import start_turning_point
+from rocknroller.numerics.integrate import check_energy_error, check_run, check_theta_resolved, heyoka_integrator
 from rocknroller.numerics.megno import ChaosIndicators, chaos_indicators
-from rocknroller.numerics.trajectory import energy_error_bound, energy_scale
+from rocknroller.numerics.trajectory import energy_scale
 
 __all__ = ["DirectChaos", "direct_chaos_indicators", "initial_tangent", "tangent_flow", "tangent_norm",
            "variational_integrator", "VARIATIONAL_SECONDS_PER_RADIAN", "CHUNK_RADIANS"]
@@ -272,19 +271,11 @@ def direct_chaos_indicators(body: Body, initial: EulerState, t_end: float, *,
         log_sum += math.log(size)
         state[_N:] /= size
     theta_max = np.frombuffer(thetas, dtype=float).copy()
-    if np.any(theta_max < THETA_MIN):
-        raise ValueError(f"theta0={initial.theta!r}: theta has maxima as small as {theta_max.min():.3g} rad, below "
-                         f"THETA_MIN = {THETA_MIN:.3g} rad, the smallest amplitude at which the integrator resolves "
-                         f"the turning points of theta; give theta0 >= {THETA_MIN:.3g}")
+    check_theta_resolved(theta_max, initial)
     E0 = float(energy(body, y0[0:3], y0[3:6]))
     err = float(np.max(np.abs(np.frombuffer(energies, dtype=float) - E0), initial=0.0)) / energy_scale(body, E0)
-    bound = energy_error_bound(float(np.finfo(float).eps), n_steps)
-    if err > bound:
-        msg = (f"the relative energy error {err:.3g} at the theta-maxima of the variational run exceeds {bound:.3g}, "
-               f"the most that {n_steps} steps at machine precision allow: the run is not accurate")
-        if strict:
-            raise AccuracyError(msg)
-        warnings.warn(msg, AccuracyWarning, stacklevel=2)
+    check_energy_error(err, n_steps, float(np.finfo(float).eps), strict,
+                       " at the theta-maxima of the variational run")
     try:
         indicators = chaos_indicators(np.frombuffer(times, dtype=float).copy(), np.frombuffer(logs, dtype=float).copy())
     except ValueError as exc:
