@@ -28,9 +28,9 @@ from rocknroller.analysis.routh.turning_points import solve_turning_points, turn
 from rocknroller.analysis.slow.atlas import Atlas, AtlasCheck, atlas_from_rest, atlas_of_rates, confirm_atlas
 from rocknroller.analysis.slow.ensemble_statistics import (EnsembleComparison, EnsembleStatistics, StartBall,
                                                            compare_ensembles, map_ensemble, ode_ensemble)
-from rocknroller.analysis.slow.pendulum import PendulumConstants, pendulum_constants, pendulum_prediction
-from rocknroller.analysis.slow.period_doubling import PeriodDoubling, period_doubling
-from rocknroller.analysis.slow.periodic_orbits import Branch, PeriodicOrbit, continue_orbit, periodic_orbit
+from rocknroller.analysis.slow.dynamics.pendulum import PendulumConstants, pendulum_constants, pendulum_prediction
+from rocknroller.analysis.slow.dynamics.period_doubling import PeriodDoubling, period_doubling
+from rocknroller.analysis.slow.dynamics.periodic_orbits import Branch, PeriodicOrbit, continue_orbit, periodic_orbit
 from rocknroller.analysis.slow.prediction import SlowPrediction, predict_slow_motion
 from rocknroller.numerics.ensemble import Job, RunSummary, run_ensemble
 from rocknroller.numerics.integrate import AccuracyError, AccuracyWarning, simulate

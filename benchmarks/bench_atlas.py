@@ -19,7 +19,7 @@ import numpy as np
 
 from rocknroller.analysis.slow import atlas as at
 from rocknroller.analysis.slow import prediction as av
-from rocknroller.analysis.slow import compiled_map as slow_map, table as slow_table
+from rocknroller.analysis.slow.map import compiled_map as slow_map, table as slow_table
 from rocknroller.analysis.model.body import Body
 
 

@@ -8,7 +8,7 @@ Paper body, ε = 1e-3, θ0 = 0.95π, ψ0 = π/4, 1000 time units.  Reports best-
   (rocknroller.numerics.integrate.simulate, output every 100 t.u.);
 * the averaged map once its tables exist (rocknroller.analysis.slow.prediction.predict_slow_motion: the compiled
   step loop, then the diagnostics), and its loop alone (rocknroller.analysis.slow.prediction.iterate_slow_map) per step;
-* the closed form (rocknroller.analysis.slow.pendulum.pendulum_prediction, constants precomputed) and the
+* the closed form (rocknroller.analysis.slow.dynamics.pendulum.pendulum_prediction, constants precomputed) and the
   one-dimensional quadratures of its constants;
 * the one-off table build (first use per body and θ0; cached on disk afterwards).
 """
@@ -21,7 +21,7 @@ import warnings
 
 from rocknroller.analysis.slow import prediction as av
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.slow.pendulum import pendulum_constants, pendulum_prediction
+from rocknroller.analysis.slow.dynamics.pendulum import pendulum_constants, pendulum_prediction
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.numerics.integrate import simulate
 from rocknroller.papers.averaging_check import ode_slow_summary

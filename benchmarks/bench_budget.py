@@ -27,9 +27,9 @@ def main() -> None:
     from rocknroller.analysis.model.body import Body
     from rocknroller.analysis.model.equations import EulerState
     from rocknroller.analysis.routh.quadrature_mp import precession_mp
-    from rocknroller.analysis.slow.family import rest_energy
-    from rocknroller.analysis.slow.region import build_region_table
-    from rocknroller.analysis.slow.table import build_table
+    from rocknroller.analysis.slow.map.family import rest_energy
+    from rocknroller.analysis.slow.map.region import build_region_table
+    from rocknroller.analysis.slow.map.table import build_table
     from rocknroller.numerics import budget
     from rocknroller.numerics.integrate import check_run, simulate
 

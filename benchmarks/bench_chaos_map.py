@@ -20,7 +20,7 @@ import warnings
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.slow import prediction as av
-from rocknroller.analysis.slow.second_order import load_or_build_second_order_table
+from rocknroller.analysis.slow.map.second_order import load_or_build_second_order_table
 from rocknroller.numerics.megno import chaos_indicators
 
 THETA0, T_END = 0.95 * math.pi, 2e4

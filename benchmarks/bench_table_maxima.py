@@ -4,7 +4,7 @@
 Run:  python benchmarks/bench_table_maxima.py
 
 The tables' orbits run maximum to maximum in the lanes of heyoka's batch integrator with their variational equations
-(analysis/slow/orbit.py).  Before issue 24 each orbit's next θ-maximum was found by a Python loop over single steps
+(analysis/slow/map/orbit.py).  Before issue 24 each orbit's next θ-maximum was found by a Python loop over single steps
 (``tb.step``, the sign of dγ3/dt checked after each) and a Newton iteration per lane on the step's dense output; now
 each lane stops at its own next maximum, a terminal event of the batch integrator.  "Before" is that loop, kept here
 (and only here) as it was, on an integrator without the event; both build the fig. 8 start's region tables from an
@@ -26,12 +26,12 @@ import numpy as np
 
 
 def old_to_next_maxima(order: int, sym: Any, x0: np.ndarray, lanes: int | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """The step loop of rocknroller before issue 24 (analysis/slow/orbit.py at ccb3b7c), verbatim but for the
+    """The step loop of rocknroller before issue 24 (analysis/slow/map/orbit.py at ccb3b7c), verbatim but for the
     integrator, built here without the terminal event."""
     import heyoka as hy
 
     from rocknroller.analysis.model.equations import turning_point_function
-    from rocknroller.analysis.slow import orbit as so
+    from rocknroller.analysis.slow.map import orbit as so
 
     key = ("old", order)
     if key not in _OLD:
@@ -71,7 +71,7 @@ def old_to_next_maxima(order: int, sym: Any, x0: np.ndarray, lanes: int | None =
 
 def old_maximum_in_step(tb: Any, times: np.ndarray, k: int, t_start: float, p0: Any) -> float:
     from rocknroller.analysis.model.equations import body_frame_rhs, turning_point_function
-    from rocknroller.analysis.slow.family import directional_derivative
+    from rocknroller.analysis.slow.map.family import directional_derivative
 
     lo, hi = t_start, float(times[k])
     t = hi
@@ -106,10 +106,10 @@ def main() -> None:
     os.environ["ROCKNROLLER_CACHE"] = tempfile.mkdtemp(prefix="bench_table_maxima_")
     from rocknroller.analysis.criticality.starts import critical_start
     from rocknroller.analysis.model.body import Body
-    from rocknroller.analysis.slow import orbit as so
+    from rocknroller.analysis.slow.map import orbit as so
     from rocknroller.analysis.slow import prediction as av
-    from rocknroller.analysis.slow import table as slow_table
-    from rocknroller.analysis.slow.family import rest_energy
+    from rocknroller.analysis.slow.map import table as slow_table
+    from rocknroller.analysis.slow.map.family import rest_energy
     from rocknroller.numerics.cache import MemoryCache
 
     body = Body.paper(1e-3)

@@ -38,9 +38,9 @@ def main() -> None:
     from rocknroller.analysis.model.body import Body
     from rocknroller.analysis.model.equations import EulerState
     from rocknroller.analysis.slow import prediction as av
-    from rocknroller.analysis.slow.family import first_maximum, rest_energy
-    from rocknroller.analysis.slow.region import build_region_table
-    from rocknroller.analysis.slow.second_order import build_second_order_table
+    from rocknroller.analysis.slow.map.family import first_maximum, rest_energy
+    from rocknroller.analysis.slow.map.region import build_region_table
+    from rocknroller.analysis.slow.map.second_order import build_second_order_table
     from rocknroller.numerics.integrate import simulate
 
     warnings.simplefilter("ignore")
@@ -61,7 +61,7 @@ def main() -> None:
     import shutil
 
     shutil.rmtree(os.environ["ROCKNROLLER_CACHE"])
-    from rocknroller.analysis.slow import table as slow_table
+    from rocknroller.analysis.slow.map import table as slow_table
     from rocknroller.numerics.cache import MemoryCache
 
     slow_table._TABLES = MemoryCache(slow_table.TABLE_CACHE_BYTES)

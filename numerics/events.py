@@ -38,7 +38,7 @@ THETA_MIN = 1024.0 * _U
 #: ``omega_from_rates`` gives ω1 = fl(γ1 φ̇), ω2 = fl(γ2 φ̇) from the same rounded γ1 = fl(s sin ψ), γ2 = fl(s cos ψ),
 #: so each product γ1 ω2, γ2 ω1 is γ1 γ2 φ̇ with two roundings and h0 = fl(difference) ≤ 2 γ_2 |γ1 γ2 φ̇| ≈
 #: 2 u (|γ1 ω2| + |γ2 ω1|); × 4 (margin, which also covers a start whose ω was given to a few ulps).
-#: ``rocknroller.analysis.slow.family.first_maximum`` classifies a start by the same bound.
+#: ``rocknroller.analysis.slow.map.family.first_maximum`` classifies a start by the same bound.
 START_ROOT_ULPS = 8.0
 
 

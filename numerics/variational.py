@@ -49,7 +49,7 @@ Checks (tests/numerics/test_variational.py)
 -------------------------------------------
 The tangent against central differences of two runs (the h² law, to its estimated truncation); λ per rock of pure
 rocking about the unstable axis (ψ0 = 0) against ln μ of the exact one-step map's Jacobian
-(:func:`rocknroller.analysis.slow.period_doubling.rocking_jacobian`), to 1e-11; MEGNO → 2 (1.91-1.92 after 3000
+(:func:`rocknroller.analysis.slow.dynamics.period_doubling.rocking_jacobian`), to 1e-11; MEGNO → 2 (1.91-1.92 after 3000
 rocks) on stable pure rocking and on a regular release; λ of chaotic releases against the growth rate of two runs
 1e-10 apart, over the same window, to 0.1-5 %.  Rocking about the stable axis is itself unstable past the period
 doubling: at θ0 = 0.95π, ε = 1e-2 lies past ε_pd ≈ 4/κ = 0.0094, and its MEGNO grows (25 after 300 rocks).

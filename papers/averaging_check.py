@@ -18,7 +18,7 @@ from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.diagnostics import wrap_angle
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.slow import prediction as av
-from rocknroller.analysis.slow.pendulum import PendulumConstants, pendulum_prediction
+from rocknroller.analysis.slow.dynamics.pendulum import PendulumConstants, pendulum_prediction
 
 __all__ = ["OBSERVABLES", "OdeSlowSummary", "ode_slow_summary", "PredictionCheck", "check_prediction",
            "timed_map_and_ode", "relative_errors", "sample_errors", "loglog_slope", "Comparison", "compare_with_ode"]

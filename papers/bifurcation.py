@@ -1,7 +1,7 @@
 """The bifurcation diagram of rocking near the period doubling: the rocking fixed points and the period-2 orbit of
-the slow map continued in ε (:mod:`rocknroller.analysis.slow.periodic_orbits`), stable solid and unstable dashed,
+the slow map continued in ε (:mod:`rocknroller.analysis.slow.dynamics.periodic_orbits`), stable solid and unstable dashed,
 with the exact one-step map's orbits (direct ODE) as markers; the standard map's angle ϑ = Θ + W(Q)/2 at the kick
-against ε/ε_pd (ε_pd of the exact map, :func:`rocknroller.analysis.slow.period_doubling.period_doubling`), and
+against ε/ε_pd (ε_pd of the exact map, :func:`rocknroller.analysis.slow.dynamics.period_doubling.period_doubling`), and
 Greene's residues below.  :func:`bifurcation_data` computes, :func:`bifurcation_diagram` writes PNG, PDF and CSV.
 """
 
@@ -15,9 +15,9 @@ from typing import Any, Sequence
 import numpy as np
 
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.slow.limits import check_map_theta0
-from rocknroller.analysis.slow.period_doubling import period_doubling
-from rocknroller.analysis.slow.periodic_orbits import K_MAX, Branch, PeriodicOrbit, continue_orbit, periodic_orbit
+from rocknroller.analysis.slow.map.limits import check_map_theta0
+from rocknroller.analysis.slow.dynamics.period_doubling import period_doubling
+from rocknroller.analysis.slow.dynamics.periodic_orbits import K_MAX, Branch, PeriodicOrbit, continue_orbit, periodic_orbit
 from rocknroller.papers.output import new_figure, save_figure, write_csv
 
 __all__ = ["BifurcationData", "bifurcation_data", "bifurcation_diagram"]

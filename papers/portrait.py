@@ -3,21 +3,21 @@ standard map and in the (Q_R, Q_J) plane over the critical lines, with the direc
 overlaid (issue 23, item 3; ``rocknroller portrait``).
 
 The plane.  Near pure rocking the slow map is Chirikov's standard map p' = p + K sin Θ, Θ' = Θ + p' with
-K = ε κ and p = ∇W(0)·Q (docs/averaging.md, "Closed forms"; :mod:`rocknroller.analysis.slow.pendulum`).  A start
+K = ε κ and p = ∇W(0)·Q (docs/averaging.md, "Closed forms"; :mod:`rocknroller.analysis.slow.dynamics.pendulum`).  A start
 (Θ, p) of the grid is the maximum of θ with Θ = 2ψ and Q = (p / ∇W(0)·e) e on the kick direction e = C0/|C0| of
-the release tables of (body, θ0) (:class:`rocknroller.analysis.slow.chart.SlowMapTable`: Q = (p/κ) C0, the pendulum's
+the release tables of (body, θ0) (:class:`rocknroller.analysis.slow.map.chart.SlowMapTable`: Q = (p/κ) C0, the pendulum's
 line), with the energy E = U(θ0) of the release from rest at θ0; every orbit is plotted at its maxima as
 (Θ mod 2π, ∇W(0)·Q) and as (Q_R, Q_J).  The releases from rest at θ0 are the line p = 0 (Q = 0, the origin of the
 (Q_R, Q_J) plane), drawn in both panels.  For κ > 0 the stable rocking (ψ = π/2) is Θ = π, the unstable Θ = 0.
 
-The map runs on the release tables (:func:`rocknroller.analysis.slow.compiled_map.iterate_slow_map`, order 1 or 2); an
+The map runs on the release tables (:func:`rocknroller.analysis.slow.map.compiled_map.iterate_slow_map`, order 1 or 2); an
 orbit that leaves the tables is cut where it leaves and listed in ``SlowPortrait.left``.  The ODE's starts are the
-same maxima (:func:`rocknroller.analysis.slow.family.maximum_state`), run by
+same maxima (:func:`rocknroller.analysis.slow.map.family.maximum_state`), run by
 :func:`rocknroller.numerics.ensemble.run_ensemble`.
 
 Colour.  Each orbit is coloured by one value (:func:`portrait_values`): the values passed in; else, by default, the
 orbit's MEGNO (``SlowPortrait.chaos``: the map's tangent vector carried along the orbit,
-``iterate_slow_map(..., tangent=True)``, and :func:`rocknroller.analysis.slow.chaos.map_indicators`, the indicators
+``iterate_slow_map(..., tangent=True)``, and :func:`rocknroller.analysis.slow.dynamics.chaos.map_indicators`, the indicators
 ``predict_slow_motion`` gives a release), on a colour scale clipped to [0, ``MEGNO_CLIP``] = [0, 5] (regular ≈ 2, a
 stable periodic orbit 0, chaotic above 3, marked on the colour bar), grey where an orbit has fewer than
 :data:`~rocknroller.numerics.megno.MIN_SAMPLES` maxima (it left the tables early); with ``chaos=False``, or for other
@@ -39,9 +39,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.model.body import Body, as_float
 from rocknroller.analysis.slow import prediction as av
-from rocknroller.analysis.slow.chaos import map_indicators
-from rocknroller.analysis.slow.compiled_map import SlowSeries, iterate_slow_map
-from rocknroller.analysis.slow.family import maximum_state, rest_energy
+from rocknroller.analysis.slow.dynamics.chaos import map_indicators
+from rocknroller.analysis.slow.map.compiled_map import SlowSeries, iterate_slow_map
+from rocknroller.analysis.slow.map.family import maximum_state, rest_energy
 from rocknroller.numerics.budget import WORK_BUDGET_SECONDS
 from rocknroller.numerics.megno import MEGNO_CHAOTIC, MIN_SAMPLES, ChaosIndicators
 from rocknroller.papers.output import new_figure, save_figure, write_csv
@@ -152,7 +152,7 @@ def portrait_values(portrait: SlowPortrait, values: ArrayLike | None = None,
 
 def theta0_of_energy(body: Body, E: float) -> float:
     """The release angle θ0 in ``THETA0_RANGE`` whose energy from rest U(θ0) is E (Brent's method on
-    :func:`rocknroller.analysis.slow.family.rest_energy`).
+    :func:`rocknroller.analysis.slow.map.family.rest_energy`).
 
     Raises
     ------
@@ -261,7 +261,7 @@ def slow_portrait(body: Body, theta0: float, Theta: ArrayLike, p: ArrayLike | No
         _check_grid("ode_starts p", s_p, -p_max, p_max)
     second = None
     if order == 2:
-        from rocknroller.analysis.slow.second_order import load_or_build_second_order_table
+        from rocknroller.analysis.slow.map.second_order import load_or_build_second_order_table
 
         second = load_or_build_second_order_table(body, theta0, build=build)
     T, P = (g.ravel() for g in np.meshgrid(Th, pp, indexing="ij"))

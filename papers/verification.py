@@ -221,7 +221,7 @@ def check_averaging() -> list[Check]:
     acceptance bound, and 5e-4 at ε = 1e-3; the closed form is first order in K = εκ with larger
     constants: 1e-2 on the slow period at ε = 1e-4.
     """
-    from rocknroller.analysis.slow.pendulum import pendulum_constants
+    from rocknroller.analysis.slow.dynamics.pendulum import pendulum_constants
     from rocknroller.analysis.slow.prediction import load_or_build_table
     from rocknroller.papers.averaging_check import compare_with_ode
 

@@ -21,7 +21,9 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("rocknroller.numerics",),                                # integrating the model
     ("rocknroller.analysis.routh",),                          # the integrable sphere
     ("rocknroller.analysis.criticality",),                    # critical lines, regions, critical starts
-    ("rocknroller.analysis.slow",),                           # the eps-averaged slow motion
+    ("rocknroller.analysis.slow.map",),                       # the eps-averaged slow map and its tables
+    ("rocknroller.analysis.slow.dynamics",),                  # what the map's orbits do: chaos, periodic orbits
+    ("rocknroller.analysis.slow",),                           # the slow motion's answers: prediction, atlas, statistics
     ("rocknroller.papers",),                                  # what is drawn or written for people
     ("rocknroller.papers.lynch_bustamante",),                 # the seed paper's figures and tables
     ("rocknroller.cli",),                                     # the command line
@@ -30,7 +32,15 @@ LAYERS: tuple[tuple[str, ...], ...] = (
 RANK = {pkg: i for i, layer in enumerate(LAYERS) for pkg in layer}
 #: Packages whose ``__init__`` is a map of its folder only.
 MAP_ONLY = {"rocknroller.analysis", "rocknroller.numerics", "rocknroller.papers", "rocknroller.analysis.model",
-            "rocknroller.analysis.routh", "rocknroller.analysis.criticality", "rocknroller.analysis.slow"}
+            "rocknroller.analysis.routh", "rocknroller.analysis.criticality", "rocknroller.analysis.slow",
+            "rocknroller.analysis.slow.map", "rocknroller.analysis.slow.dynamics"}
+#: A folder past this many modules (its ``__init__`` not counted) is split by stage into subpackages.
+MAX_FOLDER_MODULES = 12
+#: Folders that are catalogues, one module per item, and may hold more: the command line (one module per
+#: subcommand) and the seed paper (one module per figure or table).
+CATALOGUES = {"rocknroller.cli", "rocknroller.papers.lynch_bustamante"}
+#: A module past about this many lines is split (by stage, into modules of its folder or a subpackage).
+MAX_MODULE_LINES = 500
 
 
 def package_modules() -> dict[str, Path]:
@@ -149,7 +159,7 @@ def test_data_flows_one_way(modules):
     # an upward import inside a function (the kind Python does not notice)
     ("rocknroller.analysis.model.body", "def f():\n    from rocknroller.analysis.slow.prediction import predict_slow_motion\n"),
     # a circle inside one folder
-    ("rocknroller.analysis.slow.limits", "from rocknroller.analysis.slow import prediction\n"),
+    ("rocknroller.analysis.slow.map.limits", "from rocknroller.analysis.slow import prediction\n"),
     # a relative import out of the model into the integrators
     ("rocknroller.analysis.model.invariants", "from ...numerics import integrate\n"),
 ])
@@ -158,3 +168,27 @@ def test_the_check_catches_a_planted_import(modules, planted, added):
     sources = {planted: modules[planted].read_text() + "\n" + added}
     bad = violations(import_graph(modules, sources), modules)
     assert bad and all(planted in b or "circle" in b for b in bad), bad
+
+
+def folder_sizes(mods: dict[str, Path]) -> dict[str, int]:
+    """Modules per folder, the ``__init__`` not counted."""
+    sizes = {folder_of(m, mods): 0 for m in mods}
+    for m, path in mods.items():
+        if path.stem != "__init__":
+            sizes[folder_of(m, mods)] += 1
+    return sizes
+
+
+def test_folders_and_modules_stay_small(modules):
+    """No folder holds more than ``MAX_FOLDER_MODULES`` modules (catalogues aside), no module more than about
+    ``MAX_MODULE_LINES`` lines (5 % over, for a docstring that grows by a line or two)."""
+    crowded = {f: n for f, n in folder_sizes(modules).items() if n > MAX_FOLDER_MODULES and f not in CATALOGUES}
+    assert crowded == {}, f"split these folders by stage into subpackages: {crowded}"
+    long = {m: n for m, p in modules.items() if (n := len(p.read_text().splitlines())) > 1.05 * MAX_MODULE_LINES}
+    assert long == {}, f"split these modules by stage: {long}"
+
+
+def test_the_size_check_catches_a_crowded_folder(modules):
+    """The count sees a folder of 13 modules (today's analysis/slow had 16 in one folder)."""
+    crowded = {f"rocknroller.analysis.slow.x{i}": Path(f"/x/x{i}.py") for i in range(MAX_FOLDER_MODULES + 1)}
+    assert folder_sizes(crowded) == {"rocknroller.analysis.slow": MAX_FOLDER_MODULES + 1}

@@ -24,7 +24,7 @@ import numpy as np
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.slow import atlas as at
-from rocknroller.analysis.slow.limits import AveragingRangeError, AveragingValidityWarning
+from rocknroller.analysis.slow.map.limits import AveragingRangeError, AveragingValidityWarning
 from rocknroller.numerics.megno import MEGNO_CHAOTIC
 
 THETA0 = (0.9 * math.pi, 0.95 * math.pi)

@@ -16,7 +16,7 @@ import math
 from rocknroller.analysis.slow.prediction import load_or_build_table
 from rocknroller.papers.averaging_check import compare_with_ode, loglog_slope
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.slow.pendulum import pendulum_constants
+from rocknroller.analysis.slow.dynamics.pendulum import pendulum_constants
 from rocknroller.cli.options import parse_angle
 
 PSI0 = {"π/8": math.pi / 8, "π/4": math.pi / 4, "3π/8": 3 * math.pi / 8, "3.9π/8": 3.9 * math.pi / 8}

@@ -14,10 +14,10 @@ a. the 20 × 20 grid ψ0 = k (π/2)/20 (k = 1..20) × ε log-spaced in [1e-3, 1.
    ``--t-grid`` time units: the agreement of the verdicts, every disagreement with both MEGNO values, the ratio
    λ_map/λ_ODE (per unit time) where both call the start chaotic, and the fraction of chaotic starts per ε (per K);
 b. the separatrix layer's width at θ0 = 0.95π for five ε log-spaced in [3e-4, 3e-3], over ``--t-layer`` time
-   units (definition: :func:`rocknroller.analysis.slow.chaos.layer_width`, on its default grid
+   units (definition: :func:`rocknroller.analysis.slow.dynamics.chaos.layer_width`, on its default grid
    10^(−j/16), j = 0..160, with 2 bisections), for the map and the ODE, their ratio, and the least-squares fits
    ln w = ln C − q ln K − A/√K with q = 0 and 3/4 (K = εκ(θ0), κ from
-   :func:`rocknroller.analysis.slow.pendulum.pendulum_constants`);
+   :func:`rocknroller.analysis.slow.dynamics.pendulum.pendulum_constants`);
 c. the onset of the chaotic sea, from the map alone: the fraction of chaotic releases on the 20 ψ0 of (a) against
    K = εκ for K log-spaced in [0.2, 8] (ε = K/κ) at θ0 = 0.9π and 0.95π, over ``--t-grid`` time units, and how far
    in the standard map's momentum p = κ Q_R/C0_R the layer orbit from ψ0 = 1e-3 reaches (beyond Greene's
@@ -43,10 +43,10 @@ from tqdm import tqdm
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.slow import prediction as av
-from rocknroller.analysis.slow.chaos import LayerWidth, layer_width
-from rocknroller.analysis.slow.chart import TABLE_FUNCTIONS
-from rocknroller.analysis.slow.limits import AveragingRangeError, AveragingValidityWarning
-from rocknroller.analysis.slow.pendulum import pendulum_constants
+from rocknroller.analysis.slow.dynamics.chaos import LayerWidth, layer_width
+from rocknroller.analysis.slow.map.chart import TABLE_FUNCTIONS
+from rocknroller.analysis.slow.map.limits import AveragingRangeError, AveragingValidityWarning
+from rocknroller.analysis.slow.dynamics.pendulum import pendulum_constants
 from rocknroller.numerics.megno import MEGNO_CHAOTIC, ChaosIndicators
 from rocknroller.numerics.variational import direct_chaos_indicators
 from rocknroller.papers.output import write_csv
@@ -69,7 +69,7 @@ LAYER_PSI0 = 1e-3
 
 def map_chaos(body: Body, theta0: float, psi0: float, t_end: float) -> ChaosIndicators:
     """The map's indicators (order: the package's default, 2 for these releases) over [0, t_end]; raises
-    :class:`~rocknroller.analysis.slow.limits.AveragingRangeError` where the orbit leaves the tables."""
+    :class:`~rocknroller.analysis.slow.map.limits.AveragingRangeError` where the orbit leaves the tables."""
     chaos = av.predict_slow_motion(body, theta0, psi0, t_end).chaos
     assert chaos is not None
     return chaos

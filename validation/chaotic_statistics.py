@@ -32,7 +32,7 @@ from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.slow.ensemble_statistics import (DISTRIBUTION_STATISTICS, STATISTICS, StartBall,
                                                            compare_ensembles, map_ensemble, ode_ensemble)
-from rocknroller.analysis.slow.limits import AveragingValidityWarning
+from rocknroller.analysis.slow.map.limits import AveragingValidityWarning
 from rocknroller.analysis.slow.prediction import load_or_build_table
 from rocknroller.numerics.ensemble import Job, run_ensemble
 from rocknroller.numerics.megno import chaos_indicators

@@ -15,8 +15,8 @@ import math
 import time
 
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.slow.period_doubling import period_doubling
-from rocknroller.analysis.slow.periodic_orbits import periodic_orbit
+from rocknroller.analysis.slow.dynamics.period_doubling import period_doubling
+from rocknroller.analysis.slow.dynamics.periodic_orbits import periodic_orbit
 
 FRACTIONS = (1.05, 1.2, 1.5)
 

@@ -19,9 +19,9 @@ import warnings
 import numpy as np
 
 from rocknroller.analysis.slow import prediction as av
-from rocknroller.analysis.slow import region as sr
+from rocknroller.analysis.slow.map import region as sr
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.slow.family import first_maximum
+from rocknroller.analysis.slow.map.family import first_maximum
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.papers.averaging_check import loglog_slope, ode_slow_summary, sample_errors
 

@@ -20,11 +20,11 @@ import warnings
 import numpy as np
 
 from rocknroller.analysis.slow import prediction as av
-from rocknroller.analysis.slow import region as sr
+from rocknroller.analysis.slow.map import region as sr
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.routh.turning_points import turning_points
-from rocknroller.analysis.slow.family import first_maximum, rest_energy
-from rocknroller.analysis.slow.orbit import harmonic_steps
+from rocknroller.analysis.slow.map.family import first_maximum, rest_energy
+from rocknroller.analysis.slow.map.orbit import harmonic_steps
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.papers.averaging_check import loglog_slope, sample_errors, timed_map_and_ode
 

@@ -20,10 +20,10 @@ import time
 
 import numpy as np
 
-from rocknroller.analysis.slow import region as sr
+from rocknroller.analysis.slow.map import region as sr
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.slow.second_order import load_or_build_second_order_region_table
-from rocknroller.analysis.slow.family import first_maximum, rest_energy
+from rocknroller.analysis.slow.map.second_order import load_or_build_second_order_region_table
+from rocknroller.analysis.slow.map.family import first_maximum, rest_energy
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.papers.averaging_check import relative_errors, timed_map_and_ode
 from rocknroller.papers.lynch_bustamante import fig8_visible_reversal, fig9_full_reversal, fig11_high_QR

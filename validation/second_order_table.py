@@ -15,7 +15,7 @@ import time
 
 from rocknroller.analysis.slow import prediction as av
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.slow.second_order import load_or_build_second_order_table
+from rocknroller.analysis.slow.map.second_order import load_or_build_second_order_table
 from rocknroller.papers.averaging_check import loglog_slope, ode_slow_summary, relative_errors, sample_errors
 
 from averaging_table import PSI0, theta0_and_t_end  # the script beside this one (run from validation/ or by path)

@@ -1,38 +1,19 @@
 """The ε-averaged slow motion of (Q_R, Q_J) of the rock'n'roller, ε = (I2 − I1)/I1, to second order.
 
-In the order data flows through them:
+By stage, in the order data flows through them:
 
-``limits``
-    Where the averaged map applies, how long a run may be, the stable rocking axis and the period-doubling threshold.
-``family``
-    The family I2 = (1 + ε) I1 and where a slow orbit starts on it: the rest energy, the maximum of θ of a member
-    with given (E, Q_R, Q_J, ψ), the first maximum of θ of any start, the differences along the family.
-``orbit``
-    One step maximum → maximum of Routh's sphere with its first- and second-order ε-responses (variational
-    equations, heyoka).
-``exact_step``
-    The same step of the asymmetric body by the direct ODE, and its ε-derivatives by differences.
-``chart``
-    The charts of the tables (release, spindle, band) and their Chebyshev series (:class:`SlowMapTable`,
-    :class:`SecondOrderTable`).
-``table``
-    Building, fitting, checking and caching the tables (the release tables built here).
-``region``
-    The region tables of one energy, for starts with velocity.
-``compiled_map``
-    The run-time form of a table and the compiled drift–kick–drift iteration (C kernel ``_kernel``).
-``second_order``
-    The second-order kick k₂ and its tables.
-``chaos``
-    Order and chaos of the map: its chaos indicators (MEGNO, Lyapunov exponent) from a tangent vector carried through
-    the compiled map, its per-step error against the exact step, and the predictability horizon.
+``map``
+    The slow map and its tables: the limits of the averaging, the family and its starts, the variational orbit, the
+    exact step, the charts, the release, region and second-order tables, and the compiled iteration (C kernel).
+``dynamics``
+    What the map's orbits do: the chaos indicators and the predictability horizon, the closed form near pure rocking,
+    the period doubling of stable rocking and the periodic orbits.
+
+On top of both, the answers users ask for:
+
 ``prediction``
     :func:`predict_slow_motion`: the prediction from a release or a state, with its diagnostics, chaos indicators
     and predictability horizon.
-``pendulum``
-    The closed form near pure rocking: the standard map and its pendulum limit.
-``period_doubling``
-    The period doubling of stable rocking, from the exact step.
 ``atlas``
     The slow motion over a plane of starts, by the map or the direct ODE.
 ``ensemble_statistics``

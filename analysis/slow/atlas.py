@@ -9,8 +9,8 @@ Two planes: releases from rest over (ψ0, θ0) (:func:`atlas_from_rest`, by the 
 of its starts has its own energy, and the map's tables are per energy).
 
 For each release angle θ0 the first-order map runs on one table
-(:func:`rocknroller.analysis.slow.table.load_or_build_table` in ``THETA0_RANGE``, the region tables of the release's
-energy below it, :mod:`rocknroller.analysis.slow.region`), so a row of ψ0 costs one table and a small fraction of a direct run a
+(:func:`rocknroller.analysis.slow.map.table.load_or_build_table` in ``THETA0_RANGE``, the region tables of the release's
+energy below it, :mod:`rocknroller.analysis.slow.map.region`), so a row of ψ0 costs one table and a small fraction of a direct run a
 point once the tables are cached (order 2 would add a second-order table per θ0, each several times dearer: the atlas
 asks for order 1 whatever ``predict_slow_motion``'s default; the costs: docs/performance.md). Each point gives the slow period of Θ = 2ψ, the azimuth span Φ, the Q_R
 and Q_J extents and the numbers of full-angle (Q_J,0^crit) and visible-angle (Q_J,π^crit) reversals per 1000 time
@@ -23,7 +23,7 @@ bit), and the map's relative errors there are returned beside the atlas.
 
 Order and chaos (issue 23, item 6).  A map-made release atlas also carries, by default, the map's own chaos
 indicators at every point (``CHAOS_OBSERVABLES``): MEGNO and the finite-time Lyapunov exponent per unit time of the
-run (:func:`rocknroller.analysis.slow.chaos.map_indicators`, the tangent vector that ``predict_slow_motion`` carries;
+run (:func:`rocknroller.analysis.slow.dynamics.chaos.map_indicators`, the tangent vector that ``predict_slow_motion`` carries;
 ~1.5-1.8x the map's cost without it: benchmarks/bench_chaos_map.py), masked where a run has fewer than
 :data:`~rocknroller.numerics.megno.MIN_SAMPLES` maxima.  Its verdict, regular (MEGNO ≤
 :data:`~rocknroller.numerics.megno.MEGNO_CHAOTIC` = 3) or chaotic, is :attr:`Atlas.regular`.  :func:`confirm_atlas`
@@ -229,9 +229,9 @@ MAX_ODE_ATLAS_POINTS = 20_000
 def _check_table_work(body: Body, theta0: NDArray[np.float64], budget: float | None) -> None:
     """Refuse an atlas whose uncached tables (one per θ0: a release table, or below ``THETA0_RANGE`` the region
     tables of the release's energy) would take more than ``budget`` CPU seconds to build."""
-    from rocknroller.analysis.slow.family import rest_energy
-    from rocknroller.analysis.slow.region import region_table_cached
-    from rocknroller.analysis.slow.table import build_table, is_cached
+    from rocknroller.analysis.slow.map.family import rest_energy
+    from rocknroller.analysis.slow.map.region import region_table_cached
+    from rocknroller.analysis.slow.map.table import build_table, is_cached
 
     sym = body.symmetric()
     region = [t0 for t0 in theta0 if av.releases_on_region_tables(t0)]

@@ -19,7 +19,7 @@ One step (maximum n → maximum n+1), to first order in ε at fixed Q_n:
 with T_θ, W = 2(Δψ − π) and Δφ those of the symmetric body (from the quadratures,
 ``rocknroller.analysis.routh.quadrature``, for the release tables; from the variational orbits themselves for the
 region tables) and the first-order terms from the symmetric orbit integrated together with its first-order
-variational equations in ε (:mod:`rocknroller.analysis.slow.orbit`; three orbits per Q give the harmonics 0 and 1
+variational equations in ε (:mod:`rocknroller.analysis.slow.map.orbit`; three orbits per Q give the harmonics 0 and 1
 of Θ_n).
 
 Reversible form.  The exact map is reversible under (Q, Θ) → (−Q, Θ) (time reversal).  The same
@@ -30,23 +30,23 @@ first-order data are written as drift–kick–drift: a half twist Θ += W(Q)/2,
 
 k_Q even and k_Θ odd in Q (enforced on the symmetric grid).  The ε ΔΘ term is kept: it is the phase
 change of the part of the kick received before the passage near θ = 0, multiplied by the large ∂W/∂Q.
-To second order (``order=2``) the kick is k₁ + ε k₂ (:mod:`rocknroller.analysis.slow.second_order`), and the map
+To second order (``order=2``) the kick is k₁ + ε k₂ (:mod:`rocknroller.analysis.slow.map.second_order`), and the map
 stays reversible.
 
 Starts.  A release from rest at θ0 in ``THETA0_RANGE`` = [0.75π, 0.999π] runs on the release tables of (body, θ0).
 A release below 0.75π, and any initial state (an ``EulerState``, with velocity), is first carried to its first
-maximum of θ by a short direct integration (:func:`rocknroller.analysis.slow.family.first_maximum`; a release from
+maximum of θ by a short direct integration (:func:`rocknroller.analysis.slow.map.family.first_maximum`; a release from
 rest is its own first maximum), and runs on the region tables of its energy
-(:mod:`rocknroller.analysis.slow.region`).  Order 2 adds the second-order tables on the same chart: per (body, θ0)
+(:mod:`rocknroller.analysis.slow.map.region`).  Order 2 adds the second-order tables on the same chart: per (body, θ0)
 for a release table, per (body, E) on the default region tables.  For ε = 0 a release on the release tables is
 returned as the exact pure rocking (``SlowPrediction.pure_rocking``).
 
 Stages.  The coefficient functions are tabulated once per (body, θ0) or (body, energy) and cached
-(:mod:`rocknroller.analysis.slow.chart`, :mod:`rocknroller.analysis.slow.table`, and
-:mod:`rocknroller.analysis.slow.region` for whole regions); the map is iterated on them in compiled code
-(:mod:`rocknroller.analysis.slow.compiled_map`); this module predicts the slow motion of a start
+(:mod:`rocknroller.analysis.slow.map.chart`, :mod:`rocknroller.analysis.slow.map.table`, and
+:mod:`rocknroller.analysis.slow.map.region` for whole regions); the map is iterated on them in compiled code
+(:mod:`rocknroller.analysis.slow.map.compiled_map`); this module predicts the slow motion of a start
 (:func:`predict_slow_motion`) and its diagnostics.  The stages' public names, and the limits' of
-:mod:`rocknroller.analysis.slow.limits`, are re-exported here.
+:mod:`rocknroller.analysis.slow.map.limits`, are re-exported here.
 
 Range.  The release tables are built and validated for releases 0.75π ≤ θ0 ≤ 0.999π (``THETA0_RANGE``;
 docs/averaging.md, "Releases from rest: the range of θ0"); the region tables need an energy below that of the upright
@@ -70,24 +70,24 @@ from rocknroller.analysis.model.body import Body, as_float
 from rocknroller.analysis.model.diagnostics import azimuth_span, slow_period, span, unwrap_phase
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.routh.reduction import u_ends
-from rocknroller.analysis.slow.chaos import HORIZON_FRACTION, StepErrorProbe, predictability_horizon, run_indicators
-from rocknroller.analysis.slow.chart import TABLE_FUNCTIONS, SlowMapTable  # noqa: F401 (re-exported)
-from rocknroller.analysis.slow.compiled_map import SlowSeries, centre_period, iterate_slow_map
-from rocknroller.analysis.slow.family import first_maximum, rest_energy
+from rocknroller.analysis.slow.dynamics.chaos import HORIZON_FRACTION, StepErrorProbe, predictability_horizon, run_indicators
+from rocknroller.analysis.slow.map.chart import TABLE_FUNCTIONS, SlowMapTable  # noqa: F401 (re-exported)
+from rocknroller.analysis.slow.map.compiled_map import SlowSeries, centre_period, iterate_slow_map
+from rocknroller.analysis.slow.map.family import first_maximum, rest_energy
 # The stages' public names are re-exported (``prediction.load_or_build_table`` etc., module docstring); pyflakes
 # reports those this module does not use itself as unused.
-from rocknroller.analysis.slow.limits import (K_PERIOD_DOUBLING, MAX_MAXIMA, THETA0_RANGE,  # noqa: F401
+from rocknroller.analysis.slow.map.limits import (K_PERIOD_DOUBLING, MAX_MAXIMA, THETA0_RANGE,  # noqa: F401
                                               AveragingRangeError, AveragingValidityWarning, check_map_theta0,
                                               check_release_theta0, check_t_end, eps_period_doubling, t_end_limit)
-from rocknroller.analysis.slow.orbit import symmetric_data
-from rocknroller.analysis.slow.table import (REGION_TABLE_ACCURACY, TableNotCachedError, build_table,  # noqa: F401
+from rocknroller.analysis.slow.map.orbit import symmetric_data
+from rocknroller.analysis.slow.map.table import (REGION_TABLE_ACCURACY, TableNotCachedError, build_table,  # noqa: F401
                                              load_or_build_table)
 from rocknroller.numerics.megno import ChaosIndicators
 
 if TYPE_CHECKING:
     import pandas
 
-    from rocknroller.analysis.slow.chart import SecondOrderTable
+    from rocknroller.analysis.slow.map.chart import SecondOrderTable
 
 
 #: Defined here; the tables' and the map's public names (``SlowMapTable``, ``build_table``, ``load_or_build_table``,
@@ -167,13 +167,13 @@ class SlowPrediction:
         and Φ are 0 and the slow period and line slope are None.
     start : the initial state of a start with velocity (None for a release from rest).
     order : the map's order in ε (1 or 2).
-    chaos : the map's chaos indicators (:func:`rocknroller.analysis.slow.chaos.map_indicators`: MEGNO, the
+    chaos : the map's chaos indicators (:func:`rocknroller.analysis.slow.dynamics.chaos.map_indicators`: MEGNO, the
         finite-time Lyapunov exponent per unit time and per rock, ``regular`` by MEGNO ≤ 3), from a tangent vector
         carried along the map from its start (the first maximum, for a start with velocity).  None for pure rocking
         (ε = 0 from rest: the map is the identity in Q there, Q ≡ 0 and Θ fixed, and no map is run), for a run of
         fewer than ``MIN_SAMPLES`` = 8 maxima (too short to measure), and with ``indicators=False``.
     error_probe : the map's own per-step error along the run, computed when the horizon is first asked for
-        (:class:`rocknroller.analysis.slow.chaos.StepErrorProbe`); None where ``chaos`` is.
+        (:class:`rocknroller.analysis.slow.dynamics.chaos.StepErrorProbe`); None where ``chaos`` is.
     """
 
     eps: float
@@ -204,7 +204,7 @@ class SlowPrediction:
     def horizon(self, fraction: float = HORIZON_FRACTION) -> float:
         """The predictability horizon: the time at which the map's own per-step error, grown at the measured rate
         (e^(λt) on a chaotic orbit, linearly by the shear on a regular one), reaches ``fraction`` of the larger extent
-        (:func:`rocknroller.analysis.slow.chaos.predictability_horizon`, where the formulas are derived).  Past it the
+        (:func:`rocknroller.analysis.slow.dynamics.chaos.predictability_horizon`, where the formulas are derived).  Past it the
         point predictions are statistical only.  The first call runs four exact steps of the direct ODE (~0.1 s).
 
         Raises
@@ -271,8 +271,8 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
         against the direct ODE, docs/averaging.md); below, the region tables of the release's energy (as for an
         EulerState from rest); other values are refused (ValueError).
         Or an initial state (the one ``simulate`` takes): it is carried to its first θ-maximum by a short
-        direct integration (:func:`rocknroller.analysis.slow.family.first_maximum`) and the map is iterated from
-        there on the region tables of its energy (:mod:`rocknroller.analysis.slow.region`); then ``psi0`` is
+        direct integration (:func:`rocknroller.analysis.slow.map.family.first_maximum`) and the map is iterated from
+        there on the region tables of its energy (:mod:`rocknroller.analysis.slow.map.region`); then ``psi0`` is
         not given and ``table`` is a region table of that energy, if given.
     psi0 : float
         Release spin angle (Θ0 = 2ψ0).
@@ -284,7 +284,7 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
     build : bool
         Build the tables if they are not cached (else ValueError).
     order : {1, 2}, optional
-        The map's order in ε.  Order 2 adds the second-order kick k₂ (:mod:`rocknroller.analysis.slow.second_order`,
+        The map's order in ε.  Order 2 adds the second-order kick k₂ (:mod:`rocknroller.analysis.slow.map.second_order`,
         tables built once per (body, θ0) for a release in ``THETA0_RANGE``, or per (body, E) on the default region
         tables for any other start, and cached).  Default: :func:`default_order`, the same as ``rocknroller slow``'s
         (2 for a release from rest in ``THETA0_RANGE``, 1 for any other start; the costs are stated there).
@@ -356,7 +356,7 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
             regions=np.full(t.size, ON_BOTH, dtype=object), region_runs=[], crossings=[], pure_rocking=True,
             order=order)
     if order == 2:
-        from rocknroller.analysis.slow.second_order import load_or_build_second_order_table
+        from rocknroller.analysis.slow.map.second_order import load_or_build_second_order_table
 
         if second is None:
             second = load_or_build_second_order_table(body, theta0, build=build, progress=progress)
@@ -379,7 +379,7 @@ def _warn_validity(eps: float, table: SlowMapTable) -> None:
             f"unstable (period doubling at eps = {eps_period_doubling(table.kappa):.4g}); the first-order "
             f"averaging is expected to hold for K < {K_PERIOD_DOUBLING:g}", AveragingValidityWarning, stacklevel=3)
     if table.delta_min > 0.0 and table.interp_error > REGION_TABLE_ACCURACY:
-        from rocknroller.analysis.slow.region import accuracy_cause
+        from rocknroller.analysis.slow.map.region import accuracy_cause
 
         warnings.warn(
             f"the region tables of E={table.E0:.6g} interpolate the map's coefficients only to "
@@ -429,7 +429,7 @@ def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: S
     """predict_slow_motion from an initial state: its first maximum, then the map on the region tables (and for
     order 2 the second-order tables on their chart)."""
     from rocknroller.analysis.routh.steady_rolling import boundary_distance
-    from rocknroller.analysis.slow.region import DELTA_MIN_DEFAULT, load_or_build_region_table, region_options
+    from rocknroller.analysis.slow.map.region import DELTA_MIN_DEFAULT, load_or_build_region_table, region_options
 
     t_end = float(t_end)
     if not (math.isfinite(t_end) and t_end > 0.0):
@@ -460,7 +460,7 @@ def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: S
     elif table.body != body.symmetric():
         raise ValueError(f"the table is for the body {table.body.describe()}, not {body.symmetric().describe()}")
     if order == 2:
-        from rocknroller.analysis.slow.second_order import load_or_build_second_order_region_table
+        from rocknroller.analysis.slow.map.second_order import load_or_build_second_order_region_table
 
         if (table.coef.shape[1:] != region_options(body, fm.E)[1:]  # cheap first: another grid
                 or not table.same_chart(load_or_build_region_table(body, fm.E, build=build, progress=progress))):

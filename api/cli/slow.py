@@ -2,7 +2,7 @@
 
 Without a rate option (or ``--critical-line``) the body is released from rest at (θ0, ψ0): the release tables
 and the closed form near pure rocking.  With one, the start is carried to its first θ-maximum by the direct ODE
-and the map runs on the region tables of its energy (``rocknroller.analysis.slow.region``).
+and the map runs on the region tables of its energy (``rocknroller.analysis.slow.map.region``).
 
 The body, the angles and ``--t-end`` are checked before any table is built, and errors name the option
 given (``--eps``, ``--I2``, ``--theta0``, ``--t-end``).  ``--json`` prints strict JSON (no NaN or Infinity); a quantity that is
@@ -181,8 +181,8 @@ def _parse(args: argparse.Namespace, option: str) -> float:
 def _from_state(args: argparse.Namespace, body: Any, start: Any,
                 order: int) -> tuple[Any, dict[str, Any], list[str]]:
     """The prediction of ``order`` from a start with velocity, its extra summary entries and its warnings."""
-    from rocknroller.analysis.slow.family import first_maximum
-    from rocknroller.analysis.slow.region import load_or_build_region_table, region_options
+    from rocknroller.analysis.slow.map.family import first_maximum
+    from rocknroller.analysis.slow.map.region import load_or_build_region_table, region_options
 
     fm = first_maximum(body, start)
     with warnings.catch_warnings(record=True) as caught:
@@ -192,7 +192,7 @@ def _from_state(args: argparse.Namespace, body: Any, start: Any,
                                            progress=_progress(args), axis=args.chart, nu=nu, nv=nv)
         second = None
         if order == 2:
-            from rocknroller.analysis.slow.second_order import load_or_build_second_order_region_table
+            from rocknroller.analysis.slow.map.second_order import load_or_build_second_order_region_table
 
             second = load_or_build_second_order_region_table(body, fm.E, build=not args.cached_only,
                                                              workers=args.processes, progress=_progress(args))
@@ -206,7 +206,7 @@ def _from_state(args: argparse.Namespace, body: Any, start: Any,
 
 def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller slow`` with the parsed ``args``; returns the exit status."""
-    from rocknroller.analysis.slow.pendulum import pendulum_constants, pendulum_prediction
+    from rocknroller.analysis.slow.dynamics.pendulum import pendulum_constants, pendulum_prediction
 
     if args.plot is not None:
         prepare_output_dir(args.plot, "--plot", args.force, ["slow_orbit.png", "slow_orbit.pdf"])
@@ -268,7 +268,7 @@ def run(args: argparse.Namespace) -> int:
         order = av.default_order(theta0) if args.order is None else args.order
         second = None
         if order == 2 and body.epsilon > 0.0:
-            from rocknroller.analysis.slow.second_order import load_or_build_second_order_table
+            from rocknroller.analysis.slow.map.second_order import load_or_build_second_order_table
 
             second = load_or_build_second_order_table(body, theta0, build=not args.cached_only,
                                                       workers=args.processes, progress=_progress(args))
@@ -291,7 +291,7 @@ def run(args: argparse.Namespace) -> int:
     if pend is not None and pred.pure_rocking:
         summary["pendulum"]["slow_period"] = None  # K = 0: no libration (the closed form's period is infinite)
     if args.period_doubling:
-        from rocknroller.analysis.slow.period_doubling import map_period_doubling, period_doubling
+        from rocknroller.analysis.slow.dynamics.period_doubling import map_period_doubling, period_doubling
 
         pd = period_doubling(body, theta0)
         summary["period_doubling"] = {"eps_first_order": pd.eps_first_order, "eps_exact": pd.eps_exact,
@@ -345,7 +345,7 @@ def _chaos_summary(pred: Any) -> dict[str, Any]:
     """The summary's entries on order and chaos: ``chaos`` (regular, MEGNO, λ, 1/λ; null with ``chaos_note`` where
     there are no indicators), ``horizon`` (t, fraction, the per-step error, the label; null with ``horizon_note`` where
     it is not defined) and ``beyond_horizon`` (t_end past the horizon; null without one)."""
-    from rocknroller.analysis.slow.chaos import HORIZON_FRACTION
+    from rocknroller.analysis.slow.dynamics.chaos import HORIZON_FRACTION
 
     out: dict[str, Any] = {"chaos": None, "horizon": None, "beyond_horizon": None}
     ch = pred.chaos

@@ -78,7 +78,7 @@ def statistics_summary(args: argparse.Namespace, body: Any, pred: Any, summary: 
     import numpy as np
 
     from rocknroller.analysis.slow.ensemble_statistics import STATISTICS, StartBall, map_ensemble, member_statistics
-    from rocknroller.analysis.slow.limits import AveragingValidityWarning
+    from rocknroller.analysis.slow.map.limits import AveragingValidityWarning
 
     n = args.statistics
     if n is None:

@@ -13,7 +13,7 @@ import numpy as np
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState
-from rocknroller.analysis.slow.pendulum import pendulum_constants, pendulum_prediction
+from rocknroller.analysis.slow.dynamics.pendulum import pendulum_constants, pendulum_prediction
 from rocknroller.analysis.slow.prediction import load_or_build_table, predict_slow_motion
 from rocknroller.numerics.integrate import simulate
 from rocknroller.papers.output import Reproduction, new_figure, save_figure, write_csv

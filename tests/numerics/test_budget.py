@@ -66,7 +66,7 @@ def test_an_ensemble_of_long_runs_is_refused_before_any_work():
 def test_an_atlas_of_many_uncached_tables_is_refused(monkeypatch, tmp_path):
     """``atlas --theta0 0.8pi:0.95pi:3000`` built one table per θ0 for hours; refused up front, counting only the
     tables not cached (an empty cache here)."""
-    from rocknroller.analysis.slow import table as slow_table
+    from rocknroller.analysis.slow.map import table as slow_table
     from rocknroller.numerics.cache import MemoryCache
 
     monkeypatch.setenv("ROCKNROLLER_CACHE", str(tmp_path))

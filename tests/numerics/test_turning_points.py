@@ -52,7 +52,7 @@ def test_the_ode_and_the_slow_prediction_start_from_the_same_sample():
     """``first_maximum`` (where ``predict_slow_motion``'s series of maxima starts) and the ODE classify a start alike:
     one that is its own maximum (t = 0) is a sample of neither; one with θ̇0 = 1e-9 (θ still rising, |dγ3/dt| far
     above its rounding) has its first maximum a moment later, the same sample for both."""
-    from rocknroller.analysis.slow.family import first_maximum
+    from rocknroller.analysis.slow.map.family import first_maximum
 
     for start in STARTS_AT_A_MAXIMUM:
         assert first_maximum(BODY, start).t == 0.0

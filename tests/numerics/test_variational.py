@@ -71,7 +71,7 @@ def test_unstable_rocking_grows_by_the_exact_step_multiplier(eps, theta0):
     ``exact_step``, an independent computation through ``simulate``).  Tolerance 1e-9 relative: that Jacobian's
     entries are good to ~1e-10 (its docstring: O(h⁴) truncation ~1e-12, round-off ~1e-10), × 10.  Measured:
     2.0e-12, 6.3e-12 and 1.4e-11 over 100 rocks (ln μ = 1.801, 1.076, 0.998); MEGNO 91, 54, 61."""
-    from rocknroller.analysis.slow.period_doubling import rocking_jacobian
+    from rocknroller.analysis.slow.dynamics.period_doubling import rocking_jacobian
 
     body = Body.paper(eps)
     mu = float(np.max(np.abs(np.linalg.eigvals(rocking_jacobian(body, theta0, eps, 0.0)))))

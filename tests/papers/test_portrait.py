@@ -12,9 +12,9 @@ import pytest
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState
-from rocknroller.analysis.slow.compiled_map import iterate_slow_map
-from rocknroller.analysis.slow.family import rest_energy
-from rocknroller.analysis.slow.limits import AveragingRangeError, AveragingValidityWarning
+from rocknroller.analysis.slow.map.compiled_map import iterate_slow_map
+from rocknroller.analysis.slow.map.family import rest_energy
+from rocknroller.analysis.slow.map.limits import AveragingRangeError, AveragingValidityWarning
 from rocknroller.analysis.slow.prediction import load_or_build_table, predict_slow_motion
 from rocknroller.numerics.integrate import simulate
 from rocknroller.numerics.megno import MIN_SAMPLES

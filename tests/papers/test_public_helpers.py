@@ -46,10 +46,10 @@ def test_check_prediction_is_the_cli_check(kind):
         ode = ode_slow_summary(BODY, 0.95 * math.pi, math.pi / 4, 300.0)
     else:
         start = dataclasses.replace(rr.EulerState(0.95 * math.pi, 0.0, math.pi / 4), theta_dot=1e-3)
-        from rocknroller.analysis.slow.family import first_maximum
-        from rocknroller.analysis.slow.region import load_or_build_region_table
+        from rocknroller.analysis.slow.map.family import first_maximum
+        from rocknroller.analysis.slow.map.region import load_or_build_region_table
 
-        with pytest.warns(rr.analysis.slow.limits.AveragingValidityWarning):  # a coarse table, to be quick
+        with pytest.warns(rr.analysis.slow.map.limits.AveragingValidityWarning):  # a coarse table, to be quick
             table = load_or_build_region_table(BODY, first_maximum(BODY, start).E, nu=16, nv=8)
             pred = rr.predict_slow_motion(BODY, start, t_end=300.0, order=1, table=table)
         ode = ode_slow_summary(BODY, start, None, 300.0)

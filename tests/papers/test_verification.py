@@ -54,7 +54,8 @@ def test_an_unmeasured_quantity_fails_its_averaging_row(monkeypatch):
     made check_averaging raise TypeError (abs(None)) and `rocknroller verify` stop; it is now a failed row."""
     import types
 
-    from rocknroller.analysis.slow import pendulum, prediction
+    from rocknroller.analysis.slow.dynamics import pendulum
+    from rocknroller.analysis.slow import prediction
     from rocknroller.papers import averaging_check
 
     errors = {"slow_period": None, "QR_extent": 0.0, "Phi": 0.0}

@@ -14,7 +14,7 @@ from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.slow.ensemble_statistics import (DISTRIBUTION_STATISTICS, STATISTICS, EnsembleStatistics,
                                                            StartBall, compare_ensembles, map_ensemble,
                                                            member_statistics, ode_ensemble)
-from rocknroller.analysis.slow.limits import AveragingValidityWarning
+from rocknroller.analysis.slow.map.limits import AveragingValidityWarning
 
 THETA0 = 0.95 * math.pi
 BODY = Body.paper(1e-3)

@@ -21,13 +21,13 @@ from rocknroller.analysis.model.equations import EulerState, euler_from_state, s
 from rocknroller.analysis.model.invariants import energy
 from rocknroller.analysis.routh.quadrature import precession
 from rocknroller.analysis.routh.quadrature_mp import precession_mp
-from rocknroller.analysis.slow import compiled_map as slow_map
-from rocknroller.analysis.slow import family as fam
-from rocknroller.analysis.slow import orbit as so
-from rocknroller.analysis.slow import pendulum as slow_pendulum
+from rocknroller.analysis.slow.map import compiled_map as slow_map
+from rocknroller.analysis.slow.map import family as fam
+from rocknroller.analysis.slow.map import orbit as so
+from rocknroller.analysis.slow.dynamics import pendulum as slow_pendulum
 from rocknroller.analysis.slow import prediction as av
-from rocknroller.analysis.slow import table as slow_table
-from rocknroller.analysis.slow.pendulum import pendulum_constants, pendulum_prediction
+from rocknroller.analysis.slow.map import table as slow_table
+from rocknroller.analysis.slow.dynamics.pendulum import pendulum_constants, pendulum_prediction
 from rocknroller.numerics.integrate import simulate
 from rocknroller.papers.averaging_check import (OdeSlowSummary, loglog_slope, ode_slow_summary, relative_errors,
                                                 sample_errors)
@@ -361,7 +361,7 @@ def _kick_derivatives(ft, m) -> tuple[np.ndarray, np.ndarray]:
 
 
 #: Parity in Q of the 18 run-time functions (k_u, k_v harmonics even, k_Θ odd, k_t even, k_φ odd, T even, W and
-#: Δφ odd): the parities that make the map reversible (``rocknroller.analysis.slow.chart._ODD``, ``_EVEN``).
+#: Δφ odd): the parities that make the map reversible (``rocknroller.analysis.slow.map.chart._ODD``, ``_EVEN``).
 _RUN_TIME_PARITY = np.array([1.0] * 6 + [-1.0] * 3 + [1.0] * 3 + [-1.0] * 3 + [1.0, -1.0, -1.0])
 
 

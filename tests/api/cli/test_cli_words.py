@@ -11,7 +11,7 @@ import warnings
 
 import pytest
 
-from rocknroller.analysis.slow import table as slow_table
+from rocknroller.analysis.slow.map import table as slow_table
 from rocknroller.cli import build_parser, cli_message, main
 from rocknroller.cli.options import parse_angle
 from rocknroller.numerics.integrate import MAX_DENSE_RADIANS, MAX_GRID_POINTS, MAX_RADIANS, MAX_SAMPLES, MOMENT_RANGE

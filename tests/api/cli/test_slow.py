@@ -10,8 +10,8 @@ import pytest
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.slow import prediction as av
-from rocknroller.analysis.slow import table as slow_table
-from rocknroller.analysis.slow.pendulum import pendulum_constants
+from rocknroller.analysis.slow.map import table as slow_table
+from rocknroller.analysis.slow.dynamics.pendulum import pendulum_constants
 from rocknroller.cli import main
 
 
@@ -241,7 +241,7 @@ def test_plot_directory_is_checked_before_computing(tmp_path, capsys):
 
 # ----------------------------------------------------------------------------- starts with velocity
 #: Coarse region tables (16 × 8 nodes, ~2 s): these tests check the command's plumbing, not the map's accuracy
-#: (tests/analysis/slow/test_region.py compares the default tables with the direct ODE); the command says they are coarse.
+#: (tests/analysis/slow/map/test_region.py compares the default tables with the direct ODE); the command says they are coarse.
 COARSE = ["--nodes", "16", "8", "--processes", "1"]
 
 
@@ -293,7 +293,7 @@ def test_start_options_are_checked(fresh_cache, capsys):
 def test_slow_period_doubling_option(capsys):
     """--period-doubling adds the exact one-step map's ε_pd (what rr.period_doubling computes) beside 4/κ; a start
     with velocity is refused, naming the option."""
-    from rocknroller.analysis.slow.period_doubling import period_doubling
+    from rocknroller.analysis.slow.dynamics.period_doubling import period_doubling
 
     assert main(["slow", "--theta0", "0.95pi", "--order", "1", "--period-doubling", "--json"]) == 0
     got = json.loads(capsys.readouterr().out)["period_doubling"]

@@ -105,7 +105,7 @@ def test_reproduce_only_force_keeps_the_other_outputs_listed(tmp_path, capsys):
 
 def test_azimuth_span_figure_data(tmp_path):
     """Φ(ψ0): the CSV rows are the library's ODE, map and closed-form values, and they agree."""
-    from rocknroller.analysis.slow.pendulum import pendulum_prediction
+    from rocknroller.analysis.slow.dynamics.pendulum import pendulum_prediction
     from rocknroller.papers.lynch_bustamante import fig_azimuth_span as fig
 
     res = fig.run(tmp_path)

@@ -12,7 +12,7 @@ QJcrit_0), whose tips are the sleeping top at θ = 0 spinning with all of E, and
 rolling (a double root of F).
 
 Chart.  The tables use the frame e along Q_J,0^crit, n ⟂ e, and Q = x U e + (c(x) + τ w(x)) n with
-coordinates |x|, |τ| ≤ 1 (:class:`rocknroller.analysis.slow.chart.SlowMapTable`): across the line, τ = ±1 is
+coordinates |x|, |τ| ≤ 1 (:class:`rocknroller.analysis.slow.map.chart.SlowMapTable`): across the line, τ = ±1 is
 the level set (E − min U)/E = δ_min of the distance to steady rolling; along it, U = ``tip_fraction`` times the tip
 of that level set.  The coefficient functions are analytic inside the region but not at the tips (Chebyshev
 coefficients along x decay like 1.2^−n when the chart reaches 97 % of the tip), hence the tip fraction.  c (odd)
@@ -26,9 +26,9 @@ stretch across (β from |∂W/∂v(0)|) then sits on the layer all along it.  It
 the spindle's tips.  ``region_axis`` picks it from the energy of a release at ``BAND_FROM_THETA0`` up.
 
 Data.  T_θ, W = 2(Δψ − π) mod 2π and Δφ mod π come from the same variational orbits as the ε-responses
-(:func:`rocknroller.analysis.slow.orbit.harmonic_steps`), not from the quadratures: those lose their
+(:func:`rocknroller.analysis.slow.map.orbit.harmonic_steps`), not from the quadratures: those lose their
 double-precision accuracy near steady rolling and at small amplitude, where these tables reach.
-:func:`rocknroller.analysis.slow.table.fit_table` lifts W and Δφ to continuous branches and builds the
+:func:`rocknroller.analysis.slow.map.table.fit_table` lifts W and Δφ to continuous branches and builds the
 drift–kick–drift form.
 """
 
@@ -43,10 +43,10 @@ from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.diagnostics import wrap_angle
 from rocknroller.analysis.routh.reduction import E_MAX, NoMotionError, u_ends
 from rocknroller.analysis.routh.turning_points import min_potential, solve_turning_points
-from rocknroller.analysis.slow.chart import CHART_TERMS, TABLE_FUNCTIONS, SlowMapTable, _cheb_nodes
-from rocknroller.analysis.slow.limits import AveragingRangeError
-from rocknroller.analysis.slow.orbit import symmetric_data
-from rocknroller.analysis.slow.table import (REGION_TABLE_ACCURACY, cached_table, check_grid, fit_and_check, is_cached,
+from rocknroller.analysis.slow.map.chart import CHART_TERMS, TABLE_FUNCTIONS, SlowMapTable, _cheb_nodes
+from rocknroller.analysis.slow.map.limits import AveragingRangeError
+from rocknroller.analysis.slow.map.orbit import symmetric_data
+from rocknroller.analysis.slow.map.table import (REGION_TABLE_ACCURACY, cached_table, check_grid, fit_and_check, is_cached,
                                              kick_at_rest, orbit_data)
 from rocknroller.numerics.parallel import check_processes
 
@@ -106,7 +106,7 @@ def check_below_top(body: Body, E: float) -> float:
 def region_axis(body: Body, E: float) -> str:
     """The chart "auto" picks for (body, E): "band" from the energy of a release from rest at ``BAND_FROM_THETA0``
     up (where W turns by 2π across Q_J,π^crit within a layer the spindle's stretch cannot follow), else "spindle"."""
-    from rocknroller.analysis.slow.family import rest_energy
+    from rocknroller.analysis.slow.map.family import rest_energy
 
     return "band" if _check_energy(E) >= rest_energy(body.symmetric(), BAND_FROM_THETA0) else "spindle"
 
@@ -258,7 +258,7 @@ def region_frame(body: Body, E: float, *, axis: str = "auto", nu: int | None = N
 
 def _orbit_data(sym: Body, E: float, QR: NDArray, QJ: NDArray, progress: bool | None = False, workers: int = 1):
     """T, W mod 2π, Δφ mod π and the harmonics of the ε-responses at each Q, from three variational orbits
-    per node (:func:`rocknroller.analysis.slow.table.orbit_data`)."""
+    per node (:func:`rocknroller.analysis.slow.map.table.orbit_data`)."""
     tp = solve_turning_points(E, QR, QJ, sym)
     if np.any(np.asarray(tp.status) != 0):
         raise AveragingRangeError(f"some nodes of the region tables of E={E!r} have no oscillation of theta")

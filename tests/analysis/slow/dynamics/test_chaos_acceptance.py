@@ -1,7 +1,7 @@
 """The acceptance of the slow map's chaos indicators against the direct ODE's (docs/order_and_chaos.md), at a few of
 the starts of ``validation/chaos_acceptance.py``: the map's regular/chaotic verdict equals the direct ODE's at grid
 points of part (a), both clearly regular and clearly chaotic ones, and the layer's width (part (b),
-:func:`rocknroller.analysis.slow.chaos.layer_width`) found on the map brackets the direct ODE's edge at one ε: the
+:func:`rocknroller.analysis.slow.dynamics.chaos.layer_width`) found on the map brackets the direct ODE's edge at one ε: the
 ODE calls the release at the map's chaotic end chaotic and at its regular end regular.  Also the definition of the
 width on a synthetic edge, and its errors.
 
@@ -21,7 +21,7 @@ import pytest
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.slow import prediction as av
-from rocknroller.analysis.slow.chaos import LAYER_GRID, layer_width
+from rocknroller.analysis.slow.dynamics.chaos import LAYER_GRID, layer_width
 from rocknroller.numerics.megno import MEGNO_CHAOTIC
 from rocknroller.numerics.variational import direct_chaos_indicators
 

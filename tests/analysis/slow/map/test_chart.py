@@ -1,4 +1,4 @@
-"""The Chebyshev pieces of the tables' chart (``analysis/slow/chart.py``): numpy's, where numpy has them (issue 25,
+"""The Chebyshev pieces of the tables' chart (``analysis/slow/map/chart.py``): numpy's, where numpy has them (issue 25,
 item 16)."""
 
 from __future__ import annotations
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from numpy.polynomial import chebyshev as cheb
 
-from rocknroller.analysis.slow.chart import _cheb_basis, _cheb_fit_matrix, _cheb_nodes
+from rocknroller.analysis.slow.map.chart import _cheb_basis, _cheb_fit_matrix, _cheb_nodes
 
 
 @pytest.mark.parametrize("n", [4, 6, 8, 16, 64, 80, 96, 128, 256])

@@ -9,7 +9,7 @@ import pytest
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.model.invariants import energy
-from rocknroller.analysis.slow.family import first_maximum, rest_energy
+from rocknroller.analysis.slow.map.family import first_maximum, rest_energy
 from rocknroller.numerics.integrate import simulate
 
 BODY = Body.paper(1e-3)
@@ -52,7 +52,7 @@ def test_maximum_located_when_a_step_ends_where_the_event_function_is_flat():
 
     from rocknroller.analysis.model.diagnostics import wrap_angle
     from rocknroller.analysis.routh.quadrature import DEFAULT_RTOL, precession
-    from rocknroller.analysis.slow.orbit import first_order_steps
+    from rocknroller.analysis.slow.map.orbit import first_order_steps
 
     sym = Body.paper(0.0)
     E, QR, QJ = rest_energy(sym, 0.03 * math.pi), 0.09587927499116591, 0.03078631520695371
@@ -78,7 +78,7 @@ def test_a_start_near_steady_rolling_is_refused_with_its_distance():
     table is built (build=False would otherwise fail for want of one)."""
     from rocknroller.analysis.routh.steady_rolling import boundary_distance, steady_rolling_omega3
     from rocknroller.analysis.slow import prediction as av
-    from rocknroller.analysis.slow.region import DELTA_MIN_DEFAULT
+    from rocknroller.analysis.slow.map.region import DELTA_MIN_DEFAULT
 
     theta0, phi_dot = 0.4 * math.pi, 0.5
     omega3 = steady_rolling_omega3(BODY.symmetric(), theta0, math.sin(theta0) * phi_dot)

@@ -20,14 +20,14 @@ produces when evaluated at the kicked Q: near Q = 0, where W turns by ~2π over 
 of the exact step's large second derivative (docs/averaging.md, "The exact one-step map").
 
 A₂ … D₂ are half the second ε-derivatives of the step at fixed (E, Q, ψ), from the second-order variational
-equations (:func:`rocknroller.analysis.slow.orbit.second_order_step`; checked against extrapolated differences of
-the exact step, :func:`~rocknroller.analysis.slow.exact_step.eps_derivatives`), k₁ and its derivatives and the
-drifts' gradients and Hessians come from a first-order table (:class:`rocknroller.analysis.slow.chart.SlowMapTable`).
+equations (:func:`rocknroller.analysis.slow.map.orbit.second_order_step`; checked against extrapolated differences of
+the exact step, :func:`~rocknroller.analysis.slow.map.exact_step.eps_derivatives`), k₁ and its derivatives and the
+drifts' gradients and Hessians come from a first-order table (:class:`rocknroller.analysis.slow.map.chart.SlowMapTable`).
 :func:`dkd_residual` checks the formula: the exact step minus one step of the first-order map, over ε², tends to
-k₂ (plus ½ ∇F·k₂_Q for X = Θ, t, φ) as ε → 0 (``tests/analysis/slow/test_second_order.py``).
-:class:`rocknroller.analysis.slow.chart.SecondOrderTable` holds k₂'s harmonics 0, 1, 2 in Θ_a on the chart of a
+k₂ (plus ½ ∇F·k₂_Q for X = Θ, t, φ) as ε → 0 (``tests/analysis/slow/map/test_second_order.py``).
+:class:`rocknroller.analysis.slow.map.chart.SecondOrderTable` holds k₂'s harmonics 0, 1, 2 in Θ_a on the chart of a
 release table, or of the region table of an energy (starts with velocity); the compiled kernel adds ε k₂ to the
-kick (:func:`rocknroller.analysis.slow.compiled_map.iterate_slow_map` with ``second=``).
+kick (:func:`rocknroller.analysis.slow.map.compiled_map.iterate_slow_map` with ``second=``).
 """
 
 from __future__ import annotations
@@ -42,11 +42,11 @@ from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.diagnostics import wrap_angle
-from rocknroller.analysis.slow.chart import (_HARM, _IDX, _ODD, SecondOrderTable, SlowMapTable, _basis,
+from rocknroller.analysis.slow.map.chart import (_HARM, _IDX, _ODD, SecondOrderTable, SlowMapTable, _basis,
                                              _cheb_fit_matrix, _cheb_nodes)
-from rocknroller.analysis.slow.exact_step import STEP_NAMES, exact_step
-from rocknroller.analysis.slow.orbit import second_order_step
-from rocknroller.analysis.slow.table import cached_table, load_or_build_table
+from rocknroller.analysis.slow.map.exact_step import STEP_NAMES, exact_step
+from rocknroller.analysis.slow.map.orbit import second_order_step
+from rocknroller.analysis.slow.map.table import cached_table, load_or_build_table
 from rocknroller.numerics.parallel import check_processes, map_blocks
 
 __all__ = [
@@ -119,7 +119,7 @@ def second_order_kick(table: SlowMapTable, Q: ArrayLike, theta_a: float) -> NDAr
 def dkd_residual(table: SlowMapTable, eps: float, Q: ArrayLike, theta: float) -> NDArray[np.float64]:
     """(exact step − one step of the first-order map)/ε² from the maximum (Q, Θ) at the table's energy, for the
     components of ``STEP_NAMES`` (angle differences wrapped): → k₂_Q and k₂_X + ½ ∇F·k₂_Q as ε → 0."""
-    from rocknroller.analysis.slow.compiled_map import iterate_slow_map
+    from rocknroller.analysis.slow.map.compiled_map import iterate_slow_map
 
     Q = np.asarray(Q, float)
     exact = exact_step(table.body, eps, table.E0, float(Q[0]), float(Q[1]), 0.5 * theta)
@@ -169,7 +169,7 @@ def _first_table(body: Body, where: float, kind: str, **run: Any) -> SlowMapTabl
     (default) region table of the energy E = ``where``; ``run``: how to build it if needed (progress, workers)."""
     if kind == "release":
         return load_or_build_table(body, where, **run)
-    from rocknroller.analysis.slow.region import load_or_build_region_table
+    from rocknroller.analysis.slow.map.region import load_or_build_region_table
 
     return load_or_build_region_table(body, where, **run)
 
@@ -183,7 +183,7 @@ def _build_k2(body: Body, where: float, kind: str, nu: int, nv: int, workers: in
               progress: bool | None) -> SecondOrderTable:
     """k₂ on the chart of the first-order table (:func:`_first_table`): half the nodes computed, the others by the
     parity (module docstring of :func:`build_second_order_table`), checked at off-grid points."""
-    from rocknroller.analysis.slow.limits import AveragingRangeError, AveragingValidityWarning
+    from rocknroller.analysis.slow.map.limits import AveragingRangeError, AveragingValidityWarning
 
     if isinstance(nu, bool) or int(nu) != nu or nu % 2 or not 8 <= nu <= 256:
         raise ValueError(f"nu must be an even integer in [8, 256], got nu={nu!r}")
@@ -274,8 +274,8 @@ def build_second_order_region_table(body: Body, E: float, *, nu: int = 16, nv: i
 def load_or_build_second_order_table(body: Body, theta0: float, *, build: bool = True, use_cache: bool = True,
                                      **grid: Any) -> SecondOrderTable:
     """The second-order table of (body, θ0) from memory, the disk cache, or built (:func:`build_second_order_table`,
-    options ``grid``) and cached, as :func:`rocknroller.analysis.slow.table.load_or_build_table` does."""
-    from rocknroller.analysis.slow.limits import check_map_theta0
+    options ``grid``) and cached, as :func:`rocknroller.analysis.slow.map.table.load_or_build_table` does."""
+    from rocknroller.analysis.slow.map.limits import check_map_theta0
 
     theta0 = check_map_theta0(theta0)
 
@@ -287,7 +287,7 @@ def load_or_build_second_order_region_table(body: Body, E: float, *, build: bool
                                             **grid: Any) -> SecondOrderTable:
     """The second-order table on the region table of (body, E), from memory, the disk cache, or built
     (:func:`build_second_order_region_table`) and cached."""
-    from rocknroller.analysis.slow.region import check_below_top
+    from rocknroller.analysis.slow.map.region import check_below_top
 
     E = check_below_top(body, E)
     return cached_table(build_second_order_region_table, body, E, f"E={E!r}", build=build, use_cache=use_cache,

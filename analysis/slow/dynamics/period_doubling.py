@@ -8,14 +8,14 @@ Rocking in the vertical plane of a principal axis (Q_R = Q_J = 0, ψ = ψ_s at e
 the asymmetric body, a fixed point p* = (0, 0, Θ_s = 2ψ_s) of the one-step map (Q_R, Q_J, Θ) → (Q_R', Q_J', Θ') at
 the energy of the release.  Its Jacobian J(ε) has one multiplier 1 and a pair λ, 1/λ; the first-order averaged map
 gives, near p*, Chirikov's standard map with K = ε κ, whose pair reaches −1 at K = 4: ε_pd ≈ 4/κ
-(:func:`rocknroller.analysis.slow.limits.eps_period_doubling`).  Here J(ε) is computed from the exact step
-(:func:`rocknroller.analysis.slow.exact_step.exact_step`: direct ODE, no expansion in ε) by fourth-order central
+(:func:`rocknroller.analysis.slow.map.limits.eps_period_doubling`).  Here J(ε) is computed from the exact step
+(:func:`rocknroller.analysis.slow.map.exact_step.exact_step`: direct ODE, no expansion in ε) by fourth-order central
 differences at p*, and ε_pd is the root of det(J(ε) + 1) = 0 (Brent), to all orders in ε.  Its departure from the
 first-order value is the O(ε²) correction: K_pd = ε_pd κ = 4 + c ε_pd + O(ε_pd²).  The averaged maps' own thresholds
 (:func:`map_period_doubling`: 4/κ for order 1; order 2 adds its part of the correction) are found the same way
 on one map step.
 
-Checked against direct runs (``tests/analysis/slow/test_period_doubling.py``): a deviation of 1e-4 from ψ_s stays
+Checked against direct runs (``tests/analysis/slow/dynamics/test_period_doubling.py``): a deviation of 1e-4 from ψ_s stays
 1e-4 over 3000 time units below ε_pd and grows above it.
 """
 
@@ -28,13 +28,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.slow.exact_step import exact_step, step_difference
-from rocknroller.analysis.slow.family import _central_difference, rest_energy
-from rocknroller.analysis.slow.limits import K_PERIOD_DOUBLING, eps_period_doubling, stable_rocking_psi
-from rocknroller.analysis.slow.orbit import symmetric_data
+from rocknroller.analysis.slow.map.exact_step import exact_step, step_difference
+from rocknroller.analysis.slow.map.family import _central_difference, rest_energy
+from rocknroller.analysis.slow.map.limits import K_PERIOD_DOUBLING, eps_period_doubling, stable_rocking_psi
+from rocknroller.analysis.slow.map.orbit import symmetric_data
 
 if TYPE_CHECKING:
-    from rocknroller.analysis.slow.chart import SecondOrderTable
+    from rocknroller.analysis.slow.map.chart import SecondOrderTable
 
 __all__ = ["rocking_jacobian", "map_rocking_jacobian", "map_period_doubling", "PeriodDoubling", "period_doubling"]
 
@@ -62,7 +62,7 @@ def rocking_jacobian(body: Body, theta0: float, eps: float, stable_psi: float) -
 def map_rocking_jacobian(table: Any, eps: float, stable_psi: float, second: "SecondOrderTable | None" = None) -> NDArray[np.float64]:
     """As :func:`rocking_jacobian`, for one step of the averaged map on a release table (order 2 with its
     ``second``-order table)."""
-    from rocknroller.analysis.slow.compiled_map import iterate_slow_map
+    from rocknroller.analysis.slow.map.compiled_map import iterate_slow_map
 
     def P(x: NDArray[np.float64]) -> NDArray[np.float64]:
         s = iterate_slow_map(table, eps, 0.5 * float(x[2]), 1e6, Q0=x[:2], n_steps=1, second=second)
@@ -105,8 +105,8 @@ def map_period_doubling(body: Body, theta0: float, order: int = 2, *, rtol: floa
     ValueError
         ``order`` not 1 or 2, θ0 outside ``THETA0_RANGE``, or no root near 4/κ.
     """
-    from rocknroller.analysis.slow.second_order import load_or_build_second_order_table
-    from rocknroller.analysis.slow.table import load_or_build_table
+    from rocknroller.analysis.slow.map.second_order import load_or_build_second_order_table
+    from rocknroller.analysis.slow.map.table import load_or_build_table
 
     if order not in (1, 2) or isinstance(order, bool):
         raise ValueError(f"order must be 1 or 2, got order={order!r}")
@@ -164,7 +164,7 @@ def period_doubling(body: Body, theta0: float, *, rtol: float = 1e-10) -> Period
         θ0 outside ``THETA0_RANGE``; or no sign change of det(J + 1) within [0.8, 1.25] × 4/κ, or a bracket
         beyond the largest ε the moments allow (I2 < I3), naming it.
     """
-    from rocknroller.analysis.slow.table import load_or_build_table
+    from rocknroller.analysis.slow.map.table import load_or_build_table
 
     table = load_or_build_table(body, theta0)
     kappa = float(table.kappa)

@@ -15,17 +15,17 @@ import numpy as np
 import pytest
 
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.slow import _kernel
-from rocknroller.analysis.slow import compiled_map as slow_map
+from rocknroller.analysis.slow.map import _kernel
+from rocknroller.analysis.slow.map import compiled_map as slow_map
 from rocknroller.analysis.slow import prediction as av
-from rocknroller.analysis.slow.chaos import map_indicators, predictability_horizon, shear_rate, tangent_scale
-from rocknroller.analysis.slow.second_order import load_or_build_second_order_table
+from rocknroller.analysis.slow.dynamics.chaos import map_indicators, predictability_horizon, shear_rate, tangent_scale
+from rocknroller.analysis.slow.map.second_order import load_or_build_second_order_table
 from rocknroller.numerics.megno import MEGNO_CHAOTIC, chaos_indicators
 
 THETA0 = 0.95 * math.pi
 EPS = 1e-2
 REGULAR, CHAOTIC = math.pi / 4, 0.1
-#: The kernel's stop of the implicit kick (analysis/slow/_kernel.c KICK_RTOL): the step is a smooth function of its
+#: The kernel's stop of the implicit kick (analysis/slow/map/_kernel.c KICK_RTOL): the step is a smooth function of its
 #: start only to this relative accuracy of the kick (plus a few ulp).
 KICK_RTOL = 1e-13
 

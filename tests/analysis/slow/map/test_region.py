@@ -1,4 +1,4 @@
-"""The averaged map over the whole region of an energy (``analysis.slow.region``) and predictions from any start.
+"""The averaged map over the whole region of an energy (``analysis.slow.map.region``) and predictions from any start.
 
 Fast checks use a small table (16 × 8 nodes, ~2 s): its geometry, reversibility and range errors do not depend on
 the grid.  The comparison with the direct ODE needs the default grid (~50 s a table) and is marked slow.
@@ -20,8 +20,8 @@ from rocknroller.analysis.routh.quadrature import precession
 from rocknroller.analysis.routh.steady_rolling import boundary_distance
 from rocknroller.analysis.routh.turning_points import min_potential, solve_turning_points
 from rocknroller.analysis.slow import prediction as av
-from rocknroller.analysis.slow import region as sr
-from rocknroller.analysis.slow.family import first_maximum, rest_energy
+from rocknroller.analysis.slow.map import region as sr
+from rocknroller.analysis.slow.map.family import first_maximum, rest_energy
 from rocknroller.papers.averaging_check import loglog_slope, ode_slow_summary, sample_errors
 
 SYM = Body.paper(0.0)
@@ -248,7 +248,7 @@ def test_second_order_map_from_a_start_with_velocity():
     docs/averaging.md), within the issue's 5e-3 (measured 3.5e-5), keeps the ODE's region runs, and cuts every
     maximum-by-maximum error by more than 20× (measured 100–200×: the map's error is O(ε²) per slow period)."""
     from rocknroller.analysis.criticality.starts import start_on_line
-    from rocknroller.analysis.slow.second_order import K2_REGION_ACCURACY, load_or_build_second_order_region_table
+    from rocknroller.analysis.slow.map.second_order import K2_REGION_ACCURACY, load_or_build_second_order_region_table
     from rocknroller.papers.averaging_check import relative_errors
     from rocknroller.papers.lynch_bustamante import fig9_full_reversal, reversals
 
@@ -279,7 +279,7 @@ def test_second_order_map_from_a_start_with_velocity():
 def test_non_finite_node_data_refuse_the_table():
     """Orbits that fail at some nodes (non-finite data) stop the build with the count, never a table of NaN (which
     the interpolation check, max() dropping NaN, passed as error 0)."""
-    from rocknroller.analysis.slow.table import fit_and_check
+    from rocknroller.analysis.slow.map.table import fit_and_check
 
     sym = Body.paper(0.0)
     E = rest_energy(sym, 0.3 * math.pi)

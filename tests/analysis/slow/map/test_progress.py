@@ -14,12 +14,12 @@ import rocknroller as rr
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.slow import prediction as av
-from rocknroller.analysis.slow import region, second_order
+from rocknroller.analysis.slow.map import region, second_order
 from rocknroller.cli import main
 
 SYM = Body.paper()
 #: The coarse grids here (to keep builds short) interpolate poorly, and say so.
-pytestmark = pytest.mark.filterwarnings("ignore::rocknroller.analysis.slow.limits.AveragingValidityWarning")
+pytestmark = pytest.mark.filterwarnings("ignore::rocknroller.analysis.slow.map.limits.AveragingValidityWarning")
 
 
 class Stop(Exception):
@@ -44,8 +44,8 @@ def test_region_table_build_names_itself_on_stderr(capsys):
 def test_progress_means_the_same_everywhere():
     """Every public function that takes ``progress`` types it ``bool | None``; builds and sweeps default to None (a
     bar on a terminal); ``simulate`` (one run, called in loops by the package itself) to False."""
-    from rocknroller.analysis.slow.region import build_region_table
-    from rocknroller.analysis.slow.second_order import build_second_order_region_table, build_second_order_table
+    from rocknroller.analysis.slow.map.region import build_region_table
+    from rocknroller.analysis.slow.map.second_order import build_second_order_region_table, build_second_order_table
 
     builds = [rr.run_ensemble, rr.predict_slow_motion, rr.atlas_from_rest, rr.atlas_of_rates, rr.confirm_atlas,
               av.build_table, build_region_table, build_second_order_table, build_second_order_region_table]

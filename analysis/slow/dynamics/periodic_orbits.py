@@ -1,7 +1,7 @@
 """Periodic orbits of the one-step map near pure rocking and their bifurcation: the rocking fixed points about
 either principal axis and, past the period doubling, the period-2 orbit, on the averaged slow map
-(:func:`rocknroller.analysis.slow.compiled_map.iterate_slow_map`) and on the exact one-step map
-(:func:`rocknroller.analysis.slow.exact_step.exact_step`), found by Newton's method (:func:`periodic_orbit`,
+(:func:`rocknroller.analysis.slow.map.compiled_map.iterate_slow_map`) and on the exact one-step map
+(:func:`rocknroller.analysis.slow.map.exact_step.exact_step`), found by Newton's method (:func:`periodic_orbit`,
 :class:`PeriodicOrbit`) and continued in ε (:func:`continue_orbit`, :class:`Branch`), with their multipliers and
 Greene's residue.
 
@@ -37,7 +37,7 @@ K sin δ = 4δ (K = εκ), is not the map's even near the threshold K = 4 (the c
 sin: δ = 0.102 against 0.173 at K = 4.02, 0.95π); the period-2 start is found on the line (u, 0, Θ*) instead
 (:meth:`_Problem.start`).
 
-Jacobians by fourth-order central differences (:func:`rocknroller.analysis.slow.period_doubling`'s steps: 1e-6 in
+Jacobians by fourth-order central differences (:func:`rocknroller.analysis.slow.dynamics.period_doubling`'s steps: 1e-6 in
 u, v, 1e-5 in Θ), 12 steps of the map.
 """
 
@@ -52,10 +52,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.model.body import Body, float_or_nan
 from rocknroller.analysis.model.diagnostics import wrap_angle
-from rocknroller.analysis.slow.chart import TABLE_FUNCTIONS, SlowMapTable
-from rocknroller.analysis.slow.limits import (K_PERIOD_DOUBLING, AveragingRangeError, eps_period_doubling,
+from rocknroller.analysis.slow.map.chart import TABLE_FUNCTIONS, SlowMapTable
+from rocknroller.analysis.slow.map.limits import (K_PERIOD_DOUBLING, AveragingRangeError, eps_period_doubling,
                                               stable_rocking_psi)
-from rocknroller.analysis.slow.period_doubling import _central_jacobian
+from rocknroller.analysis.slow.dynamics.period_doubling import _central_jacobian
 
 __all__ = ["MAPS", "K_MAX", "PeriodicOrbitError", "PeriodicOrbit", "periodic_orbit", "Branch", "continue_orbit",
            "greene_residue"]
@@ -175,7 +175,7 @@ class _Problem:
     """One map in the chart coordinates of the release table of (body, θ0), at one ε."""
 
     def __init__(self, body: Body, theta0: float, eps: float, map: str, order: int, workers: int) -> None:
-        from rocknroller.analysis.slow.table import load_or_build_table
+        from rocknroller.analysis.slow.map.table import load_or_build_table
 
         if map not in MAPS:
             raise ValueError(f"map must be one of {MAPS}, got map={map!r}")
@@ -197,12 +197,12 @@ class _Problem:
         self.theta_star = 2.0 * stable_rocking_psi(self.kappa)
         self.order = 0 if map == "exact" else order
         if map == "slow":
-            from rocknroller.analysis.slow.second_order import load_or_build_second_order_table
+            from rocknroller.analysis.slow.map.second_order import load_or_build_second_order_table
 
             self.second = load_or_build_second_order_table(body, theta0, workers=workers) if order == 2 else None
         else:
-            from rocknroller.analysis.slow.family import rest_energy
-            from rocknroller.analysis.slow.orbit import symmetric_data
+            from rocknroller.analysis.slow.map.family import rest_energy
+            from rocknroller.analysis.slow.map.orbit import symmetric_data
 
             self.sym = body.symmetric()
             self.E = rest_energy(self.sym, theta0)
@@ -215,12 +215,12 @@ class _Problem:
         """One step of the map from x = (u, v, Θ); Θ continued from the start."""
         Q = self.Q(x)
         if self.map == "slow":
-            from rocknroller.analysis.slow.compiled_map import iterate_slow_map
+            from rocknroller.analysis.slow.map.compiled_map import iterate_slow_map
 
             s = iterate_slow_map(self.table, self.eps, 0.5 * float(x[2]), 1e6, Q0=Q, n_steps=1, second=self.second)
             Q1, Th = np.array([s.QR[0], s.QJ[0]]), float(x[2] + wrap_angle(s.Theta[0] - x[2]))
         else:
-            from rocknroller.analysis.slow.exact_step import exact_step
+            from rocknroller.analysis.slow.map.exact_step import exact_step
 
             y = exact_step(self.sym, self.eps, self.E, float(Q[0]), float(Q[1]), 0.5 * float(x[2]), self.T)
             Q1, Th = y[:2], float(y[2])

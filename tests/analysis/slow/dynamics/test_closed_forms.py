@@ -1,4 +1,4 @@
-"""The closed forms of the slow motion near pure rocking and their regimes (``analysis/slow/pendulum.py``): the pendulum
+"""The closed forms of the slow motion near pure rocking and their regimes (``analysis/slow/dynamics/pendulum.py``): the pendulum
 at large amplitude, the linear beat 2π/|ν1 − ν2| at small, the parameter R² = |K|/(T0 Δν)² between them with its
 crossover R² = 1, and the domain of the pendulum's constants.
 
@@ -17,7 +17,7 @@ from scipy.optimize import brentq
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState
-from rocknroller.analysis.slow import pendulum as pm
+from rocknroller.analysis.slow.dynamics import pendulum as pm
 from rocknroller.analysis.slow import prediction as av
 from rocknroller.numerics.integrate import simulate
 from rocknroller.papers.averaging_check import relative_errors

@@ -3,8 +3,8 @@ It holds :class:`SlowMapTable` (one first-order table: its chart and Chebyshev c
 gradients and range check), :class:`SecondOrderTable` (k₂ on the chart of a first-order table), the tabulated
 functions (``TABLE_FUNCTIONS``) with their parities in Q, and the sinh stretch of the chart's coordinates
 (:func:`stretch`, :func:`unstretch`, :func:`stretch_slope`).  The tables are built, fitted and cached by
-:mod:`rocknroller.analysis.slow.table`, :mod:`rocknroller.analysis.slow.region` and
-:mod:`rocknroller.analysis.slow.second_order`.
+:mod:`rocknroller.analysis.slow.map.table`, :mod:`rocknroller.analysis.slow.map.region` and
+:mod:`rocknroller.analysis.slow.map.second_order`.
 
 A table of the slow map holds its coefficient functions (``TABLE_FUNCTIONS``: T_θ, W, Δφ and the harmonics 0 and 1
 in Θ of the kicks) as Chebyshev series in the coordinates (ξ, η) of a chart of the (Q_R, Q_J) plane,
@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.slow.limits import K_PERIOD_DOUBLING, AveragingRangeError, eps_period_doubling
+from rocknroller.analysis.slow.map.limits import K_PERIOD_DOUBLING, AveragingRangeError, eps_period_doubling
 
 __all__ = [
     "TABLE_FUNCTIONS", "CHART_TERMS", "SlowMapTable", "stretch", "unstretch", "stretch_slope", "SecondOrderTable"
@@ -79,7 +79,7 @@ class SlowMapTable:
     series in (ξ, η) with x = :func:`stretch` (ξ, α) and τ = :func:`stretch` (η, β), which put more nodes near
     Q = 0, where W varies on the scale 1/|∇W(0)| (α = β = 0: no stretch).  The tables of a release
     from rest (:func:`build_table`) use the kick direction at Q = 0 for e, c = 0 and w = V (a rectangle);
-    those of a whole region (:func:`rocknroller.analysis.slow.region.build_region_table`) follow the critical
+    those of a whole region (:func:`rocknroller.analysis.slow.map.region.build_region_table`) follow the critical
     line Q_J,0^crit and the region's width.
 
     Attributes

@@ -17,9 +17,9 @@ import numpy as np
 import pytest
 
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.slow import region, second_order, table
-from rocknroller.analysis.slow.family import rest_energy
-from rocknroller.analysis.slow.limits import AveragingValidityWarning
+from rocknroller.analysis.slow.map import region, second_order, table
+from rocknroller.analysis.slow.map.family import rest_energy
+from rocknroller.analysis.slow.map.limits import AveragingValidityWarning
 from rocknroller.numerics import cache
 
 BODY = Body.paper(1e-3)

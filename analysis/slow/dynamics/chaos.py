@@ -5,7 +5,7 @@ vector, by the package's one formula, :func:`rocknroller.numerics.megno.chaos_in
 :func:`predictability_horizon` (the time at which that error, grown at the measured rate, reaches a stated fraction
 of the extents), used by :class:`rocknroller.analysis.slow.prediction.SlowPrediction`.
 
-The tangent vector.  :func:`rocknroller.analysis.slow.compiled_map.iterate_slow_map` with ``tangent=True`` carries a
+The tangent vector.  :func:`rocknroller.analysis.slow.map.compiled_map.iterate_slow_map` with ``tangent=True`` carries a
 tangent vector w of (u, v, Θ) (Q = u e + v n) through the exact derivative of each step as implemented, from
 ``TANGENT_START`` = (1, 1, 1)/√3 in the scaled coordinates (S u, S v, Θ), S = |∇W| at Q = 0 (the twist's gradient:
 a change δQ changes the twist by ≈ S|δQ|, so both parts of w are phases, as the standard map's (p, Θ)); every run
@@ -14,7 +14,7 @@ and ℓ_k = ln(‖w_k‖/‖w_0‖) in the norm √(S²(w_u² + w_v²) + w_Θ²)
 
 The predictability horizon.  The map of order p makes an error δ per step (O(ε^(p+1)) per rock): measured here as the
 largest difference, in the same scaled norm, between one step of the map and one exact step of the direct ODE from
-the same maximum (:func:`rocknroller.analysis.slow.exact_step.exact_step`), over the start and three maxima spread
+the same maximum (:func:`rocknroller.analysis.slow.map.exact_step.exact_step`), over the start and three maxima spread
 along the run (:class:`StepErrorProbe`).  An error made at one step grows afterwards as a tangent vector does; summed
 over the steps (continuously, n rocks of mean length T̄ = t_N/N):
 
@@ -40,12 +40,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.slow.compiled_map import SlowSeries, _fast, _tangent_rows, iterate_slow_map
-from rocknroller.analysis.slow.exact_step import exact_step, step_difference
+from rocknroller.analysis.slow.map.compiled_map import SlowSeries, _fast, _tangent_rows, iterate_slow_map
+from rocknroller.analysis.slow.map.exact_step import exact_step, step_difference
 from rocknroller.numerics.megno import MIN_SAMPLES, ChaosIndicators, chaos_indicators
 
 if TYPE_CHECKING:
-    from rocknroller.analysis.slow.chart import SecondOrderTable, SlowMapTable
+    from rocknroller.analysis.slow.map.chart import SecondOrderTable, SlowMapTable
 
 __all__ = ["HORIZON_FRACTION", "map_indicators", "tangent_scale", "StepErrorProbe", "run_indicators", "shear_rate",
            "predictability_horizon", "LAYER_GRID", "LayerWidth", "layer_width"]

@@ -11,9 +11,9 @@ import pytest
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.routh.reduction import invariants_from_euler
-from rocknroller.analysis.slow.exact_step import STEP_NAMES, eps_derivatives, exact_step
-from rocknroller.analysis.slow.family import family_member, maximum_state, rest_energy
-from rocknroller.analysis.slow.orbit import first_order_step
+from rocknroller.analysis.slow.map.exact_step import STEP_NAMES, eps_derivatives, exact_step
+from rocknroller.analysis.slow.map.family import family_member, maximum_state, rest_energy
+from rocknroller.analysis.slow.map.orbit import first_order_step
 
 SYM = Body.paper(0.0)
 E = rest_energy(SYM, 0.95 * math.pi)
@@ -103,7 +103,7 @@ def test_second_derivative_is_the_second_order_variational_one(QR, QJ, psi):
     component, within the extrapolation's error estimate plus the stencil's round-off, 1.5 · 32 · 1e-13 |M|/(h/2)²
     (a step's values M accurate to ~1e-13 of their size; the stencil's weights sum to 32/12 over (h/2)², × 12 for
     the extrapolation's 16/15 and margin).  The third start lies in the layer of W near Q = 0."""
-    from rocknroller.analysis.slow.orbit import second_order_step
+    from rocknroller.analysis.slow.map.orbit import second_order_step
 
     d = eps_derivatives(SYM, E, QR, QJ, psi)
     var = second_order_step(SYM, E, QR, QJ, psi)

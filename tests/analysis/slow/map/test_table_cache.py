@@ -20,7 +20,7 @@ import pytest
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.slow import prediction as av
-from rocknroller.analysis.slow import table as slow_table
+from rocknroller.analysis.slow.map import table as slow_table
 from rocknroller.numerics import cache
 
 SYM = Body.paper(0.0)
@@ -299,7 +299,7 @@ def test_run_time_forms_are_bounded(monkeypatch, fresh):
     """Two tables' run-time forms in a budget of one: the older is dropped and rebuilt when used again."""
     from dataclasses import replace
 
-    from rocknroller.analysis.slow import compiled_map as slow_map
+    from rocknroller.analysis.slow.map import compiled_map as slow_map
 
     table = fresh[0]
     other = replace(table)  # another table object (the forms are kept per table object)
@@ -314,7 +314,7 @@ def test_run_time_forms_are_bounded(monkeypatch, fresh):
     np.testing.assert_array_equal(again.rows_jac, first.rows_jac)  # the same table: the same form, bit for bit
 
 
-@pytest.mark.filterwarnings("ignore::rocknroller.analysis.slow.limits.AveragingValidityWarning")  # the coarse grid
+@pytest.mark.filterwarnings("ignore::rocknroller.analysis.slow.map.limits.AveragingValidityWarning")  # the coarse grid
 def test_a_table_with_absurd_coefficients_is_named_not_t_end():
     """Issue 25, item 25: a cached table tampered to coefficients of 1e300 (finite, so the loader's checks pass when
     the checksum is recomputed) made the prediction refuse ``t_end`` ("T_theta = 0"); now the table is named."""

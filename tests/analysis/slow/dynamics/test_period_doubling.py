@@ -11,7 +11,7 @@ import pytest
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.diagnostics import wrap_angle
 from rocknroller.analysis.model.equations import EulerState
-from rocknroller.analysis.slow.period_doubling import period_doubling
+from rocknroller.analysis.slow.dynamics.period_doubling import period_doubling
 from rocknroller.numerics.integrate import simulate
 
 DEVIATION = 1e-4
@@ -51,7 +51,7 @@ def test_period_doubling_out_of_range():
 def test_second_order_map_threshold():
     """The order-1 map period-doubles at 4/κ (to the differences' accuracy, 1e-9); the order-2 map at its corrected
     ε_pd, which agrees with the exact one to 0.2 % (0.95π: 0.011 %; docs/averaging.md)."""
-    from rocknroller.analysis.slow.period_doubling import map_period_doubling
+    from rocknroller.analysis.slow.dynamics.period_doubling import map_period_doubling
 
     theta0 = 0.95 * math.pi
     exact = period_doubling(Body.paper(0.0), theta0)
@@ -65,7 +65,7 @@ def test_second_order_map_threshold():
 @pytest.mark.slow
 def test_second_order_map_threshold_at_0_9pi():
     """At 0.9π the first-order 4/κ is 0.27 % below the exact ε_pd; the order-2 map's is within 0.2 % (0.14 %)."""
-    from rocknroller.analysis.slow.period_doubling import map_period_doubling
+    from rocknroller.analysis.slow.dynamics.period_doubling import map_period_doubling
 
     theta0 = 0.9 * math.pi
     exact = period_doubling(Body.paper(0.0), theta0)

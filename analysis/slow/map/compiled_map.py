@@ -1,11 +1,11 @@
 """The averaged slow map itself: its run-time tables and the compiled drift–kick–drift iteration.  It holds
 :func:`iterate_slow_map`, which iterates the reversible map of :mod:`rocknroller.analysis.slow.prediction` from a
-maximum, to first order in ε or, given a :class:`rocknroller.analysis.slow.chart.SecondOrderTable`, to second order
+maximum, to first order in ε or, given a :class:`rocknroller.analysis.slow.map.chart.SecondOrderTable`, to second order
 (kick k₁ + ε k₂), and :class:`SlowSeries`, its samples (t, Q_R, Q_J, Θ = 2ψ, φ) at the θ-maxima.
 
-The map runs on the run-time form of a :class:`rocknroller.analysis.slow.chart.SlowMapTable` (values on a fine
+The map runs on the run-time form of a :class:`rocknroller.analysis.slow.map.chart.SlowMapTable` (values on a fine
 grid along the chart, Chebyshev series across it; the most recently used forms are kept in memory,
-``RUNTIME_CACHE_BYTES``) in the compiled kernel ``rocknroller.analysis.slow._kernel`` (C source ``_kernel.c``).
+``RUNTIME_CACHE_BYTES``) in the compiled kernel ``rocknroller.analysis.slow.map._kernel`` (C source ``_kernel.c``).
 """
 
 from __future__ import annotations
@@ -18,9 +18,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.model.diagnostics import unwrap_phase
-from rocknroller.analysis.slow import _kernel
-from rocknroller.analysis.slow.chart import _HARM, _IDX, SecondOrderTable, SlowMapTable, _cheb_basis, stretch
-from rocknroller.analysis.slow.limits import MAX_MAXIMA, AveragingRangeError, check_t_end
+from rocknroller.analysis.slow.map import _kernel
+from rocknroller.analysis.slow.map.chart import _HARM, _IDX, SecondOrderTable, SlowMapTable, _cheb_basis, stretch
+from rocknroller.analysis.slow.map.limits import MAX_MAXIMA, AveragingRangeError, check_t_end
 from rocknroller.numerics.cache import MemoryCache
 
 if TYPE_CHECKING:
@@ -81,7 +81,7 @@ _N_KICK = 15
 #: or forty release tables' (~25 MB).  A form dropped is rebuilt from its table when used again (0.1–1 s).
 RUNTIME_CACHE_BYTES = 1 << 30
 _FAST = MemoryCache(RUNTIME_CACHE_BYTES)
-#: Kernel statuses (analysis/slow/_kernel.c).
+#: Kernel statuses (analysis/slow/map/_kernel.c).
 _DONE, _FULL, _LEFT_TABLE, _NO_CONVERGENCE = range(4)
 #: Largest number of output rows the kernel fills per call.
 _CHUNK = 1 << 16
@@ -117,7 +117,7 @@ class _FastTable:
     Chebyshev series of the kick functions 0-14, for the Jacobian of the implicit kick and a
     first-order correction of ε k_t, ε k_φ by less than the kick tolerance (they set the speed of
     convergence, not the converged value).  The rows are evaluated, and the map stepped, by the
-    compiled kernel ``rocknroller.analysis.slow._kernel`` (about 1 µs a step).
+    compiled kernel ``rocknroller.analysis.slow.map._kernel`` (about 1 µs a step).
     """
 
     def __init__(self, table: SlowMapTable, second: SecondOrderTable | None = None) -> None:
@@ -167,7 +167,7 @@ class _FastTable:
         return coef
 
     def _second_order_rows(self, second: "SecondOrderTable") -> NDArray[np.float64]:
-        """The run-time rows (Nf, 25 · nv) of a :class:`rocknroller.analysis.slow.chart.SecondOrderTable` on this
+        """The run-time rows (Nf, 25 · nv) of a :class:`rocknroller.analysis.slow.map.chart.SecondOrderTable` on this
         table's chart: k₂_u = e·k₂_Q, k₂_v = n·k₂_Q, k₂_Θ, k₂_t, k₂_φ, five harmonics each, Chebyshev in τ (its
         series padded to this table's nv terms)."""
         coef = self._second_order_coef(second)
@@ -303,7 +303,7 @@ def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float,
     to 1e-13 of the kick, + 4 ulp, or until the observed contraction η puts the remaining error
     η/(1 − η) × change below 1e-3 of that; Hairer & Wanner, Solving ODEs II, §IV.8); Θ += W(Q')/2;
     t += ½[T_θ(Q) + T_θ(Q')] + ε k_t(midpoint); φ += ½[Δφ(Q) + Δφ(Q')] + ε k_φ(midpoint).
-    The loop runs in the compiled kernel ``rocknroller.analysis.slow._kernel``.
+    The loop runs in the compiled kernel ``rocknroller.analysis.slow.map._kernel``.
 
     With ``tangent=True`` a tangent vector w of (u, v, Θ) (Q = u e + v n) is carried along by the tangent map of the
     step as implemented (the drifts' ∇W; the implicit midpoint's derivative by the implicit function theorem,
@@ -327,7 +327,7 @@ def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float,
     n_steps : int, optional
         Stop after this many steps (even before t_end), 1 ≤ n_steps ≤ ``MAX_MAXIMA``.
     second : SecondOrderTable, optional
-        The second-order kick k₂ on this table's chart (:mod:`rocknroller.analysis.slow.second_order`): the kick
+        The second-order kick k₂ on this table's chart (:mod:`rocknroller.analysis.slow.map.second_order`): the kick
         function becomes k₁ + ε k₂, the map second order in ε and still reversible.
     tangent : bool
         Carry a tangent vector along (above) and return its ``log_growth``.

@@ -1,4 +1,4 @@
-"""The first maximum of θ from any start (``analysis.slow.family.first_maximum``): where the prediction from a state
+"""The first maximum of θ from any start (``analysis.slow.map.family.first_maximum``): where the prediction from a state
 begins."""
 
 from __future__ import annotations
@@ -7,7 +7,7 @@ import math
 
 import pytest
 
-import rocknroller.analysis.slow.family as family
+import rocknroller.analysis.slow.map.family as family
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.numerics.integrate import simulate

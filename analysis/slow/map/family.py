@@ -6,8 +6,8 @@ from rest (:func:`rest_energy`; paper eq. energy), the first maximum of θ of an
 and along a direction in state space: :func:`directional_derivative`).
 
 The slow map is an expansion in ε along this family at fixed (E, Q_R, Q_J, ψ) at a maximum of θ.  The exact step
-(:mod:`rocknroller.analysis.slow.exact_step`) and the second-order variational orbit
-(:func:`rocknroller.analysis.slow.orbit.second_order_step`) start from :func:`maximum_state`; a start with velocity
+(:mod:`rocknroller.analysis.slow.map.exact_step`) and the second-order variational orbit
+(:func:`rocknroller.analysis.slow.map.orbit.second_order_step`) start from :func:`maximum_state`; a start with velocity
 enters the map at its :func:`first_maximum` (:func:`rocknroller.analysis.slow.prediction.predict_slow_motion`).
 """
 

@@ -1,7 +1,7 @@
 /*
  * Compiled step loop of the reversible drift-kick-drift slow map (analysis/slow/prediction.py).
  *
- * The step of analysis.slow.compiled_map.iterate_slow_map, in C so that it costs ~1 us instead of the ~15 us
+ * The step of analysis.slow.map.compiled_map.iterate_slow_map, in C so that it costs ~1 us instead of the ~15 us
  * of interpreter overhead of a Python loop.  It evaluates the run-time tables built by
  * analysis.averaging._FastTable (values on a fine uniform grid in xi, 6-point Lagrange interpolation
  * between them, Chebyshev series in eta; the table's chart is u = U x with x = sinh(alpha xi)/sinh(alpha)
@@ -526,14 +526,14 @@ static PyMethodDef methods[] = {
      "iterate(rows, rows_jac, geom, out, U, alpha, beta, dx, nv, eps, u, v, Theta, t, phi, t_end[, rows2, tangent, "
      "rows_dw, rows_kt, rows2_kt, scale])\n"
      "    -> (n, status, u_bad, v_bad, n_jacobian, n_plain)\n\n"
-     "Step the slow map from a maximum until t_end; see analysis/slow/_kernel.c."},
+     "Step the slow map from a maximum until t_end; see analysis/slow/map/_kernel.c."},
     {"evaluate", evaluate_py, METH_VARARGS,
      "evaluate(rows, geom, width, nv, U, alpha, beta, dx, u, v) -> list of width values, or None outside "
      "the table"},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_kernel",
-                                    "Compiled step loop of analysis.slow.compiled_map.iterate_slow_map.", -1, methods};
+                                    "Compiled step loop of analysis.slow.map.compiled_map.iterate_slow_map.", -1, methods};
 
 PyMODINIT_FUNC PyInit__kernel(void)
 {

@@ -20,7 +20,7 @@ By the rotational symmetry of Routh's sphere, the first-order response contains 
 of ψ_n (0 and 1 of Θ_n = 2ψ_n): three orbits per Q (ψ_n = 0, π/3, 2π/3) determine it.
 
 To second order (:func:`second_order_step`) the state also carries w, the second ε-derivative along the start's
-curve y₀(ε) (:func:`rocknroller.analysis.slow.family.maximum_state`, differenced in ε), with
+curve y₀(ε) (:func:`rocknroller.analysis.slow.map.family.maximum_state`, differenced in ε), with
 ẇ = A w + D²f[z, z] + 2 ∂²f/∂y∂ε z + ∂²f/∂ε² (A = ∂f/∂y); the second derivative of the event time follows from
 h = 0 at the next maximum as the first's does.
 
@@ -47,7 +47,7 @@ from rocknroller.analysis.model.kinematics import angles_from_frame
 from rocknroller.analysis.routh.quadrature import precession
 from rocknroller.analysis.routh.reduction import effective_potential, state_from_turning_point
 from rocknroller.analysis.routh.turning_points import turning_points
-from rocknroller.analysis.slow.family import (_central_difference, _central_second_difference, _second_directional,
+from rocknroller.analysis.slow.map.family import (_central_difference, _central_second_difference, _second_directional,
                                               directional_derivative, maximum_state)
 
 __all__ = [
@@ -297,10 +297,10 @@ def second_order_step(body: Body, E: float, QR: float, QJ: float, psi: float, *,
                       h: float = 1e-3) -> dict[str, float]:
     """Second ε-derivatives at fixed (E, Q_n, ψ_n) of Q_R, Q_J, Θ = 2ψ, the event time and φ at the next maximum
     (keys of ``FIRST_ORDER_NAMES``), by the second-order variational equations: a second formulation of what
-    :func:`rocknroller.analysis.slow.exact_step.eps_derivatives` differences.
+    :func:`rocknroller.analysis.slow.map.exact_step.eps_derivatives` differences.
 
     The start's curve y₀(ε) (the maximum with the same (E, Q, ψ) for I2 = (1 + ε) I1,
-    :func:`rocknroller.analysis.slow.family.maximum_state`) is differenced in ε (step ``h``, fourth order: it is an
+    :func:`rocknroller.analysis.slow.map.family.maximum_state`) is differenced in ε (step ``h``, fourth order: it is an
     algebraic solve, smooth on the scale of ε ~ 1); the flow's first and second derivatives along it are integrated
     (:func:`_variational_integrator` of order 2); the event time t₁(ε) of the next maximum, h(G(ε)) = 0 with
     G(ε) = y(t₁(ε)) and h = dγ3/dt (quadratic), follows from

@@ -12,11 +12,11 @@ import pytest
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.diagnostics import wrap_angle
-from rocknroller.analysis.slow import periodic_orbits as po
-from rocknroller.analysis.slow.period_doubling import map_rocking_jacobian, period_doubling, rocking_jacobian
-from rocknroller.analysis.slow.periodic_orbits import (PeriodicOrbitError, _Problem, continue_orbit, greene_residue,
+from rocknroller.analysis.slow.dynamics import periodic_orbits as po
+from rocknroller.analysis.slow.dynamics.period_doubling import map_rocking_jacobian, period_doubling, rocking_jacobian
+from rocknroller.analysis.slow.dynamics.periodic_orbits import (PeriodicOrbitError, _Problem, continue_orbit, greene_residue,
                                                        periodic_orbit)
-from rocknroller.analysis.slow.table import load_or_build_table
+from rocknroller.analysis.slow.map.table import load_or_build_table
 
 BODY = Body.paper(0.0)
 THETA0 = 0.95 * math.pi
@@ -89,7 +89,7 @@ def test_fixed_point_multipliers_match_period_doubling(kind):
 
 def test_residue_passes_one_at_the_map_period_doubling():
     """R of the slow map's fixed point crosses 1 at 4/κ: map_period_doubling(order=1) gives that to 1e-9 (its
-    differences' accuracy, tests/analysis/slow/test_period_doubling.py); the two roots use the same differences of the
+    differences' accuracy, tests/analysis/slow/dynamics/test_period_doubling.py); the two roots use the same differences of the
     same map, so they agree to that."""
     from scipy.optimize import brentq
 

@@ -61,9 +61,9 @@ from rocknroller.analysis.model.equations import state_from_euler
 from rocknroller.analysis.model.invariants import V_phi, V_psi
 from rocknroller.analysis.routh.reduction import F
 from rocknroller.analysis.routh.rocking import small_amplitude_frequency
-from rocknroller.analysis.slow.family import directional_derivative, rest_energy
-from rocknroller.analysis.slow.limits import AveragingValidityWarning, eps_period_doubling, stable_rocking_psi
-from rocknroller.analysis.slow.orbit import _QJ_of, _QR_of, eps_derivative_rhs
+from rocknroller.analysis.slow.map.family import directional_derivative, rest_energy
+from rocknroller.analysis.slow.map.limits import AveragingValidityWarning, eps_period_doubling, stable_rocking_psi
+from rocknroller.analysis.slow.map.orbit import _QJ_of, _QR_of, eps_derivative_rhs
 
 __all__ = ["PENDULUM_THETA0_RANGE", "REGIME_TOLERANCE", "ClosedFormRegimeWarning", "PendulumConstants",
            "pendulum_constants", "PendulumPrediction", "pendulum_prediction", "regime_ratio", "BeatPrediction",

@@ -7,12 +7,12 @@ against direct orbits at off-grid points), and the memory and disk cache of ever
 
 The coefficient functions of one step of the first-order map (:mod:`rocknroller.analysis.slow.prediction`: T_θ, W,
 Δφ and the harmonics 0 and 1 in Θ of the kicks) are tabulated once per (body, θ0) or (body, energy) at the
-Chebyshev nodes of a chart of the (Q_R, Q_J) plane (:mod:`rocknroller.analysis.slow.chart`); they depend on
+Chebyshev nodes of a chart of the (Q_R, Q_J) plane (:mod:`rocknroller.analysis.slow.map.chart`); they depend on
 neither ε nor ψ0.  Release tables (:func:`build_table`) cover a strip along the kick direction at Q = 0, with T_θ,
-W and Δφ from the quadratures (:func:`rocknroller.analysis.slow.orbit.symmetric_data`) and the kicks from three
-variational orbits per node (:func:`rocknroller.analysis.slow.orbit.harmonic_steps`); region tables
-(:mod:`rocknroller.analysis.slow.region`) cover the whole region of an energy, and second-order tables
-(:mod:`rocknroller.analysis.slow.second_order`) hold k₂ on the chart of a first-order table.
+W and Δφ from the quadratures (:func:`rocknroller.analysis.slow.map.orbit.symmetric_data`) and the kicks from three
+variational orbits per node (:func:`rocknroller.analysis.slow.map.orbit.harmonic_steps`); region tables
+(:mod:`rocknroller.analysis.slow.map.region`) cover the whole region of an energy, and second-order tables
+(:mod:`rocknroller.analysis.slow.map.second_order`) hold k₂ on the chart of a first-order table.
 
 Drift–kick–drift form.  With the responses ΔX(Q, Θ) of one step (X = Q, Θ, t, φ) tabulated as harmonics in Θ, the
 kick is k_Q(Q, Θ') = ΔQ(Q, Θ' − W/2) and k_X(Q, Θ') = ΔX(Q, Θ' − W/2) − ½ ∇F·k_Q(Q, Θ') for X = Θ, t, φ with
@@ -39,12 +39,12 @@ from numpy.typing import NDArray
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.diagnostics import wrap_angle
-from rocknroller.analysis.slow.chart import (_EVEN, _ODD, CHART_TERMS, TABLE_FUNCTIONS, SlowMapTable, _cheb_fit_matrix,
+from rocknroller.analysis.slow.map.chart import (_EVEN, _ODD, CHART_TERMS, TABLE_FUNCTIONS, SlowMapTable, _cheb_fit_matrix,
                                              _cheb_nodes)
-from rocknroller.analysis.slow.family import rest_energy
-from rocknroller.analysis.slow.limits import (K_PERIOD_DOUBLING, AveragingRangeError, AveragingValidityWarning,
+from rocknroller.analysis.slow.map.family import rest_energy
+from rocknroller.analysis.slow.map.limits import (K_PERIOD_DOUBLING, AveragingRangeError, AveragingValidityWarning,
                                               check_map_theta0)
-from rocknroller.analysis.slow.orbit import FIRST_ORDER_NAMES, harmonic_steps, step_coefficients, symmetric_data
+from rocknroller.analysis.slow.map.orbit import FIRST_ORDER_NAMES, harmonic_steps, step_coefficients, symmetric_data
 from rocknroller.numerics.cache import CacheWarning, MemoryCache, cache_dir, load_arrays, save_arrays, warn_unwritable
 from rocknroller.numerics.parallel import check_processes, map_blocks
 

@@ -7,13 +7,13 @@ paper eq. JelletandRouth_Qtys.
 The averaged slow map (:mod:`rocknroller.analysis.slow.prediction`) expands one step at fixed (E, Q_n, ψ_n) in
 ε = (I2 − I1)/I1 about Routh's sphere.  Here the same step is computed without expansion: the state at a maximum
 with the given (E, Q_R, Q_J, ψ) is solved for the body with I2 = (1 + ε) I1
-(:func:`rocknroller.analysis.slow.family.maximum_state`: θ̇ = 0, φ = 0; Q_R and Q_J are linear in (φ̇, ψ̇), E then
+(:func:`rocknroller.analysis.slow.map.family.maximum_state`: θ̇ = 0, φ = 0; Q_R and Q_J are linear in (φ̇, ψ̇), E then
 fixes θ), and the direct ODE (``rocknroller.numerics.integrate.simulate``, heyoka, tolerance the unit round-off)
 carries it to the next maximum.  Its ε-derivatives at ε = 0 follow by central differences
 (:func:`eps_derivatives`): the first is an independent check of the variational equations of
-:func:`rocknroller.analysis.slow.orbit.first_order_step`, the second of the second-order ones
-(:func:`rocknroller.analysis.slow.orbit.second_order_step`) from which the second-order kick k₂ is built
-(:mod:`rocknroller.analysis.slow.second_order`).  A member with ε < 0 (I2 < I1) is the body with its principal
+:func:`rocknroller.analysis.slow.map.orbit.first_order_step`, the second of the second-order ones
+(:func:`rocknroller.analysis.slow.map.orbit.second_order_step`) from which the second-order kick k₂ is built
+(:mod:`rocknroller.analysis.slow.map.second_order`).  A member with ε < 0 (I2 < I1) is the body with its principal
 axes i, j relabelled (j, −i): moments ((1 + ε) I1, I1) and Euler angle ψ + π/2; Q_R and Q_J are invariant under
 that rotation about the symmetry axis and are always computed with the family's I1.
 """
@@ -29,8 +29,8 @@ from numpy.typing import NDArray
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.diagnostics import wrap_angle
 from rocknroller.analysis.model.invariants import jellett, routh
-from rocknroller.analysis.slow.family import _central_difference, _central_second_difference, maximum_state
-from rocknroller.analysis.slow.orbit import FIRST_ORDER_NAMES, symmetric_data
+from rocknroller.analysis.slow.map.family import _central_difference, _central_second_difference, maximum_state
+from rocknroller.analysis.slow.map.orbit import FIRST_ORDER_NAMES, symmetric_data
 
 __all__ = ["STEP_NAMES", "exact_step", "step_difference", "EpsDerivatives", "eps_derivatives"]
 

@@ -1,4 +1,4 @@
-"""The second-order kick of the drift–kick–drift map (``analysis/slow/second_order.py``): the exact one-step map minus
+"""The second-order kick of the drift–kick–drift map (``analysis/slow/map/second_order.py``): the exact one-step map minus
 one step of the first-order map, over ε², tends to what k₂ predicts, linearly in ε (the derivation's check)."""
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import pytest
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.slow import prediction as av
-from rocknroller.analysis.slow.second_order import dkd_residual, drift_derivatives, second_order_kick
+from rocknroller.analysis.slow.map.second_order import dkd_residual, drift_derivatives, second_order_kick
 
 
 @pytest.fixture(scope="module")
@@ -44,10 +44,10 @@ def test_first_order_map_misses_exactly_k2(table, x, theta):
 
 
 from rocknroller.analysis.model.diagnostics import wrap_angle  # noqa: E402
-from rocknroller.analysis.slow.compiled_map import iterate_slow_map  # noqa: E402
+from rocknroller.analysis.slow.map.compiled_map import iterate_slow_map  # noqa: E402
 # ----------------------------------------------------------------------------- the order-2 map
-from rocknroller.analysis.slow.exact_step import exact_step  # noqa: E402
-from rocknroller.analysis.slow.second_order import (K2_ACCURACY, k2_harmonics,  # noqa: E402
+from rocknroller.analysis.slow.map.exact_step import exact_step  # noqa: E402
+from rocknroller.analysis.slow.map.second_order import (K2_ACCURACY, k2_harmonics,  # noqa: E402
                                                     load_or_build_second_order_table)
 from rocknroller.papers.averaging_check import loglog_slope, ode_slow_summary, sample_errors  # noqa: E402
 
@@ -135,8 +135,8 @@ def test_order_argument(table):
 
     with pytest.raises(ValueError, match="order must be 1 or 2"):
         av.predict_slow_motion(Body.paper(1e-3), THETA0, 0.7, 100.0, order=3)
-    from rocknroller.analysis.slow import region as sr
-    from rocknroller.analysis.slow.family import first_maximum
+    from rocknroller.analysis.slow.map import region as sr
+    from rocknroller.analysis.slow.map.family import first_maximum
 
     body, start = Body.paper(1e-3), EulerState(THETA0, 0.0, 0.7, 0.0, 0.01, 0.0)
     with warnings.catch_warnings():
@@ -203,10 +203,10 @@ def test_k2_accuracy_warning_names_options_that_exist(kind, monkeypatch, tmp_pat
     refuses with --order 2).  Release tables: more nodes of load_or_build_second_order_table, passed as second=;
     region tables, which more nodes do not improve: the direct ODE (--check) or order 1.  A coarse chart (4 x 4
     first-order nodes, 8 x 2 for k2) makes both warn; the region's default is measured in docs/averaging.md."""
-    from rocknroller.analysis.slow import region as sr
-    from rocknroller.analysis.slow import second_order as so
-    from rocknroller.analysis.slow import table as slow_table
-    from rocknroller.analysis.slow.family import rest_energy
+    from rocknroller.analysis.slow.map import region as sr
+    from rocknroller.analysis.slow.map import second_order as so
+    from rocknroller.analysis.slow.map import table as slow_table
+    from rocknroller.analysis.slow.map.family import rest_energy
     from rocknroller.numerics.cache import MemoryCache
 
     monkeypatch.setenv("ROCKNROLLER_CACHE", str(tmp_path))
