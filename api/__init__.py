@@ -32,7 +32,7 @@ from rocknroller.analysis.slow.dynamics.pendulum import PendulumConstants, pendu
 from rocknroller.analysis.slow.dynamics.period_doubling import PeriodDoubling, period_doubling
 from rocknroller.analysis.slow.dynamics.periodic_orbits import Branch, PeriodicOrbit, continue_orbit, periodic_orbit
 from rocknroller.analysis.slow.prediction import SlowPrediction, predict_slow_motion
-from rocknroller.numerics.ensemble import Job, RunSummary, run_ensemble
+from rocknroller.numerics.ensembles.ensemble import Job, RunSummary, run_ensemble
 from rocknroller.numerics.integrate import AccuracyError, AccuracyWarning, simulate
 from rocknroller.numerics.provenance import __version__
 from rocknroller.numerics.trajectory import Trajectory, TurningPointRun, TurningPoints

@@ -9,7 +9,7 @@ Run:  python benchmarks/bench_atlas_lanes.py [N]     (N × N, default 26)
 each with ``run_ensemble(lanes=1)`` (the scalar integrator, one run after another: the path before issue 24, its
 turning points to the bit) and with the default batches, in this process, CPU seconds.  The two atlases of each
 kind are compared: their observables agree to the integrators' rounding (the batches' turning points are the
-scalar ones' within round-off, tests/numerics/test_batch.py).
+scalar ones' within round-off, tests/numerics/ensembles/test_batch.py).
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ import numpy as np
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.slow import atlas as at
-from rocknroller.numerics import ensemble as ens
+from rocknroller.numerics.ensembles import ensemble as ens
 
 
 def timed(fn):

@@ -7,7 +7,7 @@ An atlas-like ensemble (paper body, ε = 1e-3, released from rest at θ0 = 0.95�
 * before issue 24: one job after another in the scalar integrator with the unwrapping grid of that time
   (``DT_RADIANS``: simulate(..., samples=False, dt=0.15/Λ), the turning points to the bit of today's scalar path);
 * run_ensemble(lanes=1): one job after another in the scalar integrator, today's unwrapping grid;
-* run_ensemble (default): batches in the lanes of heyoka's batch integrator (numerics/batch.py), in this process,
+* run_ensemble (default): batches in the lanes of heyoka's batch integrator (numerics/ensembles/batch.py), in this process,
   then in two threads;
 * run_ensemble on dask.distributed (if installed, not with --no-cluster): a local cluster of two worker processes;
 * CyRK's compiled DOP853 with compiled events (its C++ solver, a Cython right-hand side; needs the extra ``bench``),
@@ -31,8 +31,8 @@ import numpy as np
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState
-from rocknroller.numerics.batch import batch_integrator, batch_width
-from rocknroller.numerics.ensemble import Job, RunSummary, run_ensemble
+from rocknroller.numerics.ensembles.batch import batch_integrator, batch_width
+from rocknroller.numerics.ensembles.ensemble import Job, RunSummary, run_ensemble
 from rocknroller.numerics.integrate import DT_RADIANS, heyoka_integrator, rate_bound, simulate
 from rocknroller.numerics.trajectory import TurningPoints
 

@@ -23,6 +23,7 @@ Imports only :mod:`rocknroller.analysis.model`.  In the order data flows through
 ``variational``
     The direct motion's chaos indicators: heyoka's variational equations along the ODE, a tangent vector sampled and
     renormalised at the θ-maxima (:func:`~rocknroller.numerics.variational.direct_chaos_indicators`).
-``ensemble``
-    Many runs at once: in this process, in threads, or on a dask.distributed cluster.
+``ensembles``
+    Many runs at once, on top of the rest: in the lanes of heyoka's batch integrator (``batch``), in this process, in
+    threads, or on a dask.distributed cluster (``ensemble``).
 """

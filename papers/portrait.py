@@ -13,7 +13,7 @@ line), with the energy E = U(θ0) of the release from rest at θ0; every orbit i
 The map runs on the release tables (:func:`rocknroller.analysis.slow.map.compiled_map.iterate_slow_map`, order 1 or 2); an
 orbit that leaves the tables is cut where it leaves and listed in ``SlowPortrait.left``.  The ODE's starts are the
 same maxima (:func:`rocknroller.analysis.slow.map.family.maximum_state`), run by
-:func:`rocknroller.numerics.ensemble.run_ensemble`.
+:func:`rocknroller.numerics.ensembles.ensemble.run_ensemble`.
 
 Colour.  Each orbit is coloured by one value (:func:`portrait_values`): the values passed in; else, by default, the
 orbit's MEGNO (``SlowPortrait.chaos``: the map's tangent vector carried along the orbit,
@@ -220,7 +220,7 @@ def slow_portrait(body: Body, theta0: float, Theta: ArrayLike, p: ArrayLike | No
     progress : bool or None
         tqdm bars over the grid and the direct runs on stderr (None: only if stderr is a terminal).
     budget : float or None
-        CPU seconds the direct runs may take together (:func:`rocknroller.numerics.ensemble.run_ensemble`).
+        CPU seconds the direct runs may take together (:func:`rocknroller.numerics.ensembles.ensemble.run_ensemble`).
     chaos : bool
         Carry the map's tangent vector along each orbit and give it its chaos indicators (``SlowPortrait.chaos``,
         the colour of the orbits by default; ~1.5-1.8x the map's own cost, the orbits the same to the bit).
@@ -266,7 +266,7 @@ def slow_portrait(body: Body, theta0: float, Theta: ArrayLike, p: ArrayLike | No
         second = load_or_build_second_order_table(body, theta0, build=build)
     T, P = (g.ravel() for g in np.meshgrid(Th, pp, indexing="ij"))
     along = float(grad_W @ e)
-    from rocknroller.numerics.ensemble import Job, run_ensemble
+    from rocknroller.numerics.ensembles.ensemble import Job, run_ensemble
 
     jobs = []  # made (and checked: t_end, the run's limits) before any work
     for s_Th, s_p in starts:

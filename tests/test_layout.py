@@ -19,6 +19,7 @@ import pytest
 LAYERS: tuple[tuple[str, ...], ...] = (
     ("rocknroller.analysis", "rocknroller.analysis.model"),  # what a body and a state are
     ("rocknroller.numerics",),                                # integrating the model
+    ("rocknroller.numerics.ensembles",),                      # many runs at once: batch lanes, threads, clusters
     ("rocknroller.analysis.routh",),                          # the integrable sphere
     ("rocknroller.analysis.criticality",),                    # critical lines, regions, critical starts
     ("rocknroller.analysis.slow.map",),                       # the eps-averaged slow map and its tables
@@ -31,7 +32,8 @@ LAYERS: tuple[tuple[str, ...], ...] = (
 )
 RANK = {pkg: i for i, layer in enumerate(LAYERS) for pkg in layer}
 #: Packages whose ``__init__`` is a map of its folder only.
-MAP_ONLY = {"rocknroller.analysis", "rocknroller.numerics", "rocknroller.papers", "rocknroller.analysis.model",
+MAP_ONLY = {"rocknroller.analysis", "rocknroller.numerics", "rocknroller.numerics.ensembles", "rocknroller.papers",
+            "rocknroller.analysis.model",
             "rocknroller.analysis.routh", "rocknroller.analysis.criticality", "rocknroller.analysis.slow",
             "rocknroller.analysis.slow.map", "rocknroller.analysis.slow.dynamics"}
 #: A folder past this many modules (its ``__init__`` not counted) is split by stage into subpackages.

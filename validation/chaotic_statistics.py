@@ -8,7 +8,7 @@ Prints, for five releases from rest at θ0 = 0.95π (paper body) whose slow moti
   (:func:`rocknroller.numerics.megno.chaos_indicators` on ℓ_k = ln(d_k/d_1); chaotic above ``MEGNO_CHAOTIC`` = 3);
 * per start, an ensemble of ``--members`` releases with ψ0 uniform in ψ0 ± δ (seed 23), each over ``--t-end`` time
   units, by the averaged map (order 2, the default for these releases) and by the direct ODE
-  (:func:`rocknroller.numerics.ensemble.run_ensemble`), and for each statistic of
+  (:func:`rocknroller.numerics.ensembles.ensemble.run_ensemble`), and for each statistic of
   :mod:`rocknroller.analysis.slow.ensemble_statistics` the means ± standard errors, the two-sample KS p-value, the
   difference of the means in standard errors and the verdict of the stated test (KS p > 0.01 or means within 3
   standard errors);
@@ -34,7 +34,7 @@ from rocknroller.analysis.slow.ensemble_statistics import (DISTRIBUTION_STATISTI
                                                            compare_ensembles, map_ensemble, ode_ensemble)
 from rocknroller.analysis.slow.map.limits import AveragingValidityWarning
 from rocknroller.analysis.slow.prediction import load_or_build_table
-from rocknroller.numerics.ensemble import Job, run_ensemble
+from rocknroller.numerics.ensembles.ensemble import Job, run_ensemble
 from rocknroller.numerics.megno import chaos_indicators
 
 THETA0 = 0.95 * math.pi

@@ -18,7 +18,7 @@ units: crossings of the critical lines by the maxima's (Q_R, Q_J), as
 :func:`rocknroller.analysis.slow.prediction.critical_regions` counts them for the map and the ODE alike.
 
 A sample of a map-made atlas's points (and any the caller names) is run by the direct ODE as an ensemble
-(:func:`rocknroller.numerics.ensemble.run_ensemble`: in process, threads, or a dask cluster, the same numbers bit for
+(:func:`rocknroller.numerics.ensembles.ensemble.run_ensemble`: in process, threads, or a dask cluster, the same numbers bit for
 bit), and the map's relative errors there are returned beside the atlas.
 
 Order and chaos (issue 23, item 6).  A map-made release atlas also carries, by default, the map's own chaos
@@ -184,9 +184,9 @@ def _ode_values(body: Body, states: Sequence[EulerState], t_end: float, schedule
                 threads: int | None, progress: bool | None,
                 budget: float | None) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """The direct ODE's observables (len(ATLAS_OBSERVABLES), len(states)) and where they are undefined, the runs
-    made as one ensemble (:func:`rocknroller.numerics.ensemble.run_ensemble`); the reversals are the crossings of the
+    made as one ensemble (:func:`rocknroller.numerics.ensembles.ensemble.run_ensemble`); the reversals are the crossings of the
     critical lines by the maxima's (Q_R, Q_J), counted as for the map."""
-    from rocknroller.numerics.ensemble import Job, run_ensemble
+    from rocknroller.numerics.ensembles.ensemble import Job, run_ensemble
 
     runs = run_ensemble([Job(body, s, t_end) for s in states], scheduler=scheduler, workers=workers,
                         threads=threads, progress=progress, budget=budget)
@@ -278,7 +278,7 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
         way wherever it runs; more than one starts "spawn" processes, which import the calling script: guard a
         script's top level with ``if __name__ == "__main__":``).
     scheduler, workers, threads
-        Where the ODE's runs go (method "ode"), as for :func:`rocknroller.numerics.ensemble.run_ensemble`.
+        Where the ODE's runs go (method "ode"), as for :func:`rocknroller.numerics.ensembles.ensemble.run_ensemble`.
     budget : float or None
         CPU seconds the atlas may take (:mod:`rocknroller.numerics.budget`; None: no limit), estimated before any
         work: for the map, one table build per θ0 whose tables are not cached; for the ODE, the runs' radians.
@@ -436,7 +436,7 @@ def confirm_atlas(atlas: Atlas, body: Body, *, every: int | None = 50, points: S
                   progress: bool | None = None, budget: float | None = WORK_BUDGET_SECONDS,
                   chaos: bool | None = None) -> AtlasCheck:
     """Run the direct ODE at 1 point in ``every`` (row-major, starting at the first; None: none) and at ``points``
-    (row, column) of a map-made atlas, as an ensemble (:func:`rocknroller.numerics.ensemble.run_ensemble`; where it
+    (row, column) of a map-made atlas, as an ensemble (:func:`rocknroller.numerics.ensembles.ensemble.run_ensemble`; where it
     runs does not change the numbers); ``budget``: the CPU seconds the runs may take (as for ``run_ensemble``), and
     separately the variational runs.
 

@@ -15,7 +15,7 @@ The regions and crossings are the package's own (:func:`rocknroller.analysis.slo
 §criticality and §Recession; the counts per 1000 time units :func:`rocknroller.analysis.slow.atlas.reversal_counts`,
 as in the recession atlas), applied to the θ-maxima of either method alike.  The map's ensemble runs
 :func:`rocknroller.analysis.slow.prediction.predict_slow_motion` per member (:func:`map_ensemble`), the direct ODE's
-:func:`rocknroller.numerics.ensemble.run_ensemble` (:func:`ode_ensemble`: in process, threads or a dask cluster).
+:func:`rocknroller.numerics.ensembles.ensemble.run_ensemble` (:func:`ode_ensemble`: in process, threads or a dask cluster).
 
 The test (:func:`compare_ensembles`).  For each statistic the two samples x (map, n members) and y (ODE, m members)
 are called *consistent* if either
@@ -245,17 +245,17 @@ def map_ensemble(body: Body, ball: StartBall, t_end: float, *, order: int | None
 def ode_ensemble(body: Body, ball: StartBall, t_end: float, *, scheduler: str | None = None,
                  workers: int | None = None, threads: int | None = None, progress: bool | None = None,
                  budget: float | None = WORK_BUDGET_SECONDS) -> EnsembleStatistics:
-    """The ensemble's statistics by the direct ODE (:func:`rocknroller.numerics.ensemble.run_ensemble`: ``scheduler``,
+    """The ensemble's statistics by the direct ODE (:func:`rocknroller.numerics.ensembles.ensemble.run_ensemble`: ``scheduler``,
     ``workers``, ``threads``, ``progress`` and ``budget`` as there; the summaries are the same bit for bit whichever
     way they run).
 
     Raises
     ------
     ValueError
-        A bad ``t_end`` (each member's :class:`rocknroller.numerics.ensemble.Job` checks it), a run over ``budget``,
+        A bad ``t_end`` (each member's :class:`rocknroller.numerics.ensembles.ensemble.Job` checks it), a run over ``budget``,
         or a member without any θ-maximum within t_end.
     """
-    from rocknroller.numerics.ensemble import Job, run_ensemble
+    from rocknroller.numerics.ensembles.ensemble import Job, run_ensemble
 
     if not isinstance(ball, StartBall):
         raise ValueError(f"ball must be a StartBall, got {type(ball).__name__}")

@@ -231,7 +231,7 @@ def critical_line_state(args: argparse.Namespace, body: Body) -> tuple[EulerStat
 def add_cluster_options(parser: argparse.ArgumentParser) -> None:
     """--scheduler ADDRESS | --workers N: run the direct ODE runs on a dask.distributed cluster (an existing one, or a
     local one of N worker processes started for the command); without either they run in this process."""
-    from rocknroller.numerics.ensemble import DISTRIBUTED_HINT, MAX_WORKERS
+    from rocknroller.numerics.ensembles.ensemble import DISTRIBUTED_HINT, MAX_WORKERS
 
     grp = parser.add_argument_group(
         "where the direct runs execute (default: in this process)",
@@ -248,8 +248,8 @@ def add_cluster_options(parser: argparse.ArgumentParser) -> None:
 
 def cluster_from_args(args: argparse.Namespace) -> tuple[str | None, int | None]:
     """(scheduler, workers) from the options of :func:`add_cluster_options`, checked (errors name the option); both
-    None for the in-process path.  Pass them on to :func:`rocknroller.numerics.ensemble.run_ensemble`."""
-    from rocknroller.numerics.ensemble import check_cluster
+    None for the in-process path.  Pass them on to :func:`rocknroller.numerics.ensembles.ensemble.run_ensemble`."""
+    from rocknroller.numerics.ensembles.ensemble import check_cluster
 
     return check_cluster(args.scheduler, args.workers, prefix="--")
 

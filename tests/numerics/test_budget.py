@@ -13,7 +13,7 @@ from rocknroller.analysis.slow.atlas import atlas_from_rest, atlas_of_rates
 from rocknroller.cli import main
 from rocknroller.numerics import budget
 from rocknroller.numerics.budget import WorkBudgetError, check_budget, check_work, format_seconds
-from rocknroller.numerics.ensemble import Job, run_ensemble
+from rocknroller.numerics.ensembles.ensemble import Job, run_ensemble
 from rocknroller.numerics.integrate import MAX_RADIANS, simulate
 
 BODY = Body.paper(1e-3)

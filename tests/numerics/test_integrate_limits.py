@@ -223,7 +223,7 @@ def test_a_start_whose_energy_underflows_is_refused():
     default_dt divided by it (ZeroDivisionError).  Refused up front, naming the start, for simulate and a Job; the
     threshold |ω| ≈ √(2⁻¹⁰⁷⁴/I_min) ≈ 4e-162 lies between the rates 1e-200 (refused) and 1e-150 (E = 2e-301 > 0:
     a run, too slow to turn θ within 20 time units)."""
-    from rocknroller.numerics.ensemble import Job
+    from rocknroller.numerics.ensembles.ensemble import Job
 
     centred = Body(a=0.0, I1=0.35, I2=0.36, I3=0.4, g=9.87)
     start = EulerState(1.0, psi_dot=1e-200)

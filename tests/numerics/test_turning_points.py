@@ -14,7 +14,7 @@ import pytest
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState, turning_point_function
 from rocknroller.analysis.routh.rocking import small_amplitude_frequency
-from rocknroller.numerics.ensemble import Job
+from rocknroller.numerics.ensembles.ensemble import Job
 from rocknroller.numerics.events import THETA_MIN, start_turning_point
 from rocknroller.numerics.integrate import simulate
 

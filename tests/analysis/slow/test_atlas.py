@@ -12,7 +12,7 @@ from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.slow import atlas as at
 from rocknroller.cli import main
-from rocknroller.numerics.ensemble import Job, run_ensemble
+from rocknroller.numerics.ensembles.ensemble import Job, run_ensemble
 
 BODY = Body.paper(1e-3)
 THETA0 = (0.9 * math.pi, 0.95 * math.pi)
@@ -47,7 +47,7 @@ def test_confirmation_agrees_with_the_ode(small_atlas):
     """At ε = 1e-3 the first-order map's slow period, Φ and Q_R extent are within 5e-3 of the ODE (docs/averaging.md,
     releases 0.75π–0.95π: ≤ 3.7e-4 measured) and it counts the same reversals; the ODE's values are those of a
     run_ensemble of the same start, to the bit (a job's lane does not depend on its batch; the lanes' agreement with
-    simulate is tests/numerics/test_batch.py's)."""
+    simulate is tests/numerics/ensembles/test_batch.py's)."""
     check = at.confirm_atlas(small_atlas, BODY, every=2, points=[(1, 1)], progress=False)
     assert check.index.tolist() == [[0, 0], [0, 2], [1, 1]]
     for name in ("slow_period", "Phi", "QR_extent"):
@@ -119,7 +119,7 @@ def test_rates_atlas_points_are_their_own_runs(rates_atlas):
     map (a 2 × 3 grid, so a transposed grid cannot pass)."""
     from rocknroller.analysis.model.equations import EulerState
     from rocknroller.analysis.slow.prediction import critical_regions
-    from rocknroller.numerics.batch import run_batch
+    from rocknroller.numerics.ensembles.batch import run_batch
 
     assert rates_atlas.values["Phi"].shape == (2, 3) and (rates_atlas.row_name, rates_atlas.col_name) == (
         "psi_dot0", "phi_dot0")

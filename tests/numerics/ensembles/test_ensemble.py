@@ -1,6 +1,6 @@
 """Ensembles of direct runs: the same summaries bit for bit in a loop, in threads and on a dask cluster of two worker
 processes (in batches, heyoka's batch integrator); with lanes=1 the summary is simulate()'s own to the bit (the batch
-lanes' agreement with simulate is tests/numerics/test_batch.py's); inputs are refused before any work, naming the
+lanes' agreement with simulate is tests/numerics/ensembles/test_batch.py's); inputs are refused before any work, naming the
 parameter."""
 
 from __future__ import annotations
@@ -17,8 +17,8 @@ import pytest
 
 import rocknroller as rr
 from rocknroller.cli.options import add_cluster_options, cluster_from_args
-from rocknroller.numerics import ensemble as ens
-from rocknroller.numerics.ensemble import Job, RunSummary, run_ensemble
+from rocknroller.numerics.ensembles import ensemble as ens
+from rocknroller.numerics.ensembles.ensemble import Job, RunSummary, run_ensemble
 from rocknroller.numerics.trajectory import TurningPoints
 
 
@@ -69,7 +69,7 @@ def test_summary_is_simulates_own(jobs):
 
 
 def test_batches_of_any_width_and_split_give_the_same_bits(jobs, in_process):
-    """A job's lane does not depend on its lane mates or on the width (numerics/batch.py): batches of 2 and 4 lanes,
+    """A job's lane does not depend on its lane mates or on the width (numerics/ensembles/batch.py): batches of 2 and 4 lanes,
     and the jobs in reverse order (so in other batches and lanes), give the default width's results to the bit."""
     assert_bit_identical(run_ensemble(jobs, progress=False, lanes=2), in_process)
     assert_bit_identical(run_ensemble(jobs[::-1], progress=False, lanes=4)[::-1], in_process)
@@ -178,7 +178,7 @@ def test_where_to_run_is_checked_before_any_work(kwargs, match):
 
 
 def test_the_jobs_are_checked_before_any_work():
-    with pytest.raises(ValueError, match=r"jobs\[1\] must be a rocknroller.numerics.ensemble.Job, got tuple"):
+    with pytest.raises(ValueError, match=r"jobs\[1\] must be a rocknroller.numerics.ensembles.ensemble.Job, got tuple"):
         run_ensemble([_jobs()[0], (rr.Body.paper(), rr.EulerState(3.0), 10.0)], progress=False)
     with pytest.raises(ValueError, match=r"jobs: at most MAX_JOBS = 100000 jobs per call, got 100001"):
         run_ensemble(range(ens.MAX_JOBS + 1), progress=False)

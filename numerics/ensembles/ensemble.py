@@ -3,18 +3,18 @@
 Each :class:`Job` (a body, an initial state, a final time; nothing else) is run as
 :func:`rocknroller.numerics.integrate.simulate` runs it with ``samples=False`` (turning points only) and boiled down to
 a :class:`RunSummary` of plain arrays and floats: the θ-maxima and the slow diagnostics that the averaged map is
-compared with.  The jobs run in batches, in the lanes of heyoka's batch integrator (:mod:`rocknroller.numerics.batch`,
+compared with.  The jobs run in batches, in the lanes of heyoka's batch integrator (:mod:`rocknroller.numerics.ensembles.batch`,
 as many lanes as heyoka recommends for the CPU: the SIMD width), at tolerance = machine epsilon.  A lane's steps
 depend only on its job, so a job's summary is the same bit for bit in whichever lane, batch, process, thread or
 machine it runs (provided every worker has the same versions of rocknroller, heyoka and numpy, which
 :func:`run_ensemble` checks).  ``lanes=1`` runs each job in the scalar integrator instead, as ``simulate`` does: the
-same turning points to the rounding of the integrators (tests/numerics/test_batch.py), not to the bit.
+same turning points to the rounding of the integrators (tests/numerics/ensembles/test_batch.py), not to the bit.
 
 Where the jobs run
 ------------------
 * ``run_ensemble(jobs)``: batch after batch in this process.
 * ``threads=N``: N threads of this process, each running whole batches with its own copy of the compiled
-  integrator (:func:`rocknroller.numerics.batch.batch_integrator`); heyoka releases the GIL while it integrates.
+  integrator (:func:`rocknroller.numerics.ensembles.batch.batch_integrator`); heyoka releases the GIL while it integrates.
 * ``workers=N``: a ``distributed.LocalCluster`` of N single-threaded worker processes on this machine, started for
   the call and closed after it.
 * ``scheduler="tcp://host:port"``: the workers of an existing dask.distributed cluster (``dask scheduler``, then
@@ -45,7 +45,7 @@ import numpy as np
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState
-from rocknroller.numerics.batch import MAX_LANES, MIN_LANES, batch_integrator, batch_width, run_batch
+from rocknroller.numerics.ensembles.batch import MAX_LANES, MIN_LANES, batch_integrator, batch_width, run_batch
 from rocknroller.numerics.budget import HEYOKA_SECONDS_PER_RADIAN, WORK_BUDGET_SECONDS, check_work
 from rocknroller.numerics.integrate import check_run, heyoka_integrator, simulate
 from rocknroller.numerics.trajectory import TurningPointRun, TurningPoints
@@ -155,7 +155,7 @@ def run_job(job: Job) -> RunSummary:
 
 
 def run_jobs(jobs: Sequence[Job], lanes: int) -> list[RunSummary]:
-    """Run jobs in one batch of ``lanes`` lanes (:func:`rocknroller.numerics.batch.run_batch`; ``lanes=1`` runs
+    """Run jobs in one batch of ``lanes`` lanes (:func:`rocknroller.numerics.ensembles.batch.run_batch`; ``lanes=1`` runs
     each by :func:`run_job`, the scalar integrator), then their summaries."""
     if lanes == 1:
         return [run_job(job) for job in jobs]
@@ -250,9 +250,9 @@ def run_ensemble(jobs: Sequence[Job], *, scheduler: str | None = None, workers: 
         CPU seconds the jobs may take together (:mod:`rocknroller.numerics.budget`; None: no limit), estimated before
         any work from their radians Λ·t_end; however many processes share them.
     lanes : int, optional
-        Lanes per batch, in [``MIN_LANES``, ``MAX_LANES``] (default :func:`rocknroller.numerics.batch.batch_width`, the width
+        Lanes per batch, in [``MIN_LANES``, ``MAX_LANES``] (default :func:`rocknroller.numerics.ensembles.batch.batch_width`, the width
         heyoka recommends for this CPU); 1 runs each job by itself in the scalar integrator (:func:`run_job`), as
-        ``simulate`` does, whose results differ from the lanes' in the last bits (:mod:`rocknroller.numerics.batch`).
+        ``simulate`` does, whose results differ from the lanes' in the last bits (:mod:`rocknroller.numerics.ensembles.batch`).
 
     Returns
     -------
@@ -279,7 +279,7 @@ def run_ensemble(jobs: Sequence[Job], *, scheduler: str | None = None, workers: 
         raise ValueError(f"jobs: at most MAX_JOBS = {MAX_JOBS} jobs per call, got {len(jobs)}; split the ensemble")
     for i, job in enumerate(jobs):
         if not isinstance(job, Job):
-            raise ValueError(f"jobs[{i}] must be a rocknroller.numerics.ensemble.Job, got {type(job).__name__}")
+            raise ValueError(f"jobs[{i}] must be a rocknroller.numerics.ensembles.ensemble.Job, got {type(job).__name__}")
     jobs = list(jobs)
     if not jobs:
         return []

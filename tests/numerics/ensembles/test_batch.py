@@ -1,4 +1,4 @@
-"""Direct runs in the lanes of heyoka's batch integrator (numerics/batch.py): the same turning points as the scalar
+"""Direct runs in the lanes of heyoka's batch integrator (numerics/ensembles/batch.py): the same turning points as the scalar
 integrator's simulate() within a derived round-off bound, on 200 random jobs; bit-identical between widths, splits
 and lane positions; bad input refused before any work."""
 
@@ -14,8 +14,8 @@ from hypothesis import strategies as st
 
 import rocknroller as rr
 from rocknroller.analysis.model.diagnostics import wrap_angle
-from rocknroller.numerics.batch import MAX_LANES, MIN_LANES, batch_width, run_batch
-from rocknroller.numerics.ensemble import Job, run_ensemble
+from rocknroller.numerics.ensembles.batch import MAX_LANES, MIN_LANES, batch_width, run_batch
+from rocknroller.numerics.ensembles.ensemble import Job, run_ensemble
 from rocknroller.numerics.trajectory import energy_error_bound
 
 #: Unit round-off of double precision.
