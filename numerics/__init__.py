@@ -14,6 +14,11 @@ Imports only :mod:`rocknroller.analysis.model`.  In the order data flows through
 ``events``
     The turning points of a stretch: the start's own root, the integrator's events checked and located on the
     dense output.
+``run_limits``
+    The limits of one run, checked before any work (:func:`~rocknroller.numerics.run_limits.check_run`).
+``backends``
+    The two integrators, advanced stretch by stretch: heyoka's Taylor integrator, compiled once per process, and
+    scipy's DOP853.
 ``integrate``
     :func:`~rocknroller.numerics.integrate.simulate`: heyoka's Taylor integrator (or scipy's DOP853) with every
     turning point of θ found as an event.

@@ -59,26 +59,28 @@ Every run's energy error is checked against the tolerance asked for
 
 from __future__ import annotations
 
-import copy
 import math
 import sys
-import threading
 import warnings
-from typing import Any, Callable, Literal, NamedTuple, TypeVar, overload
+from typing import Callable, Literal, TypeVar, overload
 
 import numpy as np
 from numpy.typing import NDArray
 
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.model.equations import STATE_SIZE, EulerState, body_frame_rhs, turning_point_function
+from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.model.invariants import energy
+from rocknroller.numerics.backends import _PRECISIONS, _HeyokaRun, _ScipyRun, check_diskcache, heyoka_integrator
 from rocknroller.numerics.budget import (DOP853_SECONDS_PER_RADIAN, HEYOKA_EXTENDED_SECONDS_PER_RADIAN,
                                          HEYOKA_SECONDS_PER_RADIAN, WORK_BUDGET_SECONDS, check_work)
-from rocknroller.numerics.cache import (CacheWarning, cache_dir, probe_writable,  # cache_dir: re-exported
-                                        warn_unwritable)
-from rocknroller.numerics.events import _U, THETA_MIN, _turning_points, start_turning_point
-from rocknroller.numerics.trajectory import (DenseOutput, Trajectory, TurningPointRun, TurningPoints, _Samples,
-                                             energy_error_bound, energy_scale)
+from rocknroller.numerics.cache import CacheWarning, cache_dir  # re-exported
+from rocknroller.numerics.events import THETA_MIN
+from rocknroller.numerics.run_limits import (DT_RADIANS, G_RANGE, MAX_DENSE_RADIANS, MAX_DENSE_STEPS,  # re-exported
+                                             MAX_ENERGY_OVER_G, MAX_GRID_POINTS, MAX_RADIANS, MAX_SAMPLES,
+                                             MOMENT_RANGE, UNWRAP_RADIANS, RunPlan, check_run, default_dt,
+                                             rate_bound)
+from rocknroller.numerics.trajectory import (Trajectory, TurningPointRun, TurningPoints, _Samples, energy_error_bound,
+                                             energy_scale)
 
 __all__ = [
     "simulate", "check_run", "finish_run", "check_energy_error", "check_theta_resolved", "check_diskcache", "RunPlan", "heyoka_integrator", "default_dt", "cache_dir", "rate_bound", "AccuracyWarning",
@@ -88,31 +90,7 @@ __all__ = [
 ]
 
 _METHODS = ("heyoka", "scipy")
-_PRECISIONS = ("double", "extended")
-#: The integrator compiled once per process, per precision; never propagated itself, only copied.
-_TEMPLATES: dict[str, Any] = {}
-_TEMPLATE_LOCK = threading.Lock()
-#: Each thread's own copies of the templates (a heyoka integrator must not be propagated by two threads at once).
-_PER_THREAD = threading.local()
 
-MAX_SAMPLES = 2_000_000
-MAX_DENSE_RADIANS = 3.0e5
-MAX_DENSE_STEPS = 600_000
-MAX_RADIANS = 1.0e8
-MAX_GRID_POINTS = 2.0e8
-MOMENT_RANGE = (1e-3, 1e3)
-G_RANGE = (1e-12, 1e12)
-MAX_ENERGY_OVER_G = 1e12
-#: Default output spacing in radians of Λ (≈ 0.05 time units for the paper's runs).
-DT_RADIANS = 0.15
-#: Default spacing, in radians of Λ, of the grid on which a run with ``samples=False`` unwraps φ and ψ and checks the
-#: energy: ≈ 0.35 time units, ≈ 40 points per rocking period, for the paper's runs.  The unwrapping does not rest on
-#: it: an interval over which an angle's rate at either end (φ̇, ψ̇ from the state, unbounded near the pole) would turn
-#: it by 2π/3 is bisected down to the output grid's spacing ``DT_RADIANS``/Λ (:mod:`rocknroller.numerics.trajectory`),
-#: so wherever the angles turn fast the grid is at least as fine as the one used before (issue 24), and the turning
-#: points are the same to the bit (tests/numerics/test_batch.py); elsewhere 6.7× fewer points than ``DT_RADIANS``
-#: cut a run's sampling by as much.
-UNWRAP_RADIANS = 1.0
 #: Radians of Λ integrated per stretch when only the turning points are kept (≈ 5·10³ steps, ≈ 9 MB of dense output).
 #: Below glibc's largest mmap threshold (32 MB) a stretch's buffers, freed, are reused by the next: at 2·10⁴ radians
 #: (≈ 36 MB) each stretch mapped fresh pages, 10 % of a long run's CPU in page faults (issue 25, item 18;
@@ -136,154 +114,6 @@ class AccuracyError(RuntimeError):
     """A run's energy error exceeds what its integrator's tolerance allows (``strict=True``)."""
 
 
-class _EventLog:
-    """Non-terminal event callback: records (time, direction) of each turning point."""
-
-    def __init__(self) -> None:
-        self.events: list[tuple[float, int]] = []
-
-    def __call__(self, ta: Any, time: Any, d_sgn: Any) -> None:
-        self.events.append((float(time), int(d_sgn)))
-
-
-def _build_heyoka(fp_type: Any) -> Any:
-    import heyoka as hy
-
-    names = ["g1", "g2", "g3", "w1", "w2", "w3", "x1", "x2", "x3", "X", "Y"]
-    y = hy.make_vars(*names)
-    pars = [hy.par[i] for i in range(5)]
-    rhs = body_frame_rhs(y, pars)
-    kwargs = {} if fp_type is float else {"fp_type": fp_type}
-    ev = hy.nt_event(turning_point_function(y), _EventLog(), **kwargs)
-    return hy.taylor_adaptive(list(zip(y, rhs)), np.zeros(STATE_SIZE, dtype=fp_type),
-                              pars=np.zeros(5, dtype=fp_type), nt_events=[ev], **kwargs)
-
-
-def heyoka_integrator(precision: str = "double") -> Any:
-    """The compiled heyoka integrator of form (i): compiled once per process, one copy per thread.
-
-    Every thread that calls this gets its own copy (made in about a millisecond), so :func:`simulate` may run in
-    several threads at once; a copy runs the same machine code as the original, so a run gives the same result bit
-    for bit in whichever thread it runs.  heyoka's on-disk JIT cache (``HEYOKA_CACHE_DIR``; default under the user
-    cache directory) keeps the compiled code between processes; it holds machine code, so it must be as trusted as
-    the installed packages.  An unwritable cache directory gives one :class:`CacheWarning` (each process then
-    compiles for ~6 s).
-    """
-    if precision not in _PRECISIONS:
-        raise ValueError(f"precision must be one of {_PRECISIONS}, got {precision!r}")
-    mine = _PER_THREAD.__dict__.setdefault("integrators", {})
-    if precision not in mine:
-        with _TEMPLATE_LOCK:  # one compilation per process; copies are made from a template no thread propagates
-            if precision not in _TEMPLATES:
-                _TEMPLATES[precision] = _compile(precision)
-            mine[precision] = copy.deepcopy(_TEMPLATES[precision])
-    return mine[precision]
-
-
-def _compile(precision: str) -> Any:
-    """Build the integrator of ``precision`` (from heyoka's disk cache when it holds it), after checking that the
-    cache can be used (:func:`check_diskcache`)."""
-    check_diskcache()
-    return _build_heyoka(float if precision == "double" else np.longdouble)
-
-
-def check_diskcache() -> None:
-    """Check that heyoka's disk cache can be used before anything is compiled.
-
-    A cache heyoka cannot use (a directory that cannot be written or created, a ``cache.db`` that is not a database)
-    makes heyoka log a ``[warning]`` line on stdout at every lookup and insertion, where it would corrupt the
-    JSON of ``rocknroller ... --json``.  Such a cache is switched off for this process instead (its warnings are then
-    never logged), and one :class:`CacheWarning` says so.  heyoka's own logger is left as the user set it.
-    """
-    import heyoka as hy
-
-    if hy.llvm_state.get_diskcache_enabled():
-        path = hy.llvm_state.get_diskcache_path()
-        error: BaseException | None = probe_writable(path)
-        if error is None:
-            try:
-                hy.llvm_state.get_diskcache_size()  # opens the cache's database: raises if heyoka cannot use it
-            except RuntimeError as exc:
-                error = exc
-        if error is not None:
-            hy.llvm_state.set_diskcache_enabled(False)
-            warn_unwritable(path, error, "heyoka's compilation cache is switched off, and every process compiles the "
-                            "integrator (~6 s)",
-                            fix="point HEYOKA_CACHE_DIR at a writable folder to keep heyoka's compilation cache")
-
-
-def rate_bound(body: Body, y0: NDArray[np.float64]) -> float:
-    """Λ = √(2(E + g a)/I_min): a bound on |ω(t)| for all t (½ I_min |ω|² ≤ T ≤ E) that also covers the
-    rocking rate √(g a/I) of motions near rest.  Work and memory of a run scale with Λ·t_end."""
-    E = float(energy(body, y0[0:3], y0[3:6]))
-    return math.sqrt(2.0 * (E + body.g * body.a) / min(body.I1, body.I2, body.I3))
-
-
-def default_dt(t_end: float, rate: float, samples: bool = True) -> float:
-    """Default sample spacing: ``DT_RADIANS``/Λ (≈ 0.05 time units, ≈ 200 samples per rocking period, for
-    the paper's runs), and at least 200 samples over the run (a t_end so small that t_end/200 underflows to 0
-    gets the two samples 0 and t_end).  With ``samples=False``, the unwrapping grid's: ``UNWRAP_RADIANS``/Λ, at least
-    200 points."""
-    return min((DT_RADIANS if samples else UNWRAP_RADIANS) / rate, t_end / 200.0) or t_end
-
-
-def _validate(body: Body, initial: EulerState, t_end: float) -> tuple[NDArray[np.float64], float]:
-    if not isinstance(body, Body):
-        raise ValueError(f"body must be a rocknroller.analysis.model.body.Body, got {type(body).__name__}")
-    if not isinstance(initial, EulerState):
-        raise ValueError(f"initial must be a rocknroller.analysis.model.equations.EulerState, got {type(initial).__name__}")
-    if not math.isfinite(t_end) or t_end <= 0.0:
-        raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}")
-    lo, hi = MOMENT_RANGE
-    for name in ("I3", "I1", "I2"):  # I3 first: the CLI derives I1 (and I2) from it by default
-        if not lo <= getattr(body, name) <= hi:
-            raise ValueError(f"{name} must lie in [{lo:g}, {hi:g}] (units of m R^2) for the integrator to be "
-                             f"accurate (the energy error grows as 1/I_min), got {name}={getattr(body, name)!r}")
-    if not G_RANGE[0] <= body.g <= G_RANGE[1]:
-        raise ValueError(f"g must lie in [{G_RANGE[0]:g}, {G_RANGE[1]:g}] (g only sets the unit of time; "
-                         f"rescale time to bring it there), got g={body.g!r}")
-    y0 = initial.to_body_state()
-    with np.errstate(over="ignore", invalid="ignore"):  # rates of 1e200 overflow E to inf: refused below
-        E = float(energy(body, y0[0:3], y0[3:6]))
-    if not E <= MAX_ENERGY_OVER_G * body.g:
-        raise ValueError(f"the initial rates are too large: the energy E = {E:.3g} exceeds {MAX_ENERGY_OVER_G:g} g "
-                         f"(units m g R); reduce the rates (theta_dot, phi_dot, psi_dot or omega)")
-    if not np.any(y0[3:6]) and (body.a == 0.0 or initial.theta in (0.0, math.pi) or not np.any(y0[0:2])):
-        raise ValueError(
-            "the initial state has no motion: the body is at rest in an equilibrium (theta0 = 0 or pi, or any "
-            "theta0 when a = 0); give theta0 in (0, pi) with a > 0, or a non-zero rate")
-    if not E + body.g * body.a > 0.0:
-        # Λ = 0: T = ½ ωᵀKω ≥ ½ I_min |ω|² (K ≥ I_min) underflows to 0 when ½ I_min |ω|² is below half the smallest
-        # subnormal number, i.e. |ω| < √(2⁻¹⁰⁷⁴/I_min); with g a = 0 nothing else moves the body
-        w_min = math.sqrt(math.ulp(0.0) / min(body.I1, body.I2, body.I3))
-        raise ValueError(
-            f"the initial state has no motion to resolve: {initial} has the kinetic energy E = {E!r} in double "
-            f"precision (its rates, max |omega_i| = {float(np.max(np.abs(y0[3:6]))):.3g}, are below about {w_min:.2g}, "
-            f"where (1/2) I_min |omega|^2 underflows) and g a = {body.g * body.a!r}; give a > 0 or larger rates")
-    _check_tilt_resolved(body, initial, y0, E)
-    return y0, rate_bound(body, y0)
-
-
-def _check_tilt_resolved(body: Body, initial: EulerState, y0: NDArray[np.float64], E: float) -> None:
-    """Refuse a motion whose energy keeps its tilt below ``THETA_MIN`` (see there).
-
-    V = g a (1 − cos θ) ≤ E bounds the tilt by θ_E, 2 g a sin²(θ_E/2) = E = T + V; in the upper hemisphere V is taken
-    as g a (γ1² + γ2²)/(1 + γ3), which keeps its digits where 1 − γ3 rounds to 0 (θ < 1.5e-8), and T = E − g a (1 − γ3)
-    exactly as ``energy`` adds it up.  Without gravity (a = 0) the energy bounds no tilt.
-    """
-    if body.a == 0.0:
-        return
-    ga = body.g * body.a
-    one_minus_c = (y0[0] ** 2 + y0[1] ** 2) / (1.0 + y0[2]) if y0[2] > 0.0 else 1.0 - y0[2]
-    s2 = ((E - ga * (1.0 - y0[2])) + ga * one_minus_c) / (2.0 * ga)  # sin²(θ_E/2)
-    if s2 < math.sin(0.5 * THETA_MIN) ** 2:
-        theta_E = 2.0 * math.asin(math.sqrt(max(s2, 0.0)))
-        raise ValueError(
-            f"theta0={initial.theta!r}: the start's energy keeps its tilt within theta_E = {theta_E:.3g} rad of the "
-            f"pole, below THETA_MIN = {THETA_MIN:.3g} rad, the smallest amplitude at which the integrator resolves "
-            f"the turning points of theta (its state carries an absolute round-off of u = {_U:.3g}); give "
-            f"theta0 >= {THETA_MIN:.3g} or larger rates")
-
 
 def _progress(total: float, enabled: bool | None):
     from tqdm import tqdm
@@ -293,99 +123,6 @@ def _progress(total: float, enabled: bool | None):
     return tqdm(total=total, disable=not enabled, unit="t.u.", leave=False, file=sys.stderr,
                 bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} time units [{elapsed}<{remaining}]")
 
-
-class _HeyokaRun:
-    """heyoka integrator advanced stretch by stretch, with the dense output of each stretch."""
-
-    def __init__(self, body: Body, y0: NDArray[np.float64], precision: str, bar: Any, max_steps: int | None):
-        self.fp = float if precision == "double" else np.longdouble
-        self.ta = ta = heyoka_integrator(precision)
-        ta.time = self.fp(0.0)
-        ta.state[:] = np.asarray(y0, dtype=self.fp)
-        ta.pars[:] = np.asarray(body.params, dtype=self.fp)
-        self.log = ta.nt_events[0].callback
-        self.log.events.clear()
-        self.bar, self.max_steps, self.n_steps = bar, max_steps, 0
-        self.tolerance = float(np.finfo(self.fp).eps)
-        self.params, self.start = body.params, start_turning_point(body, y0)
-
-    def advance(self, t_b: float) -> tuple[DenseOutput, list[tuple[float, int]]]:
-        ta, fp = self.ta, self.fp
-        t_a = float(ta.time)
-        steps_before = self.n_steps
-
-        def step_callback(ta_: Any) -> bool:
-            self.bar.update(float(ta_.time) - self.bar.n)
-            return True
-
-        # the step cap is heyoka's own (max_steps: one past the cap, to tell reaching it from needing more); a Python
-        # call per step only to move a bar that is shown (it cost 7 % of a run that shows none, issue 25, item 18):
-        # without one, heyoka keeps the GIL released for the whole stretch (threads run in parallel).  The steps
-        # themselves are the same either way.
-        cap = 0 if self.max_steps is None else self.max_steps - self.n_steps + 1
-        self.log.events.clear()
-        result = ta.propagate_until(fp(t_b), c_output=True, max_steps=cap,
-                                    callback=None if self.bar.disable else step_callback)
-        outcome, c_out = result[0], result[4]
-        self.n_steps += int(result[3])
-        if outcome.name == "step_limit" or (self.max_steps is not None and self.n_steps > self.max_steps):
-            raise ValueError(f"t_end: the run needs more than MAX_DENSE_STEPS = {MAX_DENSE_STEPS} integration steps "
-                             f"to keep its samples (stopped at t = {float(ta.time):.6g} after "
-                             f"{self.n_steps - steps_before} steps); use samples=False (turning points only) or a "
-                             "shorter t_end")
-        if outcome.name != "time_limit":
-            raise RuntimeError(f"heyoka stopped early at t={float(ta.time)!r}: {outcome}")
-
-        def dense(t: NDArray[np.float64]) -> NDArray[np.float64]:
-            return np.asarray(c_out(np.asarray(t, dtype=fp)), dtype=float).reshape(-1, STATE_SIZE)
-
-        events = _turning_points(list(self.log.events), t_a, t_b, dense, self.params,
-                                 self.start if t_a == 0.0 else None)
-        self.log.events.clear()
-        return dense, events
-
-
-class _ScipyRun:
-    """scipy DOP853 advanced stretch by stretch (numpy right-hand side), with the dense output of each stretch."""
-
-    def __init__(self, body: Body, y0: NDArray[np.float64], rtol: float, atol: float, bar: Any):
-        self.body, self.y, self.t = body, np.asarray(y0, float), 0.0
-        self.rtol, self.atol, self.bar, self.n_steps, self.tolerance = rtol, atol, bar, 0, rtol
-        self.start = start_turning_point(body, y0)
-
-    def advance(self, t_b: float) -> tuple[DenseOutput, list[tuple[float, int]]]:
-        from scipy.integrate import solve_ivp
-
-        params, bar = self.body.params, self.bar
-
-        def fun(t: float, y: NDArray[np.float64]) -> NDArray[np.float64]:
-            if t - bar.n >= 1.0:
-                bar.update(t - bar.n)
-            return np.array(body_frame_rhs(y, params))
-
-        def rising(t: float, y: NDArray[np.float64]) -> float:
-            return turning_point_function(y)
-
-        def falling(t: float, y: NDArray[np.float64]) -> float:
-            return turning_point_function(y)
-
-        # solve_ivp reads an event's crossing direction from its attribute ``direction`` (a function declares none)
-        setattr(rising, "direction", 1.0)
-        setattr(falling, "direction", -1.0)
-        t_a = self.t
-        sol = solve_ivp(fun, (t_a, t_b), self.y, method="DOP853", rtol=self.rtol, atol=self.atol, dense_output=True,
-                        events=[rising, falling])
-        if sol.status != 0:
-            raise RuntimeError(f"scipy DOP853 failed: {sol.message}")
-        self.n_steps += sol.t.size - 1
-        self.t, self.y = t_b, sol.y[:, -1]
-        bar.update(t_b - bar.n)
-        raw = [(float(t), 1) for t in sol.t_events[0]] + [(float(t), -1) for t in sol.t_events[1]]
-
-        def dense(t: NDArray[np.float64]) -> NDArray[np.float64]:
-            return np.asarray(sol.sol(np.asarray(t, float))).T.reshape(-1, STATE_SIZE)
-
-        return dense, _turning_points(raw, t_a, t_b, dense, params, self.start if t_a == 0.0 else None)
 
 
 def check_energy_error(err: float, n_steps: int, tolerance: float, strict: bool, what: str = "",
@@ -409,65 +146,6 @@ def check_theta_resolved(theta_maxima: NDArray[np.float64], initial: EulerState)
         raise ValueError(f"theta0={initial.theta!r}: theta has maxima as small as {theta_maxima.min():.3g} "
                          f"rad, below THETA_MIN = {THETA_MIN:.3g} rad, the smallest amplitude at which the integrator "
                          f"resolves the turning points of theta; give theta0 >= {THETA_MIN:.3g}")
-
-
-class RunPlan(NamedTuple):
-    """A run of :func:`simulate` checked by :func:`check_run`."""
-
-    t_end: float
-    """Final time."""
-    dt: float
-    """Spacing of the output grid (with ``samples=False``, of the grid on which the angles are unwrapped)."""
-    n_grid: int
-    """Points of that grid, both ends included."""
-    y0: NDArray[np.float64]
-    """Initial body-frame state."""
-    rate: float
-    """The rate bound Λ (:func:`rate_bound`)."""
-
-
-def check_run(body: Body, initial: EulerState, t_end: float, *, dt: float | None = None,
-              samples: bool = True) -> RunPlan:
-    """Check a run of :func:`simulate` against its limits before any work: every check ``simulate`` makes on the
-    body, the initial state, ``t_end`` and ``dt``.
-
-    Parameters
-    ----------
-    body, initial, t_end, dt, samples : as for :func:`simulate`.
-
-    Returns
-    -------
-    RunPlan
-        ``t_end`` and ``dt`` (default :func:`default_dt`) as floats, the grid size, the initial body-frame state and Λ.
-
-    Raises
-    ------
-    ValueError
-        Naming the parameter and the limit it exceeds (see the module docstring).
-    """
-    try:
-        t_end = float(t_end)
-    except (TypeError, ValueError, OverflowError):  # OverflowError: an int beyond the floats, like 10**400
-        raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}") from None
-    y0, rate = _validate(body, initial, t_end)
-    radians = rate * t_end
-    limit, limit_name = (MAX_DENSE_RADIANS, "MAX_DENSE_RADIANS") if samples else (MAX_RADIANS, "MAX_RADIANS")
-    if radians > limit:
-        hint = "; use samples=False (turning points only) or a shorter t_end" if samples else ""
-        raise ValueError(f"t_end={t_end!r} is too long: the run spans Λ t_end = {radians:.3g} radians of its rate bound "
-                         f"Λ = {rate:.3g} (about as many integration steps), over the limit {limit_name} = {limit:g}{hint}")
-    if dt is None:
-        dt = default_dt(t_end, rate, samples)
-    dt = float(dt)
-    if not math.isfinite(dt) or dt <= 0.0:
-        raise ValueError(f"dt must be a finite number > 0, got dt={dt!r}")
-    intervals = t_end / dt  # inf for a subnormal dt: refused below, never converted to an integer
-    n_grid = max(2, int(math.ceil(intervals - 1e-9)) + 1) if intervals < 1e18 else math.inf  # both ends
-    if n_grid > (MAX_SAMPLES if samples else MAX_GRID_POINTS):
-        what = (f"MAX_SAMPLES = {MAX_SAMPLES} (≈ 0.5 kB each); give a larger dt or samples=False" if samples else
-                f"MAX_GRID_POINTS = {MAX_GRID_POINTS:g} (≈ 1 µs each); give a larger dt")
-        raise ValueError(f"dt={dt!r} gives {n_grid:.3g} samples over t_end={t_end!r}, over the limit {what}")
-    return RunPlan(t_end, dt, int(n_grid), y0, rate)
 
 
 #: The ``on_turning_points`` callback of :func:`simulate`.

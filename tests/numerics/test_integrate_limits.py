@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 import roundoff as ro
 
+import rocknroller.numerics.backends as backends
 import rocknroller.numerics.integrate as integ
 from rocknroller.analysis.model import equations
 from rocknroller.analysis.model.body import Body
@@ -161,7 +162,7 @@ def _old_cache_path(cache: str) -> str:
     """Where the previous version loaded a pickled integrator from (the key computed as it did)."""
     import heyoka as hy
 
-    source = inspect.getsource(equations) + inspect.getsource(integ._EventLog)
+    source = inspect.getsource(equations) + inspect.getsource(backends._EventLog)
     key = hashlib.sha256(f"{hy.__version__}|{sys.version}|double|{source}".encode()).hexdigest()[:16]
     return os.path.join(cache, f"taylor-double-{key}.pickle")
 
@@ -313,7 +314,7 @@ def test_no_python_call_per_step_without_a_bar(fig5_initial, monkeypatch, sample
     against the dense-output cap; the cap is heyoka's own ``max_steps`` now, and a callback only moves a shown
     bar.  The cap still stops a run at exactly one step past it."""
     real, calls = integ.heyoka_integrator, []
-    monkeypatch.setattr(integ, "heyoka_integrator", lambda *a, **k: _Recording(real(*a, **k), calls))
+    monkeypatch.setattr(backends, "heyoka_integrator", lambda *a, **k: _Recording(real(*a, **k), calls))
     run = simulate(BODY, fig5_initial, 30.0, samples=samples, progress=False)
     assert calls and all(c.get("callback") is None for c in calls)
     assert [c["max_steps"] for c in calls][:1] == ([integ.MAX_DENSE_STEPS + 1] if samples else [0])

@@ -1,0 +1,177 @@
+"""The limits of a run of :func:`rocknroller.numerics.integrate.simulate`, checked before any work.
+
+The work and memory of a run scale with Λ·t_end (:func:`rate_bound`); :func:`check_run` refuses a run past
+``MAX_SAMPLES``, ``MAX_DENSE_RADIANS``, ``MAX_RADIANS`` or ``MAX_GRID_POINTS``, a body outside the accuracy ranges
+``MOMENT_RANGE``, ``G_RANGE`` and ``MAX_ENERGY_OVER_G``, a start without motion and one whose energy keeps its tilt
+below ``THETA_MIN``, with a ``ValueError`` that names the parameter and the limit.  The module docstring of
+:mod:`rocknroller.numerics.integrate` derives each limit.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.equations import EulerState
+from rocknroller.analysis.model.invariants import energy
+from rocknroller.numerics.events import _U, THETA_MIN
+
+__all__ = ["check_run", "RunPlan", "rate_bound", "default_dt", "MAX_SAMPLES", "MAX_DENSE_RADIANS", "MAX_DENSE_STEPS",
+           "MAX_RADIANS", "MAX_GRID_POINTS", "MOMENT_RANGE", "G_RANGE", "MAX_ENERGY_OVER_G", "DT_RADIANS",
+           "UNWRAP_RADIANS"]
+
+MAX_SAMPLES = 2_000_000
+MAX_DENSE_RADIANS = 3.0e5
+MAX_DENSE_STEPS = 600_000
+MAX_RADIANS = 1.0e8
+MAX_GRID_POINTS = 2.0e8
+MOMENT_RANGE = (1e-3, 1e3)
+G_RANGE = (1e-12, 1e12)
+MAX_ENERGY_OVER_G = 1e12
+#: Default output spacing in radians of Λ (≈ 0.05 time units for the paper's runs).
+DT_RADIANS = 0.15
+#: Default spacing, in radians of Λ, of the grid on which a run with ``samples=False`` unwraps φ and ψ and checks the
+#: energy: ≈ 0.35 time units, ≈ 40 points per rocking period, for the paper's runs.  The unwrapping does not rest on
+#: it: an interval over which an angle's rate at either end (φ̇, ψ̇ from the state, unbounded near the pole) would turn
+#: it by 2π/3 is bisected down to the output grid's spacing ``DT_RADIANS``/Λ (:mod:`rocknroller.numerics.trajectory`),
+#: so wherever the angles turn fast the grid is at least as fine as the one used before (issue 24), and the turning
+#: points are the same to the bit (tests/numerics/ensembles/test_batch.py); elsewhere 6.7× fewer points than ``DT_RADIANS``
+#: cut a run's sampling by as much.
+UNWRAP_RADIANS = 1.0
+
+
+def rate_bound(body: Body, y0: NDArray[np.float64]) -> float:
+    """Λ = √(2(E + g a)/I_min): a bound on |ω(t)| for all t (½ I_min |ω|² ≤ T ≤ E) that also covers the
+    rocking rate √(g a/I) of motions near rest.  Work and memory of a run scale with Λ·t_end."""
+    E = float(energy(body, y0[0:3], y0[3:6]))
+    return math.sqrt(2.0 * (E + body.g * body.a) / min(body.I1, body.I2, body.I3))
+
+
+def default_dt(t_end: float, rate: float, samples: bool = True) -> float:
+    """Default sample spacing: ``DT_RADIANS``/Λ (≈ 0.05 time units, ≈ 200 samples per rocking period, for
+    the paper's runs), and at least 200 samples over the run (a t_end so small that t_end/200 underflows to 0
+    gets the two samples 0 and t_end).  With ``samples=False``, the unwrapping grid's: ``UNWRAP_RADIANS``/Λ, at least
+    200 points."""
+    return min((DT_RADIANS if samples else UNWRAP_RADIANS) / rate, t_end / 200.0) or t_end
+
+
+def _validate(body: Body, initial: EulerState, t_end: float) -> tuple[NDArray[np.float64], float]:
+    if not isinstance(body, Body):
+        raise ValueError(f"body must be a rocknroller.analysis.model.body.Body, got {type(body).__name__}")
+    if not isinstance(initial, EulerState):
+        raise ValueError(f"initial must be a rocknroller.analysis.model.equations.EulerState, got {type(initial).__name__}")
+    if not math.isfinite(t_end) or t_end <= 0.0:
+        raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}")
+    lo, hi = MOMENT_RANGE
+    for name in ("I3", "I1", "I2"):  # I3 first: the CLI derives I1 (and I2) from it by default
+        if not lo <= getattr(body, name) <= hi:
+            raise ValueError(f"{name} must lie in [{lo:g}, {hi:g}] (units of m R^2) for the integrator to be "
+                             f"accurate (the energy error grows as 1/I_min), got {name}={getattr(body, name)!r}")
+    if not G_RANGE[0] <= body.g <= G_RANGE[1]:
+        raise ValueError(f"g must lie in [{G_RANGE[0]:g}, {G_RANGE[1]:g}] (g only sets the unit of time; "
+                         f"rescale time to bring it there), got g={body.g!r}")
+    y0 = initial.to_body_state()
+    with np.errstate(over="ignore", invalid="ignore"):  # rates of 1e200 overflow E to inf: refused below
+        E = float(energy(body, y0[0:3], y0[3:6]))
+    if not E <= MAX_ENERGY_OVER_G * body.g:
+        raise ValueError(f"the initial rates are too large: the energy E = {E:.3g} exceeds {MAX_ENERGY_OVER_G:g} g "
+                         f"(units m g R); reduce the rates (theta_dot, phi_dot, psi_dot or omega)")
+    if not np.any(y0[3:6]) and (body.a == 0.0 or initial.theta in (0.0, math.pi) or not np.any(y0[0:2])):
+        raise ValueError(
+            "the initial state has no motion: the body is at rest in an equilibrium (theta0 = 0 or pi, or any "
+            "theta0 when a = 0); give theta0 in (0, pi) with a > 0, or a non-zero rate")
+    if not E + body.g * body.a > 0.0:
+        # Λ = 0: T = ½ ωᵀKω ≥ ½ I_min |ω|² (K ≥ I_min) underflows to 0 when ½ I_min |ω|² is below half the smallest
+        # subnormal number, i.e. |ω| < √(2⁻¹⁰⁷⁴/I_min); with g a = 0 nothing else moves the body
+        w_min = math.sqrt(math.ulp(0.0) / min(body.I1, body.I2, body.I3))
+        raise ValueError(
+            f"the initial state has no motion to resolve: {initial} has the kinetic energy E = {E!r} in double "
+            f"precision (its rates, max |omega_i| = {float(np.max(np.abs(y0[3:6]))):.3g}, are below about {w_min:.2g}, "
+            f"where (1/2) I_min |omega|^2 underflows) and g a = {body.g * body.a!r}; give a > 0 or larger rates")
+    _check_tilt_resolved(body, initial, y0, E)
+    return y0, rate_bound(body, y0)
+
+
+def _check_tilt_resolved(body: Body, initial: EulerState, y0: NDArray[np.float64], E: float) -> None:
+    """Refuse a motion whose energy keeps its tilt below ``THETA_MIN`` (see there).
+
+    V = g a (1 − cos θ) ≤ E bounds the tilt by θ_E, 2 g a sin²(θ_E/2) = E = T + V; in the upper hemisphere V is taken
+    as g a (γ1² + γ2²)/(1 + γ3), which keeps its digits where 1 − γ3 rounds to 0 (θ < 1.5e-8), and T = E − g a (1 − γ3)
+    exactly as ``energy`` adds it up.  Without gravity (a = 0) the energy bounds no tilt.
+    """
+    if body.a == 0.0:
+        return
+    ga = body.g * body.a
+    one_minus_c = (y0[0] ** 2 + y0[1] ** 2) / (1.0 + y0[2]) if y0[2] > 0.0 else 1.0 - y0[2]
+    s2 = ((E - ga * (1.0 - y0[2])) + ga * one_minus_c) / (2.0 * ga)  # sin²(θ_E/2)
+    if s2 < math.sin(0.5 * THETA_MIN) ** 2:
+        theta_E = 2.0 * math.asin(math.sqrt(max(s2, 0.0)))
+        raise ValueError(
+            f"theta0={initial.theta!r}: the start's energy keeps its tilt within theta_E = {theta_E:.3g} rad of the "
+            f"pole, below THETA_MIN = {THETA_MIN:.3g} rad, the smallest amplitude at which the integrator resolves "
+            f"the turning points of theta (its state carries an absolute round-off of u = {_U:.3g}); give "
+            f"theta0 >= {THETA_MIN:.3g} or larger rates")
+
+
+
+class RunPlan(NamedTuple):
+    """A run of :func:`~rocknroller.numerics.integrate.simulate` checked by :func:`check_run`."""
+
+    t_end: float
+    """Final time."""
+    dt: float
+    """Spacing of the output grid (with ``samples=False``, of the grid on which the angles are unwrapped)."""
+    n_grid: int
+    """Points of that grid, both ends included."""
+    y0: NDArray[np.float64]
+    """Initial body-frame state."""
+    rate: float
+    """The rate bound Λ (:func:`rate_bound`)."""
+
+
+def check_run(body: Body, initial: EulerState, t_end: float, *, dt: float | None = None,
+              samples: bool = True) -> RunPlan:
+    """Check a run of :func:`~rocknroller.numerics.integrate.simulate` against its limits before any work: every
+    check ``simulate`` makes on the body, the initial state, ``t_end`` and ``dt``.
+
+    Parameters
+    ----------
+    body, initial, t_end, dt, samples : as for :func:`~rocknroller.numerics.integrate.simulate`.
+
+    Returns
+    -------
+    RunPlan
+        ``t_end`` and ``dt`` (default :func:`default_dt`) as floats, the grid size, the initial body-frame state and Λ.
+
+    Raises
+    ------
+    ValueError
+        Naming the parameter and the limit it exceeds (see the module docstring).
+    """
+    try:
+        t_end = float(t_end)
+    except (TypeError, ValueError, OverflowError):  # OverflowError: an int beyond the floats, like 10**400
+        raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}") from None
+    y0, rate = _validate(body, initial, t_end)
+    radians = rate * t_end
+    limit, limit_name = (MAX_DENSE_RADIANS, "MAX_DENSE_RADIANS") if samples else (MAX_RADIANS, "MAX_RADIANS")
+    if radians > limit:
+        hint = "; use samples=False (turning points only) or a shorter t_end" if samples else ""
+        raise ValueError(f"t_end={t_end!r} is too long: the run spans Λ t_end = {radians:.3g} radians of its rate bound "
+                         f"Λ = {rate:.3g} (about as many integration steps), over the limit {limit_name} = {limit:g}{hint}")
+    if dt is None:
+        dt = default_dt(t_end, rate, samples)
+    dt = float(dt)
+    if not math.isfinite(dt) or dt <= 0.0:
+        raise ValueError(f"dt must be a finite number > 0, got dt={dt!r}")
+    intervals = t_end / dt  # inf for a subnormal dt: refused below, never converted to an integer
+    n_grid = max(2, int(math.ceil(intervals - 1e-9)) + 1) if intervals < 1e18 else math.inf  # both ends
+    if n_grid > (MAX_SAMPLES if samples else MAX_GRID_POINTS):
+        what = (f"MAX_SAMPLES = {MAX_SAMPLES} (≈ 0.5 kB each); give a larger dt or samples=False" if samples else
+                f"MAX_GRID_POINTS = {MAX_GRID_POINTS:g} (≈ 1 µs each); give a larger dt")
+        raise ValueError(f"dt={dt!r} gives {n_grid:.3g} samples over t_end={t_end!r}, over the limit {what}")
+    return RunPlan(t_end, dt, int(n_grid), y0, rate)
