@@ -76,8 +76,8 @@ from rocknroller.numerics.integrate import check_energy_error, check_run, check_
 from rocknroller.numerics.megno import ChaosIndicators, chaos_indicators
 from rocknroller.numerics.trajectory import energy_scale
 
-__all__ = ["DirectChaos", "direct_chaos_indicators", "initial_tangent", "tangent_flow", "tangent_to_maximum", "tangent_norm",
-           "variational_integrator", "VARIATIONAL_SECONDS_PER_RADIAN", "CHUNK_RADIANS"]
+__all__ = ["DirectChaos", "direct_chaos_indicators", "initial_tangent", "tangent_flow", "tangent_to_maximum",
+           "tangent_norm", "variational_integrator", "VARIATIONAL_SECONDS_PER_RADIAN", "CHUNK_RADIANS"]
 
 #: CPU seconds per radian of Λ t of the variational run (12 equations, a terminal event and a renormalisation at every
 #: θ-maximum): 1.5e-5 measured by benchmarks/bench_variational.py (load 1.2), 2.0× plain

@@ -260,7 +260,8 @@ class SlowMap(_MapMixin):
         out[0] = x
         if n:
             ft = _fast(self.table, self.second)
-            rows, _ = ft.iterate(self.eps, float(ft.e @ x[:2]), float(ft.n @ x[:2]), float(x[2]), 0.0, sys.float_info.max, n)
+            rows, _ = ft.iterate(self.eps, float(ft.e @ x[:2]), float(ft.n @ x[:2]), float(x[2]), 0.0,
+                                 sys.float_info.max, n)
             out[1:] = rows[:, 1:4] @ self.chart.T
             raw = np.concatenate([[x[2]], rows[:, 3]])
             out[:, 2] = np.cumsum(np.concatenate([[x[2]], wrap_angle(np.diff(raw))]))

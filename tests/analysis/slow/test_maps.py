@@ -204,7 +204,8 @@ def test_periodic_orbits_agree_with_central_differences(monkeypatch, period, eps
     ‖(DG)⁻¹‖∞ (DG = DF + 1) times the two residuals (both Newton solutions have ‖G‖ ≤ their residual), the residues
     within what the differences' error allows: each entry within 1.5 η/h (the stencil's weights, 18/12, over h; its
     h⁴ truncation is ~1e-12 relative) and R = (3 − tr M)/4 with M = J or J²: |δR| ≤ Σ|δJ|/4 (period 1), and
-    |δ tr J²| = |tr(J δJ + δJ J)| ≤ 2 max|J| Σ|δJ| (period 2).  Newton needs no more iterations with the exact tangent."""
+    |δ tr J²| = |tr(J δJ + δJ J)| ≤ 2 max|J| Σ|δJ| (period 2).  Newton needs no more iterations with the exact
+    tangent."""
     eps = eps_factor * 4.0 / abs(SlowMap(BODY, THETA0, EPS).kappa)
     new = po.periodic_orbit(BODY, THETA0, eps, period, start=start)
     monkeypatch.setattr(po._Problem, "jacobian", lambda self, x: _central_jacobian(self.step, x))
