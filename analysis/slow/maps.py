@@ -32,7 +32,6 @@ reversor gives det DF(x) · det DF(R F x) = 1 along any orbit, not det DF = 1 (t
 
 from __future__ import annotations
 
-import math
 import sys
 from abc import ABC, abstractmethod
 from dataclasses import InitVar, dataclass, field
@@ -65,8 +64,6 @@ EXACT_MAX_STEPS = 10_000
 #: ≤ 1.3e-13 on both maps at 0.9π and 0.95π, ε = 1.05 and 1.5 × 4/κ (its Θ component; 2e-15 in Q_R, 6e-17 in Q_J):
 #: 200 ulp of 4π = 5.6e-13 is four times that.
 EVALUATION_ULPS = 200.0
-#: The maps' largest component, the unit of ``EVALUATION_ULPS``.
-_UNIT = 4.0 * math.pi
 
 
 def reverse(x: ArrayLike) -> NDArray[np.float64]:
@@ -82,7 +79,10 @@ def _continued(theta: float, raw: float) -> float:
 
 
 def _check_x(x: ArrayLike) -> NDArray[np.float64]:
-    a = np.asarray(x, dtype=float) if not isinstance(x, str) else np.array(np.nan)
+    try:
+        a = np.asarray(x, dtype=float) if not isinstance(x, str) else np.array(np.nan)
+    except (TypeError, ValueError):
+        a = np.array(np.nan)
     if a.shape != (3,) or not np.all(np.isfinite(a)):
         raise ValueError(f"x must be three finite numbers (Q_R, Q_J, Theta), got x={x!r} (shape {np.shape(x)})")
     return a.copy()
@@ -117,13 +117,6 @@ class _MapMixin(ABC):
         """F⁻¹(x) = R F(R x), by the reversing symmetry R (module docstring)."""
         return reverse(self(reverse(_check_x(x))))
 
-    def _steps(self, x: NDArray[np.float64], n: int) -> NDArray[np.float64]:
-        out = np.empty((n + 1, 3))
-        out[0] = x
-        for k in range(n):
-            out[k + 1] = self(out[k])
-        return out
-
     def iterate(self, x: ArrayLike, n: int) -> NDArray[np.float64]:
         """The orbit x, F(x), …, Fⁿ(x): an array (n + 1, 3) of (Q_R, Q_J, Θ) (Θ continued).
 
@@ -133,8 +126,12 @@ class _MapMixin(ABC):
             x not three finite numbers; n not an integer in [0, the map's limit].
         """
         x = _check_x(x)
-        limit, name = self.max_steps
-        return self._steps(x, _check_n(n, limit, name))
+        n = _check_n(n, *self.max_steps)
+        out = np.empty((n + 1, 3))
+        out[0] = x
+        for k in range(n):
+            out[k + 1] = self(out[k])
+        return out
 
 
 @dataclass(frozen=True)
@@ -185,8 +182,8 @@ class SlowMap(_MapMixin):
         if self.order not in (1, 2) or isinstance(self.order, bool):
             raise ValueError(f"order must be 1 or 2, got order={self.order!r}")
         theta0 = check_map_theta0(self.theta0)
-        table = load_or_build_table(self.body, theta0, build=build)
         eps = _check_eps(self.eps, self.body)
+        table = load_or_build_table(self.body, theta0, build=build)
         second = None
         if self.order == 2:
             from rocknroller.analysis.slow.second_order import load_or_build_second_order_table
