@@ -10,8 +10,9 @@ from Θ, within π of it (Θ' − Θ wrapped to (−π, π]), so that their orbi
 by less than π a rock, and their derivatives are those of the map of the circle.
 
 The tangent maps.  ``SlowMap.jacobian`` is the compiled kernel's tangent map of the step as implemented (the drifts'
-∇W, the implicit midpoint's derivative by the implicit function theorem; :func:`chart_step`), in the table's chart
-(u, v, Θ), Q = u e + v n, and turned into (Q_R, Q_J, Θ) by the chart's rotation B: J = B M Bᵀ.  ``ExactMap.jacobian``
+∇W, the implicit midpoint's derivative by the implicit function theorem;
+:func:`rocknroller.analysis.slow.compiled_map.chart_step`), in the table's chart (u, v, Θ), Q = u e + v n, and turned
+into (Q_R, Q_J, Θ) by the chart's rotation B: J = B M Bᵀ.  ``ExactMap.jacobian``
 is the chain rule through the one rock:
 
 * the start y₀(x): the body-frame (γ, ω) at the maximum is fixed by six conditions, Q_R(y) = Q_R, Q_J(y) = Q_J,
@@ -332,7 +333,7 @@ class ExactMap(_MapMixin):
         C = np.vstack([self._gradient(f, y0, angle) for f, angle in self._conditions()])
         P = np.zeros((6, 3))
         P[0, 0], P[1, 1], P[2, 2] = 1.0, 1.0, 0.5
-        return y0, np.linalg.solve(C, P)
+        return y0, np.asarray(np.linalg.solve(C, P), float)
 
     def _conditions(self) -> list[tuple[Any, bool]]:
         """The functions of y that fix the start (Q_R, Q_J, ψ, E, dγ3/dt, |γ|²), each with its ``angle`` flag."""
