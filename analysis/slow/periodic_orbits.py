@@ -258,7 +258,7 @@ def _reflect(x: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def _newton(problem: _Problem, x: NDArray[np.float64], tol: float) -> tuple[NDArray[np.float64], int]:
-    """A zero of G from x: Newton with the central-difference Jacobian DG = DF + 1, halving a step that does not
+    """A zero of G from x: Newton with the Jacobian DG = DF + 1 (the map's exact tangent), halving a step that does not
     decrease ‖G‖∞ or leaves the slow map's table."""
     g = problem.G(x)
     r = float(np.max(np.abs(g)))
