@@ -76,8 +76,8 @@ from rocknroller.numerics.integrate import check_energy_error, check_run, check_
 from rocknroller.numerics.megno import ChaosIndicators, chaos_indicators
 from rocknroller.numerics.trajectory import energy_scale
 
-__all__ = ["DirectChaos", "direct_chaos_indicators", "initial_tangent", "tangent_flow", "tangent_norm",
-           "variational_integrator", "VARIATIONAL_SECONDS_PER_RADIAN", "CHUNK_RADIANS"]
+__all__ = ["DirectChaos", "direct_chaos_indicators", "initial_tangent", "tangent_flow", "tangent_to_maximum",
+           "tangent_norm", "variational_integrator", "VARIATIONAL_SECONDS_PER_RADIAN", "CHUNK_RADIANS"]
 
 #: CPU seconds per radian of Λ t of the variational run (12 equations, a terminal event and a renormalisation at every
 #: θ-maximum): 1.5e-5 measured by benchmarks/bench_variational.py (load 1.2), 2.0× plain
@@ -177,6 +177,36 @@ def tangent_flow(body: Body, initial: EulerState, times: ArrayLike,
                                                   max_steps=_STEPS_PER_STRETCH)[0])
         out[k] = ta.state
     return out[:, :_N], out[:, _N:]
+
+
+def tangent_to_maximum(body: Body, y0: ArrayLike, w0: ArrayLike, t_after: float,
+                       t_before: float) -> tuple[float, NDArray[np.float64], NDArray[np.float64]]:
+    """The first θ-maximum of the run from the (γ, ω) state ``y0`` after the time ``t_after`` (the integrator's
+    terminal event, located by heyoka on its Taylor polynomial): its time t₁, the state there and the tangent vector
+    Φ(t₁) w0 (the flow's derivative at the fixed time t₁, not renormalised; the event's own dependence on the start
+    is the caller's: −f ∇h·w/∇h·f, h = dγ3/dt).  Maxima before ``t_after`` are passed over (a start at a maximum is
+    one).
+
+    Raises
+    ------
+    ValueError
+        y0 or w0 not 6 finite numbers, or not 0 ≤ t_after < t_before.
+    RuntimeError
+        No θ-maximum in (t_after, t_before].
+    """
+    y0, w0 = np.asarray(y0, float), np.asarray(w0, float)
+    if y0.shape != (_N,) or w0.shape != (_N,) or not (np.all(np.isfinite(y0)) and np.all(np.isfinite(w0))):
+        raise ValueError(f"y0 and w0 must be 6 finite numbers (gamma, omega) and (dgamma, domega), got {y0!r}, {w0!r}")
+    if not (math.isfinite(t_before) and 0.0 <= t_after < t_before):
+        raise ValueError(f"need 0 <= t_after < t_before (finite), got t_after={t_after!r}, t_before={t_before!r}")
+    ta = variational_integrator()
+    _start(ta, body, y0, w0)
+    while float(ta.time) < t_after:  # through the maxima before t_after (heyoka's cooldown: each stops it once)
+        _check_outcome(ta, ta.propagate_until(t_after, max_steps=_STEPS_PER_STRETCH)[0])
+    if not _check_outcome(ta, ta.propagate_until(t_before, max_steps=_STEPS_PER_STRETCH)[0]):
+        raise RuntimeError(f"no maximum of theta between t={t_after!r} and t={t_before!r}")
+    state = np.array(ta.state)
+    return float(ta.time), state[:_N], state[_N:]
 
 
 def _check_outcome(ta: Any, outcome: Any) -> bool:

@@ -10,14 +10,14 @@ line), with the energy E = U(θ0) of the release from rest at θ0; every orbit i
 (Θ mod 2π, ∇W(0)·Q) and as (Q_R, Q_J).  The releases from rest at θ0 are the line p = 0 (Q = 0, the origin of the
 (Q_R, Q_J) plane), drawn in both panels.  For κ > 0 the stable rocking (ψ = π/2) is Θ = π, the unstable Θ = 0.
 
-The map runs on the release tables (:func:`rocknroller.analysis.slow.map.compiled_map.iterate_slow_map`, order 1 or 2); an
+The map runs on the release tables (:class:`rocknroller.analysis.slow.map.maps.SlowMap`, order 1 or 2); an
 orbit that leaves the tables is cut where it leaves and listed in ``SlowPortrait.left``.  The ODE's starts are the
 same maxima (:func:`rocknroller.analysis.slow.map.family.maximum_state`), run by
 :func:`rocknroller.numerics.ensembles.ensemble.run_ensemble`.
 
 Colour.  Each orbit is coloured by one value (:func:`portrait_values`): the values passed in; else, by default, the
 orbit's MEGNO (``SlowPortrait.chaos``: the map's tangent vector carried along the orbit,
-``iterate_slow_map(..., tangent=True)``, and :func:`rocknroller.analysis.slow.dynamics.chaos.map_indicators`, the indicators
+``SlowMap.run(..., tangent=True)``, and :func:`rocknroller.analysis.slow.dynamics.chaos.map_indicators`, the indicators
 ``predict_slow_motion`` gives a release), on a colour scale clipped to [0, ``MEGNO_CLIP``] = [0, 5] (regular ≈ 2, a
 stable periodic orbit 0, chaotic above 3, marked on the colour bar), grey where an orbit has fewer than
 :data:`~rocknroller.numerics.megno.MIN_SAMPLES` maxima (it left the tables early); with ``chaos=False``, or for other
@@ -40,8 +40,9 @@ from numpy.typing import ArrayLike, NDArray
 from rocknroller.analysis.model.body import Body, as_float
 from rocknroller.analysis.slow import prediction as av
 from rocknroller.analysis.slow.dynamics.chaos import map_indicators
-from rocknroller.analysis.slow.map.compiled_map import SlowSeries, iterate_slow_map
+from rocknroller.analysis.slow.map.compiled_map import SlowSeries
 from rocknroller.analysis.slow.map.family import maximum_state, rest_energy
+from rocknroller.analysis.slow.map.maps import SlowMap
 from rocknroller.numerics.budget import WORK_BUDGET_SECONDS
 from rocknroller.numerics.megno import MEGNO_CHAOTIC, MIN_SAMPLES, ChaosIndicators
 from rocknroller.papers.output import new_figure, save_figure, write_csv
@@ -259,11 +260,7 @@ def slow_portrait(body: Body, theta0: float, Theta: ArrayLike, p: ArrayLike | No
     for s_Th, s_p in starts:
         _check_grid("ode_starts Theta", s_Th, -2.0 * math.pi, 2.0 * math.pi)
         _check_grid("ode_starts p", s_p, -p_max, p_max)
-    second = None
-    if order == 2:
-        from rocknroller.analysis.slow.map.second_order import load_or_build_second_order_table
-
-        second = load_or_build_second_order_table(body, theta0, build=build)
+    slow_map = SlowMap(body, theta0, eps, order, build=build)
     T, P = (g.ravel() for g in np.meshgrid(Th, pp, indexing="ij"))
     along = float(grad_W @ e)
     from rocknroller.numerics.ensembles.ensemble import Job, run_ensemble
@@ -278,11 +275,11 @@ def slow_portrait(body: Body, theta0: float, Theta: ArrayLike, p: ArrayLike | No
         warnings.simplefilter("ignore", av.AveragingValidityWarning)  # K > 4 is stated in the portrait's title
         with _bar(n, progress, "portrait") as bar:
             for k, (th, pk) in enumerate(zip(T, P)):
-                Q0 = (pk / along) * e
+                x = np.array([*((pk / along) * e), th])
                 try:
-                    s = iterate_slow_map(table, eps, 0.5 * th, t_end, Q0=Q0, second=second, tangent=chaos)
+                    s = slow_map.run(x, t_end, tangent=chaos)
                 except av.AveragingRangeError:
-                    s = _until_left(table, eps, 0.5 * th, t_end, Q0, second, chaos)
+                    s = _until_left(slow_map, x, t_end, chaos)
                     left.append(k)
                 orbits.append(s)
                 if chaos:
@@ -295,29 +292,28 @@ def slow_portrait(body: Body, theta0: float, Theta: ArrayLike, p: ArrayLike | No
                         chaos=tuple(indicators))
 
 
-def _until_left(table: Any, eps: float, psi0: float, t_end: float, Q0: NDArray[np.float64],
-                second: Any, tangent: bool) -> SlowSeries:
+def _until_left(slow_map: SlowMap, x: NDArray[np.float64], t_end: float, tangent: bool) -> SlowSeries:
     """The orbit up to its last maximum inside the tables: the longest n_steps that does not leave them (bisection on
     the number of steps; the map is deterministic, so a prefix is the same orbit), with its tangent vector if
     ``tangent`` (log_growth None for an empty orbit)."""
     lo, hi = 0, 1
     while True:  # grow until it leaves
         try:
-            iterate_slow_map(table, eps, psi0, t_end, Q0=Q0, n_steps=hi, second=second)
+            slow_map.run(x, t_end, n_steps=hi)
         except av.AveragingRangeError:
             break
         lo, hi = hi, 2 * hi
     while hi - lo > 1:
         mid = (lo + hi) // 2
         try:
-            iterate_slow_map(table, eps, psi0, t_end, Q0=Q0, n_steps=mid, second=second)
+            slow_map.run(x, t_end, n_steps=mid)
             lo = mid
         except av.AveragingRangeError:
             hi = mid
     if lo == 0:
         empty = np.empty(0)
         return SlowSeries(t=empty, QR=empty.copy(), QJ=empty.copy(), Theta=empty.copy(), phi=empty.copy())
-    return iterate_slow_map(table, eps, psi0, t_end, Q0=Q0, n_steps=lo, second=second, tangent=tangent)
+    return slow_map.run(x, t_end, n_steps=lo, tangent=tangent)
 
 
 def plot_portrait(portrait: SlowPortrait, values: ArrayLike | None = None, *, cmap: str = "viridis",

@@ -37,8 +37,9 @@ K sin δ = 4δ (K = εκ), is not the map's even near the threshold K = 4 (the c
 sin: δ = 0.102 against 0.173 at K = 4.02, 0.95π); the period-2 start is found on the line (u, 0, Θ*) instead
 (:meth:`_Problem.start`).
 
-Jacobians by fourth-order central differences (:func:`rocknroller.analysis.slow.dynamics.period_doubling`'s steps: 1e-6 in
-u, v, 1e-5 in Θ), 12 steps of the map.
+The maps are :class:`rocknroller.analysis.slow.map.maps.SlowMap` and :class:`~rocknroller.analysis.slow.map.maps.ExactMap`;
+their Jacobians (Newton's, and the multipliers) are the maps' exact tangents: the compiled kernel's tangent map of
+the slow step, the variational equations of the direct ODE through the exact one.
 """
 
 from __future__ import annotations
@@ -55,7 +56,7 @@ from rocknroller.analysis.model.diagnostics import wrap_angle
 from rocknroller.analysis.slow.map.chart import TABLE_FUNCTIONS, SlowMapTable
 from rocknroller.analysis.slow.map.limits import (K_PERIOD_DOUBLING, AveragingRangeError, eps_period_doubling,
                                               stable_rocking_psi)
-from rocknroller.analysis.slow.dynamics.period_doubling import _central_jacobian
+from rocknroller.analysis.slow.map.maps import EVALUATION_ULPS, ExactMap, SlowMap
 
 __all__ = ["MAPS", "K_MAX", "PeriodicOrbitError", "PeriodicOrbit", "periodic_orbit", "Branch", "continue_orbit",
            "greene_residue"]
@@ -67,14 +68,10 @@ MAPS = ("slow", "exact")
 #: (|u| ≤ 0.24 U at 1.5 ε_pd, 0.9π and 0.95π; measured).  The first-order map's implicit kick may stop converging
 #: before (on the period-2 orbit at 0.9π from K ≈ 6.6, measured; 0.95π reaches K_MAX): an AveragingRangeError says so.
 K_MAX = 2.0 * K_PERIOD_DOUBLING
-#: Newton's method: most iterations, and the residual ‖G‖∞ accepted, in units of the unit round-off times the
-#: largest component the map returns (|Θ'| ≲ 4π).  The slow map's step is exact arithmetic on its tables except for
-#: the implicit kick, solved to 1e-13 of the kick; the exact step is heyoka at the unit round-off over one rock.  The
-#: scatter of G under relative perturbations of 1e-14 of x (the floor Newton can reach) was ≤ 1.3e-13 on both maps at
-#: 0.9π and 0.95π, ε = 1.05 and 1.5 × 4/κ (its Θ component; 2e-15 in u, 6e-17 in v): 200 ulp of 4π = 5.6e-13 is
-#: four times that.
+#: Newton's method: most iterations, and the residual ‖G‖∞ accepted: the maps' evaluation error
+#: (:data:`rocknroller.analysis.slow.map.maps.EVALUATION_ULPS` ulp of 4π), the floor Newton can reach.
 _NEWTON_ITERATIONS = 30
-_RESIDUAL_ULPS = 200.0
+_RESIDUAL_ULPS = EVALUATION_ULPS
 _ANGLE = 2
 #: The scan for the period-2 start: u from 1e-4 to 1 times the table's half-width U (2.5 times the standard map's
 #: libration at K = 4), geometrically.
@@ -172,7 +169,9 @@ class Branch:
 
 
 class _Problem:
-    """One map in the chart coordinates of the release table of (body, θ0), at one ε."""
+    """One map (:class:`rocknroller.analysis.slow.map.maps.SlowMap` or :class:`~rocknroller.analysis.slow.map.maps.ExactMap`)
+    in the chart coordinates x = (u, v, Θ) of the release table of (body, θ0), at one ε: F_chart = Bᵀ F B with B the
+    chart's rotation, and its Jacobian Bᵀ DF B (the map's exact tangent)."""
 
     def __init__(self, body: Body, theta0: float, eps: float, map: str, order: int, workers: int) -> None:
         from rocknroller.analysis.slow.map.table import load_or_build_table
@@ -194,37 +193,19 @@ class _Problem:
                              f"{body.I3 / body.I1 - 1.0:.6g}), got eps={eps!r}")
         self.eps = eps
         self.e, self.n = np.asarray(self.table.e, float), np.asarray(self.table.n, float)
+        self.B = np.eye(3)
+        self.B[:2, 0], self.B[:2, 1] = self.e, self.n
         self.theta_star = 2.0 * stable_rocking_psi(self.kappa)
         self.order = 0 if map == "exact" else order
-        if map == "slow":
-            from rocknroller.analysis.slow.map.second_order import load_or_build_second_order_table
-
-            self.second = load_or_build_second_order_table(body, theta0, workers=workers) if order == 2 else None
-        else:
-            from rocknroller.analysis.slow.map.family import rest_energy
-            from rocknroller.analysis.slow.map.orbit import symmetric_data
-
-            self.sym = body.symmetric()
-            self.E = rest_energy(self.sym, theta0)
-            self.T = float(symmetric_data(self.sym, self.E, 0.0, 0.0)[0])
+        self.F: SlowMap | ExactMap = (SlowMap(body, theta0, eps, order, workers=workers) if map == "slow"
+                                      else ExactMap(body, theta0, eps))
 
     def Q(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
         return x[0] * self.e + x[1] * self.n
 
     def step(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
-        """One step of the map from x = (u, v, Θ); Θ continued from the start."""
-        Q = self.Q(x)
-        if self.map == "slow":
-            from rocknroller.analysis.slow.map.compiled_map import iterate_slow_map
-
-            s = iterate_slow_map(self.table, self.eps, 0.5 * float(x[2]), 1e6, Q0=Q, n_steps=1, second=self.second)
-            Q1, Th = np.array([s.QR[0], s.QJ[0]]), float(x[2] + wrap_angle(s.Theta[0] - x[2]))
-        else:
-            from rocknroller.analysis.slow.map.exact_step import exact_step
-
-            y = exact_step(self.sym, self.eps, self.E, float(Q[0]), float(Q[1]), 0.5 * float(x[2]), self.T)
-            Q1, Th = y[:2], float(y[2])
-        return np.array([self.e @ Q1, self.n @ Q1, Th])
+        """One step of the map from x = (u, v, Θ); Θ continued from the start (within π of it)."""
+        return self.B.T @ self.F(self.B @ x)
 
     def G(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
         """F(x) − S x, Θ wrapped (module docstring)."""
@@ -233,7 +214,8 @@ class _Problem:
         return d
 
     def jacobian(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
-        return _central_jacobian(self.step, x)
+        """DF in the chart: Bᵀ DF(B x) B."""
+        return self.B.T @ self.F.jacobian(self.B @ x) @ self.B
 
     def kick_phase(self, x: NDArray[np.float64]) -> float:
         W = float(self.table.evaluate(self.Q(x))[TABLE_FUNCTIONS.index("W")])
@@ -276,7 +258,7 @@ def _reflect(x: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def _newton(problem: _Problem, x: NDArray[np.float64], tol: float) -> tuple[NDArray[np.float64], int]:
-    """A zero of G from x: Newton with the central-difference Jacobian DG = DF + 1, halving a step that does not
+    """A zero of G from x: Newton with the Jacobian DG = DF + 1 (the map's exact tangent), halving a step that does not
     decrease ‖G‖∞ or leaves the slow map's table."""
     g = problem.G(x)
     r = float(np.max(np.abs(g)))

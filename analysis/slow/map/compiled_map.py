@@ -26,7 +26,7 @@ from rocknroller.numerics.cache import MemoryCache
 if TYPE_CHECKING:
     import pandas
 
-__all__ = ["SlowSeries", "iterate_slow_map", "centre_period", "TANGENT_START", "tangent_start"]
+__all__ = ["SlowSeries", "iterate_slow_map", "centre_period", "TANGENT_START", "tangent_start", "chart_step"]
 
 #: The tangent vector w of every run of the map with ``tangent=True``, in the scaled coordinates (S u, S v, Θ) with
 #: S = |∇W| at Q = 0 (the table's, per table; a change δQ changes the twist by ≈ S |δQ|, so both parts of w are phases,
@@ -257,6 +257,42 @@ def tangent_start(scale: float) -> tuple[float, float, float]:
     wu, wv, wt = TANGENT_START
     c = 1.0 / math.sqrt(wu * wu + wv * wv + wt * wt)
     return c * wu / scale, c * wv / scale, c * wt
+
+
+def chart_step(table: SlowMapTable, eps: float, x: NDArray[np.float64], second: SecondOrderTable | None = None,
+               jacobian: bool = False) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
+    """One step of the map in the table's chart, x = (u, v, Θ) → x' (Θ' the kernel's own continued value: no
+    wrapping), and with ``jacobian`` its derivative ∂x'/∂x: the kernel's tangent map of the step as implemented
+    (:func:`iterate_slow_map`, ``tangent=True``), applied to the three unit vectors (one kernel step each; the kernel
+    renormalises w, so M e_j = w' e^ℓ in the norm with weight 1).  No argument checks: the callers check theirs.
+
+    Raises
+    ------
+    AveragingRangeError
+        The step leaves the table, or the implicit kick does not converge.
+    """
+    ft = _fast(table, second)
+    tr = _tangent_rows(ft) if jacobian else None
+    columns = []
+    for j in range(3 if jacobian else 1):
+        out = np.empty((1, 6 if jacobian else 5))
+        extra: tuple[Any, ...] = ()
+        if tr is not None:
+            w = np.zeros(4)
+            w[j] = 1.0
+            extra = (w, tr.rows_dw, tr.rows_kt, tr.rows2_kt, 1.0)
+        n, status, ub, vb, _, _ = _kernel.iterate(ft.rows, ft.rows_jac, ft.geom, out, ft.U, ft.alpha, ft.beta, ft.dx,
+                                                  ft.nv, eps, float(x[0]), float(x[1]), float(x[2]), 0.0, 0.0,
+                                                  math.inf, ft.rows2, *extra)
+        if status == _LEFT_TABLE:
+            ft.table.evaluate(ub * ft.e + vb * ft.n)  # raises AveragingRangeError with the explanation
+        if status == _NO_CONVERGENCE:
+            raise AveragingRangeError(
+                f"the implicit kick did not converge at eps={eps!r}: eps is too large for the first-order map")
+        assert n == 1 and status == _FULL, "one step fills the one row"
+        if extra:
+            columns.append(extra[0][:3] * math.exp(extra[0][3]))
+    return out[0, 1:4].copy(), (np.stack(columns, axis=1) if jacobian else None)
 
 
 def centre_period(table: SlowMapTable) -> float:
