@@ -23,6 +23,12 @@ PUBLIC = sorted(n for n in dir(rr) if not n.startswith("_") and not isinstance(g
 #: Examples that integrate the direct ODE for long, build or load the averaging tables, or compile an integrator:
 #: they run in the slow stage (``python -m pytest -m slow``), with the reason.
 SLOW = {
+    "DirectChaos": "compiles heyoka's variational equations (~45 s on a cold heyoka cache)",
+    "direct_chaos_indicators": "compiles heyoka's variational equations (~45 s on a cold heyoka cache)",
+    "PeriodDoubling": "the exact map: direct-ODE steps at every ε of the root search (~8 s)",
+    "period_doubling": "the exact map: direct-ODE steps at every ε of the root search (~8 s)",
+    "bifurcation_diagram": "continues the branches and writes a PNG and a PDF (~8 s)",
+    "write_portrait": "writes a PNG and a PDF (~4 s)",
 }
 
 #: Longest repr of a default value in a public signature: a scalar, a short string or tuple, a type.
