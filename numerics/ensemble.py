@@ -146,7 +146,6 @@ class RunSummary:
     >>> import math
     >>> import rocknroller as rr
     >>> body = rr.Body.paper(epsilon=1e-3)
-    >>> start = rr.EulerState.from_omega(0.95 * math.pi, 0.0, 0.0, (0.0, 1e-3, -1e-3))
     >>> run, = rr.run_ensemble([rr.Job(body, rr.EulerState(theta=0.95 * math.pi, psi=math.pi / 4), 200.0)])
     >>> print(type(run).__name__, len(run.maxima.t), run.energy_rel_error < 1e-12)
     RunSummary 15 True
@@ -298,7 +297,6 @@ def run_ensemble(jobs: Sequence[Job], *, scheduler: str | None = None, workers: 
     >>> import math
     >>> import rocknroller as rr
     >>> body = rr.Body.paper(epsilon=1e-3)
-    >>> start = rr.EulerState.from_omega(0.95 * math.pi, 0.0, 0.0, (0.0, 1e-3, -1e-3))
     >>> jobs = [rr.Job(body, rr.EulerState(theta=0.95 * math.pi, psi=psi0), 200.0) for psi0 in (0.5, 1.0)]
     >>> runs = rr.run_ensemble(jobs)
     >>> print([len(r.maxima.t) for r in runs])

@@ -262,8 +262,8 @@ def direct_chaos_indicators(body: Body, initial: EulerState, t_end: float, *,
     >>> body = rr.Body.paper(epsilon=1e-3)
     >>> start = rr.EulerState(theta=0.95 * math.pi, psi=math.pi / 4)
     >>> dc = rr.direct_chaos_indicators(body, start, 300.0)
-    >>> print(dc.indicators.regular, f"MEGNO = {dc.indicators.megno:.1f}")
-    True MEGNO = 0.8
+    >>> print(dc.indicators.regular, dc.theta_maxima.size)
+    True 22
     """
     t_end, _, _, y0, rate = check_run(body, initial, t_end, samples=False)
     check_work(rate * t_end * VARIATIONAL_SECONDS_PER_RADIAN,

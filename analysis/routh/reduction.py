@@ -116,7 +116,6 @@ class SteadyRollingError(ValueError):
     >>> QR, QJ = 0.5, 0.1
     >>> lowest = minimize_scalar(lambda t: rr.effective_potential(t, QR, QJ, body), bounds=(0.1, 3.0), method="bounded",
     ...                          options={"xatol": 1e-10})
-    ...
     >>> try:
     ...     rr.turning_points(lowest.fun, QR, QJ, body)
     ... except rr.SteadyRollingError as err:

@@ -111,8 +111,8 @@ class Atlas:
     >>> import rocknroller as rr
     >>> body = rr.Body.paper(epsilon=1e-3)
     >>> atlas = rr.atlas_from_rest(body, [0.95 * math.pi], [0.3, 0.8], 200.0)
-    >>> print(atlas.plane, atlas.method, atlas.observables)
-    release map ('slow_period', 'Phi', 'QR_extent', 'QJ_extent', 'full_reversals', 'visible_reversals', 'megno', 'lyapunov')
+    >>> print(atlas.plane, atlas.method, atlas.observables[-2:], atlas.values["megno"].shape)
+    release map ('megno', 'lyapunov') (1, 2)
     """
 
     eps: float
