@@ -107,11 +107,37 @@ GRID_BYTES_PER_POINT = 1024
 
 
 class AccuracyWarning(UserWarning):
-    """A run's energy error exceeds what its integrator's tolerance allows."""
+    """A run's energy error exceeds what its integrator's tolerance allows.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> start = rr.EulerState.from_omega(0.95 * math.pi, 0.0, 0.0, (0.0, 1e-3, -1e-3))
+    >>> import warnings
+    >>> with warnings.catch_warnings():
+    ...     warnings.simplefilter("error", rr.AccuracyWarning)
+    ...     run = rr.simulate(body, start, 60.0, samples=False)
+    ...
+    >>> issubclass(rr.AccuracyWarning, UserWarning)
+    True
+    """
 
 
 class AccuracyError(RuntimeError):
-    """A run's energy error exceeds what its integrator's tolerance allows (``strict=True``)."""
+    """A run's energy error exceeds what its integrator's tolerance allows (``strict=True``).
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> start = rr.EulerState.from_omega(0.95 * math.pi, 0.0, 0.0, (0.0, 1e-3, -1e-3))
+    >>> run = rr.simulate(body, start, 60.0, samples=False, strict=True)
+    >>> issubclass(rr.AccuracyError, RuntimeError)
+    True
+    """
 
 
 
@@ -224,6 +250,18 @@ def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "he
     ValueError
         Naming the parameter: a limit or an accuracy range exceeded (:func:`check_run`), no motion, a tilt that stays
         below ``THETA_MIN``.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> start = rr.EulerState.from_omega(0.95 * math.pi, 0.0, 0.0, (0.0, 1e-3, -1e-3))
+    >>> traj = rr.simulate(body, start, 60.0)
+    >>> print(len(traj.maxima.t), len(traj.minima.t), traj.energy_rel_error < 1e-12)
+    4 5 True
+    >>> print(f"{traj.maxima.theta[0] / math.pi:.6f} pi")
+    0.949999 pi
     """
     if method not in _METHODS:
         raise ValueError(f"method must be one of {_METHODS}, got {method!r}")

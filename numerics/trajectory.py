@@ -43,6 +43,18 @@ class TurningPoints:
     """Samples at the turning points of θ (all maxima, or all minima), in time order.
 
     ``phi`` and ``psi`` lie on the same unwrapped branch as the trajectory's series.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> start = rr.EulerState.from_omega(0.95 * math.pi, 0.0, 0.0, (0.0, 1e-3, -1e-3))
+    >>> maxima = rr.simulate(body, start, 60.0, samples=False).maxima
+    >>> print(f"{maxima.t[1] - maxima.t[0]:.4f}", f"{maxima.theta[0] / math.pi:.6f} pi")
+    13.2601 0.949999 pi
+    >>> print(f"Q_R = {maxima.QR[0]:.4e}, Q_J = {maxima.QJ[0]:.4e}")
+    Q_R = -1.2604e-03, Q_J = 4.6919e-04
     """
 
     t: NDArray[np.float64]
@@ -354,6 +366,18 @@ class Trajectory(_TurningPointDiagnostics):
         Integration steps taken.
     tolerance : float
         The integrator's relative tolerance (heyoka: the unit round-off of its precision; scipy: rtol).
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> start = rr.EulerState.from_omega(0.95 * math.pi, 0.0, 0.0, (0.0, 1e-3, -1e-3))
+    >>> traj = rr.simulate(body, start, 60.0)
+    >>> print(type(traj).__name__, traj.method, traj.states.shape[1])
+    Trajectory heyoka 11
+    >>> print(bool(traj.t[0] == 0.0 and traj.t[-1] == 60.0))
+    True
     """
 
     body: Body
@@ -453,6 +477,16 @@ class TurningPointRun(_TurningPointDiagnostics):
         max |E − E(0)| / (E(0) + g a) over all samples examined.
     n_steps : int
     tolerance : float
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> start = rr.EulerState.from_omega(0.95 * math.pi, 0.0, 0.0, (0.0, 1e-3, -1e-3))
+    >>> run = rr.simulate(body, start, 60.0, samples=False)
+    >>> print(type(run).__name__, len(run.maxima.t), run.energy_rel_error < 1e-12)
+    TurningPointRun 4 True
     """
 
     body: Body

@@ -233,6 +233,15 @@ class DirectChaos:
     w0 : the initial tangent vector (δγ, δω).
     energy_rel_error : largest |E − E0|/(E0 + g a) at the maxima.
     n_steps : integration steps.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> dc = rr.direct_chaos_indicators(body, rr.EulerState(theta=0.95 * math.pi, psi=math.pi / 4), 300.0)
+    >>> print(dc.theta_maxima.size >= 8, dc.energy_rel_error < 1e-12)
+    True True
     """
 
     indicators: ChaosIndicators
@@ -275,6 +284,16 @@ def direct_chaos_indicators(body: Body, initial: EulerState, t_end: float, *,
     ValueError
         As ``simulate`` for the body, the state and t_end; a run over the budget; fewer than
         :data:`~rocknroller.numerics.megno.MIN_SAMPLES` θ-maxima in [0, t_end] (t_end too short, or no rocking).
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> start = rr.EulerState(theta=0.95 * math.pi, psi=math.pi / 4)
+    >>> dc = rr.direct_chaos_indicators(body, start, 300.0)
+    >>> print(dc.indicators.regular, dc.theta_maxima.size)
+    True 22
     """
     t_end, _, _, y0, rate = check_run(body, initial, t_end, samples=False)
     check_work(rate * t_end * VARIATIONAL_SECONDS_PER_RADIAN,

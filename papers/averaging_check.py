@@ -79,6 +79,15 @@ class PredictionCheck:
         rocking (ε = 0 from rest: the ODE's Q and Θ are round-off about constants).
     sample_errors : dict or None
         The largest differences maximum by maximum (:func:`sample_errors`); None for pure rocking.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> check = rr.check_prediction(body, rr.predict_slow_motion(body, 0.95 * math.pi, math.pi / 4, 200.0, order=1))
+    >>> print(type(check.prediction).__name__, abs(check.rel_errors["Phi"]) < 0.05)
+    SlowPrediction True
     """
 
     prediction: av.SlowPrediction
@@ -104,6 +113,16 @@ def check_prediction(body: Body, prediction: av.SlowPrediction, *, progress: boo
     ------
     ValueError
         If ``body``'s ε is not the prediction's.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> pred = rr.predict_slow_motion(body, 0.95 * math.pi, math.pi / 4, 200.0, order=1)
+    >>> check = rr.check_prediction(body, pred)
+    >>> print({k: (None if v is None else abs(v) < 0.05) for k, v in check.rel_errors.items()})
+    {'slow_period': True, 'QR_extent': True, 'QJ_extent': True, 'Phi': True, 'line_slope': True}
     """
     if body.epsilon != prediction.eps:
         raise ValueError(f"the prediction is for eps={prediction.eps!r}, not this body's eps={body.epsilon!r}")

@@ -148,7 +148,20 @@ def bifurcation_diagram(body: Body, out_dir: str | Path, theta0s: Sequence[float
     """Compute (:func:`bifurcation_data`, ``kwargs``) and write ``bifurcation.png``, ``.pdf`` and ``.csv`` to
     ``out_dir``: one column per θ0, the kick phase above and Greene's residue below; slow map lines (solid stable,
     dashed unstable; blue the stable axis's fixed point, green the unstable axis's, orange the period-2 orbit), exact
-    map markers (filled stable, open unstable).  Returns the paths and the data."""
+    map markers (filled stable, open unstable).  Returns the paths and the data.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as out:
+    ...     paths, data = rr.bifurcation_diagram(rr.Body.paper(), out, theta0s=[0.95 * math.pi], n_points=5,
+    ...                                          exact_fractions=())
+    ...     print([p.name for p in paths])
+    ...
+    ['bifurcation.png', 'bifurcation.pdf', 'bifurcation.csv']
+    """
     data = [bifurcation_data(body, t, **kwargs) for t in theta0s]
     fig = new_figure(figsize=(5.0 * len(data), 7.0))
     axes = fig.subplots(2, len(data), squeeze=False, sharex="col")

@@ -300,5 +300,15 @@ def bibtex_entries(command: str | None = None) -> list[str]:
 
 
 def cite(command: str | None = None) -> str:
-    """The BibTeX to cite for a run of ``command`` (see :func:`bibtex_entries`), as one string."""
+    """The BibTeX to cite for a run of ``command`` (see :func:`bibtex_entries`), as one string.
+
+    Examples
+    --------
+    >>> import rocknroller as rr
+    >>> bibtex = rr.cite()
+    >>> print(bibtex.splitlines()[0])
+    @software{rocknroller,
+    >>> print("Lynch" in bibtex)
+    True
+    """
     return "\n\n".join(bibtex_entries(command)) + "\n"

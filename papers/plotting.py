@@ -48,7 +48,20 @@ _NUMERAL_FONT: dict[str, Any] = dict(fontsize=12, fontweight="bold")
 
 @dataclass
 class DiagramData:
-    """What :func:`region_diagram` drew (for tests and CSV output)."""
+    """What :func:`region_diagram` drew (for tests and CSV output).
+
+    Examples
+    --------
+    >>> import rocknroller as rr
+    >>> fig, data = rr.region_diagram(rr.Body.paper(), QR_max=0.01)
+    >>> for name, (QR, QJ) in sorted(data.representatives.items()):
+    ...     print(name, rr.region(QR, QJ, rr.Body.paper()))
+    ...
+    I I
+    II II
+    III III
+    IV IV
+    """
 
     QR_line: NDArray[np.float64]
     QJ0_line: NDArray[np.float64]
@@ -181,6 +194,13 @@ def region_diagram(body: Body, QR_max: float = 1.0, traj: "Trajectory | None" = 
     Returns
     -------
     (figure, DiagramData)
+
+    Examples
+    --------
+    >>> import rocknroller as rr
+    >>> fig, data = rr.region_diagram(rr.Body.paper(), QR_max=0.01)
+    >>> print(type(fig).__name__, sorted(data.representatives))
+    Figure ['I', 'II', 'III', 'IV']
     """
     lo, hi = _QR_MAX_RANGE
     if not lo <= QR_max <= hi:  # also NaN

@@ -76,6 +76,14 @@ class SlowPortrait:
     ode : the direct runs' θ-maxima (``TurningPoints``), one per ODE start.
     chaos : the map's chaos indicators of each orbit (None for an orbit of fewer than ``MIN_SAMPLES`` maxima); empty
         for a portrait made with ``chaos=False``.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> portrait = rr.slow_portrait(rr.Body.paper(epsilon=5e-3), 0.95 * math.pi, [0.5, 1.5], [0.0], 200.0)
+    >>> print(portrait.Theta0.tolist(), portrait.p0.tolist(), portrait.left)
+    [0.5, 1.5] [0.0, 0.0] ()
     """
 
     body: Body
@@ -230,6 +238,14 @@ def slow_portrait(body: Body, theta0: float, Theta: ArrayLike, p: ArrayLike | No
     ------
     ValueError
         Naming the parameter: ε ≤ 0, θ0 out of range, a grid value out of range or too many orbits, a bad order.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> portrait = rr.slow_portrait(rr.Body.paper(epsilon=5e-3), 0.95 * math.pi, [0.5, 1.5], [0.0], 200.0)
+    >>> print(len(portrait.orbits), f"K = {portrait.K:.4f}")
+    2 K = 2.1311
     """
     if not isinstance(chaos, bool):
         raise ValueError(f"chaos must be True or False, got chaos={chaos!r}")
@@ -380,7 +396,19 @@ def write_portrait(portrait: SlowPortrait, out: str | Path, name: str = "portrai
                    values: ArrayLike | None = None, orbits: Sequence[Any] | None = None) -> list[Path]:
     """Save the figure (:func:`plot_portrait`) as ``name.png`` and ``name.pdf`` and the samples as ``name.csv``
     (one row per θ-maximum: source ``map`` or ``ode``, orbit index, its start (Θ0, p0), colour value (empty where
-    not measured), t, Θ mod 2π, p, Q_R, Q_J; header with the parameters); returns the paths."""
+    not measured), t, Θ mod 2π, p, Q_R, Q_J; header with the parameters); returns the paths.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> import tempfile
+    >>> portrait = rr.slow_portrait(rr.Body.paper(epsilon=5e-3), 0.95 * math.pi, [0.5, 1.5], [0.0], 200.0)
+    >>> with tempfile.TemporaryDirectory() as out:
+    ...     print([p.name for p in rr.write_portrait(portrait, out)])
+    ...
+    ['portrait.png', 'portrait.pdf', 'portrait.csv']
+    """
     vals, label = portrait_values(portrait, values, orbits)
     paths = save_figure(plot_portrait(portrait, values, orbits=orbits), out, name)
     cols: dict[str, list] = {k: [] for k in ("source", "orbit", "Theta0", "p0", "value", "t", "Theta", "p", "QR",

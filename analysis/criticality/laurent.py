@@ -181,6 +181,15 @@ def laurent_coefficients(quantity: str, about: str | float, order: int) -> dict[
     -------
     dict
         ``{k: A_k}`` for k = −2, …, order; sympy expressions in the symbols of :data:`SYMBOLS`.  Odd k are exactly 0.
+
+    Examples
+    --------
+    >>> import rocknroller as rr
+    >>> A = rr.laurent_coefficients("phi", "pi", 0)
+    >>> print(sorted(A))
+    [-2, -1, 0]
+    >>> print(A[-1])
+    0
     """
     _check(quantity, order)
     coeffs = _coefficients(quantity, _about_sign(about), int(order))
@@ -188,7 +197,15 @@ def laurent_coefficients(quantity: str, about: str | float, order: int) -> dict[
 
 
 def laurent_series(quantity: str, about: str | float, order: int) -> sp.Expr:
-    """The truncated Laurent series Σ_{k=−2}^{order} A_k x^k as one sympy expression (see :func:`laurent_coefficients`)."""
+    """The truncated Laurent series Σ_{k=−2}^{order} A_k x^k as one sympy expression (see :func:`laurent_coefficients`).
+
+    Examples
+    --------
+    >>> import rocknroller as rr
+    >>> series = rr.laurent_series("phi", 0, 0)
+    >>> sorted(str(s) for s in series.free_symbols)
+    ['I1', 'I3', 'Q_J', 'Q_R', 'a', 'x']
+    """
     return sum((cf * x**k for k, cf in laurent_coefficients(quantity, about, order).items()), sp.Integer(0))
 
 
@@ -220,6 +237,18 @@ def laurent_function(quantity: str, about: str | float, order: int, body: Body) 
     callable
         ``fn(x, *, QR, QJ)`` with x = θ (about 0) or x = π − θ (about π), ``x > 0`` (Q_R and Q_J keyword-only,
         as in :func:`rocknroller.analysis.model.invariants.V_phi`).
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> QR = 0.01
+    >>> QJ = 0.99 * rr.QJ_crit_pi(QR, body)
+    >>> fn = rr.laurent_function("phi", "pi", 4, body)
+    >>> x = 1e-2
+    >>> print(abs(fn(x, QR=QR, QJ=QJ) / rr.V_phi(math.pi - x, QR=QR, QJ=QJ, body=body) - 1) < 1e-10)
+    True
     """
     _check(quantity, order)
     body.require_symmetric("the Laurent expansion of V_phi, V_psi")

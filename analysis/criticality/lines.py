@@ -43,6 +43,13 @@ def QJ_crit_0(QR: ArrayLike, body: Body) -> NDArray[np.float64]:
     """Critical Jellett quantity at θ = 0, Q_J,0^crit = ρ₀ (1 − a) I3 Q_R (paper eq. QJcrit_0).
 
     ρ₀ = [I3 + (I3/I1)(1 − a)²]^(−1/2).  Correctly rounded (from :func:`rocknroller.analysis.routh.reduction.u_ends`).
+
+    Examples
+    --------
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> print(f"{rr.QJ_crit_0(0.01, body):.12f}")
+    0.003176133554
     """
     (QR,) = check_invariants(QR=QR)
     return -u_ends(QR, 0.0, body)[0]
@@ -52,13 +59,30 @@ def QJ_crit_pi(QR: ArrayLike, body: Body) -> NDArray[np.float64]:
     """Critical Jellett quantity at θ = π, Q_J,π^crit = −ρ_π (1 + a) I3 Q_R (paper eq. QJcrit_pi).
 
     ρ_π = [I3 + (I3/I1)(1 + a)²]^(−1/2).  Correctly rounded (from :func:`rocknroller.analysis.routh.reduction.u_ends`).
+
+    Examples
+    --------
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> print(f"{rr.QJ_crit_pi(0.01, body):.12f}")
+    -0.003259832208
     """
     (QR,) = check_invariants(QR=QR)
     return -u_ends(QR, 0.0, body)[1]
 
 
 def QJ_crit(line: str, QR: ArrayLike, body: Body) -> NDArray[np.float64]:
-    """Q_J,0^crit (``line="0"``) or Q_J,π^crit (``line="pi"``)."""
+    """Q_J,0^crit (``line="0"``) or Q_J,π^crit (``line="pi"``).
+
+    Examples
+    --------
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> bool(rr.QJ_crit("pi", 0.01, body) == rr.QJ_crit_pi(0.01, body))
+    True
+    >>> bool(rr.QJ_crit("0", 0.01, body) == rr.QJ_crit_0(0.01, body))
+    True
+    """
     if line == "0":
         return QJ_crit_0(QR, body)
     if line == "pi":
@@ -103,6 +127,15 @@ def region(QR: ArrayLike, QJ: ArrayLike, body: Body, tol: float = REGION_TOL) ->
     Returns
     -------
     numpy array of str (a plain str for scalar input).
+
+    Examples
+    --------
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> print(rr.region(0.01, 0.0, body))
+    I
+    >>> print(rr.region([0.01, 0.01, 0.0], [0.01, -0.01, 0.0], body))
+    ['II' 'IV' 'origin']
     """
     QR, QJ = check_invariants(QR=QR, QJ=QJ)
     tol = float(tol)

@@ -77,6 +77,19 @@ def reversal_analysis(traj: "Trajectory", tol: float = 0.0) -> ReversalAnalysis:
     traj : rocknroller.numerics.trajectory.Trajectory
     tol : float
         Passed to :func:`region`; a sample within tol of a line does not count as a side.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> start = rr.EulerState.from_omega(0.95 * math.pi, 0.0, 0.0, (0.0, 1e-3, -1e-3))
+    >>> traj = rr.simulate(body, start, 60.0)
+    >>> rev = rr.reversal_analysis(traj)
+    >>> print(*rev.turning_points.kind[:4], set(rev.turning_points.region.tolist()))
+    min max min max {'II'}
+    >>> print(rev.count("0"), rev.count("pi"))  # no crossing of either line within four rocks
+    0 0
     """
     body = traj.body
     parts = []

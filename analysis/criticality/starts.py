@@ -37,6 +37,17 @@ class CriticalStart:
     is (θ0, ψ0, ``omega``), the body-frame angular velocity, whose (Q_R, Q_J) lie on the target to round-off;
     the Euler rates reproduce it only to ~ε|ψ̇0|/|ω3'| relative, because ω3' = c φ̇0 + ψ̇0 cancels when the body
     spins and rolls with ψ̇ ≈ −c φ̇ (the usual case near θ = π).
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> cs = rr.critical_start(body, 0.95 * math.pi, math.pi / 4, "pi", QR=0.01, offset=1e-4)
+    >>> print(cs.line, f"{cs.offset:.1e}", rr.region(cs.QR, cs.QJ, body))
+    pi 1.0e-04 I
+    >>> print(f"{cs.phi_dot0:.8f}", f"{cs.psi_dot0:.8f}")
+    0.00776937 0.01544670
     """
 
     line: str
@@ -115,6 +126,15 @@ def critical_start(body: Body, theta0: ArrayLike, psi0: ArrayLike = 0.0, line: s
     ValueError
         θ0 outside (0, π) or (symmetric body) a steady-rolling tilt; neither or both of QR, psi_dot0; a ψ̇0 for
         which the line cannot be reached; non-finite input.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> cs = rr.critical_start(body, 0.95 * math.pi, math.pi / 4, "pi", QR=0.01)
+    >>> print(rr.region(cs.QR, cs.QJ, body), abs(cs.QJ / rr.QJ_crit_pi(cs.QR, body) - 1) < 1e-14)
+    on QJpicrit True
     """
     if (QR is None) == (psi_dot0 is None):
         raise ValueError("give exactly one of QR and psi_dot0")

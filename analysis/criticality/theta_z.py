@@ -53,6 +53,19 @@ def cos_theta_z(QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]
     ------
     ValueError
         Q_R = 0, or a point outside Regions I and III (no zero there).
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> QR = 0.01
+    >>> QJ = 0.99 * rr.QJ_crit_pi(QR, body)
+    >>> print(rr.region(QR, QJ, body))
+    I
+    >>> c = rr.cos_theta_z(QR, QJ, body)
+    >>> print(f"{c:.12f}", abs(rr.V_phi(math.acos(c), QR=QR, QJ=QJ, body=body)) < 1e-12)
+    -0.988002821561 True
     """
     QR, QJ = check_invariants(QR=QR, QJ=QJ)
     q = _ratio(QR, QJ)
@@ -118,6 +131,17 @@ def theta_z(QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]:
     """θ_z = arccos(cos θ_z), the zero of V_φ in Regions I and III (:func:`cos_theta_z`).
 
     Near θ = π the arccos costs precision: the absolute error is ~ε/sin θ_z (1e-14 at π − θ_z = 0.01).
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> QR = 0.01
+    >>> QJ = 0.99 * rr.QJ_crit_pi(QR, body)
+    >>> theta_z = rr.theta_z(QR, QJ, body)
+    >>> print(f"{theta_z / math.pi:.10f} pi", abs(rr.V_phi(theta_z, QR=QR, QJ=QJ, body=body)) < 1e-12)
+    0.9506440137 pi True
     """
     return np.arccos(np.clip(cos_theta_z(QR, QJ, body), -1.0, 1.0))
 
@@ -161,6 +185,18 @@ def theta_e(QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]:
     ------
     ValueError
         A point outside Regions II and IV.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> QR = 0.01
+    >>> QJ = 1.01 * rr.QJ_crit_pi(QR, body)
+    >>> print(rr.region(QR, QJ, body))
+    IV
+    >>> print(f"{rr.theta_e(QR, QJ, body) / math.pi:.10f} pi")
+    0.8383960905 pi
     """
     QR, QJ = np.broadcast_arrays(*check_invariants(QR=QR, QJ=QJ))
     _strict_regions(QR, QJ, body, ("II", "IV"), "the extremum theta_e of V_phi")
@@ -203,6 +239,14 @@ def delta_of(QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]:
     ------
     ValueError
         Q_R = 0 (then Q_J,π^crit = 0).
+
+    Examples
+    --------
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> QJ = 0.99 * rr.QJ_crit_pi(0.01, body)
+    >>> print(f"{rr.delta_of(0.01, QJ, body):.12f}")
+    0.010000000000
     """
     QR, QJ = check_invariants(QR=QR, QJ=QJ)
     if np.any(QR == 0.0):
@@ -241,7 +285,15 @@ def delta_bound_sympy() -> dict[str, sp.Expr]:
 
 @lru_cache(maxsize=64)
 def delta_bound_coefficients(body: Body) -> tuple[float, float]:
-    """Numeric (C₁, C₃) of :func:`delta_bound_sympy` for ``body``."""
+    """Numeric (C₁, C₃) of :func:`delta_bound_sympy` for ``body``.
+
+    Examples
+    --------
+    >>> import rocknroller as rr
+    >>> C1, C3 = rr.delta_bound_coefficients(rr.Body.paper())
+    >>> print(f"C1 = {C1:.12f}, C3 = {C3:.12f}")
+    C1 = 1.550528274826, C3 = 0.002968312155
+    """
     from rocknroller.analysis.criticality.laurent import SYMBOLS
 
     d = delta_bound_sympy()
@@ -265,6 +317,19 @@ def theta_z_expansion(delta: ArrayLike, body: Body, terms: int = 2) -> NDArray[n
     ------
     ValueError
         δ outside (0, 1) or terms not 1 or 2.
+
+    Examples
+    --------
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> QR = 0.01
+    >>> QJ = 0.99 * rr.QJ_crit_pi(QR, body)
+    >>> exact = rr.theta_z(QR, QJ, body)
+    >>> for terms in (1, 2):
+    ...     print(f"{abs(rr.theta_z_expansion(0.01, body, terms) - exact):.1e}")
+    ...
+    3.6e-06
+    6.1e-07
     """
     d = _check_delta(delta)
     if terms not in (1, 2):

@@ -92,6 +92,21 @@ class Body:
     ValueError
         If any parameter is non-finite or outside its allowed range; the message
         names the parameter and the range.
+
+    Examples
+    --------
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> print(f"a = {body.a}, I1 = {body.I1:.4f}, I2 = {body.I2:.5f}, I3 = {body.I3}, g = {body.g}")
+    a = 0.05, I1 = 0.3500, I2 = 0.35035, I3 = 0.4, g = 9.87
+    >>> print(body.epsilon_text(), body.is_symmetric)
+    0.001 False
+    >>> try:
+    ...     rr.Body(a=0.05, I1=0.35, I2=0.35, I3=0.4, g=-1.0)
+    ... except ValueError as err:
+    ...     print(err)
+    ...
+    g must be > 0, got g=-1.0
     """
 
     a: float

@@ -112,6 +112,15 @@ def azimuth_span(phi: ArrayLike) -> float:
     Measured on the circle of circumference π — π minus the largest gap between the sorted
     samples of φ mod π — so that it does not depend on where the cut of ``mod π`` falls.
     Returns 0.0 for fewer than two samples.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> print(f"{rr.azimuth_span([0.1, 0.3, math.pi + 0.2]):.12f}")
+    0.200000000000
+    >>> print(f"{rr.azimuth_span([3.1, 0.05]):.12f}")
+    0.091592653590
     """
     v = np.sort(np.mod(np.asarray(phi, float), math.pi))
     if v.size < 2:

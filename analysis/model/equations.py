@@ -169,6 +169,17 @@ class EulerState:
         The body-frame angular velocity the rates were computed from (set by :meth:`from_omega`).
         When present, :meth:`to_body_state` uses it as given rather than rebuilding it from the rates,
         which near θ = π (or 0) would cost digits: φ̇ and ψ̇ are then large and nearly opposite.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> start = rr.EulerState.from_omega(0.95 * math.pi, 0.0, 0.0, (0.0, 1e-3, -1e-3))
+    >>> print(f"theta = {start.theta / math.pi:.2f} pi, theta_dot = {start.theta_dot:.1e}")
+    theta = 0.95 pi, theta_dot = 0.0e+00
+    >>> rest = rr.EulerState(theta=0.95 * math.pi, psi=math.pi / 4)
+    >>> print(rest.theta_dot, rest.phi_dot, rest.psi_dot)
+    0.0 0.0 0.0
     """
 
     theta: float

@@ -72,7 +72,17 @@ def V_phi(theta: ArrayLike, *, QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDAr
     """φ̇ = V_φ(θ; Q_R, Q_J) = [Q_J − ρ f I3 Q_R]/(I1 s²) (paper eq. phidotCJQR; the paper writes V_φ(θ; Q_J, Q_R)).
 
     Q_R, Q_J and the body are keyword-only: the package orders Q_R before Q_J everywhere, and a swap here would
-    give wrong numbers silently."""
+    give wrong numbers silently.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> E, QR, QJ = rr.invariants_from_euler(body, 0.95 * math.pi, 0.0, 0.15, 0.15)
+    >>> print(f"{rr.V_phi(0.95 * math.pi, QR=QR, QJ=QJ, body=body):.12f}")
+    0.150000000000
+    """
     theta = np.asarray(theta, float)
     s, c = np.sin(theta), np.cos(theta)
     return (QJ - rho(theta, body) * (c - body.a) * body.I3 * QR) / (body.I1 * s * s)
@@ -80,7 +90,17 @@ def V_phi(theta: ArrayLike, *, QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDAr
 
 def V_psi(theta: ArrayLike, *, QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]:
     """ψ̇ = V_ψ(θ; Q_R, Q_J) = −[c Q_J − ρ(c f I3 + I1 s²) Q_R]/(I1 s²) (paper eq. psidotCJQR); keyword-only
-    like :func:`V_phi`."""
+    like :func:`V_phi`.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> E, QR, QJ = rr.invariants_from_euler(body, 0.95 * math.pi, 0.0, 0.15, 0.15)
+    >>> print(f"{rr.V_psi(0.95 * math.pi, QR=QR, QJ=QJ, body=body):.12f}")
+    0.150000000000
+    """
     theta = np.asarray(theta, float)
     s, c = np.sin(theta), np.cos(theta)
     return -(c * QJ - rho(theta, body) * (c * (c - body.a) * body.I3 + body.I1 * s * s) * QR) / (body.I1 * s * s)

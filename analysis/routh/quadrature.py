@@ -115,6 +115,17 @@ class Precession:
         angles per T_θ), from the cancellation in P at the nodes, summed in absolute value (an upper
         bound in practice); above 1e-12 the point is UNRESOLVED (this happens near steady rolling,
         E − min U ≲ 1e-2 |U|).  None for mpmath.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> p, _ = rr.precession_from_turning_point(0.95 * math.pi, [0.01, 0.02], [-0.002, 0.0], body)
+    >>> print(p.status)
+    [0 0]
+    >>> print(p.tau / p.T_theta)
+    [2.0 2.0]
     """
 
     E: Any
@@ -407,6 +418,16 @@ def precession(E: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: Body, *, rtol: 
     ValueError
         Asymmetric body, non-finite input, rtol outside (0, 1e-3], or a single point (0-d input) that is
         not OK (NoMotionError, SteadyRollingError, or too close to steady rolling: use precession_mp).
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> E, QR, QJ = rr.invariants_from_euler(body, 0.95 * math.pi, 0.0, 0.15, 0.15)
+    >>> p = rr.precession(E, QR, QJ, body)
+    >>> print(f"T_theta = {p.T_theta:.10f}, tau = {p.tau:.10f}, delta_phi = {p.delta_phi:.10f}")
+    T_theta = 13.1496523760, tau = 26.2993047520, delta_phi = -2.6333667605
     """
     tp = solve_turning_points(E, QR, QJ, body)
     return _precession_from_tp(tp, body, rtol, max_nodes)
@@ -428,6 +449,15 @@ def precession_from_turning_point(theta0: ArrayLike, QR: ArrayLike, QJ: ArrayLik
     ------
     ValueError
         θ0 outside (0, π), asymmetric body, rtol outside (0, 1e-3].
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> p, is_upper = rr.precession_from_turning_point(0.95 * math.pi, 0.01, -0.002, body)
+    >>> print(f"T_theta = {p.T_theta:.10f}, visible half-angle per T_theta = {p.visible_half_phi:.10f}", is_upper)
+    T_theta = 13.1551952337, visible half-angle per T_theta = 0.4650514197 True
     """
     body.require_symmetric("the precession quadratures")
     theta0 = require_open_tilt(theta0)

@@ -153,6 +153,17 @@ def precession_mp(E: Any, QR: Any, QJ: Any, body: Body, dps: int = 40, *, theta0
     ------
     ValueError
         dps out of range, no motion, steady rolling, asymmetric body, θ0 outside (0, π).
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> E, QR, QJ = rr.invariants_from_euler(body, 0.95 * math.pi, 0.0, 0.15, 0.15)
+    >>> ref = rr.precession_mp(E, QR, QJ, body, dps=30)
+    >>> p = rr.precession(E, QR, QJ, body)
+    >>> print(f"{float(ref.T_theta):.10f}", abs(float(ref.T_theta) / p.T_theta - 1) < 1e-13)
+    13.1496523760 True
     """
     dps = _check_dps(dps)
     work = 2 * (dps + 15) + 30

@@ -89,12 +89,40 @@ STATUS_TEXT = {
 
 
 class NoMotionError(ValueError):
-    """(E, Q_R, Q_J) admits no motion: E < U(θ) (F(θ) < 0) for every θ in (0, π)."""
+    """(E, Q_R, Q_J) admits no motion: E < U(θ) (F(θ) < 0) for every θ in (0, π).
+
+    Examples
+    --------
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> try:
+    ...     rr.turning_points(-1.0, 0.01, 0.0, body)
+    ... except rr.NoMotionError as err:
+    ...     print(isinstance(err, ValueError))
+    ...
+    True
+    """
 
 
 class SteadyRollingError(ValueError):
     """(E, Q_R, Q_J) is steady circular rolling (double root θ_N = θ_X); ``theta`` holds that tilt
-    (a masked array, masked where the point is not steady)."""
+    (a masked array, masked where the point is not steady).
+
+    Examples
+    --------
+    >>> import rocknroller as rr
+    >>> from scipy.optimize import minimize_scalar
+    >>> body = rr.Body.paper()
+    >>> QR, QJ = 0.5, 0.1
+    >>> lowest = minimize_scalar(lambda t: rr.effective_potential(t, QR, QJ, body), bounds=(0.1, 3.0), method="bounded",
+    ...                          options={"xatol": 1e-10})
+    >>> try:
+    ...     rr.turning_points(lowest.fun, QR, QJ, body)
+    ... except rr.SteadyRollingError as err:
+    ...     print(f"steady rolling at theta = {float(err.theta):.6f}")
+    ...
+    steady rolling at theta = 0.510542
+    """
 
     def __init__(self, message: str, theta: np.ma.MaskedArray):
         super().__init__(message)
@@ -309,6 +337,16 @@ def effective_potential(theta: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: Bo
     ------
     ValueError
         If the body is not symmetric or θ is outside (0, π).
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> E, QR, QJ = rr.invariants_from_euler(body, 0.95 * math.pi, 0.0, 0.15, 0.15)
+    >>> U = rr.effective_potential(0.95 * math.pi, QR, QJ, body)
+    >>> print(f"E = {E:.10f}, U = {U:.10f}")
+    E = 0.9813247617, U = 0.9813247617
     """
     body.require_symmetric("the effective potential U(theta) of the reduction theta_dot^2 = F(theta)")
     x, y = tilt_xy(theta)
@@ -335,6 +373,17 @@ def F(theta: ArrayLike, E: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: Body) 
     ------
     ValueError
         If the body is asymmetric or θ is outside (0, π).
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> E, QR, QJ = rr.invariants_from_euler(body, 0.95 * math.pi, 0.0, 0.15, 0.15)
+    >>> print(f"{rr.F(0.9 * math.pi, E, QR, QJ, body):.10f}")
+    0.0253921920
+    >>> print(abs(rr.F(0.95 * math.pi, E, QR, QJ, body)) < 1e-12)
+    True
     """
     body.require_symmetric("F(theta) of the reduction theta_dot^2 = F(theta) (paper eq. thetadotsq)")
     x, y = tilt_xy(theta)
@@ -373,6 +422,15 @@ def invariants_from_euler(body: Body, theta: ArrayLike, theta_dot: ArrayLike, ph
     ------
     ValueError
         If θ is outside [0, π] or a rate is non-finite.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> E, QR, QJ = rr.invariants_from_euler(body, 0.95 * math.pi, 0.0, 0.15, 0.15)
+    >>> print(f"E = {E:.10f}, Q_R = {QR:.10f}, Q_J = {QJ:.10f}")
+    E = 0.9813247617, Q_R = 0.0023758531, Q_J = 0.0005182265
     """
     tilt_xy(theta)  # validates θ
     for name, v in (("theta_dot", theta_dot), ("phi_dot", phi_dot), ("psi_dot", psi_dot), ("psi", psi)):
@@ -404,6 +462,18 @@ def state_from_turning_point(body: Body, theta0: ArrayLike, QR: ArrayLike, QJ: A
     ------
     ValueError
         If θ0 is outside the open interval (0, π), or the body is asymmetric.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> s = rr.state_from_turning_point(body, 0.95 * math.pi, 0.01, -0.002)
+    >>> print(f"E = {s.E:.10f}, phi_dot = {s.phi_dot:.10f}, psi_dot = {s.psi_dot:.10f}")
+    E = 0.9813231967, phi_dot = 0.1431829510, psi_dot = 0.1491931243
+    >>> E, QR, QJ = rr.invariants_from_euler(body, s.theta, 0.0, s.phi_dot, s.psi_dot)
+    >>> print(f"{QR:.12f} {QJ:.12f}")
+    0.010000000000 -0.002000000000
     """
     body.require_symmetric("a turning-point state of Routh's sphere")
     theta0 = require_open_tilt(theta0)

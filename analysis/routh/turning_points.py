@@ -154,6 +154,18 @@ def solve_turning_points(E: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: Body)
     ------
     ValueError
         Asymmetric body, or E, Q_R, Q_J outside :func:`check_invariants`' ranges.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> E, QR, QJ = rr.invariants_from_euler(body, 0.95 * math.pi, 0.0, 0.15, 0.15)
+    >>> tp = rr.solve_turning_points([E, 0.0], [QR, QR], [QJ, QJ], body)
+    >>> print(tp.status)
+    [0 1]
+    >>> print(f"{tp.theta_X[0] / math.pi:.10f} pi", tp.theta_X.mask[1])
+    0.9500000000 pi True
     """
     body.require_symmetric("the turning points of theta_dot^2 = F(theta)")
     E, QR, QJ = np.broadcast_arrays(*check_invariants(E=E, QR=QR, QJ=QJ))
@@ -191,6 +203,16 @@ def turning_points(E: ArrayLike, QR: ArrayLike, QJ: ArrayLike,
         integrated; the exception's ``theta`` attribute holds the steady tilt (masked elsewhere).
     ValueError
         Asymmetric body or non-finite input.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> E, QR, QJ = rr.invariants_from_euler(body, 0.95 * math.pi, 0.0, 0.15, 0.15)
+    >>> theta_N, theta_X = rr.turning_points(E, QR, QJ, body)
+    >>> print(f"{theta_N / math.pi:.10f} pi, {theta_X / math.pi:.10f} pi")
+    0.0001717329 pi, 0.9500000000 pi
     """
     tp = solve_turning_points(E, QR, QJ, body)
     if np.any(tp.status == NO_MOTION):

@@ -104,6 +104,15 @@ class Atlas:
         fewer than two crossings of its mean; the indicators of a run with fewer than ``MIN_SAMPLES`` maxima, or of
         pure rocking at ε = 0).
     warnings : the distinct validity warnings of the predictions (e.g. K = ε κ > 4, coarse region tables).
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> atlas = rr.atlas_from_rest(body, [0.95 * math.pi], [0.3, 0.8], 200.0)
+    >>> print(atlas.plane, atlas.method, atlas.observables[-2:], atlas.values["megno"].shape)
+    release map ('megno', 'lyapunov') (1, 2)
     """
 
     eps: float
@@ -292,6 +301,15 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
     ValueError
         A grid out of range or larger than its method's limit, or an estimated cost over ``budget`` (before
         anything is built or run), naming it.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> atlas = rr.atlas_from_rest(body, [0.95 * math.pi], [0.3, 0.8], 200.0)
+    >>> print(atlas.values["Phi"].shape, [f"{v:.4f}" for v in atlas.values["Phi"][0]])
+    (1, 2) ['2.3971', '1.4716']
     """
     th = _check_grid("theta0", theta0, np.nextafter(0.0, 1.0), av.THETA0_RANGE[1])
     ps = _check_grid("psi0", psi0, -1e6, 1e6)
@@ -348,6 +366,15 @@ def atlas_of_rates(body: Body, theta0: float, psi0: float, phi_dot0: ArrayLike, 
     ValueError
         A method other than "ode", a grid out of range or larger than ``MAX_ODE_ATLAS_POINTS``, or a start with no
         motion (before any run), naming it.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> atlas = rr.atlas_of_rates(body, 0.95 * math.pi, math.pi / 4, [0.0, 0.1], [0.0], 100.0)
+    >>> print(atlas.plane, atlas.values["Phi"].shape)
+    rates (1, 2)
     """
     if _check_method(method) != "ode":
         raise ValueError("method must be 'ode' for a plane of rates: each start has its own energy and the map's "
@@ -373,6 +400,16 @@ class AtlasCheck:
         for the reversal counts, MEGNO and the Lyapunov exponent, the difference map − ODE instead (a regular
         orbit's MEGNO is ≈ 2 and its finite-time exponent ≈ 0 by either method: a ratio would measure noise).
     map : dict, the atlas's own values at those points, for the same names as ``ode``.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> atlas = rr.atlas_from_rest(body, [0.95 * math.pi], [0.3, 0.8], 200.0)
+    >>> check = rr.confirm_atlas(atlas, body, every=1, chaos=False)
+    >>> print(check.index.tolist(), sorted(check.ode) == sorted(check.map))
+    [[0, 0], [0, 1]] True
     """
 
     index: NDArray[np.int64]
@@ -450,6 +487,16 @@ def confirm_atlas(atlas: Atlas, body: Body, *, every: int | None = 50, points: S
     ValueError
         An atlas made by the ODE (there is nothing to confirm), ``every`` not an integer ≥ 1, a point outside the
         grid, ``chaos=True`` for an atlas without the chaos layer, or the ensemble's own limits, naming them.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> atlas = rr.atlas_from_rest(body, [0.95 * math.pi], [0.3, 0.8], 200.0)
+    >>> check = rr.confirm_atlas(atlas, body, every=None, points=[(0, 1)], chaos=False)
+    >>> print(abs(check.rel_error["Phi"][0]) < 0.01)
+    True
     """
     if atlas.method != "map":
         raise ValueError(f"atlas.method must be 'map' to be confirmed by the ODE, got {atlas.method!r} (an atlas made "

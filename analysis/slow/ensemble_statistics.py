@@ -90,6 +90,15 @@ class StartBall:
     ------
     ValueError
         Naming the parameter and its range.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> ball = rr.StartBall(theta0=0.95 * math.pi, psi0=math.pi / 4, delta=0.01, members=4, seed=1)
+    >>> psi0 = ball.psi0_values()
+    >>> print(psi0.size, bool(abs(psi0 - math.pi / 4).max() <= 0.01))
+    4 True
     """
 
     theta0: float
@@ -163,6 +172,16 @@ class EnsembleStatistics:
     rocks : number of θ-maxima of each member within t_end.
     order : the map's order in ε (None for the ODE).
     warnings : the distinct validity warnings of the map's predictions (e.g. K = ε κ > 4).
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> ball = rr.StartBall(theta0=0.95 * math.pi, psi0=math.pi / 4, delta=0.1, members=4)
+    >>> stats = rr.map_ensemble(body, ball, 200.0, order=1)
+    >>> print(stats.order, sorted(stats.values)[:3])
+    1 ['QJ_extent', 'QR_extent', 'fraction_I']
     """
 
     method: str
@@ -222,6 +241,16 @@ def map_ensemble(body: Body, ball: StartBall, t_end: float, *, order: int | None
     ------
     AveragingRangeError
         If a member's slow orbit leaves the tables.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> ball = rr.StartBall(theta0=0.95 * math.pi, psi0=math.pi / 4, delta=0.1, members=4)
+    >>> stats = rr.map_ensemble(body, ball, 200.0, order=1)
+    >>> print(stats.method, stats.values["QR_extent"].shape, stats.rocks)
+    map (4,) [15 15 15 15]
     """
     if not isinstance(ball, StartBall):
         raise ValueError(f"ball must be a StartBall, got {type(ball).__name__}")
@@ -254,6 +283,16 @@ def ode_ensemble(body: Body, ball: StartBall, t_end: float, *, scheduler: str | 
     ValueError
         A bad ``t_end`` (each member's :class:`rocknroller.numerics.ensembles.ensemble.Job` checks it), a run over ``budget``,
         or a member without any θ-maximum within t_end.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> ball = rr.StartBall(theta0=0.95 * math.pi, psi0=math.pi / 4, delta=0.1, members=4)
+    >>> stats = rr.ode_ensemble(body, ball, 200.0)
+    >>> print(stats.method, stats.values["QR_extent"].shape, stats.rocks)
+    ode (4,) [15 15 15 15]
     """
     from rocknroller.numerics.ensembles.ensemble import Job, run_ensemble
 
@@ -300,6 +339,16 @@ class EnsembleComparison:
     a, b : the ensembles (``a`` usually the map's, ``b`` the ODE's).
     alpha, n_se_limit : the test's KS level and its limit in standard errors.
     statistics : one :class:`StatisticComparison` per name of ``STATISTICS``.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> ball = rr.StartBall(theta0=0.95 * math.pi, psi0=math.pi / 4, delta=0.1, members=8)
+    >>> cmp = rr.compare_ensembles(rr.map_ensemble(body, ball, 200.0, order=1), rr.ode_ensemble(body, ball, 200.0))
+    >>> print(cmp.a.method, cmp.b.method, [s.name for s in cmp.statistics][-2:])
+    map ode ['QR_extent', 'QJ_extent']
     """
 
     a: EnsembleStatistics = field(repr=False)
@@ -355,6 +404,16 @@ def compare_ensembles(a: EnsembleStatistics, b: EnsembleStatistics, *, alpha: fl
     ------
     ValueError
         Ensembles of different balls, spans or ε, or α, n_se_limit out of range.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> ball = rr.StartBall(theta0=0.95 * math.pi, psi0=math.pi / 4, delta=0.1, members=8)
+    >>> cmp = rr.compare_ensembles(rr.map_ensemble(body, ball, 200.0, order=1), rr.ode_ensemble(body, ball, 200.0))
+    >>> print(cmp.consistent)
+    True
     """
     for name, ens in (("a", a), ("b", b)):
         if not isinstance(ens, EnsembleStatistics):

@@ -174,6 +174,17 @@ class SlowPrediction:
         fewer than ``MIN_SAMPLES`` = 8 maxima (too short to measure), and with ``indicators=False``.
     error_probe : the map's own per-step error along the run, computed when the horizon is first asked for
         (:class:`rocknroller.analysis.slow.dynamics.chaos.StepErrorProbe`); None where ``chaos`` is.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> pred = rr.predict_slow_motion(body, 0.95 * math.pi, math.pi / 4, 200.0, order=1)
+    >>> print(pred.order, pred.pure_rocking, pred.regular, pred.series.QR.shape == pred.series.t.shape)
+    1 False True True
+    >>> print(f"Phi = {pred.Phi:.4f}")
+    Phi = 1.5092
     """
 
     eps: float
@@ -313,6 +324,18 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
     -----
     AveragingValidityWarning
         If K = ε κ > 4 (pure rocking about the stable axis has period-doubled).
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> pred = rr.predict_slow_motion(body, 0.95 * math.pi, math.pi / 4, 200.0, order=1)
+    >>> print(f"K = {pred.K:.4f}, maxima: {pred.series.t.size}")
+    K = 0.4262, maxima: 15
+    >>> rocking = rr.predict_slow_motion(rr.Body.paper(), 0.95 * math.pi, math.pi / 4, 200.0, order=1)
+    >>> print(rocking.pure_rocking, rocking.slow_period)
+    True None
     """
     if order is None:
         order = default_order(theta0)

@@ -89,6 +89,20 @@ class Job:
     ------
     ValueError
         Naming the parameter and its range.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> start = rr.EulerState.from_omega(0.95 * math.pi, 0.0, 0.0, (0.0, 1e-3, -1e-3))
+    >>> job = rr.Job(body, start, 60.0)
+    >>> try:
+    ...     rr.Job(body, start, -1.0)
+    ... except ValueError as err:
+    ...     print(err)
+    ...
+    t_end must be a finite number > 0, got t_end=-1.0
     """
 
     body: Body
@@ -126,6 +140,17 @@ class RunSummary:
         Largest relative energy error of the run.
     n_steps : int
         Integration steps taken.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> run, = rr.run_ensemble([rr.Job(body, rr.EulerState(theta=0.95 * math.pi, psi=math.pi / 4), 200.0)])
+    >>> print(type(run).__name__, len(run.maxima.t), run.energy_rel_error < 1e-12)
+    RunSummary 15 True
+    >>> print(f"Phi = {run.Phi:.4f}")
+    Phi = 1.5094
     """
 
     maxima: TurningPoints
@@ -266,6 +291,16 @@ def run_ensemble(jobs: Sequence[Job], *, scheduler: str | None = None, workers: 
         ``workers`` or ``threads`` (:func:`check_cluster`); a cluster requested without dask.distributed installed
         (``python -m pip install -e ".[distributed]"`` in a clone), a scheduler that cannot be reached, or workers
         whose versions of rocknroller, heyoka or numpy differ from this process's.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> jobs = [rr.Job(body, rr.EulerState(theta=0.95 * math.pi, psi=psi0), 200.0) for psi0 in (0.5, 1.0)]
+    >>> runs = rr.run_ensemble(jobs)
+    >>> print([len(r.maxima.t) for r in runs])
+    [15, 15]
     """
     scheduler, workers = check_cluster(scheduler, workers, threads)
     if lanes is not None and (isinstance(lanes, bool) or not isinstance(lanes, (int, np.integer))

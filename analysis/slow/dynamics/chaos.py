@@ -205,7 +205,7 @@ class LayerWidth:
     runs: int
 
 
-def layer_width(chaos: Callable[[float], ChaosIndicators], grid: ArrayLike = LAYER_GRID,
+def layer_width(chaos: Callable[[float], ChaosIndicators], grid: ArrayLike | None = None,
                 bisections: int = 2) -> LayerWidth:
     """The width of the chaotic layer about the unstable rocking axis ψ0 = 0, along the line of releases from rest.
 
@@ -219,7 +219,7 @@ def layer_width(chaos: Callable[[float], ChaosIndicators], grid: ArrayLike = LAY
     Parameters
     ----------
     chaos : the indicators of the release at ψ0 (the map's, or the direct ODE's, over a fixed span).
-    grid : at least two ψ0 in (0, π/2], strictly decreasing (default ``LAYER_GRID``: 10^(−j/16), j = 0..160).
+    grid : at least two ψ0 in (0, π/2], strictly decreasing (default None: ``LAYER_GRID``, 10^(−j/16), j = 0..160).
     bisections : 0 ≤ bisections ≤ 30; each halves the bracket in ln ψ0 (2 on the default grid: a factor 1.037).
 
     Returns
@@ -232,7 +232,7 @@ def layer_width(chaos: Callable[[float], ChaosIndicators], grid: ArrayLike = LAY
         A grid that is not as stated, ``bisections`` out of range, the grid's first (largest) ψ0 chaotic (no edge
         below it), or no chaotic ψ0 on the grid (the layer is thinner than its smallest ψ0, or the span too short).
     """
-    psi = np.asarray(grid, float)
+    psi = np.asarray(LAYER_GRID if grid is None else grid, float)
     if psi.ndim != 1 or psi.size < 2 or not (np.all(np.isfinite(psi)) and psi[-1] > 0.0 and psi[0] <= 0.5 * math.pi
                                              and np.all(np.diff(psi) < 0.0)):
         raise ValueError("grid must be at least two psi0 in (0, pi/2], strictly decreasing")

@@ -117,6 +117,16 @@ class PendulumConstants:
         Gauss–Legendre nodes used (converged by doubling).
     rel_change : float
         Largest relative change of the constants at the last doubling (their accuracy).
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> c = rr.pendulum_constants(rr.Body.paper(), 0.95 * math.pi)
+    >>> print(c.rel_change < 1e-10, c.C0.shape)
+    True (2,)
+    >>> print(f"eps at K = 4: {4 / c.kappa:.6f}")
+    eps at K = 4: 0.009385
     """
 
     theta0: float
@@ -202,6 +212,14 @@ def pendulum_constants(body: Body, theta0: float, *, rtol: float = 1e-10) -> Pen
         the upright equilibrium.
     RuntimeError
         The rule does not converge inside that range (possible for bodies other than the paper's).
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> c = rr.pendulum_constants(rr.Body.paper(), 0.95 * math.pi)
+    >>> print(f"T0 = {c.T0:.6f}, kappa = {c.kappa:.4f}, lambda = {c.lam:.6f}")
+    T0 = 13.260653, kappa = 426.2263, lambda = 0.486224
     """
     theta0 = _check_theta0(theta0)
     sym = body.symmetric()
@@ -315,6 +333,14 @@ def pendulum_prediction(body: Body, theta0: float, psi0: float, t_end: float = 1
     ClosedFormRegimeWarning
         R² < 9.76, where the slow period may be off by more than ``REGIME_TOLERANCE`` (by up to √(1 + 1/R²) − 1):
         towards the linear beat (:func:`beat_prediction`), naming the crossover R² = 1.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> p = rr.pendulum_prediction(rr.Body.paper(epsilon=1e-3), 0.95 * math.pi, math.pi / 4)
+    >>> print(f"K = {p.K:.4f}, slow period = {p.slow_period:.3f}, Phi = {p.Phi:.4f}")
+    K = 0.4262, slow period = 150.637, Phi = 1.5267
     """
     eps = body.epsilon
     t_end, psi0 = float(t_end), float(psi0)

@@ -133,6 +133,14 @@ class PeriodDoubling:
     K_exact : ε_exact κ (4 to first order).
     correction : c in K_pd = 4 + c ε_pd: (K_exact − 4)/ε_exact.
     multipliers : the eigenvalues of J at ε_exact (one 1, a pair at −1): float, or complex when a pair is.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> pd = rr.period_doubling(rr.Body.paper(), 0.95 * math.pi)
+    >>> print(f"K at the period doubling: {pd.K_exact:.4f}")
+    K at the period doubling: 3.9994
     """
 
     theta0: float
@@ -163,6 +171,14 @@ def period_doubling(body: Body, theta0: float, *, rtol: float = 1e-10) -> Period
     ValueError
         θ0 outside ``THETA0_RANGE``; or no sign change of det(J + 1) within [0.8, 1.25] × 4/κ, or a bracket
         beyond the largest ε the moments allow (I2 < I3), naming it.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> pd = rr.period_doubling(rr.Body.paper(), 0.95 * math.pi)
+    >>> print(f"4/kappa = {pd.eps_first_order:.6f}, exact: {pd.eps_exact:.6f}")
+    4/kappa = 0.009385, exact: 0.009383
     """
     from rocknroller.analysis.slow.map.table import load_or_build_table
 

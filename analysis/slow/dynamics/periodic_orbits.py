@@ -116,6 +116,16 @@ class PeriodicOrbit:
     periodicity : ‖F^period(x) − x‖∞ (Θ wrapped): ≤ (1 + ‖DF‖∞) ``residual`` for the period-2 orbit
         (F(x) = S x + g gives F²(x) = S F(x) + DF g = x + S g + DF g to first order in g = G(x)).
     iterations : Newton iterations taken.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> fixed = rr.periodic_orbit(rr.Body.paper(), 0.95 * math.pi, 0.005, period=1)
+    >>> print(fixed.map, fixed.period, fixed.stable, fixed.points.shape)
+    slow 1 True (1, 3)
+    >>> print(fixed.residual <= fixed.residual_bound)
+    True
     """
 
     map: str
@@ -143,6 +153,14 @@ class Branch:
     Attributes
     ----------
     orbits : the orbits, in the order of ``eps``.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> branch = rr.continue_orbit(rr.Body.paper(), 0.95 * math.pi, [0.004, 0.006], period=1)
+    >>> print(len(branch.orbits), [o.stable for o in branch.orbits])
+    2 [True, True]
     """
 
     orbits: tuple[PeriodicOrbit, ...]
@@ -334,6 +352,14 @@ def periodic_orbit(body: Body, theta0: float, eps: float, period: int = 2, *, ma
         Newton's method did not converge, or converged to the fixed point when asked for the period-2 orbit.
     AveragingRangeError
         The slow map's iteration left its table.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> orbit = rr.periodic_orbit(rr.Body.paper(), 0.95 * math.pi, 0.01, period=2)
+    >>> print(orbit.period, orbit.stable, f"residue = {orbit.residue:.4f}")
+    2 True residue = 0.4202
     """
     if period not in (1, 2) or isinstance(period, bool):
         raise ValueError(f"period must be 1 or 2, got period={period!r}")
@@ -368,6 +394,14 @@ def continue_orbit(body: Body, theta0: float, eps_values: ArrayLike, period: int
     ------
     ValueError
         ``eps_values`` empty, longer than 1000, or not strictly monotonic; the errors of :func:`periodic_orbit`.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> branch = rr.continue_orbit(rr.Body.paper(), 0.95 * math.pi, [0.0095, 0.0100, 0.0105])
+    >>> print([f"{o.residue:.4f}" for o in branch.orbits])
+    ['0.0942', '0.4202', '0.6429']
     """
     eps = np.asarray(eps_values, float)
     if eps.ndim != 1 or not 1 <= eps.size <= 1000:
