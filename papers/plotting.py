@@ -30,7 +30,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from rocknroller.numerics.trajectory import Trajectory
 
 __all__ = ["LINE_STYLE", "MEGNO_CLIP", "DiagramData", "critical_line_data", "draw_critical_lines", "free_spots",
-           "plot_V_phi", "region_diagram"]
+           "plot_V_phi", "region_diagram", "scaled_axis"]
 
 #: Top of the colour scales of MEGNO (the atlas's layer, the portrait's orbits): a regular orbit's MEGNO is ≈ 2 (0 on
 #: a stable periodic one), a chaotic one's grows as λt/2 without bound (above 3: chaotic,
@@ -216,8 +216,8 @@ def region_diagram(body: Body, QR_max: float = 1.0, traj: "Trajectory | None" = 
     ax.set_ylim(window[2], window[3])
     ax.axhline(0, color="0.85", lw=0.5, zorder=0)
     ax.axvline(0, color="0.85", lw=0.5, zorder=0)
-    _scaled_axis(ax.xaxis, r"Routh's quantity $Q_R$", window[:2])
-    _scaled_axis(ax.yaxis, r"Jellett's quantity $Q_J$", window[2:])
+    scaled_axis(ax.xaxis, r"Routh's quantity $Q_R$", window[:2])
+    scaled_axis(ax.yaxis, r"Jellett's quantity $Q_J$", window[2:])
     data = DiagramData(QR_line=lines["QR"], QJ0_line=lines["QJ0"], QJpi_line=lines["QJpi"], window=window)
     data.axes["main"] = ax
     for lab, (qr, qj, _) in spots.items():
@@ -246,7 +246,7 @@ def region_diagram(body: Body, QR_max: float = 1.0, traj: "Trajectory | None" = 
     return fig, data
 
 
-def _scaled_axis(axis, label: str, lim: tuple[float, float]) -> None:
+def scaled_axis(axis, label: str, lim: tuple[float, float]) -> None:
     """Tick labels in units of 10^p with the power in the axis label (no offset text to collide with labels)."""
     from matplotlib.ticker import FuncFormatter, ScalarFormatter
 

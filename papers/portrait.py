@@ -45,7 +45,7 @@ from rocknroller.analysis.slow.family import maximum_state, rest_energy
 from rocknroller.numerics.budget import WORK_BUDGET_SECONDS
 from rocknroller.numerics.megno import MEGNO_CHAOTIC, MIN_SAMPLES, ChaosIndicators
 from rocknroller.papers.output import new_figure, save_figure, write_csv
-from rocknroller.papers.plotting import MEGNO_CLIP, draw_critical_lines
+from rocknroller.papers.plotting import MEGNO_CLIP, draw_critical_lines, scaled_axis
 
 __all__ = ["MAX_PORTRAIT_ORBITS", "MAX_ODE_STARTS", "N_P_DEFAULT", "SlowPortrait", "orbit_values", "portrait_values",
            "theta0_of_energy", "slow_portrait", "plot_portrait", "write_portrait"]
@@ -324,10 +324,14 @@ def plot_portrait(portrait: SlowPortrait, values: ArrayLike | None = None, *, cm
                   orbits: Sequence[Any] | None = None) -> Any:
     """Draw the portrait: (Θ mod 2π, p) on the left, (Q_R, Q_J) over the critical lines on the right; the map's
     orbits as dots coloured by :func:`portrait_values` (by default their MEGNO, clipped to [0, ``MEGNO_CLIP``], grey
-    where not measured), the release line p = 0 (and its point Q = 0), and the ODE's maxima as black crosses.
-    Returns the figure."""
+    where not measured), the release line p = 0 (and its point Q = 0), and the ODE's maxima as black crosses.  The
+    dots are drawn in the order of their values, the grey ones first: higher values over lower, so that the chaotic
+    orbits (MEGNO > 3) are not hidden under the regular ones where their maxima share the (Q_R, Q_J) line.  The
+    (Q_R, Q_J) axes are labelled in units of a power of ten (:func:`rocknroller.papers.plotting.scaled_axis`) with at
+    most six ticks, so their labels stay apart.  Returns the figure."""
     import matplotlib
     from matplotlib import colors
+    from matplotlib.ticker import MaxNLocator
 
     vals, label = portrait_values(portrait, values, orbits)
     megno = label == "MEGNO"
@@ -343,6 +347,8 @@ def plot_portrait(portrait: SlowPortrait, values: ArrayLike | None = None, *, cm
     c = np.concatenate([np.full(s.t.size, v) for s, v in zip(portrait.orbits, vals)] + [np.empty(0)])
     QR, QJ, Th = (np.concatenate([getattr(s, k) for s in portrait.orbits] + [np.empty(0)])
                   for k in ("QR", "QJ", "Theta"))
+    order = np.argsort(np.where(np.isnan(c), -np.inf, c), kind="stable")  # the highest values drawn last, on top
+    c, QR, QJ, Th = c[order], QR[order], QJ[order], Th[order]
     dots = dict(c=c, s=0.6, cmap=cm, norm=norm, linewidths=0, rasterized=True)
     ax_p.scatter(np.mod(Th, 2.0 * math.pi), portrait.p(QR, QJ), **dots)
     ax_q.scatter(QR, QJ, **dots)
@@ -362,8 +368,9 @@ def plot_portrait(portrait: SlowPortrait, values: ArrayLike | None = None, *, cm
     ax_q.plot([0.0], [0.0], "o", color="tab:orange", ms=4, label="release from rest (Q = 0)")
     qj_pad = 0.05 * max(float(np.ptp(QJ_all)), 1e-12)
     ax_q.set_ylim(float(QJ_all.min()) - qj_pad, float(QJ_all.max()) + qj_pad)
-    ax_q.set_xlabel("$Q_R$")
-    ax_q.set_ylabel("$Q_J$")
+    ax_q.xaxis.set_major_locator(MaxNLocator(nbins=6))
+    scaled_axis(ax_q.xaxis, "$Q_R$", ax_q.get_xlim())
+    scaled_axis(ax_q.yaxis, "$Q_J$", ax_q.get_ylim())
     ax_q.legend(fontsize=7, loc="upper left")
     from matplotlib.cm import ScalarMappable
 

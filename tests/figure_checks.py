@@ -41,3 +41,9 @@ def overlapping(fig: Any, artists: list[Any]) -> list[tuple[str, str]]:
             if ea.x0 < eb.x1 and eb.x0 < ea.x1 and ea.y0 < eb.y1 and eb.y0 < ea.y1:
                 out.append((getattr(a, "get_text", str)(), getattr(b, "get_text", str)()))
     return out
+
+
+def tick_labels(axis: Any) -> list[Any]:
+    """The major tick labels of ``axis`` (``ax.xaxis``) that are drawn: those of ticks within its view interval."""
+    lo, hi = sorted(axis.get_view_interval())
+    return [t.label1 for t in axis.get_major_ticks() if lo <= t.get_loc() <= hi and t.label1.get_visible()]
