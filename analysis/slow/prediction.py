@@ -174,6 +174,8 @@ class SlowPrediction:
         fewer than ``MIN_SAMPLES`` = 8 maxima (too short to measure), and with ``indicators=False``.
     error_probe : the map's own per-step error along the run, computed when the horizon is first asked for
         (:class:`rocknroller.analysis.slow.chaos.StepErrorProbe`); None where ``chaos`` is.
+    body : the symmetric body of the map's tables (whose critical lines :meth:`plot` draws); None for a prediction
+        made by hand without it.
     """
 
     eps: float
@@ -195,6 +197,7 @@ class SlowPrediction:
     order: int = 1
     chaos: ChaosIndicators | None = None
     error_probe: StepErrorProbe | None = field(default=None, repr=False, compare=False)
+    body: Body | None = field(default=None, repr=False)
 
     @property
     def regular(self) -> bool | None:
@@ -242,15 +245,27 @@ class SlowPrediction:
         return frame
 
     def plot(self, ax: Any = None) -> Any:
-        """Draw the predicted (Q_R, Q_J) at the θ-maxima on ``ax`` (a new pyplot figure without one); returns
-        the axes.  Over the critical lines: :func:`rocknroller.papers.plotting.draw_critical_lines`."""
+        """Draw the predicted (Q_R, Q_J) at the θ-maxima on ``ax`` (a new pyplot figure without one, its layout
+        constrained so that no label is cut off) over the critical lines Q_J,π^crit and Q_J,0^crit (paper eqs.
+        QJcrit_pi, QJcrit_0; :func:`rocknroller.analysis.criticality.drawing.draw_critical_lines`, without them for a
+        prediction without its ``body``), with a legend; the axes keep the samples' range.  Returns the axes."""
+        from rocknroller.analysis.criticality.drawing import draw_critical_lines
+
         if ax is None:
             import matplotlib.pyplot as plt
 
-            _, ax = plt.subplots(figsize=(5, 4))
-        ax.plot(self.series.QR, self.series.QJ, ".", ms=3, color="k", label="averaged map (maxima)")
+            _, ax = plt.subplots(figsize=(5.5, 4.2), layout="constrained")
+        QR, QJ = self.series.QR, self.series.QJ
+        ax.plot(QR, QJ, ".", ms=3, color="k", label="averaged map (maxima)")
+        if self.body is not None and QR.size:
+            xlim, ylim = ax.get_xlim(), ax.get_ylim()
+            draw_critical_lines(ax, self.body, *xlim)
+            ax.set_xlim(xlim)
+            ax.set_ylim(ylim)
         ax.set_xlabel("$Q_R$")
         ax.set_ylabel("$Q_J$")
+        ax.ticklabel_format(style="sci", scilimits=(-2, 2))
+        ax.legend(fontsize=7, loc="best")
         return ax
 
 
@@ -354,7 +369,7 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
             QJ_extent=0.0, Phi=0.0, line_slope=None,
             series=SlowSeries(t=t, QR=zero, QJ=zero.copy(), Theta=np.full_like(t, 2.0 * psi0), phi=zero.copy()),
             regions=np.full(t.size, ON_BOTH, dtype=object), region_runs=[], crossings=[], pure_rocking=True,
-            order=order)
+            order=order, body=table.body)
     if order == 2:
         from rocknroller.analysis.slow.second_order import load_or_build_second_order_table
 
@@ -420,7 +435,7 @@ def _prediction(eps: float, theta0: float, psi0: float, t_end: float, K: float, 
         slow_period=slow_period(series.t, series.Theta) if series.t.size >= 3 else None,
         QR_extent=span(series.QR), QJ_extent=span(series.QJ), Phi=azimuth_span(series.phi),
         line_slope=line_slope(series.QR, series.QJ),
-        series=series, regions=regions, region_runs=runs, crossings=crossings, start=start)
+        series=series, regions=regions, region_runs=runs, crossings=crossings, start=start, body=sym)
 
 
 def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: SlowMapTable | None,
