@@ -15,6 +15,7 @@ import numpy as np
 from rocknroller.analysis.criticality.starts import PSI0, THETA0, paper_rate_starts
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.slow.atlas import Atlas, AtlasCheck
+from rocknroller.analysis.slow.result_plots import line_axis
 from rocknroller.numerics.megno import MEGNO_CHAOTIC
 from rocknroller.papers.output import new_figure, save_figure
 from rocknroller.papers.plotting import MEGNO_CLIP
@@ -84,15 +85,6 @@ def _decorate(ax: Any, atlas: Atlas, body: Body | None) -> None:
     ax.set_ylabel(AXIS_LABELS[atlas.row_name])
 
 
-def _line_axis(atlas: Atlas) -> str | None:
-    """``"cols"`` or ``"rows"`` for an atlas of one row or one column (drawn as lines along the other), else None."""
-    if atlas.rows.size == 1 and atlas.cols.size > 1:
-        return "cols"
-    if atlas.cols.size == 1 and atlas.rows.size > 1:
-        return "rows"
-    return None
-
-
 def _fixed_value(atlas: Atlas, along: str) -> str:
     """The value held fixed along a line atlas, as a title: ``θ0 = 0.95π``."""
     name = atlas.row_name if along == "cols" else atlas.col_name
@@ -132,7 +124,7 @@ def atlas_figure(atlas: Atlas, title: str, body: Body | None = None) -> Any:
     starts on the line dotted.  Returns the figure."""
     names = atlas.observables
     n_cols = (len(names) + 1) // 2
-    along = _line_axis(atlas)
+    along = line_axis(atlas)
     fig = new_figure(figsize=(13 * n_cols / 3, 7.5))
     axes = fig.subplots(2, n_cols).ravel()
     xe, ye = _edges(atlas.cols / _scale(atlas.col_name)), _edges(atlas.rows / _scale(atlas.row_name))

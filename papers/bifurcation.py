@@ -112,35 +112,19 @@ def _rows(d: BifurcationData) -> list[dict[str, Any]]:
     return rows
 
 
-def _segments(x: np.ndarray, y: np.ndarray, stable: np.ndarray) -> list[tuple[np.ndarray, np.ndarray, bool]]:
-    """Runs of equal stability, each closed with the next point so that the line is continuous."""
-    out, start = [], 0
-    for i in range(1, len(x) + 1):
-        if i == len(x) or stable[i] != stable[start]:
-            end = min(i + 1, len(x))
-            out.append((x[start:end], y[start:end], bool(stable[start])))
-            start = i
-    return out
-
-
 def _plot(axes: Any, d: BifurcationData) -> None:
     top, bottom = axes
     for branch, kind in ((d.fixed, "fixed_stable_axis"), (d.unstable_fixed, "fixed_unstable_axis"),
                          (d.period2, "period2")):
-        colour = BRANCH_STYLE[kind][0]
-        x = branch.eps / d.eps_pd
-        phase = branch.kick_phase
-        for j in range(phase.shape[1]):
-            for xs, ys, st in _segments(x, phase[:, j], branch.stable):
-                top.plot(xs, ys, color=colour, ls="-" if st else "--", lw=1.4)
-        for xs, ys, st in _segments(x, branch.residue, branch.stable):
-            bottom.plot(xs, ys, color=colour, ls="-" if st else "--", lw=1.4)
+        for ax, what in ((top, "kick_phase"), (bottom, "residue")):
+            branch.plot(ax, what, x_scale=d.eps_pd, color=BRANCH_STYLE[kind][0])
     for orbits, kind in ((d.exact_fixed, "fixed_stable_axis"), (d.exact_period2, "period2")):
         colour = BRANCH_STYLE[kind][0]
         for o in orbits:
             face = colour if o.stable else "none"
             top.plot([o.eps / d.eps_pd] * o.period, o.kick_phase, "o", mfc=face, mec="k", ms=6)
             bottom.plot(o.eps / d.eps_pd, o.residue, "o", mfc=face, mec="k", ms=6)
+    top.set_xlabel("")  # the column's axes share ε/ε_pd, labelled below
     top.set_title(rf"$\theta_0 = {d.theta0 / math.pi:.3g}\pi$, $\varepsilon_{{pd}} = {d.eps_pd:.6g}$")
     top.set_ylabel(r"kick phase $\vartheta = \Theta + W(Q)/2$")
     top.set_ylim(-0.5 * math.pi, 1.5 * math.pi)

@@ -32,7 +32,7 @@ import sys
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -46,6 +46,9 @@ from rocknroller.numerics.budget import WORK_BUDGET_SECONDS
 from rocknroller.numerics.megno import MEGNO_CHAOTIC, MIN_SAMPLES, ChaosIndicators
 from rocknroller.papers.output import new_figure, save_figure, write_csv
 from rocknroller.papers.plotting import MEGNO_CLIP, draw_critical_lines, scaled_axis
+
+if TYPE_CHECKING:
+    import pandas
 
 __all__ = ["MAX_PORTRAIT_ORBITS", "MAX_ODE_STARTS", "N_P_DEFAULT", "SlowPortrait", "orbit_values", "portrait_values",
            "theta0_of_energy", "slow_portrait", "plot_portrait", "write_portrait"]
@@ -109,6 +112,29 @@ class SlowPortrait:
     def p(self, QR: ArrayLike, QJ: ArrayLike) -> NDArray[np.float64]:
         """p = ∇W(0)·Q of samples (Q_R, Q_J)."""
         return self.grad_W[0] * np.asarray(QR, float) + self.grad_W[1] * np.asarray(QJ, float)
+
+    def to_dataframe(self) -> "pandas.DataFrame":
+        """One row per θ-maximum of the map's orbits, then of the ODE's runs: source (``"map"`` or ``"ode"``), orbit
+        index, its start (Θ0, p0), its MEGNO (missing where not measured, and for the ODE), t, Θ mod 2π, p, Q_R, Q_J
+        (the columns of :func:`write_portrait`'s CSV; needs pandas)."""
+        from rocknroller.analysis.model.frames import dataframe
+
+        megno = self.megno if len(self.chaos) == len(self.orbits) else np.full(len(self.orbits), np.nan)
+        runs = [("map", k, th, p0, m, s.t, s.Theta, s.QR, s.QJ)
+                for k, (s, th, p0, m) in enumerate(zip(self.orbits, self.Theta0, self.p0, megno))]
+        runs += [("ode", k, th, p0, np.nan, m.t, 2.0 * m.psi, m.QR, m.QJ)
+                 for k, (m, (th, p0)) in enumerate(zip(self.ode, self.ode_starts))]
+        n = [len(r[5]) for r in runs]
+        cols: dict[str, Any] = {name: np.repeat(np.array([r[i] for r in runs], dtype=object if i == 0 else None), n)
+                                for i, name in enumerate(("source", "orbit", "Theta0", "p0", "megno"))}
+        t, Th, QR, QJ = (np.concatenate([r[i] for r in runs]) for i in (5, 6, 7, 8))
+        cols.update(megno=np.ma.masked_invalid(cols["megno"]), t=t, Theta=np.mod(Th, 2.0 * math.pi),
+                    p=self.p(QR, QJ), QR=QR, QJ=QJ)
+        return dataframe(cols)
+
+    def plot(self, values: ArrayLike | None = None, **kwargs: Any) -> Any:
+        """The portrait's figure (:func:`plot_portrait`, with its ``values``, ``cmap`` and ``orbits``); returns it."""
+        return plot_portrait(self, values, **kwargs)
 
 
 def orbit_values(orbits: Sequence[Any], values: ArrayLike | None = None) -> tuple[NDArray[np.float64], str]:

@@ -14,9 +14,10 @@ def draw(fig: Any) -> Any:
     return fig.canvas.get_renderer()
 
 
-def inside(fig: Any, artist: Any) -> bool:
-    """True if the artist's window extent lies within the figure's (a plain ``savefig`` keeps it whole)."""
-    e, box = artist.get_window_extent(draw(fig)), fig.bbox
+def inside(fig: Any, artist: Any, renderer: Any = None) -> bool:
+    """True if the artist's window extent lies within the figure's (a plain ``savefig`` keeps it whole); the figure
+    is drawn first unless the ``renderer`` of a draw is given."""
+    e, box = artist.get_window_extent(renderer or draw(fig)), fig.bbox
     return box.x0 <= e.x0 and box.y0 <= e.y0 and e.x1 <= box.x1 and e.y1 <= box.y1
 
 
@@ -30,9 +31,10 @@ def legend_texts(fig: Any) -> list[str]:
     return [t.get_text() for leg in legends(fig) for t in leg.get_texts()]
 
 
-def overlapping(fig: Any, artists: list[Any]) -> list[tuple[str, str]]:
-    """Pairs of the (visible, non-empty) artists whose window extents intersect, by their text."""
-    renderer = draw(fig)
+def overlapping(fig: Any, artists: list[Any], renderer: Any = None) -> list[tuple[str, str]]:
+    """Pairs of the (visible, non-empty) artists whose window extents intersect, by their text (drawn first unless
+    the ``renderer`` of a draw is given)."""
+    renderer = renderer or draw(fig)
     shown = [a for a in artists if a.get_visible() and (not hasattr(a, "get_text") or a.get_text())]
     boxes = [(a, a.get_window_extent(renderer)) for a in shown]
     out = []

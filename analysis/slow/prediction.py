@@ -246,27 +246,12 @@ class SlowPrediction:
 
     def plot(self, ax: Any = None) -> Any:
         """Draw the predicted (Q_R, Q_J) at the θ-maxima on ``ax`` (a new pyplot figure without one, its layout
-        constrained so that no label is cut off) over the critical lines Q_J,π^crit and Q_J,0^crit (paper eqs.
-        QJcrit_pi, QJcrit_0; :func:`rocknroller.analysis.criticality.drawing.draw_critical_lines`, without them for a
-        prediction without its ``body``), with a legend; the axes keep the samples' range.  Returns the axes."""
-        from rocknroller.analysis.criticality.drawing import draw_critical_lines
+        constrained so that no label is cut off) over the critical lines Q_J,π^crit and Q_J,0^crit of its ``body``
+        (paper eqs. QJcrit_pi, QJcrit_0; :func:`rocknroller.analysis.slow.result_plots.plot_prediction`), with a
+        legend; the axes keep the samples' range.  Returns the axes."""
+        from rocknroller.analysis.slow.result_plots import plot_prediction
 
-        if ax is None:
-            import matplotlib.pyplot as plt
-
-            _, ax = plt.subplots(figsize=(5.5, 4.2), layout="constrained")
-        QR, QJ = self.series.QR, self.series.QJ
-        ax.plot(QR, QJ, ".", ms=3, color="k", label="averaged map (maxima)")
-        if self.body is not None and QR.size:
-            xlim, ylim = ax.get_xlim(), ax.get_ylim()
-            draw_critical_lines(ax, self.body, *xlim)
-            ax.set_xlim(xlim)
-            ax.set_ylim(ylim)
-        ax.set_xlabel("$Q_R$")
-        ax.set_ylabel("$Q_J$")
-        ax.ticklabel_format(style="sci", scilimits=(-2, 2))
-        ax.legend(fontsize=7, loc="best")
-        return ax
+        return plot_prediction(self, ax)
 
 
 def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | None = None,

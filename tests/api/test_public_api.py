@@ -92,6 +92,8 @@ PUBLIC_NAMES = [
     # issue 23: statistics where the slow motion is chaotic, and the phase portrait
     "StartBall", "map_ensemble", "ode_ensemble", "compare_ensembles", "EnsembleStatistics", "EnsembleComparison",
     "slow_portrait", "write_portrait", "SlowPortrait",
+    # issue 32, item 14: the region fractions of a run's maxima (run_ensemble's summaries)
+    "region_fractions",
 ]
 
 
