@@ -1,8 +1,9 @@
-"""Quick looks of the slow motion's result types: the ``plot()`` of :class:`~rocknroller.analysis.slow.prediction.
-SlowPrediction`, :class:`~rocknroller.analysis.slow.ensemble_statistics.EnsembleStatistics`,
+"""Quick looks of the slow motion's result types: the ``plot()`` of
+:class:`~rocknroller.analysis.slow.prediction.SlowPrediction`,
+:class:`~rocknroller.analysis.slow.ensemble_statistics.EnsembleStatistics`,
 :class:`~rocknroller.analysis.slow.ensemble_statistics.EnsembleComparison`,
-:class:`~rocknroller.analysis.slow.periodic_orbits.PeriodicOrbit`, :class:`~rocknroller.analysis.slow.periodic_orbits.
-Branch` and :class:`~rocknroller.analysis.slow.atlas.Atlas`.
+:class:`~rocknroller.analysis.slow.periodic_orbits.PeriodicOrbit`,
+:class:`~rocknroller.analysis.slow.periodic_orbits.Branch` and :class:`~rocknroller.analysis.slow.atlas.Atlas`.
 
 Each function draws on the axes (or figure) it is given; without one it opens a pyplot figure with a constrained
 layout (for interactive use, on whatever backend the user has chosen: the package never calls ``matplotlib.use``).
