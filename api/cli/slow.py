@@ -457,8 +457,9 @@ def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: flo
 
 def _figure(pred, ode, body, theta0: float, psi0: float, horizon: float | None) -> Any:
     """The --plot figure: the (Q_R, Q_J) at the maxima by the ODE and the map over the critical lines
-    (:meth:`SlowPrediction.plot`), ψ mod π at the maxima against t, and past the predictability horizon (if any) a
-    shaded span where the map's points are statistical only."""
+    (:meth:`SlowPrediction.plot`), ψ mod π at the maxima against t with the predictability horizon (if defined): a
+    line at it and the shaded span past it, where the map's points are statistical only (after t_end: named in the
+    legend)."""
     import numpy as np
 
     from rocknroller.papers.output import new_figure
@@ -471,12 +472,12 @@ def _figure(pred, ode, body, theta0: float, psi0: float, horizon: float | None) 
     ax1.legend(fontsize=8, loc="best")
     ax2.plot(ode.t, np.mod(0.5 * ode.Theta, np.pi), "o", ms=4, mfc="none", color="tab:red", label="direct ODE")
     ax2.plot(pred.series.t, pred.series.psi_mod_pi, ".", ms=3, color="k", label="averaged map")
-    if horizon is not None:
+    if horizon is not None and horizon < pred.t_end:
         ax2.axvline(horizon, color="tab:purple", lw=1.2, label=f"predictability horizon t = {horizon:.4g}")
-        if horizon < pred.t_end:
-            ax2.axvspan(horizon, pred.t_end, color="tab:purple", alpha=0.08, lw=0,
-                        label="past it: statistical only")
+        ax2.axvspan(horizon, pred.t_end, color="tab:purple", alpha=0.08, lw=0, label="past it: statistical only")
         ax2.set_xlim(0.0, pred.t_end)
+    elif horizon is not None:  # named in the legend, beyond the axis
+        ax2.plot([], [], " ", label=f"predictability horizon t = {horizon:.4g} (after t_end)")
     ax2.set_xlabel("t")
     ax2.set_ylabel("$\\psi$ mod $\\pi$ at the maxima")
     ax2.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.0, 1.0))

@@ -34,3 +34,18 @@ def test_plot_marks_the_horizon(tmp_path, capsys, monkeypatch):
     assert any("horizon" in t for t in texts) and any("statistical only" in t for t in texts)
     assert all(inside(fig, ax.xaxis.label) and inside(fig, ax.yaxis.label) for ax in (ax_q, ax_t))
     fig.savefig(tmp_path / "slow_orbit.png")
+
+
+def test_a_horizon_after_t_end_is_named_in_the_legend(tmp_path, capsys, monkeypatch):
+    """The command's default release over 200 t.u. (regular, horizon ≈ 2000 t.u.): no line or span inside the axis,
+    the horizon named in the legend as after t_end."""
+    figures = []
+    real = output.save_figure
+    monkeypatch.setattr(output, "save_figure", lambda fig, *a, **k: figures.append(fig) or real(fig, *a, **k))
+    assert main(["slow", "--order", "1", "--t-end", "200", "--json", "--plot", str(tmp_path / "fig")]) == 0
+    t_h = json.loads(capsys.readouterr().out)["horizon"]["t"]
+    assert t_h > 200.0
+    (fig,) = figures
+    ax_t = fig.axes[1]
+    assert not ax_t.patches and all(len(line.get_xdata()) != 2 for line in ax_t.get_lines())  # no axvline
+    assert f"predictability horizon t = {t_h:.4g} (after t_end)" in legend_texts(fig)
