@@ -20,7 +20,7 @@ from rocknroller.numerics.megno import MEGNO_CHAOTIC
 from rocknroller.papers.output import new_figure, save_figure
 from rocknroller.papers.plotting import MEGNO_CLIP
 
-__all__ = ["PAPER_RELEASES", "LABELS", "AXIS_LABELS", "atlas_figure", "plot_atlas", "plot_atlas_check"]
+__all__ = ["PAPER_RELEASES", "LABELS", "AXIS_LABELS", "atlas_figure", "atlas_check_figure", "plot_atlas", "plot_atlas_check"]
 
 #: The paper's releases from rest (θ0, ψ0) (§numerics: figs. 6 and 7, θ0 = 0.95π; the four ψ0 of its slow runs).
 PAPER_RELEASES = tuple((0.95 * math.pi, psi) for psi in (math.pi / 8, math.pi / 4, 3 * math.pi / 8, 3.9 * math.pi / 8))
@@ -112,7 +112,7 @@ def _plot_line(ax: Any, atlas: Atlas, name: str, along: str) -> None:
     for k, (px, py) in enumerate(_paper_points(atlas)):
         ax.axvline((px if along == "cols" else py) / _scale(x_name), color="0.5", ls=":", lw=1,
                    label="the paper's starts" if k == 0 else None)
-    ax.set_xlim(x.min(), x.max())
+    ax.margins(x=0.03)
     ax.set_xlabel(AXIS_LABELS[x_name])
 
 
@@ -160,10 +160,10 @@ def plot_atlas(atlas: Atlas, out: Path, title: str, body: Body | None = None) ->
     return save_figure(atlas_figure(atlas, title, body), out, "atlas")
 
 
-def plot_atlas_check(atlas: Atlas, check: AtlasCheck, out: Path, title: str) -> list[Path]:
-    """Where the direct ODE confirmed the map: the largest |relative error| of the slow period, Φ and the extents
-    at each confirmed point (colour, log scale), the points whose reversal counts differ (red ring) and, with the
-    chaos layer, those where the map's regular/chaotic verdict differs from the ODE's (black square)."""
+def atlas_check_figure(atlas: Atlas, check: AtlasCheck, title: str) -> Any:
+    """The figure of :func:`plot_atlas_check`: over a plane, the confirmed points coloured by their largest error; for
+    an atlas of one row or one column, that error against the values it has (log scale) with the points that differ
+    as vertical lines.  Returns the figure."""
     from matplotlib.colors import LogNorm
 
     fig = new_figure(figsize=(6.5, 5))
@@ -172,23 +172,46 @@ def plot_atlas_check(atlas: Atlas, check: AtlasCheck, out: Path, title: str) -> 
     worst = np.ma.max(np.ma.vstack(cont), axis=0).filled(np.nan)
     xs, ys = _scale(atlas.col_name), _scale(atlas.row_name)
     x, y = atlas.cols[check.index[:, 1]] / xs, atlas.rows[check.index[:, 0]] / ys
+    along = line_axis(atlas)
+    if along == "rows":
+        x, xs = y, ys
     ok = np.isfinite(worst) & (worst > 0)
+    diff = (np.ma.abs(check.rel_error["full_reversals"]) + np.ma.abs(check.rel_error["visible_reversals"])).filled(0) > 0
+    differs = ~check.verdict_agrees.filled(True) if "megno" in check.ode else np.zeros_like(diff)
+    error_label = "largest |map/ODE - 1| (slow period, $\\Phi$, extents)"
+    if along is not None:
+        ax.semilogy(x[ok], worst[ok], "o", color="k", ms=5, label=error_label)
+        for k, xv in enumerate(x[diff]):
+            ax.axvline(xv, color="tab:red", ls=":", lw=1.2, label="reversal counts differ" if k == 0 else None)
+        for k, xv in enumerate(x[differs]):
+            ax.axvline(xv, color="k", ls="--", lw=1.0, label="regular/chaotic verdict differs" if k == 0 else None)
+        ax.margins(x=0.03)
+        ax.set_xlabel(AXIS_LABELS[atlas.row_name if along == "rows" else atlas.col_name])
+        ax.set_ylabel("largest |map/ODE - 1|")
+        ax.legend(fontsize=8, loc="best")
+        ax.set_title(f"{title}; {_fixed_value(atlas, along)}", fontsize=9)
+        fig.tight_layout()
+        return fig
     if ok.any():
         sc = ax.scatter(x[ok], y[ok], c=worst[ok], cmap="magma_r", s=40, norm=LogNorm(vmin=max(worst[ok].min(), 1e-12),
                                                                                      vmax=max(worst[ok].max(), 1e-11)))
-        fig.colorbar(sc, ax=ax, label="largest |map/ODE - 1| (slow period, $\\Phi$, extents)")
-    diff = (np.ma.abs(check.rel_error["full_reversals"]) + np.ma.abs(check.rel_error["visible_reversals"])).filled(0) > 0
+        fig.colorbar(sc, ax=ax, label=error_label)
     ax.plot(x[diff], y[diff], "o", ms=12, mfc="none", mec="tab:red", label="reversal counts differ")
-    if "megno" in check.ode:
-        differs = ~check.verdict_agrees.filled(True)
-        if differs.any():
-            ax.plot(x[differs], y[differs], "s", ms=15, mfc="none", mec="k", label="regular/chaotic verdict differs")
-            diff = diff | differs
+    if differs.any():
+        ax.plot(x[differs], y[differs], "s", ms=15, mfc="none", mec="k", label="regular/chaotic verdict differs")
     ax.set_xlim(*_edges(atlas.cols / xs)[[0, -1]])
     ax.set_ylim(*_edges(atlas.rows / ys)[[0, -1]])
     _decorate(ax, atlas, None)
-    if diff.any():
+    if (diff | differs).any():
         ax.legend(fontsize=8, loc="best")
     ax.set_title(title, fontsize=9)
     fig.tight_layout()
-    return save_figure(fig, out, "atlas_check")
+    return fig
+
+
+def plot_atlas_check(atlas: Atlas, check: AtlasCheck, out: Path, title: str) -> list[Path]:
+    """Where the direct ODE confirmed the map: the largest |relative error| of the slow period, Φ and the extents
+    at each confirmed point (colour, log scale; along the line for an atlas of one row or column), the points whose
+    reversal counts differ (red ring, or dotted line) and, with the chaos layer, those where the map's regular/chaotic
+    verdict differs from the ODE's (black square, or dashed line) (:func:`atlas_check_figure`); PNG and PDF."""
+    return save_figure(atlas_check_figure(atlas, check, title), out, "atlas_check")

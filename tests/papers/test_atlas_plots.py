@@ -35,7 +35,9 @@ def test_one_theta0_atlas_is_drawn_as_lines_along_psi0(line_atlas, tmp_path):
         ax = panels[LABELS[name]]
         assert not [c for c in ax.collections if isinstance(c, QuadMesh)]
         assert ax.get_xlabel() == "$\\psi_0/\\pi$" and "theta" not in ax.get_ylabel()
-        assert ax.get_xlim() == pytest.approx((PSI0[0] / math.pi, PSI0[-1] / math.pi))
+        lo, hi = ax.get_xlim()
+        x0, x1 = PSI0[0] / math.pi, PSI0[-1] / math.pi
+        assert lo < x0 and x1 < hi and hi - lo < 1.1 * (x1 - x0)
         line = ax.get_lines()[0]
         y = np.ma.ravel(line_atlas.values[name])
         if name == "megno":
@@ -50,3 +52,21 @@ def test_a_plane_is_still_drawn_as_heat_maps(line_atlas):
     fig = atlas_figure(plane, "plane")
     assert all(any(isinstance(c, QuadMesh) for c in ax.collections) for ax in fig.axes if ax.get_title() in
                {LABELS[n] for n in plane.observables})
+
+
+def test_one_theta0_check_is_drawn_along_psi0(line_atlas, tmp_path):
+    """The ODE's check of a one-θ0 atlas: the largest error at each confirmed ψ0 on a log scale, not points over an
+    invented θ0 range."""
+    from rocknroller.analysis.slow.atlas import confirm_atlas
+    from rocknroller.papers.atlas_plots import atlas_check_figure
+
+    check = confirm_atlas(line_atlas, BODY, every=3, progress=False)
+    fig = atlas_check_figure(line_atlas, check, "check")
+    fig.savefig(tmp_path / "atlas_check.png")
+    (ax,) = fig.axes
+    assert ax.get_yscale() == "log" and ax.get_xlabel() == "$\\psi_0/\\pi$" and "0.95π" in ax.get_title()
+    line = ax.get_lines()[0]
+    np.testing.assert_array_equal(line.get_xdata(), PSI0[check.index[:, 1]] / math.pi)
+    worst = np.ma.max(np.ma.vstack([np.ma.abs(check.rel_error[n]) for n in ("slow_period", "Phi", "QR_extent",
+                                                                              "QJ_extent")]), axis=0)
+    np.testing.assert_array_equal(line.get_ydata(), worst.filled(np.nan))
