@@ -71,7 +71,8 @@ def _histogram(ax: Any, samples: Sequence[Any], labels: Sequence[str], colours: 
 
     lo = min(float(np.min(x)) for x in samples)
     hi = max(float(np.max(x)) for x in samples)
-    bins = np.linspace(lo, hi, 21) if hi > lo else np.array([lo - 0.5, lo + 0.5])
+    half = 0.05 * max(abs(lo), 1.0)  # a constant: one narrow bin about it
+    bins = np.linspace(lo, hi, 21) if hi > lo else np.array([lo - half, lo + half])
     for x, label, colour in zip(samples, labels, colours):
         ax.hist(x, bins=bins, histtype="step", color=colour, lw=1.3, label=label)
     ax.xaxis.set_major_locator(MaxNLocator(4))
