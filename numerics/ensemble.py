@@ -130,9 +130,9 @@ class RunSummary:
     n_steps : int
         Integration steps taken.
 
-    The fraction of the maxima in each critical region:
-    ``rocknroller.analysis.criticality.lines.region_fractions(run.maxima.QR, run.maxima.QJ, body)`` (``rr.region_fractions``,
-    by the package's classifier ``region``).
+    The fraction of the maxima in each critical region, by the package's classifier ``region``:
+    ``rr.region_fractions(run.maxima.QR, run.maxima.QJ, body)``
+    (:func:`rocknroller.analysis.criticality.lines.region_fractions`).
     """
 
     maxima: TurningPoints

@@ -20,7 +20,8 @@ from rocknroller.numerics.megno import MEGNO_CHAOTIC
 from rocknroller.papers.output import new_figure, save_figure
 from rocknroller.papers.plotting import MEGNO_CLIP
 
-__all__ = ["PAPER_RELEASES", "LABELS", "AXIS_LABELS", "atlas_figure", "atlas_check_figure", "plot_atlas", "plot_atlas_check"]
+__all__ = ["PAPER_RELEASES", "LABELS", "AXIS_LABELS", "atlas_figure", "atlas_check_figure", "plot_atlas",
+           "plot_atlas_check"]
 
 #: The paper's releases from rest (θ0, ψ0) (§numerics: figs. 6 and 7, θ0 = 0.95π; the four ψ0 of its slow runs).
 PAPER_RELEASES = tuple((0.95 * math.pi, psi) for psi in (math.pi / 8, math.pi / 4, 3 * math.pi / 8, 3.9 * math.pi / 8))
@@ -176,7 +177,8 @@ def atlas_check_figure(atlas: Atlas, check: AtlasCheck, title: str) -> Any:
     if along == "rows":
         x, xs = y, ys
     ok = np.isfinite(worst) & (worst > 0)
-    diff = (np.ma.abs(check.rel_error["full_reversals"]) + np.ma.abs(check.rel_error["visible_reversals"])).filled(0) > 0
+    diff = (np.ma.abs(check.rel_error["full_reversals"])
+            + np.ma.abs(check.rel_error["visible_reversals"])).filled(0) > 0
     differs = ~check.verdict_agrees.filled(True) if "megno" in check.ode else np.zeros_like(diff)
     error_label = "largest |map/ODE - 1| (slow period, $\\Phi$, extents)"
     if along is not None:
