@@ -11,7 +11,7 @@ keyword-only::
     rr.region(traj.maxima.QR, traj.maxima.QJ, body)
 """
 
-from rocknroller.analysis.criticality.lines import QJ_crit, QJ_crit_0, QJ_crit_pi, region
+from rocknroller.analysis.criticality.lines import QJ_crit, QJ_crit_0, QJ_crit_pi, region, region_fractions
 from rocknroller.analysis.criticality.reversals import reversal_analysis
 from rocknroller.analysis.criticality.starts import CriticalStart, critical_start
 from rocknroller.analysis.criticality.theta_z import (cos_theta_z, delta_bound_coefficients, delta_of, theta_e, theta_z,
@@ -51,7 +51,7 @@ __all__ = [
     "V_phi", "V_psi", "precession", "precession_from_turning_point", "precession_mp", "Precession",
     "NoMotionError", "SteadyRollingError",
     # criticality
-    "QJ_crit_0", "QJ_crit_pi", "QJ_crit", "region", "cos_theta_z", "theta_z", "theta_e", "delta_of",
+    "QJ_crit_0", "QJ_crit_pi", "QJ_crit", "region", "region_fractions", "cos_theta_z", "theta_z", "theta_e", "delta_of",
     "delta_bound_coefficients", "theta_z_expansion", "critical_start", "CriticalStart", "reversal_analysis",
     "laurent_coefficients", "laurent_series", "laurent_function",
     # the slow motion of the rock'n'roller

@@ -62,7 +62,7 @@ import math
 import threading
 from array import array
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -75,6 +75,9 @@ from rocknroller.numerics.events import start_turning_point
 from rocknroller.numerics.integrate import check_energy_error, check_run, check_theta_resolved, heyoka_integrator
 from rocknroller.numerics.megno import ChaosIndicators, chaos_indicators
 from rocknroller.numerics.trajectory import energy_scale
+
+if TYPE_CHECKING:
+    import pandas
 
 __all__ = ["DirectChaos", "direct_chaos_indicators", "initial_tangent", "tangent_flow", "tangent_to_maximum",
            "tangent_norm", "variational_integrator", "VARIATIONAL_SECONDS_PER_RADIAN", "CHUNK_RADIANS"]
@@ -255,6 +258,21 @@ class DirectChaos:
     def t_maxima(self) -> NDArray[np.float64]:
         """Times of the θ-maxima (the samples)."""
         return self.indicators.t
+
+    def to_dataframe(self) -> "pandas.DataFrame":
+        """One row per θ-maximum: t, θ, the tangent vector's log-growth ℓ and the running MEGNO ⟨Y⟩ (needs pandas)."""
+        from rocknroller.analysis.model.frames import dataframe
+
+        ind = self.indicators
+        return dataframe({"t": ind.t, "theta": self.theta_maxima, "log_growth": ind.log_growth,
+                          "mean_megno": ind.mean_megno})
+
+    def plot(self, ax: Any = None) -> Any:
+        """Draw the running MEGNO ⟨Y⟩ at the θ-maxima against t on ``ax`` (a new pyplot figure without one), with the
+        line MEGNO = ``MEGNO_CHAOTIC`` between regular and chaotic.  Returns the axes."""
+        from rocknroller.numerics.trajectory_plots import plot_megno
+
+        return plot_megno(self.indicators, ax=ax)
 
 
 def direct_chaos_indicators(body: Body, initial: EulerState, t_end: float, *,

@@ -15,11 +15,13 @@ import numpy as np
 from rocknroller.analysis.criticality.starts import PSI0, THETA0, paper_rate_starts
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.slow.atlas import Atlas, AtlasCheck
+from rocknroller.analysis.slow.result_plots import line_axis
 from rocknroller.numerics.megno import MEGNO_CHAOTIC
 from rocknroller.papers.output import new_figure, save_figure
 from rocknroller.papers.plotting import MEGNO_CLIP
 
-__all__ = ["PAPER_RELEASES", "LABELS", "AXIS_LABELS", "plot_atlas", "plot_atlas_check"]
+__all__ = ["PAPER_RELEASES", "LABELS", "AXIS_LABELS", "atlas_figure", "atlas_check_figure", "plot_atlas",
+           "plot_atlas_check"]
 
 #: The paper's releases from rest (θ0, ψ0) (§numerics: figs. 6 and 7, θ0 = 0.95π; the four ψ0 of its slow runs).
 PAPER_RELEASES = tuple((0.95 * math.pi, psi) for psi in (math.pi / 8, math.pi / 4, 3 * math.pi / 8, 3.9 * math.pi / 8))
@@ -84,16 +86,56 @@ def _decorate(ax: Any, atlas: Atlas, body: Body | None) -> None:
     ax.set_ylabel(AXIS_LABELS[atlas.row_name])
 
 
-def plot_atlas(atlas: Atlas, out: Path, title: str, body: Body | None = None) -> list[Path]:
-    """Heat maps of the atlas's observables (``Atlas.observables``: six, and the two of its chaos layer) over its
-    plane, the paper's starts starred (and over a plane of rates, given the ``body``, the critical lines: red solid
-    Q_J,π^crit, blue dashed Q_J,0^crit); PNG and PDF."""
+def _fixed_value(atlas: Atlas, along: str) -> str:
+    """The value held fixed along a line atlas, as a title: ``θ0 = 0.95π``."""
+    name = atlas.row_name if along == "cols" else atlas.col_name
+    value = (atlas.rows if along == "cols" else atlas.cols)[0] / _scale(name)
+    symbol = AXIS_LABELS[name].replace("/\\pi", "")
+    return f"{symbol} = {value:.6g}" + ("π" if _scale(name) != 1.0 else "")
+
+
+def _plot_line(ax: Any, atlas: Atlas, name: str, along: str) -> None:
+    """One observable of a one-row (one-column) atlas against the column (row) values: the masked points left out;
+    MEGNO clipped at ``MEGNO_CLIP`` (clipped points as triangles at the top) with the line MEGNO = 3; the paper's
+    starts on the line as dotted verticals."""
+    x_name = atlas.col_name if along == "cols" else atlas.row_name
+    x = (atlas.cols if along == "cols" else atlas.rows) / _scale(x_name)
+    y = np.ma.ravel(atlas.values[name])
+    if name == "megno":
+        over = np.ma.filled(y > MEGNO_CLIP, False)
+        ax.plot(x, np.ma.minimum(y, MEGNO_CLIP).filled(np.nan), ".-", color="tab:purple", ms=4, lw=1)
+        ax.plot(x[over], np.full(over.sum(), MEGNO_CLIP), "^", color="tab:purple", ms=6,
+                label=f"above {MEGNO_CLIP:g} (clipped)")
+        ax.axhline(MEGNO_CHAOTIC, color="k", ls="--", lw=0.8, label=f"MEGNO = {MEGNO_CHAOTIC:g}")
+        ax.set_ylim(0.0, 1.08 * MEGNO_CLIP)
+    else:
+        ax.plot(x, y.filled(np.nan), ".-", color="tab:blue", ms=4, lw=1)
+    for k, (px, py) in enumerate(_paper_points(atlas)):
+        ax.axvline((px if along == "cols" else py) / _scale(x_name), color="0.5", ls=":", lw=1,
+                   label="the paper's starts" if k == 0 else None)
+    ax.margins(x=0.03)
+    ax.set_xlabel(AXIS_LABELS[x_name])
+
+
+def atlas_figure(atlas: Atlas, title: str, body: Body | None = None) -> Any:
+    """The figure of :func:`plot_atlas`: one panel per observable (``Atlas.observables``: six, and the two of its
+    chaos layer).  A plane of starts is drawn as heat maps over it, the paper's starts starred (and over a plane of
+    rates, given the ``body``, the critical lines: red solid Q_J,π^crit, blue dashed Q_J,0^crit); an atlas of one row
+    (one θ0, or one ψ̇0) or one column as lines along the values it has, the fixed one in the title and the paper's
+    starts on the line dotted.  Returns the figure."""
     names = atlas.observables
     n_cols = (len(names) + 1) // 2
+    along = line_axis(atlas)
     fig = new_figure(figsize=(13 * n_cols / 3, 7.5))
     axes = fig.subplots(2, n_cols).ravel()
     xe, ye = _edges(atlas.cols / _scale(atlas.col_name)), _edges(atlas.rows / _scale(atlas.row_name))
     for ax, name in zip(axes, names):
+        ax.set_title(LABELS[name], fontsize=10)
+        if along is not None:
+            _plot_line(ax, atlas, name, along)
+            if name == "megno" or (ax is axes[0] and ax.get_legend_handles_labels()[0]):
+                ax.legend(fontsize=7, loc="best")
+            continue
         if name == "megno":
             mesh = ax.pcolormesh(xe, ye, atlas.values[name], shading="flat", cmap="plasma", vmin=0.0, vmax=MEGNO_CLIP)
             bar = fig.colorbar(mesh, ax=ax, extend="max")
@@ -107,16 +149,22 @@ def plot_atlas(atlas: Atlas, out: Path, title: str, body: Body | None = None) ->
         _decorate(ax, atlas, body)
         ax.set_xlim(xe[0], xe[-1])
         ax.set_ylim(ye[0], ye[-1])
-        ax.set_title(LABELS[name], fontsize=10)
-    fig.suptitle(title, fontsize=10)
+    for ax in axes[len(names):]:
+        ax.set_visible(False)
+    fig.suptitle(title if along is None else f"{title}; {_fixed_value(atlas, along)}", fontsize=10)
     fig.tight_layout()
-    return save_figure(fig, out, "atlas")
+    return fig
 
 
-def plot_atlas_check(atlas: Atlas, check: AtlasCheck, out: Path, title: str) -> list[Path]:
-    """Where the direct ODE confirmed the map: the largest |relative error| of the slow period, Φ and the extents
-    at each confirmed point (colour, log scale), the points whose reversal counts differ (red ring) and, with the
-    chaos layer, those where the map's regular/chaotic verdict differs from the ODE's (black square)."""
+def plot_atlas(atlas: Atlas, out: Path, title: str, body: Body | None = None) -> list[Path]:
+    """Write the atlas's figure (:func:`atlas_figure`) as PNG and PDF."""
+    return save_figure(atlas_figure(atlas, title, body), out, "atlas")
+
+
+def atlas_check_figure(atlas: Atlas, check: AtlasCheck, title: str) -> Any:
+    """The figure of :func:`plot_atlas_check`: over a plane, the confirmed points coloured by their largest error; for
+    an atlas of one row or one column, that error against the values it has (log scale) with the points that differ
+    as vertical lines.  Returns the figure."""
     from matplotlib.colors import LogNorm
 
     fig = new_figure(figsize=(6.5, 5))
@@ -125,23 +173,47 @@ def plot_atlas_check(atlas: Atlas, check: AtlasCheck, out: Path, title: str) -> 
     worst = np.ma.max(np.ma.vstack(cont), axis=0).filled(np.nan)
     xs, ys = _scale(atlas.col_name), _scale(atlas.row_name)
     x, y = atlas.cols[check.index[:, 1]] / xs, atlas.rows[check.index[:, 0]] / ys
+    along = line_axis(atlas)
+    if along == "rows":
+        x, xs = y, ys
     ok = np.isfinite(worst) & (worst > 0)
+    diff = (np.ma.abs(check.rel_error["full_reversals"])
+            + np.ma.abs(check.rel_error["visible_reversals"])).filled(0) > 0
+    differs = ~check.verdict_agrees.filled(True) if "megno" in check.ode else np.zeros_like(diff)
+    error_label = "largest |map/ODE - 1| (slow period, $\\Phi$, extents)"
+    if along is not None:
+        ax.semilogy(x[ok], worst[ok], "o", color="k", ms=5, label=error_label)
+        for k, xv in enumerate(x[diff]):
+            ax.axvline(xv, color="tab:red", ls=":", lw=1.2, label="reversal counts differ" if k == 0 else None)
+        for k, xv in enumerate(x[differs]):
+            ax.axvline(xv, color="k", ls="--", lw=1.0, label="regular/chaotic verdict differs" if k == 0 else None)
+        ax.margins(x=0.03)
+        ax.set_xlabel(AXIS_LABELS[atlas.row_name if along == "rows" else atlas.col_name])
+        ax.set_ylabel("largest |map/ODE - 1|")
+        ax.legend(fontsize=8, loc="best")
+        ax.set_title(f"{title}; {_fixed_value(atlas, along)}", fontsize=9)
+        fig.tight_layout()
+        return fig
     if ok.any():
         sc = ax.scatter(x[ok], y[ok], c=worst[ok], cmap="magma_r", s=40, norm=LogNorm(vmin=max(worst[ok].min(), 1e-12),
                                                                                      vmax=max(worst[ok].max(), 1e-11)))
-        fig.colorbar(sc, ax=ax, label="largest |map/ODE - 1| (slow period, $\\Phi$, extents)")
-    diff = (np.ma.abs(check.rel_error["full_reversals"]) + np.ma.abs(check.rel_error["visible_reversals"])).filled(0) > 0
+        fig.colorbar(sc, ax=ax, label=error_label)
     ax.plot(x[diff], y[diff], "o", ms=12, mfc="none", mec="tab:red", label="reversal counts differ")
-    if "megno" in check.ode:
-        differs = ~check.verdict_agrees.filled(True)
-        if differs.any():
-            ax.plot(x[differs], y[differs], "s", ms=15, mfc="none", mec="k", label="regular/chaotic verdict differs")
-            diff = diff | differs
+    if differs.any():
+        ax.plot(x[differs], y[differs], "s", ms=15, mfc="none", mec="k", label="regular/chaotic verdict differs")
     ax.set_xlim(*_edges(atlas.cols / xs)[[0, -1]])
     ax.set_ylim(*_edges(atlas.rows / ys)[[0, -1]])
     _decorate(ax, atlas, None)
-    if diff.any():
+    if (diff | differs).any():
         ax.legend(fontsize=8, loc="best")
     ax.set_title(title, fontsize=9)
     fig.tight_layout()
-    return save_figure(fig, out, "atlas_check")
+    return fig
+
+
+def plot_atlas_check(atlas: Atlas, check: AtlasCheck, out: Path, title: str) -> list[Path]:
+    """Where the direct ODE confirmed the map: the largest |relative error| of the slow period, Φ and the extents
+    at each confirmed point (colour, log scale; along the line for an atlas of one row or column), the points whose
+    reversal counts differ (red ring, or dotted line) and, with the chaos layer, those where the map's regular/chaotic
+    verdict differs from the ODE's (black square, or dashed line) (:func:`atlas_check_figure`); PNG and PDF."""
+    return save_figure(atlas_check_figure(atlas, check, title), out, "atlas_check")

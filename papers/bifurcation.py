@@ -20,7 +20,12 @@ from rocknroller.analysis.slow.dynamics.period_doubling import period_doubling
 from rocknroller.analysis.slow.dynamics.periodic_orbits import K_MAX, Branch, PeriodicOrbit, continue_orbit, periodic_orbit
 from rocknroller.papers.output import new_figure, save_figure, write_csv
 
-__all__ = ["BifurcationData", "bifurcation_data", "bifurcation_diagram"]
+#: The orbits' colours and their names in the legend (the rows of the CSV's ``orbit`` column).
+BRANCH_STYLE = {"fixed_stable_axis": ("C0", "rocking about the stable axis (fixed point)"),
+                "fixed_unstable_axis": ("C2", "rocking about the unstable axis (fixed point)"),
+                "period2": ("C1", "period-2 orbit (born at the period doubling)")}
+
+__all__ = ["BifurcationData", "bifurcation_data", "bifurcation_figure", "bifurcation_diagram"]
 
 #: ε/ε_pd at which the exact map's orbits are found (the acceptance of issue 23, item 4).
 EXACT_FRACTIONS = (0.9, 1.05, 1.2, 1.5)
@@ -107,32 +112,19 @@ def _rows(d: BifurcationData) -> list[dict[str, Any]]:
     return rows
 
 
-def _segments(x: np.ndarray, y: np.ndarray, stable: np.ndarray) -> list[tuple[np.ndarray, np.ndarray, bool]]:
-    """Runs of equal stability, each closed with the next point so that the line is continuous."""
-    out, start = [], 0
-    for i in range(1, len(x) + 1):
-        if i == len(x) or stable[i] != stable[start]:
-            end = min(i + 1, len(x))
-            out.append((x[start:end], y[start:end], bool(stable[start])))
-            start = i
-    return out
-
-
 def _plot(axes: Any, d: BifurcationData) -> None:
     top, bottom = axes
-    for branch, colour in ((d.fixed, "C0"), (d.unstable_fixed, "C2"), (d.period2, "C1")):
-        x = branch.eps / d.eps_pd
-        phase = branch.kick_phase
-        for j in range(phase.shape[1]):
-            for xs, ys, st in _segments(x, phase[:, j], branch.stable):
-                top.plot(xs, ys, color=colour, ls="-" if st else "--", lw=1.4)
-        for xs, ys, st in _segments(x, branch.residue, branch.stable):
-            bottom.plot(xs, ys, color=colour, ls="-" if st else "--", lw=1.4)
-    for orbits, colour in ((d.exact_fixed, "C0"), (d.exact_period2, "C1")):
+    for branch, kind in ((d.fixed, "fixed_stable_axis"), (d.unstable_fixed, "fixed_unstable_axis"),
+                         (d.period2, "period2")):
+        for ax, what in ((top, "kick_phase"), (bottom, "residue")):
+            branch.plot(ax, what, x_scale=d.eps_pd, color=BRANCH_STYLE[kind][0])
+    for orbits, kind in ((d.exact_fixed, "fixed_stable_axis"), (d.exact_period2, "period2")):
+        colour = BRANCH_STYLE[kind][0]
         for o in orbits:
             face = colour if o.stable else "none"
             top.plot([o.eps / d.eps_pd] * o.period, o.kick_phase, "o", mfc=face, mec="k", ms=6)
             bottom.plot(o.eps / d.eps_pd, o.residue, "o", mfc=face, mec="k", ms=6)
+    top.set_xlabel("")  # the column's axes share ε/ε_pd, labelled below
     top.set_title(rf"$\theta_0 = {d.theta0 / math.pi:.3g}\pi$, $\varepsilon_{{pd}} = {d.eps_pd:.6g}$")
     top.set_ylabel(r"kick phase $\vartheta = \Theta + W(Q)/2$")
     top.set_ylim(-0.5 * math.pi, 1.5 * math.pi)
@@ -143,12 +135,46 @@ def _plot(axes: Any, d: BifurcationData) -> None:
     bottom.set_xlabel(r"$\varepsilon/\varepsilon_{pd}$")
 
 
+#: Height of the legend strip below the panels (inches).
+_LEGEND_INCHES = 0.9
+
+
+def _legend_entries() -> tuple[list[Any], list[str]]:
+    """Proxy artists and labels: the three branches by colour, stability by line style and marker fill."""
+    from matplotlib.lines import Line2D
+
+    handles = [Line2D([], [], color=colour, lw=1.4) for colour, _ in BRANCH_STYLE.values()]
+    labels = [label for _, label in BRANCH_STYLE.values()]
+    handles += [Line2D([], [], color="0.3", lw=1.4), Line2D([], [], color="0.3", lw=1.4, ls="--"),
+                Line2D([], [], ls="", marker="o", mfc="0.3", mec="k", ms=6),
+                Line2D([], [], ls="", marker="o", mfc="none", mec="k", ms=6)]
+    labels += ["slow map, stable (0 < R < 1)", "slow map, unstable", "exact map (direct ODE), stable",
+               "exact map (direct ODE), unstable"]
+    return handles, labels
+
+
+def bifurcation_figure(data: Sequence[BifurcationData]) -> Any:
+    """The diagram of :func:`bifurcation_data` results: one column per θ0, the kick phase above and Greene's residue
+    below; slow map lines (solid stable, dashed unstable; blue the stable axis's fixed point, green the unstable
+    axis's, orange the period-2 orbit), exact map markers (filled stable, open unstable), and a legend saying so below
+    the panels.  Returns the figure."""
+    height = 7.0 + _LEGEND_INCHES
+    fig = new_figure(figsize=(max(5.0 * len(data), 8.0), height))
+    axes = fig.subplots(2, len(data), squeeze=False, sharex="col")
+    fig.subplots_adjust(bottom=(0.55 + _LEGEND_INCHES) / height, top=1.0 - 0.75 / height, hspace=0.12)
+    for j, d in enumerate(data):
+        _plot(axes[:, j], d)
+    handles, labels = _legend_entries()
+    fig.legend(handles, labels, loc="lower center", ncol=2, fontsize=8, frameon=False,
+               bbox_to_anchor=(0.5, 0.08 / height))
+    fig.suptitle("Rocking near its period doubling: slow map (lines) and exact map (markers)")
+    return fig
+
+
 def bifurcation_diagram(body: Body, out_dir: str | Path, theta0s: Sequence[float] = (0.9 * math.pi, 0.95 * math.pi),
                         **kwargs: Any) -> tuple[list[Path], list[BifurcationData]]:
     """Compute (:func:`bifurcation_data`, ``kwargs``) and write ``bifurcation.png``, ``.pdf`` and ``.csv`` to
-    ``out_dir``: one column per θ0, the kick phase above and Greene's residue below; slow map lines (solid stable,
-    dashed unstable; blue the stable axis's fixed point, green the unstable axis's, orange the period-2 orbit), exact
-    map markers (filled stable, open unstable).  Returns the paths and the data.
+    ``out_dir`` (the figure: :func:`bifurcation_figure`).  Returns the paths and the data.
 
     Examples
     --------
@@ -163,12 +189,7 @@ def bifurcation_diagram(body: Body, out_dir: str | Path, theta0s: Sequence[float
     ['bifurcation.png', 'bifurcation.pdf', 'bifurcation.csv']
     """
     data = [bifurcation_data(body, t, **kwargs) for t in theta0s]
-    fig = new_figure(figsize=(5.0 * len(data), 7.0))
-    axes = fig.subplots(2, len(data), squeeze=False, sharex="col")
-    for j, d in enumerate(data):
-        _plot(axes[:, j], d)
-    fig.suptitle("Rocking near its period doubling: slow map (lines) and exact map (markers)")
-    paths = save_figure(fig, out_dir, "bifurcation")
+    paths = save_figure(bifurcation_figure(data), out_dir, "bifurcation")
     rows = [r for d in data for r in _rows(d)]
     header = [f"body: a={body.a!r} I1={body.I1!r} I3={body.I3!r} g={body.g!r} (I2 = (1 + eps) I1)",
               f"slow map order {data[0].order if data else 1}; theta0/pi: {[d.theta0 / math.pi for d in data]}",

@@ -5,7 +5,8 @@ the figure scripts in ``papers/lynch_bustamante``.  No physics here: every numbe
 Layout of :func:`region_diagram`: the (Q_R, Q_J) plane in the centre with the critical lines Q_J = Q_J,π^crit
 (red, solid) and Q_J = Q_J,0^crit (blue, dashed), one marked representative point per region, and the graph of
 V_φ(θ) at each representative point in a panel on the side where that region lies (II above, IV below, III left,
-I right), so that no inset covers a line, a label or the orbit.
+I right), so that no inset covers a line, a label or the orbit.  The lines' styles and drawing
+(:mod:`rocknroller.analysis.criticality.drawing`) are re-exported here.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from numpy.typing import NDArray
 
 from rocknroller.analysis.criticality import lines as crit
 from rocknroller.analysis.criticality import theta_z
+from rocknroller.analysis.criticality.drawing import LINE_STYLE, critical_line_data, draw_critical_lines
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.invariants import V_phi
 from rocknroller.analysis.routh.reduction import Q_RANGE
@@ -30,17 +32,12 @@ if TYPE_CHECKING:  # pragma: no cover
     from rocknroller.numerics.trajectory import Trajectory
 
 __all__ = ["LINE_STYLE", "MEGNO_CLIP", "DiagramData", "critical_line_data", "draw_critical_lines", "free_spots",
-           "plot_V_phi", "region_diagram"]
+           "plot_V_phi", "region_diagram", "scaled_axis"]
 
 #: Top of the colour scales of MEGNO (the atlas's layer, the portrait's orbits): a regular orbit's MEGNO is ≈ 2 (0 on
 #: a stable periodic one), a chaotic one's grows as λt/2 without bound (above 3: chaotic,
 #: ``numerics.megno.MEGNO_CHAOTIC``); larger values get the top colour (the colour bar's arrow).
 MEGNO_CLIP = 5.0
-#: Paper fig. 4 conventions: Q_J,π^crit red solid, Q_J,0^crit blue dashed.
-LINE_STYLE = {
-    "pi": dict(color="tab:red", ls="-", lw=1.4, label=r"$Q_J=Q_{J,\pi}^{\mathrm{crit}}$ (visible-angle reversal)"),
-    "0": dict(color="tab:blue", ls="--", lw=1.4, label=r"$Q_J=Q_{J,0}^{\mathrm{crit}}$ (full-angle reversal)"),
-}
 #: Where each region's V_φ panel sits around the central axes (row, column of a 3×3 grid).
 _PANEL_CELL = {"II": (0, 1), "IV": (2, 1), "III": (1, 0), "I": (1, 2)}
 _NUMERAL_FONT: dict[str, Any] = dict(fontsize=12, fontweight="bold")
@@ -69,20 +66,6 @@ class DiagramData:
     window: tuple[float, float, float, float]
     representatives: dict[str, tuple[float, float]] = field(default_factory=dict)
     axes: dict[str, object] = field(default_factory=dict)
-
-
-def critical_line_data(body: Body, QR_min: float, QR_max: float, n: int = 201) -> dict[str, NDArray[np.float64]]:
-    """Q_R samples and Q_J,0^crit, Q_J,π^crit on them (paper eqs. QJcrit_0, QJcrit_pi)."""
-    QR = np.linspace(QR_min, QR_max, n)
-    return {"QR": QR, "QJ0": crit.QJ_crit_0(QR, body), "QJpi": crit.QJ_crit_pi(QR, body)}
-
-
-def draw_critical_lines(ax, body: Body, QR_min: float, QR_max: float) -> dict[str, NDArray[np.float64]]:
-    """Draw both critical lines over [QR_min, QR_max]; the Line2D objects get gid "QJ0crit" / "QJpicrit"."""
-    d = critical_line_data(body, QR_min, QR_max)
-    ax.plot(d["QR"], d["QJpi"], gid="QJpicrit", **LINE_STYLE["pi"])
-    ax.plot(d["QR"], d["QJ0"], gid="QJ0crit", **LINE_STYLE["0"])
-    return d
 
 
 def _to_axes(QR, QJ, window):
@@ -236,8 +219,8 @@ def region_diagram(body: Body, QR_max: float = 1.0, traj: "Trajectory | None" = 
     ax.set_ylim(window[2], window[3])
     ax.axhline(0, color="0.85", lw=0.5, zorder=0)
     ax.axvline(0, color="0.85", lw=0.5, zorder=0)
-    _scaled_axis(ax.xaxis, r"Routh's quantity $Q_R$", window[:2])
-    _scaled_axis(ax.yaxis, r"Jellett's quantity $Q_J$", window[2:])
+    scaled_axis(ax.xaxis, r"Routh's quantity $Q_R$", window[:2])
+    scaled_axis(ax.yaxis, r"Jellett's quantity $Q_J$", window[2:])
     data = DiagramData(QR_line=lines["QR"], QJ0_line=lines["QJ0"], QJpi_line=lines["QJpi"], window=window)
     data.axes["main"] = ax
     for lab, (qr, qj, _) in spots.items():
@@ -266,7 +249,7 @@ def region_diagram(body: Body, QR_max: float = 1.0, traj: "Trajectory | None" = 
     return fig, data
 
 
-def _scaled_axis(axis, label: str, lim: tuple[float, float]) -> None:
+def scaled_axis(axis, label: str, lim: tuple[float, float]) -> None:
     """Tick labels in units of 10^p with the power in the axis label (no offset text to collide with labels)."""
     from matplotlib.ticker import FuncFormatter, ScalarFormatter
 

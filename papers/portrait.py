@@ -32,7 +32,7 @@ import sys
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -46,7 +46,10 @@ from rocknroller.analysis.slow.map.maps import SlowMap
 from rocknroller.numerics.budget import WORK_BUDGET_SECONDS
 from rocknroller.numerics.megno import MEGNO_CHAOTIC, MIN_SAMPLES, ChaosIndicators
 from rocknroller.papers.output import new_figure, save_figure, write_csv
-from rocknroller.papers.plotting import MEGNO_CLIP, draw_critical_lines
+from rocknroller.papers.plotting import MEGNO_CLIP, draw_critical_lines, scaled_axis
+
+if TYPE_CHECKING:
+    import pandas
 
 __all__ = ["MAX_PORTRAIT_ORBITS", "MAX_ODE_STARTS", "N_P_DEFAULT", "SlowPortrait", "orbit_values", "portrait_values",
            "theta0_of_energy", "slow_portrait", "plot_portrait", "write_portrait"]
@@ -118,6 +121,29 @@ class SlowPortrait:
     def p(self, QR: ArrayLike, QJ: ArrayLike) -> NDArray[np.float64]:
         """p = ∇W(0)·Q of samples (Q_R, Q_J)."""
         return self.grad_W[0] * np.asarray(QR, float) + self.grad_W[1] * np.asarray(QJ, float)
+
+    def to_dataframe(self) -> "pandas.DataFrame":
+        """One row per θ-maximum of the map's orbits, then of the ODE's runs: source (``"map"`` or ``"ode"``), orbit
+        index, its start (Θ0, p0), its MEGNO (missing where not measured, and for the ODE), t, Θ mod 2π, p, Q_R, Q_J
+        (the columns of :func:`write_portrait`'s CSV; needs pandas)."""
+        from rocknroller.analysis.model.frames import dataframe
+
+        megno = self.megno if len(self.chaos) == len(self.orbits) else np.full(len(self.orbits), np.nan)
+        runs = [("map", k, th, p0, m, s.t, s.Theta, s.QR, s.QJ)
+                for k, (s, th, p0, m) in enumerate(zip(self.orbits, self.Theta0, self.p0, megno))]
+        runs += [("ode", k, th, p0, np.nan, m.t, 2.0 * m.psi, m.QR, m.QJ)
+                 for k, (m, (th, p0)) in enumerate(zip(self.ode, self.ode_starts))]
+        n = [len(r[5]) for r in runs]
+        cols: dict[str, Any] = {name: np.repeat(np.array([r[i] for r in runs], dtype=object if i == 0 else None), n)
+                                for i, name in enumerate(("source", "orbit", "Theta0", "p0", "megno"))}
+        t, Th, QR, QJ = (np.concatenate([r[i] for r in runs]) for i in (5, 6, 7, 8))
+        cols.update(megno=np.ma.masked_invalid(cols["megno"]), t=t, Theta=np.mod(Th, 2.0 * math.pi),
+                    p=self.p(QR, QJ), QR=QR, QJ=QJ)
+        return dataframe(cols)
+
+    def plot(self, values: ArrayLike | None = None, **kwargs: Any) -> Any:
+        """The portrait's figure (:func:`plot_portrait`, with its ``values``, ``cmap`` and ``orbits``); returns it."""
+        return plot_portrait(self, values, **kwargs)
 
 
 def orbit_values(orbits: Sequence[Any], values: ArrayLike | None = None) -> tuple[NDArray[np.float64], str]:
@@ -336,10 +362,14 @@ def plot_portrait(portrait: SlowPortrait, values: ArrayLike | None = None, *, cm
                   orbits: Sequence[Any] | None = None) -> Any:
     """Draw the portrait: (Θ mod 2π, p) on the left, (Q_R, Q_J) over the critical lines on the right; the map's
     orbits as dots coloured by :func:`portrait_values` (by default their MEGNO, clipped to [0, ``MEGNO_CLIP``], grey
-    where not measured), the release line p = 0 (and its point Q = 0), and the ODE's maxima as black crosses.
-    Returns the figure."""
+    where not measured), the release line p = 0 (and its point Q = 0), and the ODE's maxima as black crosses.  The
+    dots are drawn in the order of their values, the grey ones first: higher values over lower, so that the chaotic
+    orbits (MEGNO > 3) are not hidden under the regular ones where their maxima share the (Q_R, Q_J) line.  The
+    (Q_R, Q_J) axes are labelled in units of a power of ten (:func:`rocknroller.papers.plotting.scaled_axis`) with at
+    most six ticks, so their labels stay apart.  Returns the figure."""
     import matplotlib
     from matplotlib import colors
+    from matplotlib.ticker import MaxNLocator
 
     vals, label = portrait_values(portrait, values, orbits)
     megno = label == "MEGNO"
@@ -355,6 +385,8 @@ def plot_portrait(portrait: SlowPortrait, values: ArrayLike | None = None, *, cm
     c = np.concatenate([np.full(s.t.size, v) for s, v in zip(portrait.orbits, vals)] + [np.empty(0)])
     QR, QJ, Th = (np.concatenate([getattr(s, k) for s in portrait.orbits] + [np.empty(0)])
                   for k in ("QR", "QJ", "Theta"))
+    order = np.argsort(np.where(np.isnan(c), -np.inf, c), kind="stable")  # the highest values drawn last, on top
+    c, QR, QJ, Th = c[order], QR[order], QJ[order], Th[order]
     dots = dict(c=c, s=0.6, cmap=cm, norm=norm, linewidths=0, rasterized=True)
     ax_p.scatter(np.mod(Th, 2.0 * math.pi), portrait.p(QR, QJ), **dots)
     ax_q.scatter(QR, QJ, **dots)
@@ -374,8 +406,9 @@ def plot_portrait(portrait: SlowPortrait, values: ArrayLike | None = None, *, cm
     ax_q.plot([0.0], [0.0], "o", color="tab:orange", ms=4, label="release from rest (Q = 0)")
     qj_pad = 0.05 * max(float(np.ptp(QJ_all)), 1e-12)
     ax_q.set_ylim(float(QJ_all.min()) - qj_pad, float(QJ_all.max()) + qj_pad)
-    ax_q.set_xlabel("$Q_R$")
-    ax_q.set_ylabel("$Q_J$")
+    ax_q.xaxis.set_major_locator(MaxNLocator(nbins=6))
+    scaled_axis(ax_q.xaxis, "$Q_R$", ax_q.get_xlim())
+    scaled_axis(ax_q.yaxis, "$Q_J$", ax_q.get_ylim())
     ax_q.legend(fontsize=7, loc="upper left")
     from matplotlib.cm import ScalarMappable
 

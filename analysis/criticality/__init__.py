@@ -12,4 +12,6 @@ In the order data flows through them:
     Turning-point starts on a critical line or at a distance from it, and the seed paper's recession starts.
 ``reversals``
     The regions at every turning point of a direct run and its critical crossings (paper §Recession).
+``drawing``
+    The critical lines drawn on a (Q_R, Q_J) axes in the styles of paper fig. 4 (for the result types' ``plot``).
 """

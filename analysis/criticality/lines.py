@@ -22,7 +22,7 @@ from rocknroller.analysis.routh.reduction import check_invariants, u_ends
 
 __all__ = [
     "REGIONS", "ON_LINE_0", "ON_LINE_PI", "ON_BOTH", "LINES", "REGION_TOL", "QJ_crit_0", "QJ_crit_pi", "QJ_crit",
-    "region", "region_from_offsets", "side_code"
+    "region", "region_fractions", "region_from_offsets", "side_code"
 ]
 
 REGIONS = ("I", "II", "III", "IV")
@@ -148,6 +148,29 @@ def region(QR: ArrayLike, QJ: ArrayLike, body: Body, tol: float = REGION_TOL) ->
     out[onpi] = ON_LINE_PI
     out[on0 & onpi] = ON_BOTH
     return str(out) if out.ndim == 0 else out
+
+
+def region_fractions(QR: ArrayLike, QJ: ArrayLike, body: Body, tol: float = REGION_TOL) -> dict[str, float]:
+    """The fraction of the samples (Q_R, Q_J) (the θ-maxima of a run, for example ``run.maxima.QR``,
+    ``run.maxima.QJ`` of a :class:`~rocknroller.numerics.ensembles.ensemble.RunSummary`) in each critical region I–IV and on
+    each line, by :func:`region` (with its ``tol``).
+
+    Returns
+    -------
+    dict
+        ``{label: fraction}`` for every label of :func:`region`, the regions ``REGIONS`` first, then ``ON_LINE_0``,
+        ``ON_LINE_PI``, ``ON_BOTH``; the fractions sum to 1.
+
+    Raises
+    ------
+    ValueError
+        No samples, Q_R and Q_J of different shapes, or a sample that is not finite.
+    """
+    if np.shape(QR) != np.shape(QJ) or np.size(QR) == 0:
+        raise ValueError(f"QR and QJ must be samples of one shape, at least one, got shapes {np.shape(QR)} and "
+                         f"{np.shape(QJ)}")
+    reg = np.asarray(region(QR, QJ, body, tol)).reshape(-1)
+    return {lab: np.count_nonzero(reg == lab) / reg.size for lab in REGIONS + (ON_LINE_0, ON_LINE_PI, ON_BOTH)}
 
 
 def _strict_regions(QR: NDArray, QJ: NDArray, body: Body, allowed: tuple[str, ...], what: str) -> NDArray:

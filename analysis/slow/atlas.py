@@ -38,7 +38,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass, field, replace
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -49,6 +49,9 @@ from rocknroller.analysis.slow import prediction as av
 from rocknroller.numerics.budget import REGION_TABLE_SECONDS, RELEASE_TABLE_SECONDS, WORK_BUDGET_SECONDS, check_work
 from rocknroller.numerics.megno import MEGNO_CHAOTIC
 from rocknroller.numerics.parallel import check_processes, map_blocks
+
+if TYPE_CHECKING:
+    import pandas
 
 __all__ = [
     "ATLAS_OBSERVABLES", "CHAOS_OBSERVABLES", "PLANES", "METHODS", "MAX_ATLAS_POINTS", "MAX_ODE_ATLAS_POINTS", "Atlas",
@@ -153,6 +156,20 @@ class Atlas:
     def col_name(self) -> str:
         """The initial value along the columns: ``"psi0"`` or ``"phi_dot0"``."""
         return PLANES[self.plane][1]
+
+    def to_dataframe(self) -> "pandas.DataFrame":
+        """One row per grid point: its row and column values and the observables, missing where masked (pandas)."""
+        from rocknroller.analysis.model.frames import dataframe
+
+        R, C = np.meshgrid(self.rows, self.cols, indexing="ij")
+        return dataframe({self.row_name: R, self.col_name: C, **{n: self.values[n] for n in self.observables}})
+
+    def plot(self, fig: Any = None) -> Any:
+        """The observables on ``fig`` (a new pyplot figure without one) as lines or heat maps; returns the figure
+        (:func:`rocknroller.analysis.slow.result_plots.plot_atlas_panels`)."""
+        from rocknroller.analysis.slow.result_plots import plot_atlas_panels
+
+        return plot_atlas_panels(self, fig)
 
     def state(self, i: int, j: int) -> EulerState:
         """The initial state of grid point (row i, column j)."""

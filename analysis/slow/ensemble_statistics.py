@@ -37,7 +37,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass, field
-from typing import Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -49,6 +49,9 @@ from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.slow import prediction as av
 from rocknroller.analysis.slow.atlas import reversal_counts
 from rocknroller.numerics.budget import WORK_BUDGET_SECONDS
+
+if TYPE_CHECKING:
+    import pandas
 
 __all__ = ["STATISTICS", "DISTRIBUTION_STATISTICS", "KS_ALPHA", "N_STANDARD_ERRORS", "MAX_MEMBERS", "StartBall", "member_statistics",
            "EnsembleStatistics", "map_ensemble", "ode_ensemble", "StatisticComparison", "EnsembleComparison",
@@ -206,6 +209,20 @@ class EnsembleStatistics:
         if name not in self.values:
             raise ValueError(f"name must be one of {STATISTICS}, got name={name!r}")
         return self.values[name]
+
+    def to_dataframe(self) -> "pandas.DataFrame":
+        """One row per member: its ψ0 (``ball.psi0_values()``), its rocks within t_end and its ``STATISTICS``
+        (needs pandas)."""
+        from rocknroller.analysis.model.frames import dataframe
+
+        return dataframe({"psi0": self.ball.psi0_values(), "rocks": self.rocks, **self.values})
+
+    def plot(self, fig: Any = None) -> Any:
+        """Histograms of the statistics over the members, one panel each, on ``fig`` (a new pyplot figure without
+        one; :func:`rocknroller.analysis.slow.result_plots.plot_statistics`).  Returns the figure."""
+        from rocknroller.analysis.slow.result_plots import plot_statistics
+
+        return plot_statistics(self, fig)
 
 
 def _collect(method: str, body: Body, ball: StartBall, t_end: float, members: list[dict[str, float]],
@@ -371,6 +388,23 @@ class EnsembleComparison:
             if s.name == name:
                 return s
         raise ValueError(f"name must be one of {STATISTICS}, got name={name!r}")
+
+    def to_dataframe(self) -> "pandas.DataFrame":
+        """One row per statistic: the fields of its :class:`StatisticComparison` (needs pandas)."""
+        from dataclasses import fields
+
+        from rocknroller.analysis.model.frames import dataframe
+
+        return dataframe({f.name: [getattr(s, f.name) for s in self.statistics]
+                          for f in fields(StatisticComparison)})
+
+    def plot(self, fig: Any = None) -> Any:
+        """Both ensembles' histograms on shared bins, one panel per statistic titled with its test's outcome, on
+        ``fig`` (a new pyplot figure without one; :func:`rocknroller.analysis.slow.result_plots.plot_comparison`).
+        Returns the figure."""
+        from rocknroller.analysis.slow.result_plots import plot_comparison
+
+        return plot_comparison(self, fig)
 
 
 def _compare_one(name: str, x: NDArray[np.float64], y: NDArray[np.float64], alpha: float,

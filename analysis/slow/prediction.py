@@ -174,6 +174,8 @@ class SlowPrediction:
         fewer than ``MIN_SAMPLES`` = 8 maxima (too short to measure), and with ``indicators=False``.
     error_probe : the map's own per-step error along the run, computed when the horizon is first asked for
         (:class:`rocknroller.analysis.slow.dynamics.chaos.StepErrorProbe`); None where ``chaos`` is.
+    body : the symmetric body of the map's tables (whose critical lines :meth:`plot` draws); None for a prediction
+        made by hand without it.
 
     Examples
     --------
@@ -206,6 +208,7 @@ class SlowPrediction:
     order: int = 1
     chaos: ChaosIndicators | None = None
     error_probe: StepErrorProbe | None = field(default=None, repr=False, compare=False)
+    body: Body | None = field(default=None, repr=False)
 
     @property
     def regular(self) -> bool | None:
@@ -253,16 +256,13 @@ class SlowPrediction:
         return frame
 
     def plot(self, ax: Any = None) -> Any:
-        """Draw the predicted (Q_R, Q_J) at the θ-maxima on ``ax`` (a new pyplot figure without one); returns
-        the axes.  Over the critical lines: :func:`rocknroller.papers.plotting.draw_critical_lines`."""
-        if ax is None:
-            import matplotlib.pyplot as plt
+        """Draw the predicted (Q_R, Q_J) at the θ-maxima on ``ax`` (a new pyplot figure without one, its layout
+        constrained so that no label is cut off) over the critical lines Q_J,π^crit and Q_J,0^crit of its ``body``
+        (paper eqs. QJcrit_pi, QJcrit_0; :func:`rocknroller.analysis.slow.result_plots.plot_prediction`), with a
+        legend; the axes keep the samples' range.  Returns the axes."""
+        from rocknroller.analysis.slow.result_plots import plot_prediction
 
-            _, ax = plt.subplots(figsize=(5, 4))
-        ax.plot(self.series.QR, self.series.QJ, ".", ms=3, color="k", label="averaged map (maxima)")
-        ax.set_xlabel("$Q_R$")
-        ax.set_ylabel("$Q_J$")
-        return ax
+        return plot_prediction(self, ax)
 
 
 def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | None = None,
@@ -377,7 +377,7 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
             QJ_extent=0.0, Phi=0.0, line_slope=None,
             series=SlowSeries(t=t, QR=zero, QJ=zero.copy(), Theta=np.full_like(t, 2.0 * psi0), phi=zero.copy()),
             regions=np.full(t.size, ON_BOTH, dtype=object), region_runs=[], crossings=[], pure_rocking=True,
-            order=order)
+            order=order, body=table.body)
     if order == 2:
         from rocknroller.analysis.slow.map.second_order import load_or_build_second_order_table
 
@@ -443,7 +443,7 @@ def _prediction(eps: float, theta0: float, psi0: float, t_end: float, K: float, 
         slow_period=slow_period(series.t, series.Theta) if series.t.size >= 3 else None,
         QR_extent=span(series.QR), QJ_extent=span(series.QJ), Phi=azimuth_span(series.phi),
         line_slope=line_slope(series.QR, series.QJ),
-        series=series, regions=regions, region_runs=runs, crossings=crossings, start=start)
+        series=series, regions=regions, region_runs=runs, crossings=crossings, start=start, body=sym)
 
 
 def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: SlowMapTable | None,

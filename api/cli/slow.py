@@ -324,7 +324,8 @@ def _finish(args: argparse.Namespace, body: Any, pred: Any, pend: Any, start: An
                                                 relative_errors(pend, ode)[q] for q in _QUANTITIES}
     summary.update(_chaos_summary(pred))
     summary.update(statistics_summary(args, body, pred, summary, release=start is None))
-    written = _plot(pred, ode, body, theta0, psi0, args.plot) if args.plot is not None else []
+    horizon = None if summary["horizon"] is None else summary["horizon"]["t"]
+    written = _plot(pred, ode, body, theta0, psi0, horizon, args.plot) if args.plot is not None else []
     if args.csv is not None:
         written.append(_write_csv(args.csv / CSV_NAME, pred, body, summary))
         if summary["statistics"] is not None:
@@ -454,30 +455,38 @@ def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: flo
               f"{', '.join(f'{lab}:{n}' for lab, n, _ in s['ode']['region_runs'])}")
 
 
-def _plot(pred, ode, body, theta0: float, psi0: float, out: Path) -> list[Path]:
+def _figure(pred, ode, body, theta0: float, psi0: float, horizon: float | None) -> Any:
+    """The --plot figure: the (Q_R, Q_J) at the maxima by the ODE and the map over the critical lines
+    (:meth:`SlowPrediction.plot`), ψ mod π at the maxima against t with the predictability horizon (if defined): a
+    line at it and the shaded span past it, where the map's points are statistical only (after t_end: named in the
+    legend)."""
     import numpy as np
 
-    from rocknroller.papers.output import new_figure, save_figure
-    from rocknroller.papers.plotting import draw_critical_lines
+    from rocknroller.papers.output import new_figure
 
     fig = new_figure(figsize=(11, 4.2))
     ax1, ax2 = fig.subplots(1, 2)
     ax1.plot(ode.QR, ode.QJ, "o", ms=5, mfc="none", color="tab:red", label="direct ODE (maxima)")
-    ax1.plot(pred.series.QR, pred.series.QJ, ".", ms=3, color="k", label="averaged map")
-    lo, hi = min(ode.QR.min(), pred.series.QR.min()), max(ode.QR.max(), pred.series.QR.max())
-    pad = 0.15 * max(hi - lo, 1e-12)
-    ylim = ax1.get_ylim()
-    draw_critical_lines(ax1, body, lo - pad, hi + pad)
-    ax1.set_ylim(ylim)
+    pred.plot(ax=ax1)
     ax1.set_xlabel("$Q_R$ at the maxima of $\\theta$")
-    ax1.set_ylabel("$Q_J$")
-    ax1.ticklabel_format(style="sci", scilimits=(-2, 2))
     ax1.legend(fontsize=8, loc="best")
     ax2.plot(ode.t, np.mod(0.5 * ode.Theta, np.pi), "o", ms=4, mfc="none", color="tab:red", label="direct ODE")
     ax2.plot(pred.series.t, pred.series.psi_mod_pi, ".", ms=3, color="k", label="averaged map")
+    if horizon is not None and horizon < pred.t_end:
+        ax2.axvline(horizon, color="tab:purple", lw=1.2, label=f"predictability horizon t = {horizon:.4g}")
+        ax2.axvspan(horizon, pred.t_end, color="tab:purple", alpha=0.08, lw=0, label="past it: statistical only")
+        ax2.set_xlim(0.0, pred.t_end)
+    elif horizon is not None:  # named in the legend, beyond the axis
+        ax2.plot([], [], " ", label=f"predictability horizon t = {horizon:.4g} (after t_end)")
     ax2.set_xlabel("t")
     ax2.set_ylabel("$\\psi$ mod $\\pi$ at the maxima")
     ax2.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.0, 1.0))
     fig.suptitle(f"slow motion: eps={body.epsilon:.3g}, theta0={theta0:.4g}, psi0={psi0:.4g}", fontsize=10)
     fig.tight_layout()
-    return save_figure(fig, out, "slow_orbit")
+    return fig
+
+
+def _plot(pred, ode, body, theta0: float, psi0: float, horizon: float | None, out: Path) -> list[Path]:
+    from rocknroller.papers.output import save_figure
+
+    return save_figure(_figure(pred, ode, body, theta0, psi0, horizon), out, "slow_orbit")

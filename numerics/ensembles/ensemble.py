@@ -39,7 +39,7 @@ import re
 import sys
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass, field
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Sequence
 
 import numpy as np
 
@@ -49,6 +49,9 @@ from rocknroller.numerics.ensembles.batch import MAX_LANES, MIN_LANES, batch_int
 from rocknroller.numerics.budget import HEYOKA_SECONDS_PER_RADIAN, WORK_BUDGET_SECONDS, check_work
 from rocknroller.numerics.integrate import check_run, heyoka_integrator, simulate
 from rocknroller.numerics.trajectory import TurningPointRun, TurningPoints
+
+if TYPE_CHECKING:
+    import pandas
 
 __all__ = ["Job", "RunSummary", "run_job", "run_jobs", "run_ensemble", "check_cluster", "MAX_JOBS", "MAX_WORKERS", "MAX_THREADS",
            "DISTRIBUTED_HINT"]
@@ -141,6 +144,10 @@ class RunSummary:
     n_steps : int
         Integration steps taken.
 
+    The fraction of the maxima in each critical region, by the package's classifier ``region``:
+    ``rr.region_fractions(run.maxima.QR, run.maxima.QJ, body)``
+    (:func:`rocknroller.analysis.criticality.lines.region_fractions`).
+
     Examples
     --------
     >>> import math
@@ -171,6 +178,20 @@ class RunSummary:
     def n_maxima(self) -> int:
         """Number of θ-maxima in the run."""
         return len(self.maxima)
+
+    def to_dataframe(self) -> "pandas.DataFrame":
+        """One row per θ-maximum: t, θ, φ, ψ, Q_R, Q_J (:meth:`TurningPoints.to_dataframe`; needs pandas)."""
+        return self.maxima.to_dataframe()
+
+    def plot(self, ax: Any = None, kind: str = "orbit") -> Any:
+        """Draw the θ-maxima on ``ax`` (a new pyplot figure without one): ``"orbit"`` their (Q_R, Q_J), ``"phi"`` φ
+        against time (paper fig. 5).  Returns the axes."""
+        from rocknroller.numerics import trajectory_plots as tp
+
+        plots: dict[str, Callable[..., Any]] = {"orbit": tp.plot_invariant_orbit, "phi": tp.plot_phi_at_maxima}
+        if kind not in plots:
+            raise ValueError(f"kind must be one of {list(plots)}, got kind={kind!r}")
+        return plots[kind](self, ax=ax)
 
 
 def run_job(job: Job) -> RunSummary:

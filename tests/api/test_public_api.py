@@ -94,6 +94,8 @@ PUBLIC_NAMES = [
     "slow_portrait", "write_portrait", "SlowPortrait",
     # issue 32, item 20: the slow map and the exact map as objects
     "SlowMap", "ExactMap",
+    # issue 32, item 14: the region fractions of a run's maxima (run_ensemble's summaries)
+    "region_fractions",
 ]
 
 

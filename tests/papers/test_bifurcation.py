@@ -37,3 +37,26 @@ def test_bad_input():
         bifurcation_data(Body.paper(0.0), THETA0, n_points=2)
     with pytest.raises(ValueError, match="theta0"):
         bifurcation_data(Body.paper(0.0), 0.5 * math.pi)
+
+
+def test_figure_has_a_legend_inside_it(tmp_path):
+    """The legend names the three branches (stable-axis rocking, unstable-axis rocking, the period-2 orbit) and the
+    line and marker styles, in the colours they are drawn in, and lies inside the figure."""
+    from matplotlib.lines import Line2D
+
+    from figure_checks import inside, legend_texts, legends
+    from rocknroller.papers.bifurcation import bifurcation_figure
+
+    d = bifurcation_data(Body.paper(0.0), THETA0, n_points=9, exact_fractions=(1.2,))
+    fig = bifurcation_figure([d])
+    fig.savefig(tmp_path / "bifurcation.png")
+    texts = " | ".join(legend_texts(fig))
+    for words in ("stable axis", "unstable axis", "period-2", "exact map", "slow map"):
+        assert words in texts
+    assert all(inside(fig, leg) for leg in legends(fig))
+    (leg,) = legends(fig)
+    drawn = {line.get_color() for ax in fig.axes for line in ax.get_lines() if line.get_linestyle() != "None"}
+    named = {h.get_color() for h, t in zip(leg.legend_handles, leg.get_texts()) if "orbit" in t.get_text()
+             or "axis" in t.get_text()}
+    assert named == {"C0", "C1", "C2"} and named <= drawn
+    assert all(isinstance(h, Line2D) for h in leg.legend_handles)

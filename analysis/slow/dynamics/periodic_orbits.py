@@ -46,7 +46,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -57,6 +57,9 @@ from rocknroller.analysis.slow.map.chart import TABLE_FUNCTIONS, SlowMapTable
 from rocknroller.analysis.slow.map.limits import (K_PERIOD_DOUBLING, AveragingRangeError, eps_period_doubling,
                                               stable_rocking_psi)
 from rocknroller.analysis.slow.map.maps import EVALUATION_ULPS, ExactMap, SlowMap
+
+if TYPE_CHECKING:
+    import pandas
 
 __all__ = ["MAPS", "K_MAX", "PeriodicOrbitError", "PeriodicOrbit", "periodic_orbit", "Branch", "continue_orbit",
            "greene_residue"]
@@ -145,6 +148,25 @@ class PeriodicOrbit:
     periodicity: float
     iterations: int
 
+    def to_dataframe(self) -> "pandas.DataFrame":
+        """One row per point of the orbit: map, order, ε, K, the point's index, (u, v, Θ), Q_R, Q_J, the kick phase,
+        and the orbit's residue and stability (needs pandas)."""
+        from rocknroller.analysis.model.frames import dataframe
+
+        n = self.period
+        return dataframe({"map": [self.map] * n, "order": np.full(n, self.order), "eps": np.full(n, self.eps),
+                          "K": np.full(n, self.K), "point": np.arange(n), "u": self.points[:, 0],
+                          "v": self.points[:, 1], "Theta": self.points[:, 2], "QR": self.Q[:, 0], "QJ": self.Q[:, 1],
+                          "kick_phase": self.kick_phase, "residue": np.full(n, self.residue),
+                          "stable": np.full(n, self.stable)})
+
+    def plot(self, ax: Any = None) -> Any:
+        """Draw the orbit's points in the (Q_R, Q_J) plane on ``ax`` (a new pyplot figure without one; filled if
+        stable), its period, ε and residue in the legend.  Returns the axes."""
+        from rocknroller.analysis.slow.result_plots import plot_periodic_orbit
+
+        return plot_periodic_orbit(self, ax)
+
 
 @dataclass(frozen=True)
 class Branch:
@@ -184,6 +206,26 @@ class Branch:
     def kick_phase(self) -> NDArray[np.float64]:
         """ϑ of the points, shape (len(orbits), period)."""
         return np.array([o.kick_phase for o in self.orbits])
+
+    def to_dataframe(self) -> "pandas.DataFrame":
+        """One row per point of every orbit, in the order of ε (:meth:`PeriodicOrbit.to_dataframe`; needs pandas)."""
+        from rocknroller.analysis.model.frames import dataframe
+
+        frames = [o.to_dataframe() for o in self.orbits]  # a clear ImportError without pandas
+        if not frames:
+            return dataframe({})
+        import pandas as pd
+
+        return pd.concat(frames, ignore_index=True)
+
+    def plot(self, ax: Any = None, kind: str = "kick_phase", **kwargs: Any) -> Any:
+        """Draw the branch against ε on ``ax`` (a new pyplot figure without one): ``"kick_phase"`` ϑ of each point
+        or ``"residue"`` Greene's residue, solid where stable and dashed where not
+        (:func:`rocknroller.analysis.slow.result_plots.plot_branch`, which takes ``x_scale``, ``color`` and
+        ``label``).  Returns the axes."""
+        from rocknroller.analysis.slow.result_plots import plot_branch
+
+        return plot_branch(self, ax, kind, **kwargs)
 
 
 class _Problem:
