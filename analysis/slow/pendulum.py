@@ -203,6 +203,7 @@ def pendulum_constants(body: Body, theta0: float, *, rtol: float = 1e-10) -> Pen
     RuntimeError
         The rule does not converge inside that range (possible for bodies other than the paper's).
     """
+    body.require_gravity("the pendulum constants of the slow motion")
     theta0 = _check_theta0(theta0)
     sym = body.symmetric()
     E0 = rest_energy(sym, theta0)

@@ -105,6 +105,7 @@ def map_period_doubling(body: Body, theta0: float, order: int = 2, *, rtol: floa
     ValueError
         ``order`` not 1 or 2, θ0 outside ``THETA0_RANGE``, or no root near 4/κ.
     """
+    body.require_gravity("the period doubling of the rocking")
     from rocknroller.analysis.slow.second_order import load_or_build_second_order_table
     from rocknroller.analysis.slow.table import load_or_build_table
 
@@ -164,6 +165,7 @@ def period_doubling(body: Body, theta0: float, *, rtol: float = 1e-10) -> Period
         θ0 outside ``THETA0_RANGE``; or no sign change of det(J + 1) within [0.8, 1.25] × 4/κ, or a bracket
         beyond the largest ε the moments allow (I2 < I3), naming it.
     """
+    body.require_gravity("the period doubling of the rocking")
     from rocknroller.analysis.slow.table import load_or_build_table
 
     table = load_or_build_table(body, theta0)

@@ -314,6 +314,7 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
     AveragingValidityWarning
         If K = ε κ > 4 (pure rocking about the stable axis has period-doubled).
     """
+    body.require_gravity("the slow-motion prediction")
     if order is None:
         order = default_order(theta0)
     if order not in (1, 2) or isinstance(order, bool):
