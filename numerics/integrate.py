@@ -47,9 +47,11 @@ Accuracy ranges (dimensionless, unit mass and radius; outside them the run is re
 * moments I1, I2, I3 in ``MOMENT_RANGE`` = [1e-3, 1e3]: the mass matrix K = diag(I) + |r|² − r rᵀ has
   condition number ≈ (1 + a)²/I_min, and the energy error grows as 1/I_min (measured over 100 time
   units: 6e-16 at I ~ 0.4, 4e-14 at 4e-4, 3e-11 at 4e-7, 3e-9 at 4e-9);
-* g in ``G_RANGE`` = [1e-12, 1e12]: g only sets the unit of time, but products of g with the rates
+* g = 0 or g in ``G_RANGE`` = [1e-12, 1e12]: g only sets the unit of time, but products of g with the rates
   squared must stay far from overflow and underflow;
-* E/g ≤ ``MAX_ENERGY_OVER_G`` = 1e12 (the energy in units of m g R), for the same reason;
+* E/g ≤ ``MAX_ENERGY_OVER_G`` = 1e12 (the energy in units of m g R), for the same reason; without gravity (g = 0)
+  the energy alone sets the unit of time, and E must lie in ``ENERGY_RANGE_NO_GRAVITY`` = [1e-12, 1e12] (units of
+  m R² per unit time squared: the rates squared, |ω|² ~ 2E/I, stay far from overflow and underflow);
 * the amplitude of θ at least ``THETA_MIN`` (see "Turning points").
 
 Every run's energy error is checked against the tolerance asked for
@@ -76,7 +78,7 @@ from rocknroller.numerics.budget import (DOP853_SECONDS_PER_RADIAN, HEYOKA_EXTEN
 from rocknroller.numerics.cache import CacheWarning, cache_dir  # re-exported
 from rocknroller.numerics.events import THETA_MIN
 from rocknroller.numerics.run_limits import (DT_RADIANS, G_RANGE, MAX_DENSE_RADIANS, MAX_DENSE_STEPS,  # re-exported
-                                             MAX_ENERGY_OVER_G, MAX_GRID_POINTS, MAX_RADIANS, MAX_SAMPLES,
+                                             ENERGY_RANGE_NO_GRAVITY, MAX_ENERGY_OVER_G, MAX_GRID_POINTS, MAX_RADIANS, MAX_SAMPLES,
                                              MOMENT_RANGE, UNWRAP_RADIANS, RunPlan, check_run, default_dt,
                                              rate_bound)
 from rocknroller.numerics.trajectory import (Trajectory, TurningPointRun, TurningPoints, _Samples, energy_error_bound,
@@ -86,7 +88,7 @@ __all__ = [
     "simulate", "check_run", "finish_run", "check_energy_error", "check_theta_resolved", "check_diskcache", "RunPlan", "heyoka_integrator", "default_dt", "cache_dir", "rate_bound", "AccuracyWarning",
     "AccuracyError", "CacheWarning", "MAX_SAMPLES", "MAX_DENSE_RADIANS", "MAX_DENSE_STEPS", "MAX_RADIANS",
     "MAX_GRID_POINTS", "GRID_CHUNK_POINTS", "UNWRAP_RADIANS", "DT_RADIANS", "GRID_BYTES_PER_POINT", "MOMENT_RANGE",
-    "G_RANGE", "MAX_ENERGY_OVER_G"
+    "G_RANGE", "MAX_ENERGY_OVER_G", "ENERGY_RANGE_NO_GRAVITY"
 ]
 
 _METHODS = ("heyoka", "scipy")

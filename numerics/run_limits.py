@@ -2,7 +2,7 @@
 
 The work and memory of a run scale with Λ·t_end (:func:`rate_bound`); :func:`check_run` refuses a run past
 ``MAX_SAMPLES``, ``MAX_DENSE_RADIANS``, ``MAX_RADIANS`` or ``MAX_GRID_POINTS``, a body outside the accuracy ranges
-``MOMENT_RANGE``, ``G_RANGE`` and ``MAX_ENERGY_OVER_G``, a start without motion and one whose energy keeps its tilt
+``MOMENT_RANGE``, ``G_RANGE``, ``MAX_ENERGY_OVER_G`` and ``ENERGY_RANGE_NO_GRAVITY``, a start without motion and one whose energy keeps its tilt
 below ``THETA_MIN``, with a ``ValueError`` that names the parameter and the limit.  The module docstring of
 :mod:`rocknroller.numerics.integrate` derives each limit.
 """
@@ -21,8 +21,8 @@ from rocknroller.analysis.model.invariants import energy
 from rocknroller.numerics.events import _U, THETA_MIN
 
 __all__ = ["check_run", "RunPlan", "rate_bound", "default_dt", "MAX_SAMPLES", "MAX_DENSE_RADIANS", "MAX_DENSE_STEPS",
-           "MAX_RADIANS", "MAX_GRID_POINTS", "MOMENT_RANGE", "G_RANGE", "MAX_ENERGY_OVER_G", "DT_RADIANS",
-           "UNWRAP_RADIANS"]
+           "MAX_RADIANS", "MAX_GRID_POINTS", "MOMENT_RANGE", "G_RANGE", "MAX_ENERGY_OVER_G",
+           "ENERGY_RANGE_NO_GRAVITY", "DT_RADIANS", "UNWRAP_RADIANS"]
 
 MAX_SAMPLES = 2_000_000
 MAX_DENSE_RADIANS = 3.0e5
@@ -32,6 +32,7 @@ MAX_GRID_POINTS = 2.0e8
 MOMENT_RANGE = (1e-3, 1e3)
 G_RANGE = (1e-12, 1e12)
 MAX_ENERGY_OVER_G = 1e12
+ENERGY_RANGE_NO_GRAVITY = (1e-12, 1e12)
 #: Default output spacing in radians of Λ (≈ 0.05 time units for the paper's runs).
 DT_RADIANS = 0.15
 #: Default spacing, in radians of Λ, of the grid on which a run with ``samples=False`` unwraps φ and ψ and checks the
@@ -71,19 +72,24 @@ def _validate(body: Body, initial: EulerState, t_end: float) -> tuple[NDArray[np
         if not lo <= getattr(body, name) <= hi:
             raise ValueError(f"{name} must lie in [{lo:g}, {hi:g}] (units of m R^2) for the integrator to be "
                              f"accurate (the energy error grows as 1/I_min), got {name}={getattr(body, name)!r}")
-    if not G_RANGE[0] <= body.g <= G_RANGE[1]:
-        raise ValueError(f"g must lie in [{G_RANGE[0]:g}, {G_RANGE[1]:g}] (g only sets the unit of time; "
+    if not (body.g == 0.0 or G_RANGE[0] <= body.g <= G_RANGE[1]):
+        raise ValueError(f"g must be 0 or lie in [{G_RANGE[0]:g}, {G_RANGE[1]:g}] (g only sets the unit of time; "
                          f"rescale time to bring it there), got g={body.g!r}")
     y0 = initial.to_body_state()
     with np.errstate(over="ignore", invalid="ignore"):  # rates of 1e200 overflow E to inf: refused below
         E = float(energy(body, y0[0:3], y0[3:6]))
-    if not E <= MAX_ENERGY_OVER_G * body.g:
+    if body.g > 0.0 and not E <= MAX_ENERGY_OVER_G * body.g:
         raise ValueError(f"the initial rates are too large: the energy E = {E:.3g} exceeds {MAX_ENERGY_OVER_G:g} g "
                          f"(units m g R); reduce the rates (theta_dot, phi_dot, psi_dot or omega)")
-    if not np.any(y0[3:6]) and (body.a == 0.0 or initial.theta in (0.0, math.pi) or not np.any(y0[0:2])):
+    lo_E, hi_E = ENERGY_RANGE_NO_GRAVITY
+    if body.g == 0.0 and np.any(y0[3:6]) and not lo_E <= E <= hi_E:
+        raise ValueError(f"without gravity (g = 0) the energy sets the unit of time and must lie in [{lo_E:g}, "
+                         f"{hi_E:g}], got E = {E:.3g}; scale the rates (theta_dot, phi_dot, psi_dot or omega)")
+    if not np.any(y0[3:6]) and (body.a == 0.0 or body.g == 0.0 or initial.theta in (0.0, math.pi)
+                                or not np.any(y0[0:2])):
         raise ValueError(
             "the initial state has no motion: the body is at rest in an equilibrium (theta0 = 0 or pi, or any "
-            "theta0 when a = 0); give theta0 in (0, pi) with a > 0, or a non-zero rate")
+            "theta0 when a = 0 or g = 0); give theta0 in (0, pi) with a > 0 and g > 0, or a non-zero rate")
     if not E + body.g * body.a > 0.0:
         # Λ = 0: T = ½ ωᵀKω ≥ ½ I_min |ω|² (K ≥ I_min) underflows to 0 when ½ I_min |ω|² is below half the smallest
         # subnormal number, i.e. |ω| < √(2⁻¹⁰⁷⁴/I_min); with g a = 0 nothing else moves the body
@@ -101,9 +107,9 @@ def _check_tilt_resolved(body: Body, initial: EulerState, y0: NDArray[np.float64
 
     V = g a (1 − cos θ) ≤ E bounds the tilt by θ_E, 2 g a sin²(θ_E/2) = E = T + V; in the upper hemisphere V is taken
     as g a (γ1² + γ2²)/(1 + γ3), which keeps its digits where 1 − γ3 rounds to 0 (θ < 1.5e-8), and T = E − g a (1 − γ3)
-    exactly as ``energy`` adds it up.  Without gravity (a = 0) the energy bounds no tilt.
+    exactly as ``energy`` adds it up.  Without a potential (a = 0 or g = 0) the energy bounds no tilt.
     """
-    if body.a == 0.0:
+    if body.a == 0.0 or body.g == 0.0:
         return
     ga = body.g * body.a
     one_minus_c = (y0[0] ** 2 + y0[1] ** 2) / (1.0 + y0[2]) if y0[2] > 0.0 else 1.0 - y0[2]

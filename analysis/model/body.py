@@ -85,7 +85,8 @@ class Body:
         Principal moments of inertia about the mass centre, ``0 < I1 <= I2 < I3``
         and ``I1 + I2 >= I3`` (triangle inequality of a real mass distribution).
     g : float
-        Acceleration of gravity, ``g > 0``.
+        Acceleration of gravity, ``g >= 0`` (``g = 0``: the body rolls in a weightless state, where the energy is the
+        kinetic energy alone; the direct ODE accepts it, the averaged slow motion and the rocking need ``g > 0``).
 
     Raises
     ------
@@ -132,8 +133,8 @@ class Body:
                 "moments must satisfy the triangle inequality I1 + I2 >= I3, "
                 f"got I1 + I2 = {self.I1 + self.I2!r} < I3 = {self.I3!r}"
             )
-        if self.g <= 0.0:
-            raise ValueError(f"g must be > 0, got g={self.g!r}")
+        if self.g < 0.0:
+            raise ValueError(f"g must be >= 0, got g={self.g!r}")
 
     # ------------------------------------------------------------------ constructors
     @classmethod
@@ -226,6 +227,12 @@ class Body:
                 f"{what} holds only for a symmetric body (I1 == I2, epsilon = 0); "
                 f"got I1={self.I1!r}, I2={self.I2!r} (epsilon={self.epsilon:.3g}). Use body.symmetric()."
             )
+
+    def require_gravity(self, what: str) -> None:
+        """Raise ``ValueError`` unless g > 0 (for results that need gravity: the rocking, the averaged slow motion)."""
+        if not self.g > 0.0:
+            raise ValueError(f"gravity is needed for {what}: g must be > 0, got g={self.g!r} (without gravity the body "
+                             f"does not rock about an equilibrium; the direct ODE, simulate, takes g = 0)")
 
     @property
     def params(self) -> tuple[float, float, float, float, float]:

@@ -1,6 +1,8 @@
-"""Energy, Jellett's and Routh's quantities, and the angular rates of Routh's sphere.
+"""Energy, Jellett's and Routh's quantities, the angular momentum about the contact point and Borisov and Mamaev's
+quantity M² − 2K r², and the angular rates of Routh's sphere.
 
-Paper eqs. (energy), (jellett), (routh), (measure), (phidotCJQR), (psidotCJQR).
+Paper eqs. (energy), (jellett), (routh), (measure), (phidotCJQR), (psidotCJQR); the paper's conclusion for
+M² − 2K r² (docs/theory/further_integral.md).
 For the asymmetric body the paper's definitions (eq. JelletandRouth_Qtys) are
 kept: Q_J = I1 s ω2' + I3 f ω3' and Q_R = ω3'/ρ.  In body components
 s ω2' = γ1 ω1 + γ2 ω2 and ω3' = ω3, so every function here is smooth at θ = 0.
@@ -16,7 +18,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.model.body import Body
 
-__all__ = ["rho", "rho_inv", "rho_inv_sq", "energy", "jellett", "routh", "invariants", "V_phi", "V_psi"]
+__all__ = ["rho", "rho_inv", "rho_inv_sq", "energy", "jellett", "routh", "invariants", "contact_momentum",
+           "borisov_mamaev", "V_phi", "V_psi"]
 
 
 def rho_inv_sq(body: Any, s2: Any, f: Any) -> Any:
@@ -61,6 +64,38 @@ def routh(body: Body, gamma: ArrayLike, omega: ArrayLike) -> NDArray[np.float64]
     g1, g2, g3 = np.asarray(gamma, float)
     w3 = np.asarray(omega, float)[2]
     return w3 * rho_inv(body, g1 * g1 + g2 * g2, g3 - body.a)
+
+
+def contact_momentum(body: Body, gamma: ArrayLike, omega: ArrayLike) -> NDArray[np.float64]:
+    """Angular momentum about the contact point, M = I ω + r × (ω × r) = K(γ) ω, r = γ − a e3, in body components.
+
+    K(γ) = diag(I) + (r·r) 1 − r rᵀ is the mass matrix of the direct equations
+    (:func:`rocknroller.analysis.model.equations.body_frame_rhs`); shape (3, ...) like ``omega``.
+    """
+    g1, g2, g3 = np.asarray(gamma, float)
+    w = np.asarray(omega, float)
+    r = np.array([g1, g2, g3 - body.a])
+    rr, rw = np.sum(r * r, axis=0), np.sum(r * w, axis=0)
+    inertia = np.array([body.I1, body.I2, body.I3]).reshape((3,) + (1,) * (w.ndim - 1))
+    return inertia * w + rr * w - rw * r
+
+
+def borisov_mamaev(body: Body, gamma: ArrayLike, omega: ArrayLike) -> NDArray[np.float64]:
+    """Borisov and Mamaev's quantity B = M² − 2K r², with K = E the energy (paper, Conclusions).
+
+    M is :func:`contact_momentum`, r = γ − a e3.  Along the motion (unit mass, ``body_frame_rhs``)
+
+        d(M²)/dt = 2T d(r²)/dt + 2 g a M·(e3 × γ),
+
+    so without gravity (g = 0, T = E constant) B is a first integral for any moments I1, I2, I3, and with gravity it is
+    not (tests/analysis/model/test_borisov_mamaev.py proves the identity with sympy and checks both cases against
+    the direct ODE; docs/theory/further_integral.md).  The paper does not define K; for m = 1 the identity fixes it as the
+    kinetic energy, which equals E at g = 0.
+    """
+    g1, g2, g3 = np.asarray(gamma, float)
+    M = contact_momentum(body, gamma, omega)
+    r2 = g1 * g1 + g2 * g2 + (g3 - body.a) ** 2
+    return np.sum(M * M, axis=0) - 2.0 * energy(body, gamma, omega) * r2
 
 
 def invariants(body: Body, gamma: ArrayLike, omega: ArrayLike) -> tuple[NDArray, NDArray, NDArray]:

@@ -337,6 +337,7 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
     >>> print(rocking.pure_rocking, rocking.slow_period)
     True None
     """
+    body.require_gravity("the slow-motion prediction")
     if order is None:
         order = default_order(theta0)
     if order not in (1, 2) or isinstance(order, bool):

@@ -126,8 +126,11 @@ def test_sizes_are_refused_up_front(kwargs, fragment):
     [
         (Body(a=0.05, I1=0.35e-300, I2=0.35e-300, I3=0.4e-300, g=9.87), EulerState(1.0), "I3 must lie in"),
         (Body(a=0.05, I1=0.35e300, I2=0.35e300, I3=0.4e300, g=9.87), EulerState(1.0), "I3 must lie in"),
-        (Body(a=0.05, I1=0.35, I2=0.35, I3=0.4, g=1e300), EulerState(1.0), "g must lie in"),
-        (Body(a=0.05, I1=0.35, I2=0.35, I3=0.4, g=1e-300), EulerState(1.0), "g must lie in"),
+        (Body(a=0.05, I1=0.35, I2=0.35, I3=0.4, g=1e300), EulerState(1.0), "g must be 0 or lie in"),
+        (Body(a=0.05, I1=0.35, I2=0.35, I3=0.4, g=1e-300), EulerState(1.0), "g must be 0 or lie in"),
+        (Body(a=0.05, I1=0.35, I2=0.35, I3=0.4, g=0.0), EulerState(1.0), "no motion"),  # at rest, no potential
+        (Body(a=0.05, I1=0.35, I2=0.35, I3=0.4, g=0.0), EulerState(1.0, phi_dot=1e-8), "without gravity"),
+        (Body(a=0.05, I1=0.35, I2=0.35, I3=0.4, g=0.0), EulerState(1.0, phi_dot=1e7), "without gravity"),
         (BODY, EulerState(1.0, phi_dot=1e100), "rates are too large"),
         (BODY, EulerState.from_omega(1.0, 0.0, 0.0, (1e100, 0.0, 0.0)), "rates are too large"),
         (Body(a=0.0, I1=0.35, I2=0.35, I3=0.4, g=9.87), EulerState(1.0), "no motion"),

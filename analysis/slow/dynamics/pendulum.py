@@ -221,6 +221,7 @@ def pendulum_constants(body: Body, theta0: float, *, rtol: float = 1e-10) -> Pen
     >>> print(f"T0 = {c.T0:.6f}, kappa = {c.kappa:.4f}, lambda = {c.lam:.6f}")
     T0 = 13.260653, kappa = 426.2263, lambda = 0.486224
     """
+    body.require_gravity("the pendulum constants of the slow motion")
     theta0 = _check_theta0(theta0)
     sym = body.symmetric()
     E0 = rest_energy(sym, theta0)

@@ -105,6 +105,7 @@ def map_period_doubling(body: Body, theta0: float, order: int = 2, *, rtol: floa
     ValueError
         ``order`` not 1 or 2, θ0 outside ``THETA0_RANGE``, or no root near 4/κ.
     """
+    body.require_gravity("the period doubling of the rocking")
     from rocknroller.analysis.slow.map.second_order import load_or_build_second_order_table
     from rocknroller.analysis.slow.map.table import load_or_build_table
 
@@ -180,6 +181,7 @@ def period_doubling(body: Body, theta0: float, *, rtol: float = 1e-10) -> Period
     >>> print(f"4/kappa = {pd.eps_first_order:.6f}, exact: {pd.eps_exact:.6f}")
     4/kappa = 0.009385, exact: 0.009383
     """
+    body.require_gravity("the period doubling of the rocking")
     from rocknroller.analysis.slow.map.table import load_or_build_table
 
     table = load_or_build_table(body, theta0)

@@ -319,6 +319,7 @@ def build_region_table(body: Body, E: float, *, axis: str = "auto", nu: int | No
         than one starts a pool of "spawn" processes, which import the calling script: a script that asks for
         workers must guard its top level with ``if __name__ == "__main__":`` (the ``rocknroller`` command does).
     """
+    body.require_gravity("the averaged slow map (its region tables)")
     workers = check_processes(workers, "workers")
     frame = region_frame(body, E, axis=axis, nu=nu, nv=nv, delta_min=delta_min, tip_fraction=tip_fraction)
     QR, QJ = frame.nodes()

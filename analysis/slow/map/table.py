@@ -147,6 +147,7 @@ def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_fact
         θ0 outside ``THETA0_RANGE`` or bad grid options; AveragingRangeError if the energy of the release
         admits no motion somewhere on the table rectangle (possible for bodies other than the paper's).
     """
+    body.require_gravity("the averaged slow map (its release tables)")
     theta0 = check_map_theta0(theta0)
     check_grid(nu, nv)
     workers = check_processes(workers, "workers")

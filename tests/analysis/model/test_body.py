@@ -70,7 +70,7 @@ def test_epsilon_roundtrip():
         (dict(a=0.05, I1=0.36, I2=0.35, I3=0.4, g=9.87), "I1 <= I2"),
         (dict(a=0.05, I1=0.35, I2=0.4, I3=0.4, g=9.87), "I2 < I3"),
         (dict(a=0.05, I1=0.1, I2=0.2, I3=0.4, g=9.87), "triangle inequality"),
-        (dict(a=0.05, I1=0.35, I2=0.35, I3=0.4, g=0.0), "g must be > 0"),
+        (dict(a=0.05, I1=0.35, I2=0.35, I3=0.4, g=-1e-300), "g must be >= 0"),
         (dict(a=float("nan"), I1=0.35, I2=0.35, I3=0.4, g=9.87), "a must be a finite"),
         (dict(a=0.05, I1=0.35, I2=float("inf"), I3=0.4, g=9.87), "I2 must be a finite"),
     ],

@@ -176,7 +176,7 @@ def test_turning_points_only_streams_the_csv(tmp_path, capsys):
         (["--dt", "1e-8"], f"over the limit {MAX_SAMPLES}"),
         (["--I3", "1e-300"], "--I3 must lie in"),
         (["--I3", "1e300"], "--I3 must lie in"),
-        (["--g", "1e300"], "--g must lie in"),
+        (["--g", "1e300"], "--g must be 0 or lie in"),
         (["--phi-dot0", "1e300"], "--phi-dot0 must satisfy |phi_dot| <= 1e+150"),
         (["--omega", "1e300", "0", "0"], "--omega must be three finite numbers"),
         (["--phi-dot0", "1e100"], "rates are too large"),
