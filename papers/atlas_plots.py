@@ -15,7 +15,7 @@ import numpy as np
 from rocknroller.analysis.criticality.starts import PSI0, THETA0, paper_rate_starts
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.slow.atlas import Atlas, AtlasCheck
-from rocknroller.analysis.slow.result_plots import line_axis
+from rocknroller.analysis.slow.dynamics.result_plots import line_axis
 from rocknroller.numerics.megno import MEGNO_CHAOTIC
 from rocknroller.papers.output import new_figure, save_figure
 from rocknroller.papers.plotting import MEGNO_CLIP

@@ -166,8 +166,8 @@ class Atlas:
 
     def plot(self, fig: Any = None) -> Any:
         """The observables on ``fig`` (a new pyplot figure without one) as lines or heat maps; returns the figure
-        (:func:`rocknroller.analysis.slow.result_plots.plot_atlas_panels`)."""
-        from rocknroller.analysis.slow.result_plots import plot_atlas_panels
+        (:func:`rocknroller.analysis.slow.dynamics.result_plots.plot_atlas_panels`)."""
+        from rocknroller.analysis.slow.dynamics.result_plots import plot_atlas_panels
 
         return plot_atlas_panels(self, fig)
 

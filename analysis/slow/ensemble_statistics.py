@@ -219,8 +219,8 @@ class EnsembleStatistics:
 
     def plot(self, fig: Any = None) -> Any:
         """Histograms of the statistics over the members, one panel each, on ``fig`` (a new pyplot figure without
-        one; :func:`rocknroller.analysis.slow.result_plots.plot_statistics`).  Returns the figure."""
-        from rocknroller.analysis.slow.result_plots import plot_statistics
+        one; :func:`rocknroller.analysis.slow.dynamics.result_plots.plot_statistics`).  Returns the figure."""
+        from rocknroller.analysis.slow.dynamics.result_plots import plot_statistics
 
         return plot_statistics(self, fig)
 
@@ -400,9 +400,9 @@ class EnsembleComparison:
 
     def plot(self, fig: Any = None) -> Any:
         """Both ensembles' histograms on shared bins, one panel per statistic titled with its test's outcome, on
-        ``fig`` (a new pyplot figure without one; :func:`rocknroller.analysis.slow.result_plots.plot_comparison`).
+        ``fig`` (a new pyplot figure without one; :func:`rocknroller.analysis.slow.dynamics.result_plots.plot_comparison`).
         Returns the figure."""
-        from rocknroller.analysis.slow.result_plots import plot_comparison
+        from rocknroller.analysis.slow.dynamics.result_plots import plot_comparison
 
         return plot_comparison(self, fig)
 

@@ -258,9 +258,9 @@ class SlowPrediction:
     def plot(self, ax: Any = None) -> Any:
         """Draw the predicted (Q_R, Q_J) at the θ-maxima on ``ax`` (a new pyplot figure without one, its layout
         constrained so that no label is cut off) over the critical lines Q_J,π^crit and Q_J,0^crit of its ``body``
-        (paper eqs. QJcrit_pi, QJcrit_0; :func:`rocknroller.analysis.slow.result_plots.plot_prediction`), with a
+        (paper eqs. QJcrit_pi, QJcrit_0; :func:`rocknroller.analysis.slow.dynamics.result_plots.plot_prediction`), with a
         legend; the axes keep the samples' range.  Returns the axes."""
-        from rocknroller.analysis.slow.result_plots import plot_prediction
+        from rocknroller.analysis.slow.dynamics.result_plots import plot_prediction
 
         return plot_prediction(self, ax)
 

@@ -163,7 +163,7 @@ class PeriodicOrbit:
     def plot(self, ax: Any = None) -> Any:
         """Draw the orbit's points in the (Q_R, Q_J) plane on ``ax`` (a new pyplot figure without one; filled if
         stable), its period, ε and residue in the legend.  Returns the axes."""
-        from rocknroller.analysis.slow.result_plots import plot_periodic_orbit
+        from rocknroller.analysis.slow.dynamics.result_plots import plot_periodic_orbit
 
         return plot_periodic_orbit(self, ax)
 
@@ -221,9 +221,9 @@ class Branch:
     def plot(self, ax: Any = None, kind: str = "kick_phase", **kwargs: Any) -> Any:
         """Draw the branch against ε on ``ax`` (a new pyplot figure without one): ``"kick_phase"`` ϑ of each point
         or ``"residue"`` Greene's residue, solid where stable and dashed where not
-        (:func:`rocknroller.analysis.slow.result_plots.plot_branch`, which takes ``x_scale``, ``color`` and
+        (:func:`rocknroller.analysis.slow.dynamics.result_plots.plot_branch`, which takes ``x_scale``, ``color`` and
         ``label``).  Returns the axes."""
-        from rocknroller.analysis.slow.result_plots import plot_branch
+        from rocknroller.analysis.slow.dynamics.result_plots import plot_branch
 
         return plot_branch(self, ax, kind, **kwargs)
 
