@@ -165,12 +165,22 @@ def region_fractions(QR: ArrayLike, QJ: ArrayLike, body: Body, tol: float = REGI
     ------
     ValueError
         No samples, Q_R and Q_J of different shapes, or a sample that is not finite.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> traj = rr.simulate(body, rr.EulerState(0.95 * math.pi, psi=math.pi / 4), 300.0)
+    >>> fractions = rr.region_fractions(traj.maxima.QR, traj.maxima.QJ, body)
+    >>> print(len(traj.maxima.QR), fractions)  # doctest: +NORMALIZE_WHITESPACE
+    22 {'I': 0.5, 'II': 0.0, 'III': 0.5, 'IV': 0.0, 'on QJ0crit': 0.0, 'on QJpicrit': 0.0, 'origin': 0.0}
     """
     if np.shape(QR) != np.shape(QJ) or np.size(QR) == 0:
         raise ValueError(f"QR and QJ must be samples of one shape, at least one, got shapes {np.shape(QR)} and "
                          f"{np.shape(QJ)}")
     reg = np.asarray(region(QR, QJ, body, tol)).reshape(-1)
-    return {lab: np.count_nonzero(reg == lab) / reg.size for lab in REGIONS + (ON_LINE_0, ON_LINE_PI, ON_BOTH)}
+    return {lab: float(np.count_nonzero(reg == lab) / reg.size) for lab in REGIONS + (ON_LINE_0, ON_LINE_PI, ON_BOTH)}
 
 
 def _strict_regions(QR: NDArray, QJ: NDArray, body: Body, allowed: tuple[str, ...], what: str) -> NDArray:

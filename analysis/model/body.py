@@ -107,7 +107,7 @@ class Body:
     ... except ValueError as err:
     ...     print(err)
     ...
-    g must be > 0, got g=-1.0
+    g must be >= 0, got g=-1.0
     """
 
     a: float

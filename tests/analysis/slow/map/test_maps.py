@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.slow import maps as mp
-from rocknroller.analysis.slow import periodic_orbits as po
+from rocknroller.analysis.slow.map import maps as mp
+from rocknroller.analysis.slow.dynamics import periodic_orbits as po
 from rocknroller.analysis.slow.dynamics.chaos import tangent_scale
 from rocknroller.analysis.slow.map.limits import MAX_MAXIMA
 from rocknroller.analysis.slow.map.maps import EXACT_MAX_STEPS, ExactMap, SlowMap, reverse
