@@ -19,7 +19,7 @@ from rocknroller.analysis.slow.limits import K_PERIOD_DOUBLING, check_map_theta0
 from rocknroller.analysis.slow.period_doubling import period_doubling
 from rocknroller.analysis.slow.periodic_orbits import (K_MAX, MAX_BRANCH_POINTS, Branch, PeriodicOrbit, continue_orbit,
                                                        periodic_orbit)
-from rocknroller.papers.output import new_figure, save_figure, write_csv
+from rocknroller.papers.output import angle_text, new_figure, save_figure, write_csv
 
 __all__ = ["BifurcationData", "bifurcation_data", "bifurcation_diagram"]
 
@@ -160,9 +160,9 @@ def bifurcation_diagram(body: Body, out_dir: str | Path, theta0s: Sequence[float
     fig.suptitle("Rocking near its period doubling: slow map (lines) and exact map (markers)")
     paths = save_figure(fig, out_dir, "bifurcation")
     rows = [r for d in data for r in _rows(d)]
-    header = [f"body: a={body.a!r} I1={body.I1!r} I3={body.I3!r} g={body.g!r} (I2 = (1 + eps) I1)",
-              f"slow map order {data[0].order if data else 1}; theta0/pi: {[d.theta0 / math.pi for d in data]}",
-              f"eps_pd (exact map): {[d.eps_pd for d in data]}",
+    header = [f"body: {body.symmetric().describe()}, with I2 = (1 + eps) I1 at the eps of each row",
+              f"slow map order {data[0].order if data else 1}; theta0: {', '.join(angle_text(d.theta0) for d in data)}",
+              f"eps_pd (exact map): {', '.join(repr(float(d.eps_pd)) for d in data)}",
               f"kwargs: {kwargs!r}",
               "kick_phase = Theta + W(Q)/2 mod 2 pi in [-pi/2, 3 pi/2) (the standard map's angle); residue = (3 - tr M)/4; stable: 0 < R < 1"]
     paths.append(write_csv(Path(out_dir) / "bifurcation.csv", {k: [r[k] for r in rows] for k in rows[0]}, header))

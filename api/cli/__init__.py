@@ -14,6 +14,8 @@ import argparse
 import importlib
 import re
 import sys
+import warnings
+from typing import Any
 
 from rocknroller.cli.options import accept_negative_values
 from rocknroller.numerics.provenance import __version__
@@ -113,8 +115,14 @@ def main(argv: list[str] | None = None) -> int:
 
     from rocknroller.numerics.integrate import AccuracyError
 
+    def show_warning(message: Warning | str, category: type[Warning], filename: str, lineno: int, file: Any = None,
+                     line: str | None = None) -> None:
+        """Every warning that reaches the user, in one line and one format (not Python's two-line default)."""
+        print(f"rocknroller {args.command}: warning: {message}", file=sys.stderr)
+
     try:
-        with np.printoptions(floatmode="unique"):  # a number in a message with all its digits
+        with np.printoptions(floatmode="unique"), warnings.catch_warnings():  # a number in a message with all digits
+            warnings.showwarning = show_warning
             return int(args.run(args) or 0)
     except ValueError as exc:
         print(f"rocknroller {args.command}: error: {cli_message(str(exc), args.command, argv)}", file=sys.stderr)

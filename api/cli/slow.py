@@ -323,7 +323,12 @@ def _finish(args: argparse.Namespace, body: Any, pred: Any, pend: Any, start: An
             summary["pendulum"]["rel_error"] = {q: summary["rel_error"][q] if pred.pure_rocking else
                                                 relative_errors(pend, ode)[q] for q in _QUANTITIES}
     summary.update(_chaos_summary(pred))
-    summary.update(statistics_summary(args, body, pred, summary, release=start is None))
+    off_tables = None
+    if start is not None and not (rates_given(args) or args.critical_line is not None):
+        off_tables = (f"a release from rest off the release tables (theta0 below {_LO:g}pi or --phi0 not 0) runs from "
+                      f"its state on the region tables; the ensemble is a ball of release angles psi0 on the release "
+                      f"tables, theta0 in [{_LO:g}pi, {_HI:g}pi] with --phi0 0")
+    summary.update(statistics_summary(args, body, pred, summary, release=start is None, off_tables=off_tables))
     written = _plot(pred, ode, body, theta0, psi0, args.plot) if args.plot is not None else []
     if args.csv is not None:
         written.append(_write_csv(args.csv / CSV_NAME, pred, body, summary))
@@ -391,12 +396,12 @@ def _write_csv(path: Path, pred: Any, body: Any, s: dict[str, Any]) -> Path:
     """The predicted maxima with their regions, log-growth and ``beyond_horizon``; the header records the run."""
     import numpy as np
 
-    from rocknroller.papers.output import write_csv
+    from rocknroller.papers.output import angle_text, write_csv
 
     ser = pred.series
     t_h = None if s["horizon"] is None else s["horizon"]["t"]
-    header = [f"rocknroller slow: body {body.describe()}; eps={body.epsilon!r}; theta0={s['theta0']!r}; "
-              f"psi0={s['psi0']!r}; t_end={s['t_end']!r}; map of order {pred.order} in eps; K={s['K']!r}",
+    header = [f"rocknroller slow: body {body.describe()}; eps={body.epsilon_text()}; "
+              f"theta0={angle_text(s['theta0'])}; psi0={angle_text(s['psi0'])}; t_end={s['t_end']!r}; map of order {pred.order} in eps; K={s['K']!r}",
               *_chaos_lines(s), *statistics_lines(s),
               "columns: the maxima of theta: t, Q_R, Q_J, Theta = 2 psi (unwrapped), phi, critical region, "
               "log_growth = ln(|w|/|w0|) of the tangent vector since the map's start (empty without indicators), "
@@ -410,9 +415,11 @@ def _write_csv(path: Path, pred: Any, body: Any, s: dict[str, Any]) -> Path:
 
 
 def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: float, start: Any = None) -> None:
+    from rocknroller.papers.output import angle_text
+
     print(f"body: {body.describe()}")
     if start is None:
-        print(f"released from rest at theta0={theta0:.6g}, psi0={psi0:.6g}; t_end={t_end:g}; "
+        print(f"released from rest at theta0={angle_text(theta0)}, psi0={angle_text(psi0)}; t_end={t_end:g}; "
               f"K = eps*kappa = {s['K']:.4g}; map of order {s['order']} in eps")
     else:
         fm = s["first_maximum"]
@@ -433,7 +440,8 @@ def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: flo
         print("  ".join(x.ljust(w) for x, w in zip(r, widths)))
     if pend:
         print(f"kappa = {pend['kappa']:.6g}; period doubling of rocking about the stable axis "
-              f"(psi = {pend['stable_psi']:.4g}) at eps = {pend['eps_period_doubling']:.6g}")
+              f"(psi = {pend['stable_psi']:.4g}) at eps = 4/kappa = {pend['eps_period_doubling']:.6g} to first order "
+              "(K = eps*kappa = 4; --period-doubling: to all orders)")
     if "period_doubling" in s:
         pd = s["period_doubling"]
         if pd["eps_second_order"] is not None:

@@ -25,6 +25,9 @@ def test_command(tmp_path, capsys):
     (row,) = out["period2"]
     assert row["eps_over_pd"] == pytest.approx(1.05)
     assert abs(row["Theta"]["slow"][0] - row["Theta"]["exact"][0]) < 1e-3
+    header = [ln for ln in (tmp_path / "bifurcation.csv").read_text().splitlines() if ln.startswith("#")]
+    assert "theta0: 0.95pi" in "\n".join(header)
+    assert not any(n in ln for ln in header for n in ("np.float64", "0.35000000000000003"))
 
 
 def _help() -> str:
