@@ -39,3 +39,56 @@ def test_help_cites_numbers_not_labels():
     found = [f"{command}: ...{text[max(0, m.start() - 40):m.end() + 10]}"
              for command, text in help_texts().items() for m in LABEL.finditer(text)]
     assert not found, "\n".join(found)
+
+
+#: What a development log says and documentation does not (the pages read as theory and evidence).
+DEV_LOG = re.compile(r"issue [0-9]+|now fixed|before the fix|was then|before issue")
+#: The README and every page of docs/ (as `grep docs/*.md README.md` reads them).
+READ = ["README.md", *sorted(p.relative_to(ROOT).as_posix() for p in (ROOT / "docs").glob("*.md"))]
+
+
+def test_pages_are_not_a_development_log():
+    found = [f"{page}:{k}: {ln.strip()}" for page in READ
+             for k, ln in enumerate((ROOT / page).read_text().splitlines(), 1) if DEV_LOG.search(ln)]
+    assert not found, "\n".join(found)
+
+
+#: A Markdown link [text](target) and a MyST cross-reference {doc}`text <target>` or {doc}`target`.
+MD_LINK = re.compile(r"\[[^\]]*\]\(([^)\s]+)\)")
+DOC_ROLE = re.compile(r"\{doc\}`(?:[^`<]*<([^`>]+)>|([^`<]+))`")
+
+
+def _generated(doc: str) -> bool:
+    """Whether ``doc`` (a document name relative to docs/) is a page the docs build writes, by this stated list:
+    ``cli`` (docs/conf.py writes cli.md from the parsers), ``auto_examples/NAME`` and ``auto_paper/NAME``
+    (sphinx-gallery, from docs/examples/NAME.py and docs/paper/NAME.py), ``auto_examples/index`` and
+    ``auto_paper/index`` (from the galleries' README.txt)."""
+    if doc == "cli":
+        return "cli.md" in (ROOT / "docs" / "conf.py").read_text()
+    gallery, _, name = doc.partition("/")
+    source = {"auto_examples": "examples", "auto_paper": "paper"}.get(gallery)
+    if source is None or "/" in name:
+        return False
+    return (ROOT / "docs" / source / ("README.txt" if name == "index" else f"{name}.py")).is_file()
+
+
+def test_links_resolve_in_the_sources():
+    """Markdown links to generated pages (cli.md, auto_examples/...) were broken in the sources: every relative
+    Markdown link names a file of the repository, and a page that only the docs build writes is reached by a
+    {doc} reference to one of the stated generated pages (which the build checks, and which a reader of the source
+    does not follow as a link)."""
+    pages = [*READ, *sorted(p.relative_to(ROOT).as_posix() for p in (ROOT / "docs").glob("theory/*.md"))]
+    broken = []
+    for page in pages:
+        here = (ROOT / page).parent
+        text = (ROOT / page).read_text()
+        for m in MD_LINK.finditer(text):
+            target = m.group(1).split("#")[0]
+            if target and not re.match(r"^[a-z][a-z0-9+.-]*:", target) and not (here / target).exists():
+                broken.append(f"{page}: ({m.group(1)})")
+        for m in DOC_ROLE.finditer(text):
+            target = (m.group(1) or m.group(2)).strip()
+            doc = (here / target).resolve().relative_to((ROOT / "docs").resolve()).as_posix()
+            if not ((ROOT / "docs" / f"{doc}.md").is_file() or _generated(doc)):
+                broken.append(f"{page}: {{doc}}`{target}`")
+    assert not broken, "links that do not resolve:\n" + "\n".join(broken)
