@@ -4,7 +4,7 @@ Run:  python benchmarks/bench_ensemble.py [--jobs N] [--t-end T] [--no-cluster]
 
 An atlas-like ensemble (paper body, ε = 1e-3, released from rest at θ0 = 0.95π, ψ0 spread over [0, π/2), each run
 1000 time units by default; 64 jobs, the README's case).  Reports the CPU and wall time per trajectory of
-* before issue 24: one job after another in the scalar integrator with the unwrapping grid of that time
+* the former path: one job after another in the scalar integrator with the unwrapping grid of that time
   (``DT_RADIANS``: simulate(..., samples=False, dt=0.15/Λ), the turning points to the bit of today's scalar path);
 * run_ensemble(lanes=1): one job after another in the scalar integrator, today's unwrapping grid;
 * run_ensemble (default): batches in the lanes of heyoka's batch integrator (numerics/ensembles/batch.py), in this process,
@@ -91,7 +91,7 @@ def main() -> None:
                 for j in jobs]
 
     c_ref, w_ref, ref = timed(before, args.repeats)
-    rows = [("before issue 24: scalar, one by one, 0.15-radian grid", c_ref, w_ref, "reference")]
+    rows = [("fixed 0.15-radian grid: scalar, one by one", c_ref, w_ref, "reference")]
     c, w, scalar = timed(lambda: run_ensemble(jobs, progress=False, lanes=1), args.repeats)
     rows.append(("run_ensemble(lanes=1): scalar, one by one", c, w,
                  "same turning points" if same_turning_points(scalar, ref) else "DIFFERENT turning points"))

@@ -61,7 +61,10 @@ def check_budget(budget: float | None) -> float:
 
 
 def format_seconds(seconds: float) -> str:
-    """A duration for people: 45 s, 12 min, 3.2 h, 5.1 days."""
+    """A duration for people: 45 s, 12 min, 3.2 h, 5.1 days; below 10 s two significant digits (4.5 s, 0.0032 s,
+    1e-300 s), so that a small estimate or budget never reads as 0 s."""
+    if seconds < 10.0:
+        return f"{seconds:.2g} s"
     if seconds < 120.0:
         return f"{seconds:.0f} s"
     if seconds < 7200.0:

@@ -15,10 +15,11 @@ from typing import Any, Sequence
 import numpy as np
 
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.slow.map.limits import check_map_theta0
+from rocknroller.analysis.slow.map.limits import K_PERIOD_DOUBLING, check_map_theta0
 from rocknroller.analysis.slow.dynamics.period_doubling import period_doubling
-from rocknroller.analysis.slow.dynamics.periodic_orbits import K_MAX, Branch, PeriodicOrbit, continue_orbit, periodic_orbit
-from rocknroller.papers.output import new_figure, save_figure, write_csv
+from rocknroller.analysis.slow.dynamics.periodic_orbits import (K_MAX, MAX_BRANCH_POINTS, Branch, PeriodicOrbit,
+                                                                continue_orbit, periodic_orbit)
+from rocknroller.papers.output import angle_text, new_figure, save_figure, write_csv
 
 #: The orbits' colours and their names in the legend (the rows of the CSV's ``orbit`` column).
 BRANCH_STYLE = {"fixed_stable_axis": ("C0", "rocking about the stable axis (fixed point)"),
@@ -29,8 +30,6 @@ __all__ = ["BifurcationData", "bifurcation_data", "bifurcation_figure", "bifurca
 
 #: ε/ε_pd at which the exact map's orbits are found (the acceptance of issue 23, item 4).
 EXACT_FRACTIONS = (0.9, 1.05, 1.2, 1.5)
-#: Points of each slow-map branch; at most this many (each costs 13–20 slow-map steps, ~1 ms).
-_MAX_POINTS = 2000
 
 
 @dataclass(frozen=True)
@@ -67,17 +66,21 @@ def bifurcation_data(body: Body, theta0: float, *, fractions: tuple[float, float
     Raises
     ------
     ValueError
-        θ0 outside ``THETA0_RANGE``, ``n_points`` outside [3, 2000], ``fractions`` not 0 < lo < hi with K ≤ K_MAX
-        at hi, or an exact fraction outside (0, hi].
+        θ0 outside ``THETA0_RANGE``, ``n_points`` outside [3, ``MAX_BRANCH_POINTS``], ``fractions`` not
+        0 < lo < hi with hi past the slow map's period doubling K = 4 and K ≤ K_MAX at hi, or an exact fraction
+        outside (0, hi].
     """
     theta0 = check_map_theta0(theta0)
-    if int(n_points) != n_points or not 3 <= n_points <= _MAX_POINTS:
-        raise ValueError(f"n_points must be an integer in [3, {_MAX_POINTS}], got n_points={n_points!r}")
+    if int(n_points) != n_points or not 3 <= n_points <= MAX_BRANCH_POINTS:
+        raise ValueError(f"n_points must be an integer in [3, {MAX_BRANCH_POINTS}], got n_points={n_points!r}")
     lo, hi = (float(f) for f in fractions)
     pd = period_doubling(body, theta0)
-    if not (0.0 < lo < hi and hi * pd.eps_exact * pd.kappa <= K_MAX):
-        raise ValueError(f"fractions must satisfy 0 < lo < hi <= {K_MAX / (pd.eps_exact * pd.kappa):.4g} "
-                         f"(K = eps*kappa <= K_MAX = {K_MAX:g}), got fractions={fractions!r}")
+    K_pd = pd.eps_exact * pd.kappa  # K = eps*kappa at the exact map's period doubling
+    if not (0.0 < lo < hi and K_PERIOD_DOUBLING < hi * K_pd <= K_MAX):
+        raise ValueError(f"fractions (lo, hi) of eps_pd must satisfy 0 < lo < hi and "
+                         f"{K_PERIOD_DOUBLING / K_pd:.4g} < hi <= {K_MAX / K_pd:.4g} (past the slow map's period "
+                         f"doubling K = eps*kappa = {K_PERIOD_DOUBLING:g}, where the period-2 branch begins, and "
+                         f"K <= {K_MAX:g}), got fractions={fractions!r}")
     if not all(0.0 < float(f) <= hi for f in exact_fractions):
         raise ValueError(f"exact_fractions must lie in (0, {hi:g}], got exact_fractions={exact_fractions!r}")
     eps = np.linspace(lo, hi, int(n_points)) * pd.eps_exact
@@ -191,9 +194,9 @@ def bifurcation_diagram(body: Body, out_dir: str | Path, theta0s: Sequence[float
     data = [bifurcation_data(body, t, **kwargs) for t in theta0s]
     paths = save_figure(bifurcation_figure(data), out_dir, "bifurcation")
     rows = [r for d in data for r in _rows(d)]
-    header = [f"body: a={body.a!r} I1={body.I1!r} I3={body.I3!r} g={body.g!r} (I2 = (1 + eps) I1)",
-              f"slow map order {data[0].order if data else 1}; theta0/pi: {[d.theta0 / math.pi for d in data]}",
-              f"eps_pd (exact map): {[d.eps_pd for d in data]}",
+    header = [f"body: {body.symmetric().describe()}, with I2 = (1 + eps) I1 at the eps of each row",
+              f"slow map order {data[0].order if data else 1}; theta0: {', '.join(angle_text(d.theta0) for d in data)}",
+              f"eps_pd (exact map): {', '.join(repr(float(d.eps_pd)) for d in data)}",
               f"kwargs: {kwargs!r}",
               "kick_phase = Theta + W(Q)/2 mod 2 pi in [-pi/2, 3 pi/2) (the standard map's angle); residue = (3 - tr M)/4; stable: 0 < R < 1"]
     paths.append(write_csv(Path(out_dir) / "bifurcation.csv", {k: [r[k] for r in rows] for k in rows[0]}, header))

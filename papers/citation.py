@@ -266,20 +266,55 @@ _MPMATH = """@misc{mpmath,
 }"""
 
 
-#: The codes each subcommand uses besides the package and the paper (which every run cites):
+# The methods: MEGNO (the chaos indicator of the slow map and of the direct ODE's variational equations), Greene's
+# residue (the stability of the periodic orbits), Chirikov's standard map (the slow map near pure rocking, K = eps kappa).
+_MEGNO = """@article{CincottaSimo2000,
+  author  = {Cincotta, Pablo M. and Sim{\\'o}, Carles},
+  title   = {Simple tools to study global dynamics in non-axisymmetric galactic potentials -- {I}},
+  journal = {Astronomy and Astrophysics Supplement Series},
+  volume  = {147},
+  pages   = {205--228},
+  year    = {2000},
+  doi     = {10.1051/aas:2000108}
+}"""
+
+_GREENE = """@article{Greene1979,
+  author  = {Greene, John M.},
+  title   = {A method for determining a stochastic transition},
+  journal = {Journal of Mathematical Physics},
+  volume  = {20},
+  pages   = {1183--1201},
+  year    = {1979},
+  doi     = {10.1063/1.524170}
+}"""
+
+_CHIRIKOV = """@article{Chirikov1979,
+  author  = {Chirikov, Boris V.},
+  title   = {A universal instability of many-dimensional oscillator systems},
+  journal = {Physics Reports},
+  volume  = {52},
+  pages   = {263--379},
+  year    = {1979},
+  doi     = {10.1016/0370-1573(79)90023-1}
+}"""
+
+
+#: The codes and methods each subcommand uses besides the package and the paper (which every run cites):
 #: heyoka for the direct ODE and the averaging tables' variational orbits, scipy for the DOP853 check and the
-#: quadrature nodes, mpmath for the high-precision references.  Every command of ``rocknroller`` has an entry
-#: (``cite`` itself excepted), which the tests check against the dispatcher's list.
+#: quadrature nodes, mpmath for the high-precision references; MEGNO where a command reports order or chaos, the
+#: standard map where it reads the slow map as one (K = eps kappa, its period doubling at K = 4, its (Theta, p)
+#: plane), Greene's residue where it gives the stability of periodic orbits.  Every command of ``rocknroller`` has
+#: an entry (``cite`` itself excepted), which the tests check against the dispatcher's list.
 USES: dict[str, tuple[str, ...]] = {
     "reproduce": ("heyoka", "scipy", "mpmath"),
-    "simulate": ("heyoka", "scipy"),
+    "simulate": ("heyoka", "scipy", "megno"),
     "animate": ("heyoka",),
     "table": ("scipy", "mpmath"),
     "diagram": ("heyoka",),
-    "slow": ("heyoka",),
-    "atlas": ("heyoka",),
-    "bifurcation": ("heyoka", "scipy"),
-    "portrait": ("heyoka",),
+    "slow": ("heyoka", "megno", "standard_map"),
+    "atlas": ("heyoka", "megno"),
+    "bifurcation": ("heyoka", "scipy", "standard_map", "residue"),
+    "portrait": ("heyoka", "megno", "standard_map"),
     "verify": ("heyoka", "scipy", "mpmath"),
 }
 
@@ -294,7 +329,8 @@ def bibtex_entries(command: str | None = None) -> list[str]:
     missing = [k for k in (PAPER_KEY, HEYOKA_KEY) if k not in refs]
     if missing:
         raise ValueError(f"CITATION.cff: the references lack {', '.join(missing)} (found {', '.join(refs) or 'none'})")
-    entries = {"heyoka": refs[HEYOKA_KEY], "scipy": _SCIPY, "mpmath": _MPMATH}
+    entries = {"heyoka": refs[HEYOKA_KEY], "scipy": _SCIPY, "mpmath": _MPMATH, "megno": _MEGNO, "residue": _GREENE,
+               "standard_map": _CHIRIKOV}
     codes = sorted({c for uses in USES.values() for c in uses}) if command is None else USES[command]
     return [_package(cff), refs[PAPER_KEY], *(entries[c] for c in codes)]
 

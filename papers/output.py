@@ -8,6 +8,7 @@ the package version in their metadata and embed TrueType fonts in the PDF (``pdf
 from __future__ import annotations
 
 import csv
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Iterable, Mapping, Sequence
@@ -19,10 +20,24 @@ from rocknroller.numerics.provenance import __version__
 if TYPE_CHECKING:
     import matplotlib.figure
 
-__all__ = ["write_csv", "CsvStream", "new_figure", "save_figure", "Reproduction", "PRODUCER"]
+__all__ = ["angle_text", "write_csv", "CsvStream", "new_figure", "save_figure", "Reproduction", "PRODUCER"]
 
 #: Who wrote an output: the first header line of every CSV, the ``Creator`` of every figure.
 PRODUCER = f"rocknroller {__version__}"
+
+
+def angle_text(angle: float) -> str:
+    """An angle in radians as the command line reads it back, in the shorter of two exact forms: ``0.93pi`` when
+    ``float("0.93") * pi`` is the angle (how ``0.93pi`` is read), else ``repr`` of the float (``0.1``), so that an
+    angle given as ``0.93pi`` is echoed so, not as 2.9216811678385075."""
+    x = float(angle)
+    plain = repr(x)
+    if math.isfinite(x) and x != 0.0:
+        for digits in range(1, 18):
+            d = float(f"{x / math.pi:.{digits}g}")
+            if d * math.pi == x:
+                return min(plain, f"{d!r}pi", key=len)
+    return plain
 
 
 def _cell(v: object) -> str:

@@ -45,7 +45,7 @@ from rocknroller.analysis.slow.map.family import maximum_state, rest_energy
 from rocknroller.analysis.slow.map.maps import SlowMap
 from rocknroller.numerics.budget import WORK_BUDGET_SECONDS
 from rocknroller.numerics.megno import MEGNO_CHAOTIC, MIN_SAMPLES, ChaosIndicators
-from rocknroller.papers.output import new_figure, save_figure, write_csv
+from rocknroller.papers.output import angle_text, new_figure, save_figure, write_csv
 from rocknroller.papers.plotting import MEGNO_CLIP, draw_critical_lines, scaled_axis
 
 if TYPE_CHECKING:
@@ -461,10 +461,11 @@ def write_portrait(portrait: SlowPortrait, out: str | Path, name: str = "portrai
     for k, (m, (th0, p0)) in enumerate(zip(portrait.ode, portrait.ode_starts)):
         add("ode", k, th0, p0, None, m.t, 2.0 * m.psi, m.QR, m.QJ)
     header = [f"rocknroller portrait: body {portrait.body.describe()}",
-              f"theta0 {portrait.theta0!r} (E {portrait.E!r}), K = eps kappa {portrait.K!r}, map order "
-              f"{portrait.order}, t_end {portrait.t_end!r}",
-              f"p = gradW(0).Q with gradW(0) = ({portrait.grad_W[0]!r}, {portrait.grad_W[1]!r}); grid starts at "
-              f"Q = (p0 / gradW.e) e, e = ({portrait.e[0]!r}, {portrait.e[1]!r}); Theta = 2 psi mod 2 pi",
+              f"theta0 {angle_text(portrait.theta0)} (E {float(portrait.E)!r}), K = eps kappa {float(portrait.K)!r}, "
+              f"map order {portrait.order}, t_end {float(portrait.t_end)!r}",
+              f"p = gradW(0).Q with gradW(0) = ({float(portrait.grad_W[0])!r}, {float(portrait.grad_W[1])!r}); grid "
+              f"starts at Q = (p0 / gradW.e) e, e = ({float(portrait.e[0])!r}, {float(portrait.e[1])!r}); Theta = 2 psi "
+              "mod 2 pi",
               f"value: {label}" + (f" of the map's orbit over its run (> {MEGNO_CHAOTIC:g}: chaotic; empty: fewer than "
                                    f"{MIN_SAMPLES} maxima)" if label == "MEGNO" else "")
               + f"; orbits that left the tables before t_end: {list(portrait.left)}",

@@ -20,15 +20,33 @@ PAGES = ["README.md", "docs/index.md", "docs/install.md", "docs/slow_howto.md", 
          "docs/slow_validation.md", "docs/errata.md", "docs/order_and_chaos.md", "docs/theory/reduction.md", "docs/theory/criticality.md"]
 
 
+#: The one paragraph of the README that states figures, those no benchmark measures: the one-off compilations and
+#: the duration of the test suite (issue 32, item 8 and 15); they are stated there only.
+ONE_OFF = "**One-off costs.**"
+
+
 def _prose(path: Path) -> list[tuple[int, str]]:
-    """The lines of a page outside tables and code blocks."""
-    out, code = [], False
+    """The lines of a page outside tables, code blocks and the README's one-off costs."""
+    out, code, one_off = [], False, False
     for k, line in enumerate(path.read_text().splitlines(), 1):
+        one_off = (one_off or line.startswith(ONE_OFF)) and bool(line.strip())
         if line.startswith("```"):
             code = not code
-        elif not code and not line.lstrip().startswith("|"):
+        elif not code and not one_off and not line.lstrip().startswith("|"):
             out.append((k, line))
     return out
+
+
+def test_one_off_costs_are_stated_once():
+    """The README states the one-off compilations and the suite's duration in one paragraph, and no other page does."""
+    readme = (ROOT / "README.md").read_text()
+    paragraph = readme[readme.index(ONE_OFF):].split("\n\n")[0]
+    figures = FIGURE.findall(paragraph)
+    assert len(figures) >= 4 and "verify" in paragraph and "direct_chaos_indicators" in paragraph
+    assert "python -m pytest" in paragraph
+    for page in [*PAGES[1:], "docs/performance.md"]:
+        text = (ROOT / page).read_text()
+        assert not ("direct_chaos_indicators" in text and "30 s of CPU" in text), page
 
 
 @pytest.mark.parametrize("page", [p for p in PAGES if (ROOT / p).exists()])

@@ -199,7 +199,11 @@ class Body:
                 f"epsilon must satisfy 0 <= epsilon < I3/I1 - 1 = {I3 / I1 - 1.0:.6g} "
                 f"(so that I2 < I3), got epsilon={epsilon!r}"
             )
-        return cls(a=a, I1=I1, I2=(1.0 + epsilon) * I1, I3=I3, g=g)
+        I2 = (1.0 + epsilon) * I1
+        if epsilon > 0.0 and I2 == I1:  # not silently the symmetric body
+            raise ValueError(f"epsilon must be 0 or resolved by I2 = (1 + epsilon) I1 in double precision (above "
+                             f"about {0.5 * sys.float_info.epsilon:.2g}), got epsilon={epsilon!r}, which makes I2 = I1")
+        return cls(a=a, I1=I1, I2=I2, I3=I3, g=g)
 
     # ------------------------------------------------------------------ derived
     @property
@@ -240,9 +244,23 @@ class Body:
         return (self.a, self.I1, self.I2, self.I3, self.g)
 
     def describe(self) -> str:
-        """One-line description for CSV headers and reports."""
-        return (f"a={self.a!r} I1={self.I1!r} I2={self.I2!r} I3={self.I3!r} g={self.g!r} "
-                f"epsilon={self.epsilon_text()}")
+        """One-line description for CSV headers and reports, exact and without round-off noise: a moment that is
+        exactly the formula it was made by is shown as the formula (``I1=(1-5a/2)I3`` for the paper's 0.35000000000000003,
+        ``I2=(1+epsilon)I1`` with ε as :meth:`epsilon_text` shows it), any other by its ``repr``."""
+        I1 = "(1-5a/2)I3" if self.I1 == paper_I1(self.a, self.I3) else repr(self.I1)
+        I2 = "I1" if self.I2 == self.I1 else "(1+epsilon)I1" if self.I2 == self._eps_shown_body().I2 else repr(self.I2)
+        return f"a={self.a!r} I1={I1} I2={I2} I3={self.I3!r} g={self.g!r} epsilon={self.epsilon_text()}"
+
+    def _eps_shown_body(self) -> "Body":
+        """This body's a, I1, I3, g with I2 = (1 + ε) I1 at ε as :meth:`epsilon_text` shows it."""
+        return replace(self, I2=(1.0 + float(self.epsilon_text())) * self.I1)
+
+    def __repr__(self) -> str:
+        """``Body.paper(epsilon=0.005)`` for a paper body (exactly that body), else the fields' reprs."""
+        eps = self.epsilon_text()
+        if self.I2 == self._eps_shown_body().I2 and self == Body.paper(float(eps)):
+            return f"Body.paper(epsilon={eps})" if self.I2 != self.I1 else "Body.paper()"
+        return (f"Body(a={self.a!r}, I1={self.I1!r}, I2={self.I2!r}, I3={self.I3!r}, g={self.g!r})")
 
     def epsilon_text(self) -> str:
         """ε with the digits its computation resolves: ε = (I2 − I1)/I1 from the stored moments carries an absolute

@@ -400,7 +400,8 @@ def _warn_validity(eps: float, table: SlowMapTable) -> None:
     if abs(K) > K_PERIOD_DOUBLING:
         warnings.warn(
             f"K = eps*kappa = {K:.3g} > {K_PERIOD_DOUBLING:g}: pure rocking about the stable principal axis is "
-            f"unstable (period doubling at eps = {eps_period_doubling(table.kappa):.4g}); the first-order "
+            f"unstable (period doubling at eps = 4/kappa = {eps_period_doubling(table.kappa):.4g} to first order); the "
+            f"first-order "
             f"averaging is expected to hold for K < {K_PERIOD_DOUBLING:g}", AveragingValidityWarning, stacklevel=3)
     if table.delta_min > 0.0 and table.interp_error > REGION_TABLE_ACCURACY:
         from rocknroller.analysis.slow.map.region import accuracy_cause

@@ -14,6 +14,8 @@ import argparse
 import importlib
 import re
 import sys
+import warnings
+from typing import Any
 
 from rocknroller.cli.options import accept_negative_values
 from rocknroller.numerics.provenance import __version__
@@ -59,7 +61,8 @@ def option_names(message: str, argv: list[str]) -> str:
 #: API words in library messages and, per command, the option that says the same; in a command without one, the
 #: alternative they offer ("use samples=False (turning points only) or a shorter t_end") is dropped.
 _API_WORDS = {"samples=False": {"simulate": "--turning-points-only"},
-              "build=False": {"slow": "--cached-only", "atlas": "--cached-only"},
+              "build=False": {"slow": "--cached-only", "atlas": "--cached-only", "portrait": "--cached-only",
+                              "bifurcation": "--cached-only"},
               "budget=SECONDS": {"simulate": "--budget SECONDS", "atlas": "--budget SECONDS", "table": "--budget SECONDS"}}
 _API_WORD = re.compile(r"\b(" + "|".join(map(re.escape, _API_WORDS)) + r")( \([^()]*\))?( or )?")
 #: The name of a limit (``MAX_SAMPLES``, ``E_MAX``, ``reduction.Q_RANGE``) before its value (``NAME = value``) or after
@@ -69,6 +72,9 @@ _LIMIT = re.compile(rf"\b{_LIMIT_NAME} = | \({_LIMIT_NAME}\)")
 #: A NumPy scalar array's repr, ``array(0.5)``: the number.
 _ARRAY = re.compile(r"\barray\(([^()]*)\)")
 _SAME_OPTION_TWICE = re.compile(r"(--[\w-]+) / \1\b")
+#: API parameters that one command always sets from its options (their defaults included), by the options' names.
+_COMMAND_OPTIONS = {"bifurcation": {"n_points": "--points", "exact_fractions": "--exact-at",
+                                    "fractions": "--from/--to"}}
 
 
 def cli_message(message: str, command: str, argv: list[str]) -> str:
@@ -83,6 +89,9 @@ def cli_message(message: str, command: str, argv: list[str]) -> str:
 
     message = _SAME_OPTION_TWICE.sub(r"\1", _API_WORD.sub(api_word, message))
     message = _ARRAY.sub(lambda m: _number(m.group(1)), _LIMIT.sub("", message))
+    names = _COMMAND_OPTIONS.get(command, {})
+    if names:
+        message = re.sub(r"(?<![-\w])(" + "|".join(names) + r")\b", lambda m: names[m.group(1)], message)
     return option_names(message, argv)
 
 
@@ -106,8 +115,14 @@ def main(argv: list[str] | None = None) -> int:
 
     from rocknroller.numerics.integrate import AccuracyError
 
+    def show_warning(message: Warning | str, category: type[Warning], filename: str, lineno: int, file: Any = None,
+                     line: str | None = None) -> None:
+        """Every warning that reaches the user, in one line and one format (not Python's two-line default)."""
+        print(f"rocknroller {args.command}: warning: {message}", file=sys.stderr)
+
     try:
-        with np.printoptions(floatmode="unique"):  # a number in a message with all its digits
+        with np.printoptions(floatmode="unique"), warnings.catch_warnings():  # a number in a message with all digits
+            warnings.showwarning = show_warning
             return int(args.run(args) or 0)
     except ValueError as exc:
         print(f"rocknroller {args.command}: error: {cli_message(str(exc), args.command, argv)}", file=sys.stderr)

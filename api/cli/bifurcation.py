@@ -6,8 +6,10 @@ import argparse
 import math
 from pathlib import Path
 
+from rocknroller.analysis.slow.dynamics.periodic_orbits import MAX_BRANCH_POINTS
 from rocknroller.cli.options import (add_body_options, add_force_option, body_from_args, parse_angle,
                                      prepare_output_dir, print_json)
+from rocknroller.papers.bifurcation import EXACT_FRACTIONS
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -22,37 +24,48 @@ def register(sub: argparse._SubParsersAction) -> None:
         "eps/eps_pd (slow map lines, solid stable and dashed unstable; exact map markers) and writes "
         "bifurcation.png, .pdf and .csv. The body's eps is the diagram's variable: give a, I1, I3, g only.",
     )
-    add_body_options(p)
+    add_body_options(p, asymmetry=False)
     p.add_argument("--theta0", action="append", default=None, metavar="ANGLE",
                    help="release angle (repeat for several; e.g. 0.95pi; default 0.9pi and 0.95pi)")
     p.add_argument("--from", dest="lo", type=float, default=0.6, metavar="F",
                    help="first eps of the slow map's branches, as a fraction of eps_pd (default 0.6)")
     p.add_argument("--to", dest="hi", type=float, default=1.55, metavar="F",
                    help="last eps, as a fraction of eps_pd (default 1.55)")
-    p.add_argument("--points", type=int, default=111, help="values of eps on the branches (default 111)")
-    p.add_argument("--exact-at", type=float, nargs="+", default=[0.9, 1.05, 1.2, 1.5], metavar="F",
-                   help="fractions of eps_pd at which the exact map's orbits are found (default 0.9 1.05 1.2 1.5)")
+    p.add_argument("--points", type=int, default=111,
+                   help=f"values of eps on the branches, 3 to {MAX_BRANCH_POINTS} (default 111)")
+    p.add_argument("--exact-at", type=float, nargs="+", default=None, metavar="F",
+                   help="fractions of eps_pd, in (0, --to], at which the exact map's orbits are found (default: those "
+                        f"of {' '.join(f'{f:g}' for f in EXACT_FRACTIONS)} up to --to)")
     p.add_argument("--order", type=int, choices=(1, 2), default=1,
                    help="order of the slow map (2 builds the second-order tables once, then cached)")
     p.add_argument("--out", type=Path, default=Path("."), metavar="DIR",
                    help="write bifurcation.png, .pdf and .csv to DIR (default: current directory; existing files are "
                         "not overwritten without --force)")
     add_force_option(p)
+    p.add_argument("--cached-only", action="store_true",
+                   help="fail instead of building the averaging tables when none are cached for this body/theta0")
     p.add_argument("--json", action="store_true", help="print a JSON summary (files, eps_pd, the period-2 points)")
+    p.add_argument("--quiet", action="store_true", help="no progress bars (table builds)")
     p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller bifurcation`` with the parsed ``args``; returns the exit status."""
+    from rocknroller.analysis.slow.map.second_order import load_or_build_second_order_table
+    from rocknroller.analysis.slow.map.table import load_or_build_table
     from rocknroller.papers.bifurcation import bifurcation_diagram
 
-    if args.eps is not None or args.I2 is not None:
-        raise ValueError("--eps and --I2 are the diagram's variable: give the body's a, I1, I3, g only")
     body = body_from_args(args)
     theta0s = [parse_angle(t, "--theta0") for t in (args.theta0 or ["0.9pi", "0.95pi"])]
+    exact_at = [f for f in EXACT_FRACTIONS if f <= args.hi] if args.exact_at is None else args.exact_at
     prepare_output_dir(args.out, "--out", args.force, ["bifurcation.png", "bifurcation.pdf", "bifurcation.csv"])
+    progress = False if args.quiet else None
+    for theta0 in theta0s:  # the tables first: --cached-only refuses before any work, --quiet hides their builds
+        load_or_build_table(body, theta0, build=not args.cached_only, progress=progress)
+        if args.order == 2:
+            load_or_build_second_order_table(body, theta0, build=not args.cached_only, progress=progress)
     paths, data = bifurcation_diagram(body, args.out, theta0s, fractions=(args.lo, args.hi), n_points=args.points,
-                                      exact_fractions=tuple(args.exact_at), order=args.order)
+                                      exact_fractions=tuple(exact_at), order=args.order)
     rows = [{"theta0": d.theta0, "eps": e.eps, "eps_over_pd": e.eps / d.eps_pd,
              "kick_phase": {"slow": s.kick_phase.tolist(), "exact": e.kick_phase.tolist()},
              "Theta": {"slow": s.points[:, 2].tolist(), "exact": e.points[:, 2].tolist()},

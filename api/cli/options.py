@@ -92,14 +92,20 @@ def accept_negative_values(parser: argparse.ArgumentParser) -> None:
     parser._negative_number_matcher = _NEGATIVE_VALUE
 
 
-def add_body_options(parser: argparse.ArgumentParser, eps_default: float = 0.0) -> None:
-    """--a --I1 --I2 | --eps --I3 --g, or --polar-cap D (defaults: the paper's body, ε = ``eps_default``)."""
+def add_body_options(parser: argparse.ArgumentParser, eps_default: float = 0.0, asymmetry: bool = True) -> None:
+    """--a --I1 --I2 | --eps --I3 --g, or --polar-cap D (defaults: the paper's body, ε = ``eps_default``).
+
+    ``asymmetry=False`` leaves out --I2 and --eps, for a command whose variable ε is (``bifurcation``): its help then
+    lists no option that it would refuse."""
     grp = parser.add_argument_group("body (defaults: the paper's a=0.05, I3=0.4, I1=(1-5a/2)I3, g=9.87)")
     grp.add_argument("--a", type=float, default=None, help=f"mass-centre offset, 0 <= a < 1 (default {PAPER_A})")
     grp.add_argument("--I1", type=float, default=None, help="moment I1 (default (1-5a/2) I3)")
-    grp.add_argument("--I2", type=float, default=None, help="moment I2 (default (1+eps) I1); exclusive with --eps")
-    grp.add_argument("--eps", type=float, default=None,
-                     help=f"asymmetry eps = (I2-I1)/I1 (default {eps_default:g}); exclusive with --I2")
+    if asymmetry:
+        grp.add_argument("--I2", type=float, default=None, help="moment I2 (default (1+eps) I1); exclusive with --eps")
+        grp.add_argument("--eps", type=float, default=None,
+                         help=f"asymmetry eps = (I2-I1)/I1 (default {eps_default:g}); exclusive with --I2")
+    else:
+        parser.set_defaults(I2=None, eps=None)
     grp.add_argument("--I3", type=float, default=None, help=f"moment I3 (default {PAPER_I3})")
     grp.add_argument("--g", type=float, default=None, help=f"gravity (default {PAPER_G})")
     grp.add_argument("--polar-cap", type=float, default=None, metavar="D",

@@ -106,8 +106,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="also run the direct ODE and print both, with relative errors")
     p.add_argument("--order", type=int, choices=(1, 2), default=None,
                    help="order of the map in eps: 2 adds the second-order kick (its tables are built once per body "
-                        "and theta0 or energy, and cached; errors ~10-100x smaller than order 1 at eps <= 3e-3, "
-                        "docs/averaging.md); default, the same as predict_slow_motion's: 2 for releases from rest in "
+                        "and theta0 or energy, and cached; measured from rest at 0.95pi, its largest errors are a median 12x "
+                        "smaller than order 1's at eps = 3e-3, 27x at 1e-3, 81x at 3e-4, docs/slow_validation.md); "
+                        "default, the same as predict_slow_motion's: 2 for releases from rest in "
                         f"[{_LO:g}pi, {_HI:g}pi] (their second-order tables are built once per body and theta0), 1 for "
                         "starts with velocity and lower releases (theirs are per energy, several times dearer: ask "
                         "for them with --order 2; the costs: docs/performance.md)")
@@ -323,7 +324,12 @@ def _finish(args: argparse.Namespace, body: Any, pred: Any, pend: Any, start: An
             summary["pendulum"]["rel_error"] = {q: summary["rel_error"][q] if pred.pure_rocking else
                                                 relative_errors(pend, ode)[q] for q in _QUANTITIES}
     summary.update(_chaos_summary(pred))
-    summary.update(statistics_summary(args, body, pred, summary, release=start is None))
+    off_tables = None
+    if start is not None and not (rates_given(args) or args.critical_line is not None):
+        off_tables = (f"a release from rest off the release tables (theta0 below {_LO:g}pi or --phi0 not 0) runs from "
+                      f"its state on the region tables; the ensemble is a ball of release angles psi0 on the release "
+                      f"tables, theta0 in [{_LO:g}pi, {_HI:g}pi] with --phi0 0")
+    summary.update(statistics_summary(args, body, pred, summary, release=start is None, off_tables=off_tables))
     horizon = None if summary["horizon"] is None else summary["horizon"]["t"]
     written = _plot(pred, ode, body, theta0, psi0, horizon, args.plot) if args.plot is not None else []
     if args.csv is not None:
@@ -392,12 +398,12 @@ def _write_csv(path: Path, pred: Any, body: Any, s: dict[str, Any]) -> Path:
     """The predicted maxima with their regions, log-growth and ``beyond_horizon``; the header records the run."""
     import numpy as np
 
-    from rocknroller.papers.output import write_csv
+    from rocknroller.papers.output import angle_text, write_csv
 
     ser = pred.series
     t_h = None if s["horizon"] is None else s["horizon"]["t"]
-    header = [f"rocknroller slow: body {body.describe()}; eps={body.epsilon!r}; theta0={s['theta0']!r}; "
-              f"psi0={s['psi0']!r}; t_end={s['t_end']!r}; map of order {pred.order} in eps; K={s['K']!r}",
+    header = [f"rocknroller slow: body {body.describe()}; eps={body.epsilon_text()}; "
+              f"theta0={angle_text(s['theta0'])}; psi0={angle_text(s['psi0'])}; t_end={s['t_end']!r}; map of order {pred.order} in eps; K={s['K']!r}",
               *_chaos_lines(s), *statistics_lines(s),
               "columns: the maxima of theta: t, Q_R, Q_J, Theta = 2 psi (unwrapped), phi, critical region, "
               "log_growth = ln(|w|/|w0|) of the tangent vector since the map's start (empty without indicators), "
@@ -411,9 +417,11 @@ def _write_csv(path: Path, pred: Any, body: Any, s: dict[str, Any]) -> Path:
 
 
 def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: float, start: Any = None) -> None:
+    from rocknroller.papers.output import angle_text
+
     print(f"body: {body.describe()}")
     if start is None:
-        print(f"released from rest at theta0={theta0:.6g}, psi0={psi0:.6g}; t_end={t_end:g}; "
+        print(f"released from rest at theta0={angle_text(theta0)}, psi0={angle_text(psi0)}; t_end={t_end:g}; "
               f"K = eps*kappa = {s['K']:.4g}; map of order {s['order']} in eps")
     else:
         fm = s["first_maximum"]
@@ -434,7 +442,8 @@ def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: flo
         print("  ".join(x.ljust(w) for x, w in zip(r, widths)))
     if pend:
         print(f"kappa = {pend['kappa']:.6g}; period doubling of rocking about the stable axis "
-              f"(psi = {pend['stable_psi']:.4g}) at eps = {pend['eps_period_doubling']:.6g}")
+              f"(psi = {pend['stable_psi']:.4g}) at eps = 4/kappa = {pend['eps_period_doubling']:.6g} to first order "
+              "(K = eps*kappa = 4; --period-doubling: to all orders)")
     if "period_doubling" in s:
         pd = s["period_doubling"]
         if pd["eps_second_order"] is not None:

@@ -69,10 +69,11 @@ def check_statistics_options(args: argparse.Namespace, release: bool) -> None:
 
 
 def statistics_summary(args: argparse.Namespace, body: Any, pred: Any, summary: dict[str, Any],
-                       release: bool) -> dict[str, Any]:
+                       release: bool, off_tables: str | None = None) -> dict[str, Any]:
     """The summary's ``statistics`` entry (null with ``statistics_note`` where none was made): the ball, the label
     and, per statistic, the point prediction's value and the ensemble's mean, standard deviation and standard
-    error."""
+    error.  ``release``: a release from rest on the release tables; ``off_tables``: why a release from rest that is
+    not on them has none (else the start is not a release from rest)."""
     import warnings
 
     import numpy as np
@@ -87,7 +88,8 @@ def statistics_summary(args: argparse.Namespace, body: Any, pred: Any, summary: 
     else:
         why = "--statistics 0"
     if n == 0 or not release:
-        reason = why if release else "not a release from rest (the ensemble is a ball of release angles psi0)"
+        reason = why if release else off_tables or ("not a release from rest (the ensemble is a ball of release "
+                                                    "angles psi0)")
         return {"statistics": None, "statistics_note": f"no statistical prediction: {reason}"}
     ball = StartBall(summary["theta0"], summary["psi0"], args.statistics_delta, n, seed=args.statistics_seed)
     with warnings.catch_warnings():  # the members' tables and K are the point prediction's: its warnings say it
@@ -120,11 +122,11 @@ def statistics_lines(s: dict[str, Any]) -> list[str]:
 def write_statistics_csv(path: Path, body: Any, s: dict[str, Any]) -> Path:
     """``slow_statistics.csv``: per statistic the point prediction's value, the ensemble's mean, standard deviation
     and standard error; the header records the run, the ball and the label."""
-    from rocknroller.papers.output import write_csv
+    from rocknroller.papers.output import angle_text, write_csv
 
     st = s["statistics"]
-    header = [f"rocknroller slow: body {body.describe()}; eps={body.epsilon!r}; theta0={s['theta0']!r}; "
-              f"psi0={s['psi0']!r}; t_end={s['t_end']!r}",
+    header = [f"rocknroller slow: body {body.describe()}; eps={body.epsilon_text()}; "
+              f"theta0={angle_text(s['theta0'])}; psi0={angle_text(s['psi0'])}; t_end={s['t_end']!r}",
               f"{st['label']}: {st['ball']}; map of order {st['order']}",
               "point: the point prediction's own value" + (" (past the predictability horizon: statistical only)"
                                                           if s.get("beyond_horizon") else "")

@@ -79,3 +79,12 @@ def test_a_shared_heyoka_cache_says_what_it_trusts(page, heading):
     assert "HEYOKA_CACHE_DIR" in section and "machine code" in section
     assert re.search(r"can write to [^.]* can run code", section) or "trust everyone who can write" in section
     assert "private" in section
+
+
+def test_build_commands_say_how_to_get_build():
+    """docs/install.md said `python -m build`, which no extra installs: a page that uses it says to install `build`
+    first (or builds with `pip wheel`, which needs nothing more)."""
+    texts = dict(_texts())
+    offending = [name for name, text in texts.items() if "python -m build" in text
+                 and not re.search(r"pip install build\b[^\n]*python -m build", " ".join(text.split()))]
+    assert not offending, "python -m build without installing build first: " + ", ".join(offending)

@@ -44,6 +44,26 @@ def test_cite_is_bibtex_for_what_the_command_uses(command, capsys):
     assert rr.cite(command) == text
 
 
+@pytest.mark.parametrize("command, methods", [
+    ("slow", {"CincottaSimo2000", "Chirikov1979"}), ("portrait", {"CincottaSimo2000", "Chirikov1979"}),
+    ("bifurcation", {"Greene1979", "Chirikov1979"}), ("atlas", {"CincottaSimo2000"}),
+    ("simulate", {"CincottaSimo2000"}), ("table", set())])
+def test_cite_names_the_methods_a_command_uses(command, methods, capsys):
+    """MEGNO (Cincotta & Simó 2000), Greene's residue (1979) and the standard map (Chirikov 1979) were cited by no
+    command, though slow, portrait, atlas and simulate --chaos report MEGNO and bifurcation Greene's residues."""
+    assert main(["cite", command]) == 0
+    keys = set(re.findall(r"^@\w+\{(\w+),", capsys.readouterr().out, flags=re.M))
+    assert keys & {"CincottaSimo2000", "Greene1979", "Chirikov1979"} == methods
+    text = rr.cite(command)
+    for key, (journal, volume, page) in {"CincottaSimo2000": ("Astronomy and Astrophysics Supplement Series", 147, 205),
+                                         "Greene1979": ("Journal of Mathematical Physics", 20, 1183),
+                                         "Chirikov1979": ("Physics Reports", 52, 263)}.items():
+        if key in methods:
+            entry = text[text.index(f"{{{key},"):]
+            entry = entry[:entry.index("\n}")]
+            assert journal in entry and f"volume  = {{{volume}}}" in entry and f"pages   = {{{page}--" in entry
+
+
 def test_cite_refuses_an_unknown_command():
     with pytest.raises(ValueError, match="command must be one of"):
         rr.cite("nope")

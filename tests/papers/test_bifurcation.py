@@ -21,7 +21,7 @@ def test_diagram_writes_png_pdf_csv(tmp_path):
     assert sorted(p.name for p in paths) == ["bifurcation.csv", "bifurcation.pdf", "bifurcation.png"]
     assert all(p.stat().st_size > 1000 for p in paths)
     text = (tmp_path / "bifurcation.csv").read_text()
-    assert "a=0.05" in text and "theta0/pi: [0.95]" in text and repr(d.eps_pd) in text
+    assert "a=0.05" in text and "theta0: 0.95pi" in text and repr(d.eps_pd) in text
     rows = list(csv.DictReader(ln for ln in text.splitlines() if not ln.startswith("#")))
     assert {"slow", "exact"} == {r["map"] for r in rows}
     assert len(rows) == 9 + 9 + 2 * len(d.period2.orbits) + 1 + 2 + 2  # one row per point of every orbit

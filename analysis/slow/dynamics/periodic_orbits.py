@@ -74,6 +74,8 @@ K_MAX = 2.0 * K_PERIOD_DOUBLING
 #: Newton's method: most iterations, and the residual ‖G‖∞ accepted: the maps' evaluation error
 #: (:data:`rocknroller.analysis.slow.map.maps.EVALUATION_ULPS` ulp of 4π), the floor Newton can reach.
 _NEWTON_ITERATIONS = 30
+#: Most values of ε on a branch of :func:`continue_orbit` (each orbit costs 13–20 steps of the map).
+MAX_BRANCH_POINTS = 2000
 _RESIDUAL_ULPS = EVALUATION_ULPS
 _ANGLE = 2
 #: The scan for the period-2 start: u from 1e-4 to 1 times the table's half-width U (2.5 times the standard map's
@@ -435,7 +437,8 @@ def continue_orbit(body: Body, theta0: float, eps_values: ArrayLike, period: int
     Raises
     ------
     ValueError
-        ``eps_values`` empty, longer than 1000, or not strictly monotonic; the errors of :func:`periodic_orbit`.
+        ``eps_values`` empty, longer than ``MAX_BRANCH_POINTS``, or not strictly monotonic; the errors of
+        :func:`periodic_orbit`.
 
     Examples
     --------
@@ -446,8 +449,8 @@ def continue_orbit(body: Body, theta0: float, eps_values: ArrayLike, period: int
     ['0.0942', '0.4202', '0.6429']
     """
     eps = np.asarray(eps_values, float)
-    if eps.ndim != 1 or not 1 <= eps.size <= 1000:
-        raise ValueError(f"eps_values must be 1 to 1000 values, got shape {eps.shape}")
+    if eps.ndim != 1 or not 1 <= eps.size <= MAX_BRANCH_POINTS:
+        raise ValueError(f"eps_values must be 1 to {MAX_BRANCH_POINTS} values, got shape {eps.shape}")
     d = np.diff(eps)
     if not (np.all(d > 0) or np.all(d < 0)):
         raise ValueError("eps_values must be strictly monotonic (each orbit starts from the previous one)")
