@@ -77,6 +77,7 @@ from rocknroller.numerics.budget import (DOP853_SECONDS_PER_RADIAN, HEYOKA_EXTEN
 from rocknroller.numerics.cache import (CacheWarning, cache_dir, probe_writable,  # cache_dir: re-exported
                                         warn_unwritable)
 from rocknroller.numerics.events import _U, THETA_MIN, _turning_points, start_turning_point
+from rocknroller.numerics.tolerance import DEFAULT_TOL, check_tol, theta_min
 from rocknroller.numerics.trajectory import (DenseOutput, Trajectory, TurningPointRun, TurningPoints, _Samples,
                                              energy_error_bound, energy_scale)
 
@@ -89,8 +90,8 @@ __all__ = [
 
 _METHODS = ("heyoka", "scipy")
 _PRECISIONS = ("double", "extended")
-#: The integrator compiled once per process, per precision; never propagated itself, only copied.
-_TEMPLATES: dict[str, Any] = {}
+#: The integrator compiled once per process, per precision and tolerance; never propagated itself, only copied.
+_TEMPLATES: dict[tuple[str, float], Any] = {}
 _TEMPLATE_LOCK = threading.Lock()
 #: Each thread's own copies of the templates (a heyoka integrator must not be propagated by two threads at once).
 _PER_THREAD = threading.local()
@@ -146,7 +147,7 @@ class _EventLog:
         self.events.append((float(time), int(d_sgn)))
 
 
-def _build_heyoka(fp_type: Any) -> Any:
+def _build_heyoka(fp_type: Any, tol: float) -> Any:
     import heyoka as hy
 
     names = ["g1", "g2", "g3", "w1", "w2", "w3", "x1", "x2", "x3", "X", "Y"]
@@ -156,11 +157,13 @@ def _build_heyoka(fp_type: Any) -> Any:
     kwargs = {} if fp_type is float else {"fp_type": fp_type}
     ev = hy.nt_event(turning_point_function(y), _EventLog(), **kwargs)
     return hy.taylor_adaptive(list(zip(y, rhs)), np.zeros(STATE_SIZE, dtype=fp_type),
-                              pars=np.zeros(5, dtype=fp_type), nt_events=[ev], **kwargs)
+                              pars=np.zeros(5, dtype=fp_type), nt_events=[ev], tol=fp_type(tol), **kwargs)
 
 
-def heyoka_integrator(precision: str = "double") -> Any:
-    """The compiled heyoka integrator of form (i): compiled once per process, one copy per thread.
+def heyoka_integrator(precision: str = "double", tol: float | None = None) -> Any:
+    """The compiled heyoka integrator of form (i) at tolerance ``tol`` (None: heyoka's default, the machine epsilon
+    of ``precision``; checked by the caller, :mod:`rocknroller.numerics.tolerance`): compiled once per process, one
+    copy per thread.
 
     Every thread that calls this gets its own copy (made in about a millisecond), so :func:`simulate` may run in
     several threads at once; a copy runs the same machine code as the original, so a run gives the same result bit
@@ -172,19 +175,20 @@ def heyoka_integrator(precision: str = "double") -> Any:
     if precision not in _PRECISIONS:
         raise ValueError(f"precision must be one of {_PRECISIONS}, got {precision!r}")
     mine = _PER_THREAD.__dict__.setdefault("integrators", {})
-    if precision not in mine:
+    key = (precision, float(np.finfo(float if precision == "double" else np.longdouble).eps) if tol is None else tol)
+    if key not in mine:
         with _TEMPLATE_LOCK:  # one compilation per process; copies are made from a template no thread propagates
-            if precision not in _TEMPLATES:
-                _TEMPLATES[precision] = _compile(precision)
-            mine[precision] = copy.deepcopy(_TEMPLATES[precision])
-    return mine[precision]
+            if key not in _TEMPLATES:
+                _TEMPLATES[key] = _compile(*key)
+            mine[key] = copy.deepcopy(_TEMPLATES[key])
+    return mine[key]
 
 
-def _compile(precision: str) -> Any:
-    """Build the integrator of ``precision`` (from heyoka's disk cache when it holds it), after checking that the
-    cache can be used (:func:`check_diskcache`)."""
+def _compile(precision: str, tol: float) -> Any:
+    """Build the integrator of ``precision`` at ``tol`` (from heyoka's disk cache when it holds it), after checking
+    that the cache can be used (:func:`check_diskcache`)."""
     check_diskcache()
-    return _build_heyoka(float if precision == "double" else np.longdouble)
+    return _build_heyoka(float if precision == "double" else np.longdouble, tol)
 
 
 def check_diskcache() -> None:
@@ -227,7 +231,8 @@ def default_dt(t_end: float, rate: float, samples: bool = True) -> float:
     return min((DT_RADIANS if samples else UNWRAP_RADIANS) / rate, t_end / 200.0) or t_end
 
 
-def _validate(body: Body, initial: EulerState, t_end: float) -> tuple[NDArray[np.float64], float]:
+def _validate(body: Body, initial: EulerState, t_end: float,
+              tol: float = DEFAULT_TOL) -> tuple[NDArray[np.float64], float]:
     if not isinstance(body, Body):
         raise ValueError(f"body must be a rocknroller.analysis.model.body.Body, got {type(body).__name__}")
     if not isinstance(initial, EulerState):
@@ -260,12 +265,14 @@ def _validate(body: Body, initial: EulerState, t_end: float) -> tuple[NDArray[np
             f"the initial state has no motion to resolve: {initial} has the kinetic energy E = {E!r} in double "
             f"precision (its rates, max |omega_i| = {float(np.max(np.abs(y0[3:6]))):.3g}, are below about {w_min:.2g}, "
             f"where (1/2) I_min |omega|^2 underflows) and g a = {body.g * body.a!r}; give a > 0 or larger rates")
-    _check_tilt_resolved(body, initial, y0, E)
+    _check_tilt_resolved(body, initial, y0, E, theta_min(tol))
     return y0, rate_bound(body, y0)
 
 
-def _check_tilt_resolved(body: Body, initial: EulerState, y0: NDArray[np.float64], E: float) -> None:
-    """Refuse a motion whose energy keeps its tilt below ``THETA_MIN`` (see there).
+def _check_tilt_resolved(body: Body, initial: EulerState, y0: NDArray[np.float64], E: float,
+                         lowest: float = THETA_MIN) -> None:
+    """Refuse a motion whose energy keeps its tilt below ``lowest`` (``THETA_MIN`` at the default tolerance, see
+    there; :func:`rocknroller.numerics.tolerance.theta_min`).
 
     V = g a (1 − cos θ) ≤ E bounds the tilt by θ_E, 2 g a sin²(θ_E/2) = E = T + V; in the upper hemisphere V is taken
     as g a (γ1² + γ2²)/(1 + γ3), which keeps its digits where 1 − γ3 rounds to 0 (θ < 1.5e-8), and T = E − g a (1 − γ3)
@@ -276,13 +283,13 @@ def _check_tilt_resolved(body: Body, initial: EulerState, y0: NDArray[np.float64
     ga = body.g * body.a
     one_minus_c = (y0[0] ** 2 + y0[1] ** 2) / (1.0 + y0[2]) if y0[2] > 0.0 else 1.0 - y0[2]
     s2 = ((E - ga * (1.0 - y0[2])) + ga * one_minus_c) / (2.0 * ga)  # sin²(θ_E/2)
-    if s2 < math.sin(0.5 * THETA_MIN) ** 2:
+    if s2 < math.sin(0.5 * lowest) ** 2:
         theta_E = 2.0 * math.asin(math.sqrt(max(s2, 0.0)))
         raise ValueError(
             f"theta0={initial.theta!r}: the start's energy keeps its tilt within theta_E = {theta_E:.3g} rad of the "
-            f"pole, below THETA_MIN = {THETA_MIN:.3g} rad, the smallest amplitude at which the integrator resolves "
-            f"the turning points of theta (its state carries an absolute round-off of u = {_U:.3g}); give "
-            f"theta0 >= {THETA_MIN:.3g} or larger rates")
+            f"pole, below {_theta_min_name(lowest)} = {lowest:.3g} rad, the smallest amplitude at which the "
+            f"integrator resolves the turning points of theta (its state carries an absolute error of "
+            f"{lowest / THETA_MIN * _U:.3g} per step); give theta0 >= {lowest:.3g} or larger rates")
 
 
 def _progress(total: float, enabled: bool | None):
@@ -297,16 +304,17 @@ def _progress(total: float, enabled: bool | None):
 class _HeyokaRun:
     """heyoka integrator advanced stretch by stretch, with the dense output of each stretch."""
 
-    def __init__(self, body: Body, y0: NDArray[np.float64], precision: str, bar: Any, max_steps: int | None):
+    def __init__(self, body: Body, y0: NDArray[np.float64], precision: str, bar: Any, max_steps: int | None,
+                 tol: float | None = None):
         self.fp = float if precision == "double" else np.longdouble
-        self.ta = ta = heyoka_integrator(precision)
+        self.ta = ta = heyoka_integrator(precision, tol)
         ta.time = self.fp(0.0)
         ta.state[:] = np.asarray(y0, dtype=self.fp)
         ta.pars[:] = np.asarray(body.params, dtype=self.fp)
         self.log = ta.nt_events[0].callback
         self.log.events.clear()
         self.bar, self.max_steps, self.n_steps = bar, max_steps, 0
-        self.tolerance = float(np.finfo(self.fp).eps)
+        self.tolerance = float(ta.tol)
         self.params, self.start = body.params, start_turning_point(body, y0)
 
     def advance(self, t_b: float) -> tuple[DenseOutput, list[tuple[float, int]]]:
@@ -402,13 +410,20 @@ def check_energy_error(err: float, n_steps: int, tolerance: float, strict: bool,
         warnings.warn(msg, AccuracyWarning, stacklevel=stacklevel + 1)
 
 
-def check_theta_resolved(theta_maxima: NDArray[np.float64], initial: EulerState) -> None:
-    """Refuse a motion near the pole that the energy did not confine there: θ-maxima below ``THETA_MIN``, where the
-    integrator does not resolve the turning points (:mod:`rocknroller.numerics.events`)."""
-    if np.any(theta_maxima < THETA_MIN):
+def check_theta_resolved(theta_maxima: NDArray[np.float64], initial: EulerState, tol: float = DEFAULT_TOL) -> None:
+    """Refuse a motion near the pole that the energy did not confine there: θ-maxima below ``THETA_MIN`` (at
+    tolerance ``tol``, :func:`rocknroller.numerics.tolerance.theta_min`), where the integrator does not resolve the
+    turning points (:mod:`rocknroller.numerics.events`)."""
+    lowest = theta_min(tol)
+    if np.any(theta_maxima < lowest):
         raise ValueError(f"theta0={initial.theta!r}: theta has maxima as small as {theta_maxima.min():.3g} "
-                         f"rad, below THETA_MIN = {THETA_MIN:.3g} rad, the smallest amplitude at which the integrator "
-                         f"resolves the turning points of theta; give theta0 >= {THETA_MIN:.3g}")
+                         f"rad, below {_theta_min_name(lowest)} = {lowest:.3g} rad, the smallest amplitude at which "
+                         f"the integrator resolves the turning points of theta; give theta0 >= {lowest:.3g}")
+
+
+def _theta_min_name(lowest: float) -> str:
+    """How the error messages name the smallest tilt resolved: ``THETA_MIN``, or ``theta_min(tol)`` above it."""
+    return "THETA_MIN" if lowest == THETA_MIN else "theta_min(tol)"
 
 
 class RunPlan(NamedTuple):
@@ -427,13 +442,16 @@ class RunPlan(NamedTuple):
 
 
 def check_run(body: Body, initial: EulerState, t_end: float, *, dt: float | None = None,
-              samples: bool = True) -> RunPlan:
+              samples: bool = True, tol: float = DEFAULT_TOL) -> RunPlan:
     """Check a run of :func:`simulate` against its limits before any work: every check ``simulate`` makes on the
     body, the initial state, ``t_end`` and ``dt``.
 
     Parameters
     ----------
     body, initial, t_end, dt, samples : as for :func:`simulate`.
+    tol : float
+        The integrator's tolerance, already checked (:func:`rocknroller.numerics.tolerance.check_tol`): it sets the
+        smallest tilt resolved (:func:`rocknroller.numerics.tolerance.theta_min`).
 
     Returns
     -------
@@ -449,7 +467,7 @@ def check_run(body: Body, initial: EulerState, t_end: float, *, dt: float | None
         t_end = float(t_end)
     except (TypeError, ValueError, OverflowError):  # OverflowError: an int beyond the floats, like 10**400
         raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}") from None
-    y0, rate = _validate(body, initial, t_end)
+    y0, rate = _validate(body, initial, t_end, tol)
     radians = rate * t_end
     limit, limit_name = (MAX_DENSE_RADIANS, "MAX_DENSE_RADIANS") if samples else (MAX_RADIANS, "MAX_RADIANS")
     if radians > limit:
@@ -477,23 +495,26 @@ _TurningPointsCallback = Callable[[TurningPoints, TurningPoints], None]
 # The result's type follows ``samples`` (a Trajectory with samples, a TurningPointRun without), for type checkers.
 @overload
 def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = ..., dt: float | None = ...,
-             precision: str = ..., rtol: float = ..., atol: float = ..., progress: bool | None = ...,
+             precision: str = ..., tol: float | None = ..., rtol: float = ..., atol: float = ...,
+             progress: bool | None = ...,
              samples: Literal[True] = ..., on_turning_points: _TurningPointsCallback | None = ...,
              strict: bool = ...) -> Trajectory: ...
 @overload
 def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = ..., dt: float | None = ...,
-             precision: str = ..., rtol: float = ..., atol: float = ..., progress: bool | None = ...,
+             precision: str = ..., tol: float | None = ..., rtol: float = ..., atol: float = ...,
+             progress: bool | None = ...,
              samples: Literal[False], on_turning_points: _TurningPointsCallback | None = ...,
              strict: bool = ...) -> TurningPointRun: ...
 @overload
 def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = ..., dt: float | None = ...,
-             precision: str = ..., rtol: float = ..., atol: float = ..., progress: bool | None = ...,
+             precision: str = ..., tol: float | None = ..., rtol: float = ..., atol: float = ...,
+             progress: bool | None = ...,
              samples: bool = ..., on_turning_points: _TurningPointsCallback | None = ...,
              strict: bool = ...) -> Trajectory | TurningPointRun: ...
 
 
 def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "heyoka", dt: float | None = None,
-             precision: str = "double", rtol: float = 3e-14, atol: float = 1e-15,
+             precision: str = "double", tol: float | None = None, rtol: float = 3e-14, atol: float = 1e-15,
              progress: bool | None = False, samples: bool = True,
              on_turning_points: Callable[[TurningPoints, TurningPoints], None] | None = None,
              strict: bool = False, budget: float | None = WORK_BUDGET_SECONDS) -> Trajectory | TurningPointRun:
@@ -516,6 +537,10 @@ def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "he
         unwrapped and the energy is checked (default ``UNWRAP_RADIANS``/Λ).
     precision : {"double", "extended"}
         heyoka only: 64-bit or 80-bit floating point.
+    tol : float, optional
+        heyoka only: the integrator's tolerance, in [ε, ``TOL_MAX`` = 1e-6] with ε the machine epsilon of
+        ``precision`` (default None: ε, heyoka's default).  It sets the Taylor order, the energy check and the
+        smallest tilt resolved (:mod:`rocknroller.numerics.tolerance`); 1e-11 gives DOP853's best energy error.
     rtol, atol : float
         scipy only: DOP853 tolerances.
     progress : bool or None
@@ -553,9 +578,14 @@ def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "he
         raise ValueError(f"precision must be one of {_PRECISIONS}, got {precision!r}")
     if method == "scipy" and precision != "double":
         raise ValueError("precision='extended' is available with method='heyoka' only")
+    if tol is not None:
+        if method == "scipy":
+            raise ValueError(f"tol is heyoka's tolerance; method='scipy' takes rtol and atol, got tol={tol!r}")
+        tol = check_tol(tol, "tol", float(np.finfo(float if precision == "double" else np.longdouble).eps))
     if method == "scipy" and not (0.0 < rtol < 1.0 and math.isfinite(atol) and atol > 0.0):
         raise ValueError(f"rtol must lie in (0, 1) and atol be > 0, got rtol={rtol!r}, atol={atol!r}")
-    t_end, dt, n_grid, y0, rate = check_run(body, initial, t_end, dt=dt, samples=samples)
+    t_end, dt, n_grid, y0, rate = check_run(body, initial, t_end, dt=dt, samples=samples,
+                                            tol=DEFAULT_TOL if tol is None else tol)
     per_radian = (DOP853_SECONDS_PER_RADIAN if method == "scipy" else HEYOKA_SECONDS_PER_RADIAN
                   if precision == "double" else HEYOKA_EXTENDED_SECONDS_PER_RADIAN)
     check_work(rate * t_end * per_radian, f"this run ({method}, {precision} precision, Λ t_end = {rate * t_end:.3g} "
@@ -565,7 +595,7 @@ def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "he
     with _progress(t_end, progress) as bar:
         run: _HeyokaRun | _ScipyRun
         if method == "heyoka":
-            run = _HeyokaRun(body, y0, precision, bar, MAX_DENSE_STEPS if samples else None)
+            run = _HeyokaRun(body, y0, precision, bar, MAX_DENSE_STEPS if samples else None, tol)
         else:
             run = _ScipyRun(body, y0, rtol, atol, bar)
         if samples:
@@ -575,16 +605,16 @@ def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "he
                 [t for t, d in events if d < 0], n_steps=run.n_steps, tolerance=run.tolerance)
         else:
             result = _turning_points_only(body, method, run, y0, t_end, dt, rate, on_turning_points)
-    return finish_run(result, initial, strict)
+    return finish_run(result, initial, strict, DEFAULT_TOL if tol is None else tol)
 
 
 _Run = TypeVar("_Run", bound=Trajectory | TurningPointRun)
 
 
-def finish_run(result: _Run, initial: EulerState, strict: bool) -> _Run:
-    """The checks after a run: θ-maxima resolved (:func:`check_theta_resolved`), the energy error within its bound
-    (:func:`check_energy_error`)."""
-    check_theta_resolved(result.maxima.theta, initial)
+def finish_run(result: _Run, initial: EulerState, strict: bool, tol: float = DEFAULT_TOL) -> _Run:
+    """The checks after a run at heyoka's tolerance ``tol`` (default for scipy's): θ-maxima resolved
+    (:func:`check_theta_resolved`), the energy error within its bound (:func:`check_energy_error`)."""
+    check_theta_resolved(result.maxima.theta, initial, tol)
     check_energy_error(result.energy_rel_error, result.n_steps, result.tolerance, strict, stacklevel=3)
     return result
 
