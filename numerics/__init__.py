@@ -14,6 +14,9 @@ Imports only :mod:`rocknroller.analysis.model`.  In the order data flows through
 ``events``
     The turning points of a stretch: the start's own root, the integrator's events checked and located on the
     dense output.
+``tolerance``
+    The accuracy knob ``tol`` of the direct runs: its range, and what scales with it (the energy check, the smallest
+    tilt resolved).
 ``integrate``
     :func:`~rocknroller.numerics.integrate.simulate`: heyoka's Taylor integrator (or scipy's DOP853) with every
     turning point of θ found as an event.

@@ -3,7 +3,8 @@
 Backends
 --------
 ``heyoka`` (default)
-    heyoka's adaptive Taylor integrator at tolerance = machine epsilon.  The body parameters are
+    heyoka's adaptive Taylor integrator at tolerance ``tol`` (default machine epsilon;
+    :mod:`rocknroller.numerics.tolerance`).  The body parameters are
     runtime parameters, so one compiled integrator serves every body.  It is built once per process and
     copied once per thread (the same machine code, so every thread gives the same results bit for bit);
     heyoka's own on-disk JIT cache (heyoka ≥ 7.10, ``HEYOKA_CACHE_DIR``, process-safe) makes a build

@@ -31,9 +31,10 @@ Compilation
 -----------
 The compiled code depends on the order only, not on ``tol`` itself: heyoka's caches (in memory, and on disk in
 ``HEYOKA_CACHE_DIR``, both keyed by the generated code) hold one integrator per order.  A tolerance of an order not
-yet compiled on the machine compiles once (1.6 s CPU for the batch integrator of 8 lanes at order 14, measured; the
-scalar one likewise), after which every process loads it from the disk cache in ≈ 0.02 s CPU, and another tolerance
-of the same order is a cache hit in memory.
+yet compiled on the machine compiles once (measured: 0.4-0.9 s CPU for the scalar or the 8-lane batch integrator at
+orders 9-10, 1.6 s for the batch one at order 14; the default order 20 ≈ 3 s, docs/performance.md), after which every
+process loads it from the disk cache in ≈ 0.02 s CPU, and another tolerance of the same order is a hit in memory.
+Each tolerance used keeps its own integrator per process and thread (≈ the default's memory).
 """
 
 from __future__ import annotations
