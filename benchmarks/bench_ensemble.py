@@ -41,10 +41,10 @@ import numpy as np
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState
-from rocknroller.numerics.batch import batch_integrator, batch_width
+from rocknroller.numerics.batch import BATCH_CHUNK_RADIANS, batch_integrator, batch_width
 from rocknroller.numerics.ensemble import Job, RunSummary, run_ensemble
 from rocknroller.analysis.model.invariants import energy
-from rocknroller.numerics.integrate import DT_RADIANS, heyoka_integrator, rate_bound, simulate
+from rocknroller.numerics.integrate import DT_RADIANS, _stretch_end, default_dt, heyoka_integrator, rate_bound, simulate
 from rocknroller.numerics.tolerance import DEFAULT_TOL
 from rocknroller.numerics.trajectory import TurningPoints, energy_scale
 
@@ -67,8 +67,10 @@ def interleaved(paths: dict[str, Callable[[], object]], rounds: int) -> dict[str
 
 
 def propagation_only(jobs: list[Job], tol: float, dense: bool) -> Callable[[], None]:
-    """heyoka's batch propagation of the jobs alone, integration and turning-point events (their Python callback
-    recording each), with or without the dense output: the part of the lanes' work that is not bookkeeping."""
+    """heyoka's batch propagation of the jobs alone, stretch by stretch as :func:`run_batch` integrates them
+    (``BATCH_CHUNK_RADIANS`` of each lane's rate bound), integration and turning-point events (their Python callback
+    recording each), with or without the dense output: the part of the lanes' work that is not bookkeeping.  (heyoka
+    adds ≈ 1 ms per call that returns a dense output, whatever its length, so the stretches matter.)"""
     width = batch_width()
     ta = batch_integrator(width, tol)
 
@@ -79,8 +81,16 @@ def propagation_only(jobs: list[Job], tol: float, dense: bool) -> Callable[[], N
             ta.set_time(0.0)
             ta.state[:] = np.stack([j.initial.to_body_state() for j in batch], axis=1)
             ta.pars[:] = np.stack([np.asarray(j.body.params, float) for j in batch], axis=1)
-            ta.nt_events[0].callback.events.clear()
-            ta.propagate_until(np.array([j.t_end for j in batch]), c_output=dense)
+            t_end = np.array([j.t_end for j in batch])
+            stretch = np.array([max(BATCH_CHUNK_RADIANS / rate_bound(j.body, j.initial.to_body_state()),
+                                    default_dt(j.t_end, rate_bound(j.body, j.initial.to_body_state()), False))
+                                for j in batch])
+            t_a = np.zeros(width)
+            while np.any(t_a < t_end):
+                t_b = np.array([_stretch_end(a, e, s) if a < e else a for a, e, s in zip(t_a, t_end, stretch)])
+                ta.nt_events[0].callback.events.clear()
+                ta.propagate_until(t_b, c_output=dense)
+                t_a = t_b
     return run
 
 
