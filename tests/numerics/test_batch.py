@@ -112,13 +112,15 @@ def test_lanes_at_a_looser_tolerance_give_simulates_turning_points_within_its_bo
             assert summary.energy_rel_error <= energy_error_bound(tol, summary.n_steps)
 
 
-def test_minima_and_a_long_run_match_the_scalar_integrator():
+@pytest.mark.parametrize("tol", [2.0 * U, 1e-11])
+def test_minima_and_a_long_run_match_the_scalar_integrator(tol):
     """The release of the paper's figures (θ0 = 0.95π, 1000 time units, 75 maxima, passages within 2e-5 rad of the
-    pole where φ and ψ turn by π): maxima and minima within the bound, φ and ψ on the same branch."""
-    job = Job(rr.Body.paper(1e-3), rr.EulerState(0.95 * math.pi, psi=0.3), 1000.0)
-    (lane,) = run_batch([(job.body, job.initial, job.t_end)])
-    run = rr.simulate(job.body, job.initial, job.t_end, samples=False)
-    bound_t, bound_y = _bounds(job, run)
+    pole where φ and ψ turn by π), at the default tolerance and at 1e-11: maxima and minima within the bound, φ and ψ
+    on the same branch."""
+    job = Job(rr.Body.paper(1e-3), rr.EulerState(0.95 * math.pi, psi=0.3), 1000.0, tol)
+    (lane,) = run_batch([(job.body, job.initial, job.t_end)], tol=tol)
+    run = rr.simulate(job.body, job.initial, job.t_end, samples=False, tol=tol)
+    bound_t, bound_y = _bounds(job, run, tol)
     for a, b in ((lane.maxima, run.maxima), (lane.minima, run.minima)):
         assert len(a) == len(b) > 70
         assert np.max(np.abs(a.t - b.t)) <= bound_t
