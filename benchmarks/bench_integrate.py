@@ -397,14 +397,14 @@ def main() -> None:
     hy.llvm_state.set_diskcache_enabled(False)
     hy.llvm_state.clear_memcache()
     t0 = time.perf_counter()
-    _build_heyoka(float)
+    _build_heyoka(float, float(np.finfo(float).eps))
     t_compile = time.perf_counter() - t0
     hy.llvm_state.set_diskcache_enabled(disk)
     heyoka_integrator()
 
     def from_disk():
         hy.llvm_state.clear_memcache()
-        return _build_heyoka(float)
+        return _build_heyoka(float, float(np.finfo(float).eps))
 
     t_load, _ = best_of(from_disk) if disk else (math.nan, None)
 

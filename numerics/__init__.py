@@ -15,7 +15,9 @@ Imports only :mod:`rocknroller.analysis.model`.  In the order data flows through
     The turning points of a stretch: the start's own root, the integrator's events checked and located on the
     dense output.
 ``run_limits``
-    The limits of one run, checked before any work (:func:`~rocknroller.numerics.run_limits.check_run`).
+    The limits of one run, checked before any work (:func:`~rocknroller.numerics.run_limits.check_run`), and the
+    accuracy knob ``tol`` of the direct runs: its range, and what scales with it (the energy check, the smallest tilt
+    resolved).
 ``backends``
     The two integrators, advanced stretch by stretch: heyoka's Taylor integrator, compiled once per process, and
     scipy's DOP853.

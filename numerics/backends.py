@@ -31,8 +31,8 @@ from rocknroller.numerics.trajectory import DenseOutput
 __all__ = ["heyoka_integrator", "check_diskcache"]
 
 _PRECISIONS = ("double", "extended")
-#: The integrator compiled once per process, per precision; never propagated itself, only copied.
-_TEMPLATES: dict[str, Any] = {}
+#: The integrator compiled once per process, per precision and tolerance; never propagated itself, only copied.
+_TEMPLATES: dict[tuple[str, float], Any] = {}
 _TEMPLATE_LOCK = threading.Lock()
 #: Each thread's own copies of the templates (a heyoka integrator must not be propagated by two threads at once).
 _PER_THREAD = threading.local()
@@ -48,7 +48,7 @@ class _EventLog:
         self.events.append((float(time), int(d_sgn)))
 
 
-def _build_heyoka(fp_type: Any) -> Any:
+def _build_heyoka(fp_type: Any, tol: float) -> Any:
     import heyoka as hy
 
     names = ["g1", "g2", "g3", "w1", "w2", "w3", "x1", "x2", "x3", "X", "Y"]
@@ -58,11 +58,13 @@ def _build_heyoka(fp_type: Any) -> Any:
     kwargs = {} if fp_type is float else {"fp_type": fp_type}
     ev = hy.nt_event(turning_point_function(y), _EventLog(), **kwargs)
     return hy.taylor_adaptive(list(zip(y, rhs)), np.zeros(STATE_SIZE, dtype=fp_type),
-                              pars=np.zeros(5, dtype=fp_type), nt_events=[ev], **kwargs)
+                              pars=np.zeros(5, dtype=fp_type), nt_events=[ev], tol=fp_type(tol), **kwargs)
 
 
-def heyoka_integrator(precision: str = "double") -> Any:
-    """The compiled heyoka integrator of form (i): compiled once per process, one copy per thread.
+def heyoka_integrator(precision: str = "double", tol: float | None = None) -> Any:
+    """The compiled heyoka integrator of form (i) at tolerance ``tol`` (None: heyoka's default, the machine epsilon
+    of ``precision``; checked by the caller, :func:`rocknroller.numerics.run_limits.check_tol`): compiled once per
+    process, one copy per thread.
 
     Every thread that calls this gets its own copy (made in about a millisecond), so
     :func:`~rocknroller.numerics.integrate.simulate` may run in several threads at once; a copy runs the same machine
@@ -74,19 +76,20 @@ def heyoka_integrator(precision: str = "double") -> Any:
     if precision not in _PRECISIONS:
         raise ValueError(f"precision must be one of {_PRECISIONS}, got {precision!r}")
     mine = _PER_THREAD.__dict__.setdefault("integrators", {})
-    if precision not in mine:
+    key = (precision, float(np.finfo(float if precision == "double" else np.longdouble).eps) if tol is None else tol)
+    if key not in mine:
         with _TEMPLATE_LOCK:  # one compilation per process; copies are made from a template no thread propagates
-            if precision not in _TEMPLATES:
-                _TEMPLATES[precision] = _compile(precision)
-            mine[precision] = copy.deepcopy(_TEMPLATES[precision])
-    return mine[precision]
+            if key not in _TEMPLATES:
+                _TEMPLATES[key] = _compile(*key)
+            mine[key] = copy.deepcopy(_TEMPLATES[key])
+    return mine[key]
 
 
-def _compile(precision: str) -> Any:
-    """Build the integrator of ``precision`` (from heyoka's disk cache when it holds it), after checking that the
-    cache can be used (:func:`check_diskcache`)."""
+def _compile(precision: str, tol: float) -> Any:
+    """Build the integrator of ``precision`` at ``tol`` (from heyoka's disk cache when it holds it), after checking
+    that the cache can be used (:func:`check_diskcache`)."""
     check_diskcache()
-    return _build_heyoka(float if precision == "double" else np.longdouble)
+    return _build_heyoka(float if precision == "double" else np.longdouble, tol)
 
 
 def check_diskcache() -> None:
@@ -119,16 +122,17 @@ def check_diskcache() -> None:
 class _HeyokaRun:
     """heyoka integrator advanced stretch by stretch, with the dense output of each stretch."""
 
-    def __init__(self, body: Body, y0: NDArray[np.float64], precision: str, bar: Any, max_steps: int | None):
+    def __init__(self, body: Body, y0: NDArray[np.float64], precision: str, bar: Any, max_steps: int | None,
+                 tol: float | None = None):
         self.fp = float if precision == "double" else np.longdouble
-        self.ta = ta = heyoka_integrator(precision)
+        self.ta = ta = heyoka_integrator(precision, tol)
         ta.time = self.fp(0.0)
         ta.state[:] = np.asarray(y0, dtype=self.fp)
         ta.pars[:] = np.asarray(body.params, dtype=self.fp)
         self.log = ta.nt_events[0].callback
         self.log.events.clear()
         self.bar, self.max_steps, self.n_steps = bar, max_steps, 0
-        self.tolerance = float(np.finfo(self.fp).eps)
+        self.tolerance = float(ta.tol)
         self.params, self.start = body.params, start_turning_point(body, y0)
 
     def advance(self, t_b: float) -> tuple[DenseOutput, list[tuple[float, int]]]:

@@ -3,7 +3,8 @@
 Backends
 --------
 ``heyoka`` (default)
-    heyoka's adaptive Taylor integrator at tolerance = machine epsilon.  The body parameters are
+    heyoka's adaptive Taylor integrator at tolerance ``tol`` (default machine epsilon;
+    :mod:`rocknroller.numerics.run_limits`).  The body parameters are
     runtime parameters, so one compiled integrator serves every body.  It is built once per process and
     copied once per thread (the same machine code, so every thread gives the same results bit for bit);
     heyoka's own on-disk JIT cache (heyoka ≥ 7.10, ``HEYOKA_CACHE_DIR``, process-safe) makes a build
@@ -77,10 +78,11 @@ from rocknroller.numerics.budget import (DOP853_SECONDS_PER_RADIAN, HEYOKA_EXTEN
                                          HEYOKA_SECONDS_PER_RADIAN, WORK_BUDGET_SECONDS, check_work)
 from rocknroller.numerics.cache import CacheWarning, cache_dir  # re-exported
 from rocknroller.numerics.events import THETA_MIN
-from rocknroller.numerics.run_limits import (DT_RADIANS, G_RANGE, MAX_DENSE_RADIANS, MAX_DENSE_STEPS,  # re-exported
-                                             ENERGY_RANGE_NO_GRAVITY, MAX_ENERGY_OVER_G, MAX_GRID_POINTS, MAX_RADIANS, MAX_SAMPLES,
-                                             MOMENT_RANGE, UNWRAP_RADIANS, RunPlan, check_run, default_dt,
-                                             rate_bound)
+from rocknroller.numerics.run_limits import (DEFAULT_TOL, DT_RADIANS, ENERGY_RANGE_NO_GRAVITY,  # re-exported
+                                             G_RANGE, MAX_DENSE_RADIANS, MAX_DENSE_STEPS, MAX_ENERGY_OVER_G,
+                                             MAX_GRID_POINTS, MAX_RADIANS, MAX_SAMPLES, MOMENT_RANGE, UNWRAP_RADIANS,
+                                             RunPlan, _theta_min_name, check_run, check_tol, default_dt, rate_bound,
+                                             theta_min)
 from rocknroller.numerics.trajectory import (Trajectory, TurningPointRun, TurningPoints, _Samples, energy_error_bound,
                                              energy_scale)
 
@@ -167,13 +169,15 @@ def check_energy_error(err: float, n_steps: int, tolerance: float, strict: bool,
         warnings.warn(msg, AccuracyWarning, stacklevel=stacklevel + 1)
 
 
-def check_theta_resolved(theta_maxima: NDArray[np.float64], initial: EulerState) -> None:
-    """Refuse a motion near the pole that the energy did not confine there: θ-maxima below ``THETA_MIN``, where the
-    integrator does not resolve the turning points (:mod:`rocknroller.numerics.events`)."""
-    if np.any(theta_maxima < THETA_MIN):
+def check_theta_resolved(theta_maxima: NDArray[np.float64], initial: EulerState, tol: float = DEFAULT_TOL) -> None:
+    """Refuse a motion near the pole that the energy did not confine there: θ-maxima below ``THETA_MIN`` (at
+    tolerance ``tol``, :func:`rocknroller.numerics.run_limits.theta_min`), where the integrator does not resolve the
+    turning points (:mod:`rocknroller.numerics.events`)."""
+    lowest = theta_min(tol)
+    if np.any(theta_maxima < lowest):
         raise ValueError(f"theta0={initial.theta!r}: theta has maxima as small as {theta_maxima.min():.3g} "
-                         f"rad, below THETA_MIN = {THETA_MIN:.3g} rad, the smallest amplitude at which the integrator "
-                         f"resolves the turning points of theta; give theta0 >= {THETA_MIN:.3g}")
+                         f"rad, below {_theta_min_name(lowest)} = {lowest:.3g} rad, the smallest amplitude at which "
+                         f"the integrator resolves the turning points of theta; give theta0 >= {lowest:.3g}")
 
 
 #: The ``on_turning_points`` callback of :func:`simulate`.
@@ -183,23 +187,26 @@ _TurningPointsCallback = Callable[[TurningPoints, TurningPoints], None]
 # The result's type follows ``samples`` (a Trajectory with samples, a TurningPointRun without), for type checkers.
 @overload
 def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = ..., dt: float | None = ...,
-             precision: str = ..., rtol: float = ..., atol: float = ..., progress: bool | None = ...,
+             precision: str = ..., tol: float | None = ..., rtol: float = ..., atol: float = ...,
+             progress: bool | None = ...,
              samples: Literal[True] = ..., on_turning_points: _TurningPointsCallback | None = ...,
              strict: bool = ...) -> Trajectory: ...
 @overload
 def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = ..., dt: float | None = ...,
-             precision: str = ..., rtol: float = ..., atol: float = ..., progress: bool | None = ...,
+             precision: str = ..., tol: float | None = ..., rtol: float = ..., atol: float = ...,
+             progress: bool | None = ...,
              samples: Literal[False], on_turning_points: _TurningPointsCallback | None = ...,
              strict: bool = ...) -> TurningPointRun: ...
 @overload
 def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = ..., dt: float | None = ...,
-             precision: str = ..., rtol: float = ..., atol: float = ..., progress: bool | None = ...,
+             precision: str = ..., tol: float | None = ..., rtol: float = ..., atol: float = ...,
+             progress: bool | None = ...,
              samples: bool = ..., on_turning_points: _TurningPointsCallback | None = ...,
              strict: bool = ...) -> Trajectory | TurningPointRun: ...
 
 
 def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "heyoka", dt: float | None = None,
-             precision: str = "double", rtol: float = 3e-14, atol: float = 1e-15,
+             precision: str = "double", tol: float | None = None, rtol: float = 3e-14, atol: float = 1e-15,
              progress: bool | None = False, samples: bool = True,
              on_turning_points: Callable[[TurningPoints, TurningPoints], None] | None = None,
              strict: bool = False, budget: float | None = WORK_BUDGET_SECONDS) -> Trajectory | TurningPointRun:
@@ -222,6 +229,10 @@ def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "he
         unwrapped and the energy is checked (default ``UNWRAP_RADIANS``/Λ).
     precision : {"double", "extended"}
         heyoka only: 64-bit or 80-bit floating point.
+    tol : float, optional
+        heyoka only: the integrator's tolerance, in [ε, ``TOL_MAX`` = 1e-6] with ε the machine epsilon of
+        ``precision`` (default None: ε, heyoka's default).  It sets the Taylor order, the energy check and the
+        smallest tilt resolved (:mod:`rocknroller.numerics.run_limits`); 1e-11 gives DOP853's best energy error.
     rtol, atol : float
         scipy only: DOP853 tolerances.
     progress : bool or None
@@ -271,9 +282,14 @@ def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "he
         raise ValueError(f"precision must be one of {_PRECISIONS}, got {precision!r}")
     if method == "scipy" and precision != "double":
         raise ValueError("precision='extended' is available with method='heyoka' only")
+    if tol is not None:
+        if method == "scipy":
+            raise ValueError(f"tol is heyoka's tolerance; method='scipy' takes rtol and atol, got tol={tol!r}")
+        tol = check_tol(tol, "tol", float(np.finfo(float if precision == "double" else np.longdouble).eps))
     if method == "scipy" and not (0.0 < rtol < 1.0 and math.isfinite(atol) and atol > 0.0):
         raise ValueError(f"rtol must lie in (0, 1) and atol be > 0, got rtol={rtol!r}, atol={atol!r}")
-    t_end, dt, n_grid, y0, rate = check_run(body, initial, t_end, dt=dt, samples=samples)
+    t_end, dt, n_grid, y0, rate = check_run(body, initial, t_end, dt=dt, samples=samples,
+                                            tol=DEFAULT_TOL if tol is None else tol)
     per_radian = (DOP853_SECONDS_PER_RADIAN if method == "scipy" else HEYOKA_SECONDS_PER_RADIAN
                   if precision == "double" else HEYOKA_EXTENDED_SECONDS_PER_RADIAN)
     check_work(rate * t_end * per_radian, f"this run ({method}, {precision} precision, Λ t_end = {rate * t_end:.3g} "
@@ -283,7 +299,7 @@ def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "he
     with _progress(t_end, progress) as bar:
         run: _HeyokaRun | _ScipyRun
         if method == "heyoka":
-            run = _HeyokaRun(body, y0, precision, bar, MAX_DENSE_STEPS if samples else None)
+            run = _HeyokaRun(body, y0, precision, bar, MAX_DENSE_STEPS if samples else None, tol)
         else:
             run = _ScipyRun(body, y0, rtol, atol, bar)
         if samples:
@@ -293,16 +309,16 @@ def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "he
                 [t for t, d in events if d < 0], n_steps=run.n_steps, tolerance=run.tolerance)
         else:
             result = _turning_points_only(body, method, run, y0, t_end, dt, rate, on_turning_points)
-    return finish_run(result, initial, strict)
+    return finish_run(result, initial, strict, DEFAULT_TOL if tol is None else tol)
 
 
 _Run = TypeVar("_Run", bound=Trajectory | TurningPointRun)
 
 
-def finish_run(result: _Run, initial: EulerState, strict: bool) -> _Run:
-    """The checks after a run: θ-maxima resolved (:func:`check_theta_resolved`), the energy error within its bound
-    (:func:`check_energy_error`)."""
-    check_theta_resolved(result.maxima.theta, initial)
+def finish_run(result: _Run, initial: EulerState, strict: bool, tol: float = DEFAULT_TOL) -> _Run:
+    """The checks after a run at heyoka's tolerance ``tol`` (default for scipy's): θ-maxima resolved
+    (:func:`check_theta_resolved`), the energy error within its bound (:func:`check_energy_error`)."""
+    check_theta_resolved(result.maxima.theta, initial, tol)
     check_energy_error(result.energy_rel_error, result.n_steps, result.tolerance, strict, stacklevel=3)
     return result
 

@@ -5,12 +5,52 @@ The work and memory of a run scale with Λ·t_end (:func:`rate_bound`); :func:`c
 ``MOMENT_RANGE``, ``G_RANGE``, ``MAX_ENERGY_OVER_G`` and ``ENERGY_RANGE_NO_GRAVITY``, a start without motion and one whose energy keeps its tilt
 below ``THETA_MIN``, with a ``ValueError`` that names the parameter and the limit.  The module docstring of
 :mod:`rocknroller.numerics.integrate` derives each limit.
+
+The tolerance
+-------------
+The accuracy knob of the direct runs is heyoka's tolerance ``tol``; its range and what follows from it:
+
+heyoka's Taylor integrator takes one tolerance, relative and absolute at once: each step keeps its local error within
+``tol`` · max(1, ‖y‖∞).  It sets the Taylor order, p = ⌈−ln(tol)/2⌉ + 1 (20 at tol = ε = 2u, the default; 14 at 1e-11,
+12 at 1e-9, 8 at 1e-6), and the step follows from the series' radius of convergence, so the energy error comes in
+levels, one per order, rather than in proportion to ``tol``.
+
+What scales with ``tol``
+------------------------
+* The energy check (:func:`rocknroller.numerics.trajectory.energy_error_bound`): ``ENERGY_SLACK`` × (tol · n_steps + u).
+  Its derivation holds at any tolerance: each step errs by at most tol of max(1, ‖y‖∞) (the unit vectors γ and e_X
+  make ‖y‖∞ ≥ 1), the errors add at most linearly over n steps, and the energy, evaluated in double precision from
+  the states, adds a few u relative to its scale.
+* The smallest tilt resolved (:func:`theta_min`): ``THETA_MIN`` = 2¹⁰ u rests on the state's absolute error of u per
+  step (:mod:`rocknroller.numerics.events`); at tolerance tol that error is tol/2 per step, so the smallest tilt at
+  which the turning points keep a relative error ≤ 2⁻¹⁰ is 2¹⁰ · tol/2, ``THETA_MIN`` · tol/ε.
+* The turning points: each run's are within n_steps · tol · max(1, ‖y‖∞) · S of the exact ones (S the amplification
+  of an error by the flow), as at the default with tol for 2u (tests/numerics/test_batch.py derives the bound).
+
+What does not: the location of the turning points on the dense output (to the rounding of t), the unwrapping grid,
+the limits on a run's size, and the work estimate (a looser tolerance takes about as many steps of a lower order,
+so :data:`rocknroller.numerics.budget.HEYOKA_SECONDS_PER_RADIAN`, measured at ε, bounds it).
+
+Range
+-----
+``TOL_RANGE`` = [ε, 1e-6] in double precision (the unit round-off 2u of the precision run, and 1e-6).  Below ε heyoka
+would ask its steps for more than their arithmetic holds; above 1e-6 the order drops below 8 and the energy bound,
+10 tol per step, allows 1 % of the energy within 10³ steps: a run no longer worth its turning points.
+
+Compilation
+-----------
+The compiled code depends on the order only, not on ``tol`` itself: heyoka's caches (in memory, and on disk in
+``HEYOKA_CACHE_DIR``, both keyed by the generated code) hold one integrator per order.  A tolerance of an order not
+yet compiled on the machine compiles once (measured: 0.4-0.9 s CPU for the scalar or the 8-lane batch integrator at
+orders 9-10, 1.6 s for the batch one at order 14; the default order 20 ≈ 3 s, docs/performance.md), after which every
+process loads it from the disk cache in ≈ 0.02 s CPU, and another tolerance of the same order is a hit in memory.
+Each tolerance used keeps its own integrator per process and thread (≈ the default's memory).
 """
 
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -22,7 +62,7 @@ from rocknroller.numerics.events import _U, THETA_MIN
 
 __all__ = ["check_run", "RunPlan", "rate_bound", "default_dt", "MAX_SAMPLES", "MAX_DENSE_RADIANS", "MAX_DENSE_STEPS",
            "MAX_RADIANS", "MAX_GRID_POINTS", "MOMENT_RANGE", "G_RANGE", "MAX_ENERGY_OVER_G",
-           "ENERGY_RANGE_NO_GRAVITY", "DT_RADIANS", "UNWRAP_RADIANS"]
+           "ENERGY_RANGE_NO_GRAVITY", "DT_RADIANS", "UNWRAP_RADIANS", "DEFAULT_TOL", "TOL_MAX", "check_tol", "theta_min"]
 
 MAX_SAMPLES = 2_000_000
 MAX_DENSE_RADIANS = 3.0e5
@@ -45,6 +85,51 @@ DT_RADIANS = 0.15
 UNWRAP_RADIANS = 1.0
 
 
+
+#: heyoka's default tolerance in double precision: the machine epsilon ε = 2u = 2⁻⁵².
+DEFAULT_TOL = float(np.finfo(float).eps)
+#: The loosest tolerance accepted (module docstring, "Range").
+TOL_MAX = 1e-6
+
+
+def check_tol(tol: Any, name: str = "tol", lowest: float = DEFAULT_TOL) -> float:
+    """``tol`` as a float, checked to lie in [``lowest``, ``TOL_MAX``].
+
+    Parameters
+    ----------
+    tol : float
+        The tolerance asked for.
+    name : str
+        The parameter as the user typed it (``"tol"``, or ``"--tol"`` on the command line).
+    lowest : float
+        The machine epsilon of the precision run (default double's, ``DEFAULT_TOL``).
+
+    Raises
+    ------
+    ValueError
+        Naming ``name`` and the range, for anything but a real number in the range.
+    """
+    try:
+        value = float(tol) if not isinstance(tol, (bool, str, bytes)) else math.nan
+    except (TypeError, ValueError, OverflowError):
+        value = math.nan
+    if not lowest <= value <= TOL_MAX:  # False for NaN
+        raise ValueError(f"{name} must be a number in [{lowest:.6g}, {TOL_MAX:g}] (from the machine epsilon of the "
+                         f"precision to {TOL_MAX:g}), got {name}={tol!r}")
+    return value
+
+
+def theta_min(tol: float) -> float:
+    """The smallest amplitude of θ whose turning points a run at tolerance ``tol`` resolves: ``THETA_MIN`` at the
+    default tolerance and below it (extended precision: the state is rounded to double), ``THETA_MIN`` · tol/ε above
+    (module docstring)."""
+    return THETA_MIN * max(1.0, tol / DEFAULT_TOL)
+
+
+def _theta_min_name(lowest: float) -> str:
+    """How the error messages name the smallest tilt resolved: ``THETA_MIN``, or ``theta_min(tol)`` above it."""
+    return "THETA_MIN" if lowest == THETA_MIN else "theta_min(tol)"
+
 def rate_bound(body: Body, y0: NDArray[np.float64]) -> float:
     """Λ = √(2(E + g a)/I_min): a bound on |ω(t)| for all t (½ I_min |ω|² ≤ T ≤ E) that also covers the
     rocking rate √(g a/I) of motions near rest.  Work and memory of a run scale with Λ·t_end."""
@@ -60,7 +145,8 @@ def default_dt(t_end: float, rate: float, samples: bool = True) -> float:
     return min((DT_RADIANS if samples else UNWRAP_RADIANS) / rate, t_end / 200.0) or t_end
 
 
-def _validate(body: Body, initial: EulerState, t_end: float) -> tuple[NDArray[np.float64], float]:
+def _validate(body: Body, initial: EulerState, t_end: float,
+              tol: float = DEFAULT_TOL) -> tuple[NDArray[np.float64], float]:
     if not isinstance(body, Body):
         raise ValueError(f"body must be a rocknroller.analysis.model.body.Body, got {type(body).__name__}")
     if not isinstance(initial, EulerState):
@@ -98,12 +184,14 @@ def _validate(body: Body, initial: EulerState, t_end: float) -> tuple[NDArray[np
             f"the initial state has no motion to resolve: {initial} has the kinetic energy E = {E!r} in double "
             f"precision (its rates, max |omega_i| = {float(np.max(np.abs(y0[3:6]))):.3g}, are below about {w_min:.2g}, "
             f"where (1/2) I_min |omega|^2 underflows) and g a = {body.g * body.a!r}; give a > 0 or larger rates")
-    _check_tilt_resolved(body, initial, y0, E)
+    _check_tilt_resolved(body, initial, y0, E, theta_min(tol))
     return y0, rate_bound(body, y0)
 
 
-def _check_tilt_resolved(body: Body, initial: EulerState, y0: NDArray[np.float64], E: float) -> None:
-    """Refuse a motion whose energy keeps its tilt below ``THETA_MIN`` (see there).
+def _check_tilt_resolved(body: Body, initial: EulerState, y0: NDArray[np.float64], E: float,
+                         lowest: float = THETA_MIN) -> None:
+    """Refuse a motion whose energy keeps its tilt below ``lowest`` (``THETA_MIN`` at the default tolerance, see
+    there; :func:`theta_min`).
 
     V = g a (1 − cos θ) ≤ E bounds the tilt by θ_E, 2 g a sin²(θ_E/2) = E = T + V; in the upper hemisphere V is taken
     as g a (γ1² + γ2²)/(1 + γ3), which keeps its digits where 1 − γ3 rounds to 0 (θ < 1.5e-8), and T = E − g a (1 − γ3)
@@ -114,13 +202,13 @@ def _check_tilt_resolved(body: Body, initial: EulerState, y0: NDArray[np.float64
     ga = body.g * body.a
     one_minus_c = (y0[0] ** 2 + y0[1] ** 2) / (1.0 + y0[2]) if y0[2] > 0.0 else 1.0 - y0[2]
     s2 = ((E - ga * (1.0 - y0[2])) + ga * one_minus_c) / (2.0 * ga)  # sin²(θ_E/2)
-    if s2 < math.sin(0.5 * THETA_MIN) ** 2:
+    if s2 < math.sin(0.5 * lowest) ** 2:
         theta_E = 2.0 * math.asin(math.sqrt(max(s2, 0.0)))
         raise ValueError(
             f"theta0={initial.theta!r}: the start's energy keeps its tilt within theta_E = {theta_E:.3g} rad of the "
-            f"pole, below THETA_MIN = {THETA_MIN:.3g} rad, the smallest amplitude at which the integrator resolves "
-            f"the turning points of theta (its state carries an absolute round-off of u = {_U:.3g}); give "
-            f"theta0 >= {THETA_MIN:.3g} or larger rates")
+            f"pole, below {_theta_min_name(lowest)} = {lowest:.3g} rad, the smallest amplitude at which the "
+            f"integrator resolves the turning points of theta (its state carries an absolute error of "
+            f"{lowest / THETA_MIN * _U:.3g} per step); give theta0 >= {lowest:.3g} or larger rates")
 
 
 
@@ -140,13 +228,16 @@ class RunPlan(NamedTuple):
 
 
 def check_run(body: Body, initial: EulerState, t_end: float, *, dt: float | None = None,
-              samples: bool = True) -> RunPlan:
+              samples: bool = True, tol: float = DEFAULT_TOL) -> RunPlan:
     """Check a run of :func:`~rocknroller.numerics.integrate.simulate` against its limits before any work: every
     check ``simulate`` makes on the body, the initial state, ``t_end`` and ``dt``.
 
     Parameters
     ----------
     body, initial, t_end, dt, samples : as for :func:`~rocknroller.numerics.integrate.simulate`.
+    tol : float
+        The integrator's tolerance, already checked (:func:`check_tol`): it sets the smallest tilt resolved
+        (:func:`theta_min`).
 
     Returns
     -------
@@ -162,7 +253,7 @@ def check_run(body: Body, initial: EulerState, t_end: float, *, dt: float | None
         t_end = float(t_end)
     except (TypeError, ValueError, OverflowError):  # OverflowError: an int beyond the floats, like 10**400
         raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}") from None
-    y0, rate = _validate(body, initial, t_end)
+    y0, rate = _validate(body, initial, t_end, tol)
     radians = rate * t_end
     limit, limit_name = (MAX_DENSE_RADIANS, "MAX_DENSE_RADIANS") if samples else (MAX_RADIANS, "MAX_RADIANS")
     if radians > limit:

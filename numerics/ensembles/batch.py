@@ -14,8 +14,9 @@ gives the same results bit for bit in any lane, any batch and at any width from 
 2, 4, 8 and 16).  Width 1 is not a batch: heyoka compiles it as scalar code, whose results differ in the last bits,
 so a batch has at least ``MIN_LANES`` = 2 lanes.
 
-The body's parameters are runtime parameters of the compiled system, so one batch holds jobs with different bodies.
-The integrator is compiled once per process and width and kept in heyoka's disk cache like the scalar one
+The body's parameters are runtime parameters of the compiled system, so one batch holds jobs with different bodies;
+its tolerance (:mod:`rocknroller.numerics.run_limits`) is the integrator's, so one batch holds jobs at one tolerance.
+The integrator is compiled once per process, width and tolerance and kept in heyoka's disk cache like the scalar one
 (:func:`rocknroller.numerics.integrate.heyoka_integrator`), and copied for each thread.
 """
 
@@ -33,6 +34,7 @@ from rocknroller.analysis.model.equations import STATE_SIZE, EulerState, body_fr
 from rocknroller.numerics.events import _turning_points_lanes, start_turning_point
 from rocknroller.numerics.integrate import (CHUNK_RADIANS, DT_RADIANS, _grid_pieces, _RunRecord, _stretch_end,
                                             check_diskcache, check_run, finish_run)
+from rocknroller.numerics.run_limits import DEFAULT_TOL, check_tol
 from rocknroller.numerics.trajectory import TurningPointRun, _Samples
 
 __all__ = ["batch_width", "batch_integrator", "run_batch", "MIN_LANES", "MAX_LANES", "BATCH_CHUNK_RADIANS"]
@@ -46,7 +48,7 @@ MAX_LANES = 16
 #: dense output of a stretch of 8 lanes, ≈ 9 MB, is the scalar one's and is reused from the heap likewise).  Fixed,
 #: not divided by the width: a lane's stretches, and so its steps, are the same at every width.
 BATCH_CHUNK_RADIANS = CHUNK_RADIANS / 8
-_TEMPLATES: dict[int, Any] = {}
+_TEMPLATES: dict[tuple[int, float], Any] = {}
 _TEMPLATE_LOCK = threading.Lock()
 _PER_THREAD = threading.local()
 
@@ -76,21 +78,21 @@ def _check_width(width: Any) -> int:
     return int(width)
 
 
-def batch_integrator(width: int) -> Any:
-    """The compiled batch integrator of form (i) with ``width`` lanes: compiled once per process and width (from
-    heyoka's disk cache when it holds it), one copy per thread (as
-    :func:`rocknroller.numerics.integrate.heyoka_integrator`)."""
-    width = _check_width(width)
+def batch_integrator(width: int, tol: float = DEFAULT_TOL) -> Any:
+    """The compiled batch integrator of form (i) with ``width`` lanes at tolerance ``tol``
+    (:func:`rocknroller.numerics.run_limits.check_tol`): compiled once per process, width and tolerance (from heyoka's
+    disk cache when it holds it), one copy per thread (as :func:`rocknroller.numerics.integrate.heyoka_integrator`)."""
+    key = (_check_width(width), check_tol(tol))
     mine = _PER_THREAD.__dict__.setdefault("integrators", {})
-    if width not in mine:
+    if key not in mine:
         with _TEMPLATE_LOCK:
-            if width not in _TEMPLATES:
-                _TEMPLATES[width] = _build(width)
-            mine[width] = copy.deepcopy(_TEMPLATES[width])
-    return mine[width]
+            if key not in _TEMPLATES:
+                _TEMPLATES[key] = _build(*key)
+            mine[key] = copy.deepcopy(_TEMPLATES[key])
+    return mine[key]
 
 
-def _build(width: int) -> Any:
+def _build(width: int, tol: float) -> Any:
     import heyoka as hy
 
     check_diskcache()
@@ -98,14 +100,14 @@ def _build(width: int) -> Any:
     pars = [hy.par[i] for i in range(5)]
     ev = hy.nt_event_batch(turning_point_function(y), _BatchLog())
     return hy.taylor_adaptive_batch(list(zip(y, body_frame_rhs(y, pars))), np.zeros((STATE_SIZE, width)),
-                                    pars=np.zeros((5, width)), nt_events=[ev])
+                                    pars=np.zeros((5, width)), nt_events=[ev], tol=tol)
 
 
 class _Lane:
     """One run in a lane: its plan, its turning points so far, its own stretch."""
 
-    def __init__(self, body: Body, initial: EulerState, t_end: float) -> None:
-        plan = check_run(body, initial, t_end, samples=False)
+    def __init__(self, body: Body, initial: EulerState, t_end: float, tol: float) -> None:
+        plan = check_run(body, initial, t_end, samples=False, tol=tol)
         self.body, self.initial, self.t_end, self.dt = body, initial, plan.t_end, plan.dt
         self.y0 = plan.y0
         self.stretch = max(BATCH_CHUNK_RADIANS / plan.rate, plan.dt)
@@ -115,7 +117,8 @@ class _Lane:
         self.t_a, self.n_steps = 0.0, 0
 
 
-def run_batch(runs: Sequence[tuple[Body, EulerState, float]], width: int | None = None) -> list[TurningPointRun]:
+def run_batch(runs: Sequence[tuple[Body, EulerState, float]], width: int | None = None, *,
+              tol: float = DEFAULT_TOL) -> list[TurningPointRun]:
     """Integrate up to ``width`` runs at once in the lanes of heyoka's batch integrator, turning points only.
 
     Parameters
@@ -126,25 +129,28 @@ def run_batch(runs: Sequence[tuple[Body, EulerState, float]], width: int | None 
     width : int, optional
         Lanes of the integrator, in [``MIN_LANES``, ``MAX_LANES``] (default :func:`batch_width`); lanes beyond the
         runs idle.
+    tol : float
+        The integrator's tolerance, in [ε, ``TOL_MAX``] (default ε, heyoka's; :mod:`rocknroller.numerics.run_limits`).
 
     Returns
     -------
     list of TurningPointRun
-        One per run, in order: what ``simulate(body, initial, t_end, samples=False)`` returns, to the batch
+        One per run, in order: what ``simulate(body, initial, t_end, samples=False, tol=tol)`` returns, to the batch
         integrator's rounding (module docstring); an :class:`~rocknroller.numerics.integrate.AccuracyWarning` for a
         run whose energy error exceeds its bound.
 
     Raises
     ------
     ValueError
-        A run outside ``simulate``'s limits, more runs than lanes, or a width out of range (before any work); a run
-        whose θ-maxima fall below ``THETA_MIN`` (after it).
+        A run outside ``simulate``'s limits, more runs than lanes, a width or ``tol`` out of range (before any
+        work); a run whose θ-maxima fall below ``THETA_MIN`` (at ``tol``, ``theta_min(tol)``; after it).
     """
     width = batch_width() if width is None else _check_width(width)
+    tol = check_tol(tol)
     if not 1 <= len(runs) <= width:
         raise ValueError(f"runs: between 1 and width = {width} runs per batch, got {len(runs)}")
-    lanes = [_Lane(body, initial, t_end) for body, initial, t_end in runs]
-    ta = batch_integrator(width)
+    lanes = [_Lane(body, initial, t_end, tol) for body, initial, t_end in runs]
+    ta = batch_integrator(width, tol)
     ta.set_time(0.0)
     idle = lanes[0]  # lanes beyond the runs hold a copy of the first and never move
     ta.state[:] = np.stack([(lanes[j] if j < len(lanes) else idle).y0 for j in range(width)], axis=1)
@@ -169,8 +175,8 @@ def run_batch(runs: Sequence[tuple[Body, EulerState, float]], width: int | None 
             lanes[j].record.end_stretch()
             lanes[j].t_a = float(t_b[j])
         t_now = t_b
-    return [finish_run(lane.record.result("heyoka", lane.t_end, lane.n_steps, float(np.finfo(float).eps)),
-                       lane.initial, strict=False) for lane in lanes]
+    return [finish_run(lane.record.result("heyoka", lane.t_end, lane.n_steps, tol), lane.initial, strict=False,
+                       tol=tol) for lane in lanes]
 
 
 def _stretch_samples(lanes: list[_Lane], moving: list[int], c_out: Any, t_b: NDArray[np.float64],

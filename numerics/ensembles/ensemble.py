@@ -1,10 +1,11 @@
 """Many direct-ODE runs at once: in this process (a loop, or threads), or on a dask.distributed cluster.
 
-Each :class:`Job` (a body, an initial state, a final time; nothing else) is run as
+Each :class:`Job` (a body, an initial state, a final time, and the integrator's tolerance; nothing else) is run as
 :func:`rocknroller.numerics.integrate.simulate` runs it with ``samples=False`` (turning points only) and boiled down to
 a :class:`RunSummary` of plain arrays and floats: the θ-maxima and the slow diagnostics that the averaged map is
 compared with.  The jobs run in batches, in the lanes of heyoka's batch integrator (:mod:`rocknroller.numerics.ensembles.batch`,
-as many lanes as heyoka recommends for the CPU: the SIMD width), at tolerance = machine epsilon.  A lane's steps
+as many lanes as heyoka recommends for the CPU: the SIMD width), at the job's tolerance (default machine epsilon;
+jobs of one tolerance share a batch, :mod:`rocknroller.numerics.run_limits`).  A lane's steps
 depend only on its job, so a job's summary is the same bit for bit in whichever lane, batch, process, thread or
 machine it runs (provided every worker has the same versions of rocknroller, heyoka and numpy, which
 :func:`run_ensemble` checks).  ``lanes=1`` runs each job in the scalar integrator instead, as ``simulate`` does: the
@@ -48,6 +49,7 @@ from rocknroller.analysis.model.equations import EulerState
 from rocknroller.numerics.ensembles.batch import MAX_LANES, MIN_LANES, batch_integrator, batch_width, run_batch
 from rocknroller.numerics.budget import HEYOKA_SECONDS_PER_RADIAN, WORK_BUDGET_SECONDS, check_work
 from rocknroller.numerics.integrate import check_run, heyoka_integrator, simulate
+from rocknroller.numerics.run_limits import DEFAULT_TOL, check_tol
 from rocknroller.numerics.trajectory import TurningPointRun, TurningPoints
 
 if TYPE_CHECKING:
@@ -71,7 +73,7 @@ DISTRIBUTED_HINT = 'python -m pip install -e ".[distributed]" in a clone of the 
 
 @dataclass(frozen=True)
 class Job:
-    """One direct-ODE run to make: the body, the initial state and the final time (nothing else).
+    """One direct-ODE run to make: the body, the initial state, the final time and the tolerance (nothing else).
 
     A plain frozen dataclass of floats, picklable and sent as is to the workers of a cluster.  It is checked on
     construction against the limits of :func:`rocknroller.numerics.integrate.simulate` with ``samples=False``, so
@@ -87,6 +89,9 @@ class Job:
         Final time, > 0, within ``MAX_RADIANS`` radians of the run's rate bound (:mod:`rocknroller.numerics.integrate`;
         the default unwrapping grid, one point per ``UNWRAP_RADIANS`` = 1 radian, then stays within
         ``MAX_GRID_POINTS``).
+    tol : float
+        heyoka's tolerance, in [ε, ``TOL_MAX`` = 1e-6] (default ε, the machine epsilon;
+        :mod:`rocknroller.numerics.run_limits`): 1e-11 gives DOP853's best energy error, at a lower Taylor order.
 
     Raises
     ------
@@ -111,11 +116,13 @@ class Job:
     body: Body
     initial: EulerState
     t_end: float
+    tol: float = DEFAULT_TOL
     #: Λ·t_end of the run, the radians its work scales with (:func:`rocknroller.numerics.integrate.check_run`).
     radians: float = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        plan = check_run(self.body, self.initial, self.t_end, samples=False)
+        object.__setattr__(self, "tol", check_tol(self.tol))
+        plan = check_run(self.body, self.initial, self.t_end, samples=False, tol=self.tol)
         object.__setattr__(self, "t_end", plan.t_end)
         object.__setattr__(self, "radians", plan.rate * plan.t_end)
 
@@ -196,23 +203,31 @@ class RunSummary:
 
 def run_job(job: Job) -> RunSummary:
     """Run one job: :func:`rocknroller.numerics.integrate.simulate` with ``samples=False``, then its summary."""
-    run = simulate(job.body, job.initial, job.t_end, samples=False)
+    run = simulate(job.body, job.initial, job.t_end, samples=False, tol=job.tol)
     return RunSummary.from_run(run)
 
 
 def run_jobs(jobs: Sequence[Job], lanes: int) -> list[RunSummary]:
-    """Run jobs in one batch of ``lanes`` lanes (:func:`rocknroller.numerics.ensembles.batch.run_batch`; ``lanes=1`` runs
-    each by :func:`run_job`, the scalar integrator), then their summaries."""
+    """Run jobs of one tolerance in one batch of ``lanes`` lanes (:func:`rocknroller.numerics.ensembles.batch.run_batch`;
+    ``lanes=1`` runs each by :func:`run_job`, the scalar integrator), then their summaries."""
     if lanes == 1:
         return [run_job(job) for job in jobs]
-    return [RunSummary.from_run(run) for run in run_batch([(j.body, j.initial, j.t_end) for j in jobs], lanes)]
+    tols = {job.tol for job in jobs}
+    if len(tols) > 1:
+        raise ValueError(f"jobs: one batch runs at one tolerance, got tol in {sorted(tols)}")
+    return [RunSummary.from_run(run) for run in run_batch([(j.body, j.initial, j.t_end) for j in jobs], lanes,
+                                                          tol=jobs[0].tol)]
 
 
 def _batches(jobs: list[Job], lanes: int) -> list[list[int]]:
-    """The jobs' indices in batches of ``lanes``, the longest jobs (in radians Λ·t_end) together so that few lanes
-    idle while the others finish.  Which jobs share a batch does not change any job's result (:mod:`batch`)."""
-    order = sorted(range(len(jobs)), key=lambda i: -jobs[i].radians)
-    return [order[k:k + lanes] for k in range(0, len(order), lanes)]
+    """The jobs' indices in batches of ``lanes`` of one tolerance each, the longest jobs (in radians Λ·t_end)
+    together so that few lanes idle while the others finish.  Which jobs share a batch does not change any job's
+    result (:mod:`batch`)."""
+    batches = []
+    for tol in sorted({job.tol for job in jobs}):
+        order = sorted((i for i in range(len(jobs)) if jobs[i].tol == tol), key=lambda i: -jobs[i].radians)
+        batches += [order[k:k + lanes] for k in range(0, len(order), lanes)]
+    return batches
 
 
 def _check_count(value: Any, name: str, limit: int) -> int | None:
@@ -406,7 +421,8 @@ def _run_on_cluster(jobs: list[Job], batches: list[list[int]], lanes: int, sched
     what = f"scheduler={scheduler!r}" if scheduler is not None else f"workers={workers}"
     distributed = _import_distributed(what)
     # fill heyoka's disk cache (if empty) before any worker needs the integrator
-    heyoka_integrator() if lanes == 1 else batch_integrator(lanes)
+    for tol in {job.tol for job in jobs}:
+        heyoka_integrator("double", tol) if lanes == 1 else batch_integrator(lanes, tol)
     if workers is not None:  # the scheduler's HTTP server on a free port: never a clash with another cluster's
         with distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                       dashboard_address=":0") as cluster, distributed.Client(cluster) as client:

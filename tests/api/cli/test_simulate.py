@@ -44,6 +44,18 @@ def test_json_summary(capsys):
     assert out["warnings"] == [] and out["energy_rel_error"] <= out["energy_tolerance"]
 
 
+def test_tol_sets_the_integrators_tolerance(capsys):
+    """--tol 1e-11: the figure-5 run's turning points, at DOP853's best energy error (≈ 2.4e-13, 100× the default's),
+    within the energy bound at that tolerance."""
+    assert main(["simulate", "--t-end", "1500", "--turning-points-only", "--json", "--quiet", "--tol", "1e-11"]) == 0
+    loose = json.loads(capsys.readouterr().out)
+    assert main(["simulate", "--t-end", "1500", "--turning-points-only", "--json", "--quiet"]) == 0
+    default = json.loads(capsys.readouterr().out)
+    assert (loose["n_maxima"], loose["n_minima"]) == (default["n_maxima"], default["n_minima"]) == (113, 114)
+    assert 10 * default["energy_rel_error"] < loose["energy_rel_error"] <= loose["energy_tolerance"]
+    assert loose["energy_tolerance"] > 1e4 * default["energy_tolerance"] and not loose["warnings"]
+
+
 def test_outputs_written(tmp_path, capsys):
     assert main(["simulate", "--t-end", "30", "--quiet", "--out", str(tmp_path), "--eps", "0.01",
                  "--theta0", "0.9pi", "--psi0", "pi/4"]) == 0
@@ -65,6 +77,9 @@ def test_outputs_written(tmp_path, capsys):
         (["--t-end", "-1"], "--t-end must be"),
         (["--theta0", "nan"], "angle"),
         (["--theta0", "0"], "0 < theta0 < pi when no rates are given (the start then takes the figure-5 omega"),
+        (["--tol", "1e-3"], "--tol must be a number in [2.22045e-16, 1e-06]"),
+        (["--tol", "nan"], "--tol must be a number in"),
+        (["--tol", "1e-11", "--method", "scipy"], "--tol is heyoka's tolerance (--method heyoka)"),
     ],
 )
 def test_bad_input_exits_2_without_traceback(argv, fragment):

@@ -130,7 +130,7 @@ def test_a_cluster_without_dask_says_how_to_install_it(monkeypatch):
 def test_jobs_are_plain_picklable_descriptions():
     job = _jobs()[-1]
     assert pickle.loads(pickle.dumps(job)) == job
-    assert [f.name for f in dataclasses.fields(Job) if f.init] == ["body", "initial", "t_end"]
+    assert [f.name for f in dataclasses.fields(Job) if f.init] == ["body", "initial", "t_end", "tol"]
     plan = rr.numerics.integrate.check_run(job.body, job.initial, job.t_end, samples=False)
     assert job.radians == plan.rate * plan.t_end  # the work of the run, for the ensemble's budget
     assert isinstance(Job(rr.Body.paper(), rr.EulerState(3.0), 5).t_end, float)
