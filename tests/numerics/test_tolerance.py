@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 import rocknroller as rr
-from rocknroller.numerics.batch import run_batch
-from rocknroller.numerics.ensemble import Job, run_ensemble
+from rocknroller.numerics.ensembles.batch import run_batch
+from rocknroller.numerics.ensembles.ensemble import Job, run_ensemble
 from rocknroller.numerics.events import THETA_MIN
 from rocknroller.numerics.integrate import heyoka_integrator
 from rocknroller.numerics.run_limits import DEFAULT_TOL, TOL_MAX, check_tol, theta_min
