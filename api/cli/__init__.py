@@ -60,7 +60,8 @@ def option_names(message: str, argv: list[str]) -> str:
 #: alternative they offer ("use samples=False (turning points only) or a shorter t_end") is dropped.
 _API_WORDS = {"samples=False": {"simulate": "--turning-points-only"},
               "build=False": {"slow": "--cached-only", "atlas": "--cached-only"},
-              "budget=SECONDS": {"simulate": "--budget SECONDS", "atlas": "--budget SECONDS", "table": "--budget SECONDS"}}
+              "budget=SECONDS": {c: "--budget SECONDS" for c in ("simulate", "atlas", "table", "slow", "portrait",
+                                                                 "bifurcation")}}
 _API_WORD = re.compile(r"\b(" + "|".join(map(re.escape, _API_WORDS)) + r")( \([^()]*\))?( or )?")
 #: The name of a limit (``MAX_SAMPLES``, ``E_MAX``, ``reduction.Q_RANGE``) before its value (``NAME = value``) or after
 #: it (``(NAME)``): the command line shows the value only.

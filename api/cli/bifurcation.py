@@ -6,8 +6,8 @@ import argparse
 import math
 from pathlib import Path
 
-from rocknroller.cli.options import (add_body_options, add_force_option, body_from_args, parse_angle,
-                                     prepare_output_dir, print_json)
+from rocknroller.cli.options import (add_body_options, add_budget_option, add_force_option, body_from_args,
+                                     budget_from_args, parse_angle, prepare_output_dir, print_json)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -38,21 +38,29 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="write bifurcation.png, .pdf and .csv to DIR (default: current directory; existing files are "
                         "not overwritten without --force)")
     add_force_option(p)
+    add_budget_option(p, "the diagram")
     p.add_argument("--json", action="store_true", help="print a JSON summary (files, eps_pd, the period-2 points)")
     p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller bifurcation`` with the parsed ``args``; returns the exit status."""
-    from rocknroller.papers.bifurcation import bifurcation_diagram
+    from rocknroller.papers.bifurcation import MAX_DIAGRAM_THETA0, MAX_EXACT_FRACTIONS, bifurcation_diagram
 
     if args.eps is not None or args.I2 is not None:
         raise ValueError("--eps and --I2 are the diagram's variable: give the body's a, I1, I3, g only")
     body = body_from_args(args)
     theta0s = [parse_angle(t, "--theta0") for t in (args.theta0 or ["0.9pi", "0.95pi"])]
+    if len(theta0s) > MAX_DIAGRAM_THETA0:
+        raise ValueError(f"--theta0 may be given at most {MAX_DIAGRAM_THETA0} times (a column of the figure each), "
+                         f"got {len(theta0s)}")
+    if len(args.exact_at) > MAX_EXACT_FRACTIONS:
+        raise ValueError(f"--exact-at takes at most {MAX_EXACT_FRACTIONS} values (an exact-map solve each), got "
+                         f"{len(args.exact_at)}")
     prepare_output_dir(args.out, "--out", args.force, ["bifurcation.png", "bifurcation.pdf", "bifurcation.csv"])
     paths, data = bifurcation_diagram(body, args.out, theta0s, fractions=(args.lo, args.hi), n_points=args.points,
-                                      exact_fractions=tuple(args.exact_at), order=args.order)
+                                      exact_fractions=tuple(args.exact_at), order=args.order,
+                                      budget=budget_from_args(args))
     rows = [{"theta0": d.theta0, "eps": e.eps, "eps_over_pd": e.eps / d.eps_pd,
              "kick_phase": {"slow": s.kick_phase.tolist(), "exact": e.kick_phase.tolist()},
              "Theta": {"slow": s.points[:, 2].tolist(), "exact": e.points[:, 2].tolist()},
