@@ -105,6 +105,7 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     import numpy as np
 
+    from rocknroller.cli.options import release_outputs
     from rocknroller.numerics.integrate import AccuracyError
 
     try:
@@ -120,3 +121,5 @@ def main(argv: list[str] | None = None) -> int:
         where = f" {exc.filename!r}" if getattr(exc, "filename", None) else ""
         print(f"rocknroller {args.command}: error: cannot write{where}: {exc.strerror or exc}", file=sys.stderr)
         return 2
+    finally:
+        release_outputs()  # output files reserved and never written, output directories created and left empty
