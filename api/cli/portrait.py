@@ -49,7 +49,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--p", type=str, default=None, metavar="LO:HI:N",
                    help="grid of p = gradW(0).Q, within the tables (default: 9 values over +-1.5 times the half-width "
                         "2 sqrt(K) of the main resonance)")
-    p.add_argument("--t-end", type=float, default=2000.0, help="time span of each orbit (default 2000)")
+    p.add_argument("--t-end", type=float, default=2000.0,
+                   help="time span of each orbit (default 2000); every orbit is kept, drawn and written whole, so the "
+                        "theta-maxima of all orbits and direct runs (about t_end/T_theta(0) each) are limited "
+                        "(rocknroller.papers.portrait.MAX_PORTRAIT_MAXIMA): past the limit the command refuses before "
+                        "any work, naming the memory and CSV size they would take")
     p.add_argument("--order", type=int, choices=(1, 2), default=1,
                    help="order of the map in eps (default 1; 2 builds the second-order tables once per body and "
                         "theta0, then cached)")
@@ -59,7 +63,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--ode-t-end", type=float, default=None, help="time span of the direct runs (default --t-end)")
     p.add_argument("--values", type=Path, default=None, metavar="FILE",
                    help="colour the orbits by the numbers in FILE, one per orbit in grid order (Theta outer, p inner; "
-                        "numpy.loadtxt); default: the orbit's MEGNO")
+                        f"numpy.loadtxt; a regular file of at most {MAX_VALUES_BYTES:,} bytes); default: the orbit's "
+                        "MEGNO")
     p.add_argument("--out", type=Path, default=Path("portrait"), metavar="DIR",
                    help="write portrait.png, .pdf and .csv to DIR (default ./portrait; existing files are not "
                         "overwritten without --force)")
