@@ -51,9 +51,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "2 sqrt(K) of the main resonance)")
     p.add_argument("--t-end", type=float, default=2000.0,
                    help="time span of each orbit (default 2000); every orbit is kept, drawn and written whole, so the "
-                        "theta-maxima of all orbits and direct runs (about t_end/T_theta(0) each) are limited "
-                        "(rocknroller.papers.portrait.MAX_PORTRAIT_MAXIMA): past the limit the command refuses before "
-                        "any work, naming the memory and CSV size they would take")
+                        "theta-maxima of all orbits and direct runs (about t_end/T_theta(0) each) are limited: past "
+                        "the limit the command refuses before any work, naming it and the memory and CSV size they "
+                        "would take")
     p.add_argument("--order", type=int, choices=(1, 2), default=1,
                    help="order of the map in eps (default 1; 2 builds the second-order tables once per body and "
                         "theta0, then cached)")
