@@ -151,3 +151,23 @@ def test_the_campaign_s_long_calls_are_refused(tmp_path, capsys, argv, words):
     assert main([*argv, option, str(out)]) == 2
     one_line_error(capsys, *words)
     assert not out.exists()
+
+
+def test_the_bifurcation_api_checks_its_counts_and_budget(tmp_path):
+    import math
+
+    from rocknroller.analysis.model.body import Body
+    from rocknroller.numerics.budget import WorkBudgetError
+    from rocknroller.papers.bifurcation import (MAX_DIAGRAM_THETA0, MAX_EXACT_FRACTIONS, bifurcation_data,
+                                                bifurcation_diagram, bifurcation_seconds)
+
+    body, th = Body.paper(), 0.95 * math.pi
+    with pytest.raises(ValueError, match="exact_fractions must be at most MAX_EXACT_FRACTIONS = 16 values"):
+        bifurcation_data(body, th, exact_fractions=[1.0] * (MAX_EXACT_FRACTIONS + 1))
+    with pytest.raises(ValueError, match="theta0s must be 1 to MAX_DIAGRAM_THETA0 = 8 release angles"):
+        bifurcation_diagram(body, tmp_path, [th] * (MAX_DIAGRAM_THETA0 + 1))
+    with pytest.raises(WorkBudgetError, match="over the budget of 1 s"):
+        bifurcation_data(body, th, budget=1.0)
+    assert bifurcation_seconds(body, [th, th], 111, [0.9, 1.2]) == pytest.approx(
+        2 * bifurcation_seconds(body, [th], 111, [0.9, 1.2]), rel=1e-12)
+    assert not any(tmp_path.iterdir())
