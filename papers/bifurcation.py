@@ -71,10 +71,10 @@ def _check_counts(n_points: int, exact_fractions: Sequence[float]) -> None:
 
 def bifurcation_seconds(body: Body, theta0s: Sequence[float], n_points: int = 111,
                         exact_fractions: Sequence[float] = EXACT_FRACTIONS) -> float:
-    """The estimated CPU seconds of :func:`bifurcation_data` at each θ0 of ``theta0s`` (:mod:`rocknroller.numerics
-    .budget`): per θ0 the exact map's ε_pd, one exact orbit per fraction (two above ε_pd: the period-2 orbit
-    besides), three slow branches of ``n_points`` orbits, and the release table if it is not cached (order 2's
-    second-order tables are not counted: built once per θ0, then cached)."""
+    """The estimated CPU seconds of :func:`bifurcation_data` at each θ0 of ``theta0s``
+    (:mod:`rocknroller.numerics.budget`): per θ0 the exact map's ε_pd, one exact orbit per fraction (two above ε_pd:
+    the period-2 orbit besides), three slow branches of ``n_points`` orbits, and the release table if it is not
+    cached (order 2's second-order tables are not counted: built once per θ0, then cached)."""
     from rocknroller.analysis.slow.table import build_table, is_cached
 
     sym = body.symmetric()
