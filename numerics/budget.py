@@ -11,7 +11,7 @@ The rates are CPU seconds measured on this kind of machine (2 cores), rounded up
 by up to 2.5× (4× for mpmath at 120-240 digits), which is what a budget of an hour needs.
 ``benchmarks/bench_budget.py`` measures them again beside the constants (at load 1.3: heyoka 9.6e-6 s and DOP853
 1.1e-3 s per radian, a release table 1.6 s, a band-chart region table 13.5 s, mpmath points 0.26, 1.3 and 4.7 s at
-30, 120 and 240 digits).
+30, 120 and 240 digits), and the averaged map's cost per θ-maximum at orders 1 and 2.
 """
 
 from __future__ import annotations
@@ -22,7 +22,8 @@ from rocknroller.analysis.model.body import float_or_nan
 
 __all__ = ["WORK_BUDGET_SECONDS", "HEYOKA_SECONDS_PER_RADIAN", "HEYOKA_EXTENDED_SECONDS_PER_RADIAN",
            "DOP853_SECONDS_PER_RADIAN", "RELEASE_TABLE_SECONDS",
-           "REGION_TABLE_SECONDS", "WorkBudgetError", "check_budget", "check_work", "mp_point_seconds",
+           "REGION_TABLE_SECONDS", "MAP_SECONDS_PER_MAXIMUM", "MAP_ORDER2_SECONDS_PER_MAXIMUM",
+           "EXACT_ORBIT_SECONDS", "PERIOD_DOUBLING_SECONDS", "SLOW_ORBIT_SECONDS", "WorkBudgetError", "check_budget", "check_work", "mp_point_seconds",
            "format_seconds"]
 
 #: CPU seconds a call may take without being asked for explicitly.
@@ -37,6 +38,19 @@ DOP853_SECONDS_PER_RADIAN = 1.0e-3
 RELEASE_TABLE_SECONDS = 4.0
 #: One region table (default grid, one process): the band chart's 13.5 s measured (26 s at load 25).
 REGION_TABLE_SECONDS = 30.0
+#: The averaged map of order 1 per θ-maximum, with its tangent vector and the run's diagnostics (a release's
+#: ``predict_slow_motion``, an atlas point, a portrait orbit): 3.9-4.6e-6 measured (θ0 = 0.95π, 1.5e4 maxima,
+#: load 7); the number of maxima of a run is estimated as t_end/T_θ(0) (1.035 × that counted at ε = 5e-3).
+MAP_SECONDS_PER_MAXIMUM = 6.0e-6
+#: The same at order 2 (the second-order kick besides): 7.8-9.1e-6 measured.
+MAP_ORDER2_SECONDS_PER_MAXIMUM = 1.2e-5
+#: One periodic orbit of the exact one-step map (Newton on direct-ODE steps, ``periodic_orbit(map="exact")``):
+#: 0.25-0.32 s measured for period 1 and 0.89 s for period 2 at θ0 = 0.93π.
+EXACT_ORBIT_SECONDS = 2.0
+#: The exact map's period doubling ε_pd of one θ0 (``period_doubling``): 10.3 s measured at θ0 = 0.93π.
+PERIOD_DOUBLING_SECONDS = 20.0
+#: One periodic orbit of the slow map on a continued branch (``continue_orbit``): 1.2 ms measured a point.
+SLOW_ORBIT_SECONDS = 3.0e-3
 
 
 def mp_point_seconds(dps: int) -> float:

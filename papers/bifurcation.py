@@ -19,6 +19,8 @@ from rocknroller.analysis.slow.map.limits import K_PERIOD_DOUBLING, check_map_th
 from rocknroller.analysis.slow.dynamics.period_doubling import period_doubling
 from rocknroller.analysis.slow.dynamics.periodic_orbits import (K_MAX, MAX_BRANCH_POINTS, Branch, PeriodicOrbit,
                                                                 continue_orbit, periodic_orbit)
+from rocknroller.numerics.budget import (EXACT_ORBIT_SECONDS, PERIOD_DOUBLING_SECONDS, RELEASE_TABLE_SECONDS,
+                                         SLOW_ORBIT_SECONDS, WORK_BUDGET_SECONDS, check_work)
 from rocknroller.papers.output import angle_text, new_figure, save_figure, write_csv
 
 #: The orbits' colours and their names in the legend (the rows of the CSV's ``orbit`` column).
@@ -26,10 +28,16 @@ BRANCH_STYLE = {"fixed_stable_axis": ("C0", "rocking about the stable axis (fixe
                 "fixed_unstable_axis": ("C2", "rocking about the unstable axis (fixed point)"),
                 "period2": ("C1", "period-2 orbit (born at the period doubling)")}
 
-__all__ = ["BifurcationData", "bifurcation_data", "bifurcation_figure", "bifurcation_diagram"]
+__all__ = ["MAX_EXACT_FRACTIONS", "MAX_DIAGRAM_THETA0", "BifurcationData", "bifurcation_seconds", "bifurcation_data",
+           "bifurcation_figure", "bifurcation_diagram"]
 
 #: ε/ε_pd at which the exact map's orbits are found (the acceptance of issue 23, item 4).
 EXACT_FRACTIONS = (0.9, 1.05, 1.2, 1.5)
+#: Most fractions of ε_pd at which the exact map's orbits are found for one θ0 (each a Newton solve on direct-ODE
+#: steps, ``EXACT_ORBIT_SECONDS``; above ε_pd a period-2 orbit besides).
+MAX_EXACT_FRACTIONS = 16
+#: Most release angles of one diagram (a column each, 5 inches wide; each ε_pd is ``PERIOD_DOUBLING_SECONDS``).
+MAX_DIAGRAM_THETA0 = 8
 
 
 @dataclass(frozen=True)
@@ -57,22 +65,48 @@ class BifurcationData:
     order: int
 
 
+def _check_counts(n_points: int, exact_fractions: Sequence[float]) -> None:
+    if int(n_points) != n_points or not 3 <= n_points <= MAX_BRANCH_POINTS:
+        raise ValueError(f"n_points must be an integer in [3, {MAX_BRANCH_POINTS}], got n_points={n_points!r}")
+    if len(exact_fractions) > MAX_EXACT_FRACTIONS:
+        raise ValueError(f"exact_fractions must be at most MAX_EXACT_FRACTIONS = {MAX_EXACT_FRACTIONS} values (each an "
+                         f"exact-map solve on direct-ODE steps), got {len(exact_fractions)}")
+
+
+def bifurcation_seconds(body: Body, theta0s: Sequence[float], n_points: int = 111,
+                        exact_fractions: Sequence[float] = EXACT_FRACTIONS) -> float:
+    """The estimated CPU seconds of :func:`bifurcation_data` at each θ0 of ``theta0s``
+    (:mod:`rocknroller.numerics.budget`): per θ0 the exact map's ε_pd, one exact orbit per fraction (two above ε_pd:
+    the period-2 orbit besides), three slow branches of ``n_points`` orbits, and the release table if it is not
+    cached (order 2's second-order tables are not counted: built once per θ0, then cached)."""
+    from rocknroller.analysis.slow.map.table import build_table, is_cached
+
+    sym = body.symmetric()
+    per_theta0 = (PERIOD_DOUBLING_SECONDS + EXACT_ORBIT_SECONDS * sum(1 + (float(f) > 1.0) for f in exact_fractions)
+                  + 3 * int(n_points) * SLOW_ORBIT_SECONDS)
+    tables = sum(not is_cached(build_table, sym, float(t)) for t in theta0s) * RELEASE_TABLE_SECONDS
+    return len(theta0s) * per_theta0 + tables
+
+
 def bifurcation_data(body: Body, theta0: float, *, fractions: tuple[float, float] = (0.6, 1.55), n_points: int = 111,
                      exact_fractions: Sequence[float] = EXACT_FRACTIONS, order: int = 1,
-                     workers: int = 1) -> BifurcationData:
+                     workers: int = 1, budget: float | None = WORK_BUDGET_SECONDS) -> BifurcationData:
     """The orbits of the diagram at θ0: the slow map's branches at ``n_points`` values of ε/ε_pd over ``fractions``
-    (within K = εκ ≤ K_MAX), the exact map's at ``exact_fractions``.
+    (within K = εκ ≤ K_MAX), the exact map's at ``exact_fractions``; ``budget``: the CPU seconds it may take
+    (:func:`bifurcation_seconds`, estimated before any work; None: no limit).
 
     Raises
     ------
     ValueError
-        θ0 outside ``THETA0_RANGE``, ``n_points`` outside [3, ``MAX_BRANCH_POINTS``], ``fractions`` not
-        0 < lo < hi with hi past the slow map's period doubling K = 4 and K ≤ K_MAX at hi, or an exact fraction
-        outside (0, hi].
+        θ0 outside ``THETA0_RANGE``, ``n_points`` outside [3, ``MAX_BRANCH_POINTS``], more than
+        ``MAX_EXACT_FRACTIONS`` exact fractions, ``fractions`` not 0 < lo < hi with hi past the slow map's period
+        doubling K = 4 and K ≤ K_MAX at hi, an exact fraction outside (0, hi], or (``WorkBudgetError``) an estimated
+        cost over ``budget``.
     """
     theta0 = check_map_theta0(theta0)
-    if int(n_points) != n_points or not 3 <= n_points <= MAX_BRANCH_POINTS:
-        raise ValueError(f"n_points must be an integer in [3, {MAX_BRANCH_POINTS}], got n_points={n_points!r}")
+    _check_counts(n_points, exact_fractions)
+    check_work(bifurcation_seconds(body, [theta0], n_points, exact_fractions),
+               f"a bifurcation diagram's orbits at one theta0 ({len(exact_fractions)} exact fractions)", budget)
     lo, hi = (float(f) for f in fractions)
     pd = period_doubling(body, theta0)
     K_pd = pd.eps_exact * pd.kappa  # K = eps*kappa at the exact map's period doubling
@@ -175,9 +209,17 @@ def bifurcation_figure(data: Sequence[BifurcationData]) -> Any:
 
 
 def bifurcation_diagram(body: Body, out_dir: str | Path, theta0s: Sequence[float] = (0.9 * math.pi, 0.95 * math.pi),
+                        budget: float | None = WORK_BUDGET_SECONDS,
                         **kwargs: Any) -> tuple[list[Path], list[BifurcationData]]:
     """Compute (:func:`bifurcation_data`, ``kwargs``) and write ``bifurcation.png``, ``.pdf`` and ``.csv`` to
     ``out_dir`` (the figure: :func:`bifurcation_figure`).  Returns the paths and the data.
+
+    Raises
+    ------
+    ValueError
+        More than ``MAX_DIAGRAM_THETA0`` release angles, the limits of :func:`bifurcation_data`, or
+        (``WorkBudgetError``) the estimated cost of all of them (:func:`bifurcation_seconds`) over ``budget``, before
+        any work.
 
     Examples
     --------
@@ -191,7 +233,15 @@ def bifurcation_diagram(body: Body, out_dir: str | Path, theta0s: Sequence[float
     ...
     ['bifurcation.png', 'bifurcation.pdf', 'bifurcation.csv']
     """
-    data = [bifurcation_data(body, t, **kwargs) for t in theta0s]
+    if not 1 <= len(theta0s) <= MAX_DIAGRAM_THETA0:
+        raise ValueError(f"theta0s must be 1 to MAX_DIAGRAM_THETA0 = {MAX_DIAGRAM_THETA0} release angles (a column of "
+                         f"the figure each), got {len(theta0s)}")
+    theta0s = [check_map_theta0(t) for t in theta0s]
+    n_points, exact = kwargs.get("n_points", 111), kwargs.get("exact_fractions", EXACT_FRACTIONS)
+    _check_counts(n_points, exact)
+    check_work(bifurcation_seconds(body, theta0s, n_points, exact),
+               f"a bifurcation diagram at {len(theta0s)} theta0 with {len(exact)} exact fractions each", budget)
+    data = [bifurcation_data(body, t, budget=None, **kwargs) for t in theta0s]
     paths = save_figure(bifurcation_figure(data), out_dir, "bifurcation")
     rows = [r for d in data for r in _rows(d)]
     header = [f"body: {body.symmetric().describe()}, with I2 = (1 + eps) I1 at the eps of each row",

@@ -51,13 +51,22 @@ from rocknroller.papers.plotting import MEGNO_CLIP, draw_critical_lines, scaled_
 if TYPE_CHECKING:
     import pandas
 
-__all__ = ["MAX_PORTRAIT_ORBITS", "MAX_ODE_STARTS", "N_P_DEFAULT", "SlowPortrait", "orbit_values", "portrait_values",
+__all__ = ["MAX_PORTRAIT_ORBITS", "MAX_ODE_STARTS", "MAX_PORTRAIT_MAXIMA", "BYTES_PER_MAXIMUM", "CSV_BYTES_PER_ROW",
+           "N_P_DEFAULT", "check_portrait_size", "SlowPortrait", "orbit_values", "portrait_values",
            "theta0_of_energy", "slow_portrait", "plot_portrait", "write_portrait"]
 
 #: Most map orbits of one portrait (grid points; each ~1 ms per 1000 time units).
 MAX_PORTRAIT_ORBITS = 10_000
 #: Most direct-ODE starts overlaid on one portrait.
 MAX_ODE_STARTS = 100
+#: Most θ-maxima one portrait may keep, over all its orbits and direct runs (each orbit is kept whole, drawn and
+#: written, one CSV row a maximum): t_end/T_θ(0) an orbit (:func:`rocknroller.analysis.slow.work.map_maxima`).
+MAX_PORTRAIT_MAXIMA = 1_000_000
+#: Peak memory per θ-maximum of a portrait made, drawn and written (:func:`write_portrait`): 563 bytes measured
+#: (20 orbits of 3e5 time units, 4.6e5 maxima).
+BYTES_PER_MAXIMUM = 600
+#: Bytes of one row of ``portrait.csv``: 147 measured (the same run).
+CSV_BYTES_PER_ROW = 150
 
 
 @dataclass(frozen=True)
@@ -214,6 +223,31 @@ def _check_grid(name: str, values: ArrayLike, lo: float, hi: float) -> NDArray[n
     return a
 
 
+def _size(n: float) -> str:
+    """Bytes for people: 150 MB, 12 GB."""
+    return f"{n / 1e9:.3g} GB" if n >= 1e9 else f"{n / 1e6:.3g} MB"
+
+
+def check_portrait_size(body: Body, theta0: float, n_orbits: int, t_end: float, ode_t_ends: Sequence[float] = ()
+                        ) -> float:
+    """The estimated θ-maxima of a portrait of ``n_orbits`` map orbits over t_end and direct runs over ``ode_t_ends``
+    (t_end/T_θ(0) each), or a ValueError naming t_end and the memory and CSV size they would take unless at most
+    ``MAX_PORTRAIT_MAXIMA``."""
+    from rocknroller.analysis.slow.work import map_maxima
+
+    per_time = float(map_maxima(body, [theta0], 1.0)[0])  # maxima per time unit, 1/T_θ(0)
+    n = per_time * (n_orbits * float(t_end) + float(sum(ode_t_ends)))
+    if n > MAX_PORTRAIT_MAXIMA:
+        most = (MAX_PORTRAIT_MAXIMA / per_time - float(sum(ode_t_ends))) / n_orbits
+        raise ValueError(
+            f"t_end must be at most {max(most, 0.0):.3g} for a portrait of {n_orbits} orbits (got t_end={t_end!r}): "
+            f"it would keep about {n:.2g} theta-maxima, {_size(n * BYTES_PER_MAXIMUM)} of memory and a "
+            f"{_size(n * CSV_BYTES_PER_ROW)} CSV, more than MAX_PORTRAIT_MAXIMA = {MAX_PORTRAIT_MAXIMA:.0e} "
+            f"({_size(MAX_PORTRAIT_MAXIMA * BYTES_PER_MAXIMUM)}, a {_size(MAX_PORTRAIT_MAXIMA * CSV_BYTES_PER_ROW)} "
+            "CSV); give a shorter t_end or fewer starts")
+    return n
+
+
 def _bar(total: int, progress: bool | None, desc: str) -> Any:
     from tqdm import tqdm
 
@@ -245,7 +279,8 @@ def slow_portrait(body: Body, theta0: float, Theta: ArrayLike, p: ArrayLike | No
         ``N_P_DEFAULT`` values evenly over ±1.5 times the half-width 2√K of the standard map's main resonance
         (within 0.9 of the tables' half-length).
     t_end : float
-        Time span of each orbit (checked as ``iterate_slow_map`` checks it).
+        Time span of each orbit (checked as ``iterate_slow_map`` checks it, and with the grid against
+        ``MAX_PORTRAIT_MAXIMA``).
     order : {1, 2}
         The map's order (2 builds or loads the second-order tables of (body, θ0)).
     ode_starts : sequence of (Θ, p)
@@ -263,7 +298,9 @@ def slow_portrait(body: Body, theta0: float, Theta: ArrayLike, p: ArrayLike | No
     Raises
     ------
     ValueError
-        Naming the parameter: ε ≤ 0, θ0 out of range, a grid value out of range or too many orbits, a bad order.
+        Naming the parameter: ε ≤ 0, θ0 out of range, a grid value out of range or too many orbits, a bad order,
+        or more θ-maxima than ``MAX_PORTRAIT_MAXIMA`` in all (:func:`check_portrait_size`: memory and CSV size,
+        before any table is built or orbit run).
 
     Examples
     --------
@@ -283,6 +320,16 @@ def slow_portrait(body: Body, theta0: float, Theta: ArrayLike, p: ArrayLike | No
         raise ValueError(f"order must be 1 or 2, got order={order!r}")
     theta0 = av.check_map_theta0(theta0)
     Th = _check_grid("Theta", Theta, -2.0 * math.pi, 2.0 * math.pi)
+    n_p = N_P_DEFAULT if p is None else np.atleast_1d(np.asarray(p, float)).size
+    if Th.size * n_p > MAX_PORTRAIT_ORBITS:
+        raise ValueError(f"the grid has {Th.size * n_p} starts (Theta x p), at most MAX_PORTRAIT_ORBITS = "
+                         f"{MAX_PORTRAIT_ORBITS}")
+    if not 0.0 < as_float("t_end", t_end) < math.inf:
+        raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}")
+    ode_span = t_end if ode_t_end is None else as_float("ode_t_end", ode_t_end)
+    if not 0.0 < ode_span < math.inf:
+        raise ValueError(f"ode_t_end must be a finite number > 0 (or None: t_end), got ode_t_end={ode_t_end!r}")
+    check_portrait_size(body, theta0, Th.size * n_p, t_end, [ode_span] * len(ode_starts))
     table = av.load_or_build_table(body, theta0, build=build, progress=progress)
     gu, gv = table.gradient("W", (0.0, 0.0))
     grad_W = gu * table.e + gv * table.n
@@ -292,8 +339,6 @@ def slow_portrait(body: Body, theta0: float, Theta: ArrayLike, p: ArrayLike | No
         p = np.linspace(-1.0, 1.0, N_P_DEFAULT) * min(3.0 * math.sqrt(eps * abs(table.kappa)), 0.9 * p_max)
     pp = _check_grid("p", p, -p_max, p_max)
     n = Th.size * pp.size
-    if n > MAX_PORTRAIT_ORBITS:
-        raise ValueError(f"the grid has {n} starts (Theta x p), at most MAX_PORTRAIT_ORBITS = {MAX_PORTRAIT_ORBITS}")
     pairs = [tuple(map(float, s)) for s in ode_starts]
     if len(pairs) > MAX_ODE_STARTS or any(len(s) != 2 for s in pairs):
         raise ValueError(f"ode_starts must be at most MAX_ODE_STARTS = {MAX_ODE_STARTS} pairs (Theta, p), "

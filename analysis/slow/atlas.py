@@ -46,6 +46,7 @@ from numpy.typing import ArrayLike, NDArray
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import RATE_MAX, EulerState
 from rocknroller.analysis.slow import prediction as av
+from rocknroller.analysis.slow.work import check_map_work
 from rocknroller.numerics.budget import REGION_TABLE_SECONDS, RELEASE_TABLE_SECONDS, WORK_BUDGET_SECONDS, check_work
 from rocknroller.numerics.megno import MEGNO_CHAOTIC
 from rocknroller.numerics.parallel import check_processes, map_blocks
@@ -307,7 +308,8 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
         Where the ODE's runs go (method "ode"), as for :func:`rocknroller.numerics.ensembles.ensemble.run_ensemble`.
     budget : float or None
         CPU seconds the atlas may take (:mod:`rocknroller.numerics.budget`; None: no limit), estimated before any
-        work: for the map, one table build per θ0 whose tables are not cached; for the ODE, the runs' radians.
+        work: for the map, its runs' θ-maxima (:func:`rocknroller.analysis.slow.work.check_map_work`) and, separately,
+        one table build per θ0 whose tables are not cached; for the ODE, the runs' radians.
     chaos : bool or None
         The map: add the chaos layer, ``CHAOS_OBSERVABLES`` (module docstring; the map's tangent vector, ~1.5-1.8x the
         map's cost without it); None: True for the map, False for the ODE (an atlas made by the ODE has no chaos
@@ -341,6 +343,8 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
     _check_size(th.size, ps.size, MAX_ATLAS_POINTS, "MAX_ATLAS_POINTS")
     chaos = chaos is not False
     processes = check_processes(processes, "processes")
+    check_map_work(body, th, ps.size, t_end, 1, f"the atlas's {th.size * ps.size} map runs of {float(t_end):g} "
+                   "time units each", budget)
     if build:
         _check_table_work(body, th, budget)
     blocks = np.array_split(np.arange(th.size), min(processes, th.size) if processes > 1 else th.size)

@@ -48,6 +48,7 @@ from rocknroller.analysis.model.diagnostics import span
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.slow import prediction as av
 from rocknroller.analysis.slow.atlas import reversal_counts
+from rocknroller.analysis.slow.work import check_map_work
 from rocknroller.numerics.budget import WORK_BUDGET_SECONDS
 
 if TYPE_CHECKING:
@@ -233,7 +234,7 @@ def _collect(method: str, body: Body, ball: StartBall, t_end: float, members: li
 
 
 def map_ensemble(body: Body, ball: StartBall, t_end: float, *, order: int | None = None,
-                 progress: bool | None = None) -> EnsembleStatistics:
+                 progress: bool | None = None, budget: float | None = WORK_BUDGET_SECONDS) -> EnsembleStatistics:
     """The ensemble's statistics by the averaged map (:func:`rocknroller.analysis.slow.prediction.predict_slow_motion`
     per member, on one table).
 
@@ -247,6 +248,9 @@ def map_ensemble(body: Body, ball: StartBall, t_end: float, *, order: int | None
         The map's order; default that of ``predict_slow_motion`` (:func:`rocknroller.analysis.slow.prediction.default_order`).
     progress : bool or None
         A tqdm bar for a table built here (as ``predict_slow_motion``'s).
+    budget : float or None
+        CPU seconds the members' runs may take together (:mod:`rocknroller.numerics.budget`; None: no limit),
+        estimated before any work (:func:`rocknroller.analysis.slow.work.check_map_work`).
 
     Returns
     -------
@@ -258,6 +262,8 @@ def map_ensemble(body: Body, ball: StartBall, t_end: float, *, order: int | None
     ------
     AveragingRangeError
         If a member's slow orbit leaves the tables.
+    WorkBudgetError
+        A ValueError: the estimated work exceeds ``budget`` (before any run).
 
     Examples
     --------
@@ -273,6 +279,10 @@ def map_ensemble(body: Body, ball: StartBall, t_end: float, *, order: int | None
         raise ValueError(f"ball must be a StartBall, got {type(ball).__name__}")
     if order is None:
         order = av.default_order(ball.theta0)
+    if order not in (1, 2) or isinstance(order, bool):
+        raise ValueError(f"order must be 1 or 2, got order={order!r}")
+    check_map_work(body, [ball.theta0], ball.members, t_end, order,
+                   f"an ensemble of {ball.members} map runs of {float(t_end):g} time units each", budget)
     members, rocks = [], []
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", av.AveragingValidityWarning)

@@ -63,7 +63,8 @@ def option_names(message: str, argv: list[str]) -> str:
 _API_WORDS = {"samples=False": {"simulate": "--turning-points-only"},
               "build=False": {"slow": "--cached-only", "atlas": "--cached-only", "portrait": "--cached-only",
                               "bifurcation": "--cached-only"},
-              "budget=SECONDS": {"simulate": "--budget SECONDS", "atlas": "--budget SECONDS", "table": "--budget SECONDS"}}
+              "budget=SECONDS": {c: "--budget SECONDS" for c in ("simulate", "atlas", "table", "slow", "portrait",
+                                                                 "bifurcation")}}
 _API_WORD = re.compile(r"\b(" + "|".join(map(re.escape, _API_WORDS)) + r")( \([^()]*\))?( or )?")
 #: The name of a limit (``MAX_SAMPLES``, ``E_MAX``, ``reduction.Q_RANGE``) before its value (``NAME = value``) or after
 #: it (``(NAME)``): the command line shows the value only.
@@ -113,6 +114,7 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     import numpy as np
 
+    from rocknroller.cli.options import release_outputs
     from rocknroller.numerics.integrate import AccuracyError
 
     def show_warning(message: Warning | str, category: type[Warning], filename: str, lineno: int, file: Any = None,
@@ -134,3 +136,5 @@ def main(argv: list[str] | None = None) -> int:
         where = f" {exc.filename!r}" if getattr(exc, "filename", None) else ""
         print(f"rocknroller {args.command}: error: cannot write{where}: {exc.strerror or exc}", file=sys.stderr)
         return 2
+    finally:
+        release_outputs()  # output files reserved and never written, output directories created and left empty

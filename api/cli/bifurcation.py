@@ -7,8 +7,8 @@ import math
 from pathlib import Path
 
 from rocknroller.analysis.slow.dynamics.periodic_orbits import MAX_BRANCH_POINTS
-from rocknroller.cli.options import (add_body_options, add_force_option, body_from_args, parse_angle,
-                                     prepare_output_dir, print_json)
+from rocknroller.cli.options import (add_body_options, add_budget_option, add_force_option, body_from_args,
+                                     budget_from_args, parse_angle, prepare_output_dir, print_json)
 from rocknroller.papers.bifurcation import EXACT_FRACTIONS
 
 
@@ -44,6 +44,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_force_option(p)
     p.add_argument("--cached-only", action="store_true",
                    help="fail instead of building the averaging tables when none are cached for this body/theta0")
+    add_budget_option(p, "the diagram")
     p.add_argument("--json", action="store_true", help="print a JSON summary (files, eps_pd, the period-2 points)")
     p.add_argument("--quiet", action="store_true", help="no progress bars (table builds)")
     p.set_defaults(run=run)
@@ -53,11 +54,17 @@ def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller bifurcation`` with the parsed ``args``; returns the exit status."""
     from rocknroller.analysis.slow.map.second_order import load_or_build_second_order_table
     from rocknroller.analysis.slow.map.table import load_or_build_table
-    from rocknroller.papers.bifurcation import bifurcation_diagram
+    from rocknroller.papers.bifurcation import MAX_DIAGRAM_THETA0, MAX_EXACT_FRACTIONS, bifurcation_diagram
 
     body = body_from_args(args)
     theta0s = [parse_angle(t, "--theta0") for t in (args.theta0 or ["0.9pi", "0.95pi"])]
     exact_at = [f for f in EXACT_FRACTIONS if f <= args.hi] if args.exact_at is None else args.exact_at
+    if len(theta0s) > MAX_DIAGRAM_THETA0:
+        raise ValueError(f"--theta0 may be given at most {MAX_DIAGRAM_THETA0} times (a column of the figure each), "
+                         f"got {len(theta0s)}")
+    if len(exact_at) > MAX_EXACT_FRACTIONS:
+        raise ValueError(f"--exact-at takes at most {MAX_EXACT_FRACTIONS} values (an exact-map solve each), got "
+                         f"{len(exact_at)}")
     prepare_output_dir(args.out, "--out", args.force, ["bifurcation.png", "bifurcation.pdf", "bifurcation.csv"])
     progress = False if args.quiet else None
     for theta0 in theta0s:  # the tables first: --cached-only refuses before any work, --quiet hides their builds
@@ -65,7 +72,8 @@ def run(args: argparse.Namespace) -> int:
         if args.order == 2:
             load_or_build_second_order_table(body, theta0, build=not args.cached_only, progress=progress)
     paths, data = bifurcation_diagram(body, args.out, theta0s, fractions=(args.lo, args.hi), n_points=args.points,
-                                      exact_fractions=tuple(exact_at), order=args.order)
+                                      exact_fractions=tuple(exact_at), order=args.order,
+                                      budget=budget_from_args(args))
     rows = [{"theta0": d.theta0, "eps": e.eps, "eps_over_pd": e.eps / d.eps_pd,
              "kick_phase": {"slow": s.kick_phase.tolist(), "exact": e.kick_phase.tolist()},
              "Theta": {"slow": s.points[:, 2].tolist(), "exact": e.points[:, 2].tolist()},

@@ -7,6 +7,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import re
 import sys
 import tempfile
@@ -35,6 +36,8 @@ __all__ = [
     "add_force_option",
     "prepare_output_dir",
     "prepare_output_file",
+    "release_outputs",
+    "WRITING_MARKER",
     "finite_or_none",
     "print_json",
 ]
@@ -291,18 +294,77 @@ def budget_from_args(args: argparse.Namespace) -> float | None:
     return value
 
 
+#: Name of the marker a command that may write any file (``names=None``) creates in its output directory while it runs.
+WRITING_MARKER = ".rocknroller-writing"
+#: The empty files and the directories that this process reserved (:func:`prepare_output_dir`), to be removed by
+#: :func:`release_outputs` where nothing was written into them.
+_RESERVED: list[Path] = []
+_CREATED_DIRS: list[Path] = []
+
+
 def _require_writable(directory: Path, option: str) -> None:
     try:
+        missing = [d for d in (directory, *directory.parents) if not d.exists()]
         directory.mkdir(parents=True, exist_ok=True)
+        _CREATED_DIRS.extend(missing)  # deepest first
         with tempfile.NamedTemporaryFile(dir=directory):
             pass
     except OSError as exc:
         raise ValueError(f"{option}: cannot write to the directory {str(directory)!r} ({exc.strerror or exc})") from None
 
 
+def _refuse_existing(option: str, where: str, clash: list[str], note: str = "") -> ValueError:
+    shown = ", ".join(clash[:5]) + (", ..." if len(clash) > 5 else "")
+    return ValueError(f"{option}: {where} already holds {shown}{note}; pass --force to overwrite, or choose another "
+                      f"{option}")
+
+
+def _reserve(paths: list[Path], option: str, where: str) -> None:
+    """Create each of ``paths`` empty and exclusively (``O_CREAT | O_EXCL``: of two runs racing for the same name,
+    exactly one creates it), or create none and refuse, naming ``option``, the ones that already exist."""
+    made: list[Path] = []
+    for path in paths:
+        try:
+            os.close(os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
+        except FileExistsError:
+            for p in made:
+                p.unlink(missing_ok=True)
+            clash = sorted(p.name for p in paths if p.exists() and p not in made)
+            raise _refuse_existing(option, where, clash or [path.name], " (another run may be writing it)") from None
+        except OSError as exc:
+            for p in made:
+                p.unlink(missing_ok=True)
+            raise ValueError(f"{option}: cannot write {str(path)!r} ({exc.strerror or exc})") from None
+        made.append(path)
+    _RESERVED.extend(made)
+
+
+def release_outputs() -> None:
+    """Remove what this process reserved and left unwritten: the reserved output files that are still empty (the
+    command failed before writing them, or did not need them), the marker ``WRITING_MARKER``, and the directories it
+    created that are still empty.  The console script calls it when a command ends, however it ends."""
+    while _RESERVED:
+        path = _RESERVED.pop()
+        try:
+            if path.name == WRITING_MARKER or path.stat().st_size == 0:
+                path.unlink()
+        except OSError:
+            pass
+    while _CREATED_DIRS:
+        try:
+            _CREATED_DIRS.pop(0).rmdir()  # deepest first; only if empty
+        except OSError:
+            pass
+
+
 def prepare_output_dir(directory: Path, option: str, force: bool, names: Iterable[str] | None = None) -> Path:
     """Create ``directory`` if needed and check, before any computation, that files can be written there and that
     none would be overwritten unasked.
+
+    Without ``force`` the files are reserved: created empty and exclusively (``O_EXCL``), so that of two runs into
+    the same directory at once the second refuses rather than overwrite the first's files; with ``names`` None the
+    marker ``WRITING_MARKER`` is reserved instead, and the directory must hold nothing else.
+    :func:`release_outputs` removes the reservations left empty, and the directories created here left empty.
 
     Parameters
     ----------
@@ -317,25 +379,39 @@ def prepare_output_dir(directory: Path, option: str, force: bool, names: Iterabl
     directory = Path(directory)
     if directory.exists() and not directory.is_dir():
         raise ValueError(f"{option}: {str(directory)!r} exists and is not a directory")
+    where = repr(str(directory))
     if not force and directory.is_dir():
         clash = sorted(p.name for p in directory.iterdir()) if names is None else \
             sorted(n for n in names if (directory / n).exists())
         if clash:
-            shown = ", ".join(clash[:5]) + (", ..." if len(clash) > 5 else "")
-            raise ValueError(f"{option}: {str(directory)!r} already holds {shown}; pass --force to overwrite, "
-                             f"or choose another {option}")
+            raise _refuse_existing(option, where, clash)
     _require_writable(directory, option)
+    if not force:
+        if names is None:
+            _reserve([directory / WRITING_MARKER], option, where)
+            clash = sorted(p.name for p in directory.iterdir() if p.name != WRITING_MARKER)
+            if clash:  # written by another run between the check above and the marker
+                raise _refuse_existing(option, where, clash, " (another run may be writing it)")
+        else:
+            _reserve([directory / n for n in dict.fromkeys(names)], option, where)
     return directory
 
 
 def prepare_output_file(path: Path, option: str, force: bool) -> Path:
-    """Like :func:`prepare_output_dir` for one file: its directory writable, the file not overwritten unasked."""
+    """Like :func:`prepare_output_dir` for one file: its directory writable, the file not overwritten unasked (and,
+    without ``force``, reserved: created empty and exclusively)."""
     path = Path(path)
     if path.is_dir():
         raise ValueError(f"{option}: {str(path)!r} is a directory; give a file name")
     if path.exists() and not force:
         raise ValueError(f"{option}: {str(path)!r} already exists; pass --force to overwrite, or choose another {option}")
     _require_writable(path.parent if str(path.parent) else Path("."), option)
+    if not force:
+        try:
+            _reserve([path], option, repr(str(path.parent)))
+        except ValueError:
+            raise ValueError(f"{option}: {str(path)!r} already exists; pass --force to overwrite, or choose another "
+                             f"{option}") from None
     return path
 
 

@@ -19,6 +19,9 @@ OUTPUTS = ("portrait.png", "portrait.pdf", "portrait.csv")
 EPS_DEFAULT = 5e-3
 #: Default grid of Theta = 2 psi.
 THETA_DEFAULT = "0.05pi:1.95pi:12"
+#: Largest --values file read (bytes): one number a line for at most MAX_PORTRAIT_ORBITS = 10 000 orbits at up to
+#: 25 characters each is 250 kB.
+MAX_VALUES_BYTES = 1_000_000
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -46,7 +49,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--p", type=str, default=None, metavar="LO:HI:N",
                    help="grid of p = gradW(0).Q, within the tables (default: 9 values over +-1.5 times the half-width "
                         "2 sqrt(K) of the main resonance)")
-    p.add_argument("--t-end", type=float, default=2000.0, help="time span of each orbit (default 2000)")
+    p.add_argument("--t-end", type=float, default=2000.0,
+                   help="time span of each orbit (default 2000); every orbit is kept, drawn and written whole, so the "
+                        "theta-maxima of all orbits and direct runs (about t_end/T_theta(0) each) are limited: past "
+                        "the limit the command refuses before any work, naming it and the memory and CSV size they "
+                        "would take")
     p.add_argument("--order", type=int, choices=(1, 2), default=1,
                    help="order of the map in eps (default 1; 2 builds the second-order tables once per body and "
                         "theta0, then cached)")
@@ -56,7 +63,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--ode-t-end", type=float, default=None, help="time span of the direct runs (default --t-end)")
     p.add_argument("--values", type=Path, default=None, metavar="FILE",
                    help="colour the orbits by the numbers in FILE, one per orbit in grid order (Theta outer, p inner; "
-                        "numpy.loadtxt); default: the orbit's MEGNO")
+                        f"numpy.loadtxt; a regular file of at most {MAX_VALUES_BYTES:,} bytes); default: the orbit's "
+                        "MEGNO")
     p.add_argument("--out", type=Path, default=Path("portrait"), metavar="DIR",
                    help="write portrait.png, .pdf and .csv to DIR (default ./portrait; existing files are not "
                         "overwritten without --force)")
@@ -84,6 +92,45 @@ def _ode_start(text: str) -> tuple[float, float]:
         raise ValueError(f"--ode-start must be THETA,P (e.g. 0.2,0 or pi/2,1.5), got {text!r}") from None
 
 
+def read_values(path: Path, n_orbits: int) -> np.ndarray:
+    """The ``n_orbits`` numbers of the --values file at ``path``, or a ValueError naming --values: anything but a
+    regular file of at most ``MAX_VALUES_BYTES`` is refused before it is read (a FIFO is opened without waiting for a
+    writer, a device such as /dev/zero is never read)."""
+    import io
+    import os
+    import stat
+
+    def refuse(why: str) -> ValueError:
+        return ValueError(f"--values must be a regular file of at most {MAX_VALUES_BYTES:,} bytes (numbers, one per "
+                          f"orbit), got {str(path)!r}: {why}")
+
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except OSError as exc:
+        raise refuse(exc.strerror or str(exc)) from None
+    try:
+        info = os.fstat(fd)
+        if not stat.S_ISREG(info.st_mode):
+            raise refuse("not a regular file")
+        if info.st_size > MAX_VALUES_BYTES:
+            raise refuse(f"{info.st_size:,} bytes")
+        with os.fdopen(fd, "rb", closefd=False) as fh:
+            data = fh.read(MAX_VALUES_BYTES + 1)
+    finally:
+        os.close(fd)
+    if len(data) > MAX_VALUES_BYTES:  # it grew while being read
+        raise refuse(f"more than {MAX_VALUES_BYTES:,} bytes")
+    try:
+        values = np.atleast_1d(np.loadtxt(io.StringIO(data.decode("utf-8")), dtype=float))
+    except (UnicodeDecodeError, ValueError) as exc:
+        raise ValueError(f"--values: cannot read numbers from {str(path)!r} ({exc})") from None
+    if values.shape != (n_orbits,) or not np.all(np.isfinite(values)):
+        raise ValueError(f"--values must hold {n_orbits} finite numbers, one per orbit of the grid (Theta outer, p "
+                         f"inner), got {values.size} numbers ({int(np.sum(~np.isfinite(values)))} not finite) in "
+                         f"{str(path)!r}")
+    return values
+
+
 def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller portrait`` with the parsed ``args``; returns the exit status."""
     from rocknroller.numerics.megno import MEGNO_CHAOTIC
@@ -99,10 +146,9 @@ def run(args: argparse.Namespace) -> int:
     starts = [_ode_start(s) for s in args.ode_start]
     values = None
     if args.values is not None:
-        try:
-            values = np.atleast_1d(np.loadtxt(args.values, dtype=float))
-        except (OSError, ValueError) as exc:
-            raise ValueError(f"--values: cannot read numbers from {str(args.values)!r} ({exc})") from None
+        from rocknroller.papers.portrait import N_P_DEFAULT
+
+        values = read_values(args.values, Theta.size * (N_P_DEFAULT if p is None else p.size))
     prepare_output_dir(args.out, "--out", args.force, OUTPUTS)
     progress = False if args.quiet else None
     portrait = slow_portrait(body, theta0, Theta, p, args.t_end, order=args.order, ode_starts=starts,

@@ -36,7 +36,8 @@ from rocknroller.cli.options import (add_body_options, add_critical_line_options
                                      add_initial_state_options, body_from_args, check_critical_line_options,
                                      critical_line_state, parse_angle, prepare_output_dir, print_json, rates_given)
 from rocknroller.cli.slow_statistics import (STATISTICS_CSV, add_statistics_options, check_statistics_options,
-                                             statistics_lines, statistics_summary, write_statistics_csv)
+                                             check_statistics_work, statistics_lines, statistics_summary,
+                                             write_statistics_csv)
 from rocknroller.numerics.parallel import check_processes
 
 _QUANTITIES = ("slow_period", "QR_extent", "QJ_extent", "Phi")
@@ -251,6 +252,7 @@ def run(args: argparse.Namespace) -> int:
     except (RuntimeError, ArithmeticError) as exc:
         raise ValueError(f"the closed-form constants {unresolved}: {exc}") from None
     av.check_t_end(args.t_end, consts.T0, "--t-end")
+    check_statistics_work(args, body, theta0, av.default_order(theta0) if args.order is None else args.order)
     messages = []
     K = body.epsilon * consts.kappa
     if abs(K) > av.K_PERIOD_DOUBLING:

@@ -19,8 +19,10 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from rocknroller.cli.options import add_budget_option, budget_from_args
+
 __all__ = ["AUTO_MEMBERS", "DELTA_DEFAULT", "STATISTICS_CSV", "add_statistics_options", "check_statistics_options",
-           "statistics_summary", "statistics_lines", "write_statistics_csv"]
+           "check_statistics_work", "statistics_summary", "statistics_lines", "write_statistics_csv"]
 
 #: Members of the ensemble run by default past the horizon.
 AUTO_MEMBERS = 32
@@ -47,6 +49,7 @@ def add_statistics_options(p: argparse.ArgumentParser) -> None:
                         f"{DELTA_DEFAULT:g})")
     g.add_argument("--statistics-seed", type=int, default=0, metavar="SEED",
                    help="seed of the ball's random starts (numpy default_rng; default 0)")
+    add_budget_option(p, "the statistical ensemble")
 
 
 def check_statistics_options(args: argparse.Namespace, release: bool) -> None:
@@ -66,6 +69,17 @@ def check_statistics_options(args: argparse.Namespace, release: bool) -> None:
     if n and not release:
         raise ValueError("--statistics applies to releases from rest in the release tables' range (its ensemble "
                          "is a ball of release angles psi0): leave out the rate options and --critical-line")
+
+
+def check_statistics_work(args: argparse.Namespace, body: Any, theta0: float, order: int) -> None:
+    """Refuse an ensemble of ``--statistics N`` members whose estimated CPU time exceeds ``--budget`` (before any
+    table is built; :func:`rocknroller.analysis.slow.work.check_map_work`).  The default ensemble past the horizon
+    (``AUTO_MEMBERS``) is checked by ``map_ensemble`` itself."""
+    from rocknroller.analysis.slow.work import check_map_work
+
+    if args.statistics:
+        check_map_work(body, [theta0], args.statistics, args.t_end, order,
+                       f"--statistics {args.statistics} ({args.statistics} map runs of {args.t_end:g} time units each)", budget_from_args(args))
 
 
 def statistics_summary(args: argparse.Namespace, body: Any, pred: Any, summary: dict[str, Any],
@@ -94,7 +108,7 @@ def statistics_summary(args: argparse.Namespace, body: Any, pred: Any, summary: 
     ball = StartBall(summary["theta0"], summary["psi0"], args.statistics_delta, n, seed=args.statistics_seed)
     with warnings.catch_warnings():  # the members' tables and K are the point prediction's: its warnings say it
         warnings.simplefilter("ignore", AveragingValidityWarning)
-        ens = map_ensemble(body, ball, args.t_end, order=pred.order, progress=False)
+        ens = map_ensemble(body, ball, args.t_end, order=pred.order, progress=False, budget=budget_from_args(args))
     s = pred.series
     point = member_statistics(body, s.t, s.QR, s.QJ, args.t_end)
     values = {name: {"point": point[name], "mean": ens.mean(name), "std": float(np.std(ens.values[name], ddof=1)),
