@@ -100,7 +100,7 @@ def statistics_summary(args: argparse.Namespace, body: Any, pred: Any, summary: 
     label = f"statistical (map ensemble of {n} starts within +-{args.statistics_delta:g} in psi0)"
     return {"statistics": {"label": label, "ball": ball.describe(), "members": n, "delta": args.statistics_delta,
                            "seed": args.statistics_seed, "order": ens.order, "t_end": args.t_end,
-                           "values": values}}
+                           "members_left": len(ens.left), "psi0_left": list(ens.left), "values": values}}
 
 
 def statistics_lines(s: dict[str, Any]) -> list[str]:
@@ -110,8 +110,12 @@ def statistics_lines(s: dict[str, Any]) -> list[str]:
     if st is None:
         return [s["statistics_note"]] if "statistics_note" in s else []
     point = "point prediction" + (" (past the horizon)" if s.get("beyond_horizon") else "")
-    lines = [f"{st['label']}: {st['ball']}, map of order {st['order']}, over t_end = {st['t_end']:g}",
-             f"  {'statistic':<18}  {point:>33}  {'ensemble mean +- std':>26}"]
+    lines = [f"{st['label']}: {st['ball']}, map of order {st['order']}, over t_end = {st['t_end']:g}"]
+    if st["members_left"]:
+        lines.append(f"  {st['members_left']} of the {st['members']} members left the tables before t_end (psi0 = "
+                     f"{', '.join(f'{p:.6g}' for p in st['psi0_left'])}); the statistics are over the other "
+                     f"{st['members'] - st['members_left']}")
+    lines.append(f"  {'statistic':<18}  {point:>33}  {'ensemble mean +- std':>26}")
     for name, v in st["values"].items():
         lines.append(f"  {name:<18}  {v['point']:>33.6g}  {v['mean']:>12.6g} +- {v['std']:<10.3g}")
     return lines
@@ -125,7 +129,8 @@ def write_statistics_csv(path: Path, body: Any, s: dict[str, Any]) -> Path:
     st = s["statistics"]
     header = [f"rocknroller slow: body {body.describe()}; eps={body.epsilon!r}; theta0={s['theta0']!r}; "
               f"psi0={s['psi0']!r}; t_end={s['t_end']!r}",
-              f"{st['label']}: {st['ball']}; map of order {st['order']}",
+              f"{st['label']}: {st['ball']}; map of order {st['order']}; {st['members_left']} members left the tables "
+              f"before t_end (left out)",
               "point: the point prediction's own value" + (" (past the predictability horizon: statistical only)"
                                                           if s.get("beyond_horizon") else "")
               + "; mean, std (ddof 1), standard_error: over the ensemble's members; reversals per 1000 time units"]
