@@ -35,6 +35,7 @@ from rocknroller.analysis.slow import prediction as av
 from rocknroller.cli.options import (add_body_options, add_critical_line_options, add_force_option,
                                      add_initial_state_options, body_from_args, check_critical_line_options,
                                      critical_line_state, parse_angle, prepare_output_dir, print_json, rates_given)
+from rocknroller.cli.slow_periodic import apply_periodic, periodic_lines, periodic_summary
 from rocknroller.cli.slow_statistics import (STATISTICS_CSV, add_statistics_options, check_statistics_options,
                                              statistics_lines, statistics_summary, write_statistics_csv)
 from rocknroller.numerics.parallel import check_processes
@@ -207,6 +208,7 @@ def _from_state(args: argparse.Namespace, body: Any, start: Any,
 def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller slow`` with the parsed ``args``; returns the exit status."""
     from rocknroller.analysis.slow.pendulum import pendulum_constants, pendulum_prediction
+    from rocknroller.analysis.slow.periodic_orbits import periodic_start
 
     if args.plot is not None:
         prepare_output_dir(args.plot, "--plot", args.force, ["slow_orbit.png", "slow_orbit.pdf"])
@@ -234,7 +236,7 @@ def run(args: argparse.Namespace) -> int:
                         "region_runs": [list(r) for r in pred.region_runs or []],
                         "crossings": [list(c) for c in pred.crossings or []], "n_maxima": int(pred.series.t.size),
                         "eps": body.epsilon, "theta0": start.theta, "psi0": start.psi, "t_end": args.t_end,
-                        "pendulum": None, **extra})
+                        "pendulum": None, "periodic_orbit": None, **extra})
         return _finish(args, body, pred, None, start, summary, messages)
     check_critical_line_options(args)  # --QR and --offset place a start on a line; a release reads neither
     check_statistics_options(args, release=True)
@@ -284,6 +286,8 @@ def run(args: argparse.Namespace) -> int:
                     "region_runs": [list(r) for r in pred.region_runs or []],
                     "crossings": [list(c) for c in pred.crossings or []], "n_maxima": int(pred.series.t.size),
                     "eps": body.epsilon, "theta0": theta0, "psi0": psi0, "t_end": args.t_end})
+    summary["periodic_orbit"] = periodic_summary(periodic_start(body, theta0, psi0, order=pred.order,
+                                                                workers=args.processes))
     summary["pendulum"] = None if pend is None else {
         **{q: getattr(pend, q) for q in _QUANTITIES}, "kappa": consts.kappa,
         "eps_period_doubling": consts.eps_period_doubling, "T0": consts.T0, "C0": list(consts.C0),
@@ -322,7 +326,12 @@ def _finish(args: argparse.Namespace, body: Any, pred: Any, pend: Any, start: An
         if pend is not None:
             summary["pendulum"]["rel_error"] = {q: summary["rel_error"][q] if pred.pure_rocking else
                                                 relative_errors(pend, ode)[q] for q in _QUANTITIES}
-    summary.update(_chaos_summary(pred))
+    if summary["periodic_orbit"] is None:
+        summary.update(_chaos_summary(pred))
+    else:
+        apply_periodic(summary)
+        note = "a periodic orbit of the map: its multipliers and residue give its stability"
+        summary.update(chaos=None, horizon=None, beyond_horizon=None, chaos_note=note, horizon_note=note)
     summary.update(statistics_summary(args, body, pred, summary, release=start is None))
     written = _plot(pred, ode, body, theta0, psi0, args.plot) if args.plot is not None else []
     if args.csv is not None:
@@ -441,10 +450,12 @@ def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: flo
         print(f"exact one-step map: period doubling at eps = {pd['eps_exact']:.8g} (first order 4/kappa = "
               f"{pd['eps_first_order']:.8g}; K = eps*kappa = {pd['K_exact']:.8g} = 4 {'-' if pd['correction'] < 0 else '+'} "
               f"{abs(pd['correction']):.4g} eps)")
-    for line in _chaos_lines(s) + statistics_lines(s):
+    for line in _chaos_lines(s) + statistics_lines(s) + periodic_lines(s):
         print(line)
     if s["pure_rocking"]:
         print(_PURE_ROCKING)
+        return
+    if s["periodic_orbit"] is not None:
         return
     print(f"line of the turning points: dQ_J/dQ_R = {_fmt(s['line_slope'])}")
     runs = ", ".join(f"{lab}:{n}" for lab, n, _ in s["region_runs"])
