@@ -32,8 +32,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--points", type=int, default=111, help="values of eps on the branches (default 111)")
     p.add_argument("--exact-at", type=float, nargs="+", default=[0.9, 1.05, 1.2, 1.5], metavar="F",
                    help="fractions of eps_pd at which the exact map's orbits are found (default 0.9 1.05 1.2 1.5)")
-    p.add_argument("--order", type=int, choices=(1, 2), default=1,
-                   help="order of the slow map (2 builds the second-order tables once, then cached)")
+    p.add_argument("--order", type=int, choices=(1, 2), default=None,
+                   help="order of the slow map (default 2, as rocknroller slow's for a release in the release tables' "
+                        "range: the second-order tables are built once per body and theta0, then cached)")
     p.add_argument("--out", type=Path, default=Path("."), metavar="DIR",
                    help="write bifurcation.png, .pdf and .csv to DIR (default: current directory; existing files are "
                         "not overwritten without --force)")
@@ -44,6 +45,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller bifurcation`` with the parsed ``args``; returns the exit status."""
+    from rocknroller.analysis.slow.prediction import default_order
     from rocknroller.papers.bifurcation import bifurcation_diagram
 
     if args.eps is not None or args.I2 is not None:
@@ -51,15 +53,16 @@ def run(args: argparse.Namespace) -> int:
     body = body_from_args(args)
     theta0s = [parse_angle(t, "--theta0") for t in (args.theta0 or ["0.9pi", "0.95pi"])]
     prepare_output_dir(args.out, "--out", args.force, ["bifurcation.png", "bifurcation.pdf", "bifurcation.csv"])
+    order = max(default_order(t) for t in theta0s) if args.order is None else args.order
     paths, data = bifurcation_diagram(body, args.out, theta0s, fractions=(args.lo, args.hi), n_points=args.points,
-                                      exact_fractions=tuple(args.exact_at), order=args.order)
+                                      exact_fractions=tuple(args.exact_at), order=order)
     rows = [{"theta0": d.theta0, "eps": e.eps, "eps_over_pd": e.eps / d.eps_pd,
              "kick_phase": {"slow": s.kick_phase.tolist(), "exact": e.kick_phase.tolist()},
              "Theta": {"slow": s.points[:, 2].tolist(), "exact": e.points[:, 2].tolist()},
              "u": {"slow": float(s.points[0, 0]), "exact": float(e.points[0, 0])},
              "residue": {"slow": s.residue, "exact": e.residue}, "stable": {"slow": s.stable, "exact": e.stable}}
             for d in data for s, e in zip(d.slow_period2, d.exact_period2)]
-    summary = {"files": [str(p) for p in paths], "eps_pd": {f"{d.theta0 / math.pi:.6g}pi": d.eps_pd for d in data},
+    summary = {"files": [str(p) for p in paths], "order": order, "eps_pd": {f"{d.theta0 / math.pi:.6g}pi": d.eps_pd for d in data},
                "period2": rows}
     if args.json:
         print_json(summary)
