@@ -19,7 +19,9 @@ own per-step error, grown at that rate, reaches 10 % of the extents).  A t_end p
 the maxima, each with ``beyond_horizon``).  For ε = 0 from rest (pure rocking) there are no indicators and no horizon
 (null, with the reason).  Beside a release's past-horizon numbers stands the statistical prediction, the map's
 ensemble over a stated small ball of releases (``--statistics``; :mod:`rocknroller.cli.slow_statistics`): in the
-text, the JSON (``statistics``) and, with ``--csv``, ``slow_statistics.csv`` and the maxima's header.
+text, the JSON (``statistics``) and, with ``--csv``, ``slow_statistics.csv`` and the maxima's header.  A release on a
+periodic orbit of the map (pure rocking: ψ0 = 0 or π/2) is reported as that orbit with its stability instead
+(:mod:`rocknroller.cli.slow_periodic`).
 """
 
 from __future__ import annotations
