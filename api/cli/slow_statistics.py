@@ -78,7 +78,7 @@ def statistics_summary(args: argparse.Namespace, body: Any, pred: Any, summary: 
     import numpy as np
 
     from rocknroller.analysis.slow.ensemble_statistics import STATISTICS, StartBall, map_ensemble, member_statistics
-    from rocknroller.analysis.slow.limits import AveragingValidityWarning
+    from rocknroller.analysis.slow.limits import AveragingRangeError, AveragingValidityWarning
 
     n = args.statistics
     if n is None:
@@ -92,7 +92,10 @@ def statistics_summary(args: argparse.Namespace, body: Any, pred: Any, summary: 
     ball = StartBall(summary["theta0"], summary["psi0"], args.statistics_delta, n, seed=args.statistics_seed)
     with warnings.catch_warnings():  # the members' tables and K are the point prediction's: its warnings say it
         warnings.simplefilter("ignore", AveragingValidityWarning)
-        ens = map_ensemble(body, ball, args.t_end, order=pred.order, progress=False)
+        try:
+            ens = map_ensemble(body, ball, args.t_end, order=pred.order, progress=False)
+        except AveragingRangeError as exc:  # fewer than two members stayed on the tables
+            return {"statistics": None, "statistics_note": f"no statistical prediction: {exc}"}
     s = pred.series
     point = member_statistics(body, s.t, s.QR, s.QJ, args.t_end)
     values = {name: {"point": point[name], "mean": ens.mean(name), "std": float(np.std(ens.values[name], ddof=1)),

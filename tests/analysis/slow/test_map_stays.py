@@ -62,3 +62,32 @@ def test_an_ensemble_goes_on_past_a_member_that_leaves():
 def test_an_ensemble_with_fewer_than_two_members_left_on_the_tables_is_refused():
     with pytest.raises(av.AveragingRangeError, match="fewer than two"):
         map_ensemble(Body.paper(EPS), StartBall(THETA0, 0.1, 1e-4, 2, seed=0), 1000.0, order=1)
+
+
+def test_an_orbit_wider_than_the_release_chart_is_sent_to_the_region_tables():
+    """At 0.85pi, K = 3 the motion spreads across the kick direction beyond the release chart's |v| <= V (the direct
+    ODE's orbits reach 1.5 V): the error says so and names the region tables of the release's energy, which hold it."""
+    from rocknroller.analysis.model.equations import EulerState
+
+    body = Body.paper(3.0 / av.load_or_build_table(Body.paper(0.0), THETA0).kappa)
+    with pytest.raises(av.AveragingRangeError, match=r"across the kick direction grows like eps\^2.*--theta-dot0 0"):
+        av.predict_slow_motion(body, THETA0, 0.01, 1000.0, order=1)
+    pred = av.predict_slow_motion(body, EulerState(THETA0, 0.0, 0.01), t_end=1000.0, order=1)
+    assert pred.chaos is not None and pred.series.t[-1] > 900.0
+
+
+def test_slow_statistics_goes_on_without_an_ensemble(monkeypatch, capsys):
+    """An ensemble of which fewer than two members stay on the tables gives no statistics, and slow says why."""
+    import json
+
+    from rocknroller.analysis.slow import ensemble_statistics
+    from rocknroller.cli import main
+
+    def leaves(*args, **kwargs):
+        raise av.AveragingRangeError("2 of the 2 members' slow orbits left the tables: fewer than two remain")
+
+    monkeypatch.setattr(ensemble_statistics, "map_ensemble", leaves)
+    assert main(["slow", "--theta0", "0.95pi", "--eps", "1e-3", "--psi0", "0.3", "--t-end", "200", "--statistics",
+                 "2", "--json", "--quiet"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["statistics"] is None and "fewer than two remain" in out["statistics_note"]
