@@ -19,9 +19,8 @@ own per-step error, grown at that rate, reaches 10 % of the extents).  A t_end p
 the maxima, each with ``beyond_horizon``).  For ε = 0 from rest (pure rocking) there are no indicators and no horizon
 (null, with the reason).  Beside a release's past-horizon numbers stands the statistical prediction, the map's
 ensemble over a stated small ball of releases (``--statistics``; :mod:`rocknroller.cli.slow_statistics`): in the
-text, the JSON (``statistics``) and, with ``--csv``, ``slow_statistics.csv`` and the maxima's header.  A release on a
-periodic orbit of the map (pure rocking: ψ0 = 0 or π/2) is reported as that orbit with its stability instead
-(:mod:`rocknroller.cli.slow_periodic`).
+text, the JSON (``statistics``) and, with ``--csv``, ``slow_statistics.csv`` and the maxima's header.  Pure rocking
+(ψ0 = 0 or π/2) is reported as that periodic orbit with its stability instead (:mod:`rocknroller.cli.slow_periodic`).
 """
 
 from __future__ import annotations
@@ -276,7 +275,12 @@ def run(args: argparse.Namespace) -> int:
 
             second = load_or_build_second_order_table(body, theta0, build=not args.cached_only,
                                                       workers=args.processes, progress=_progress(args))
-        pred = av.predict_slow_motion(body, theta0, psi0, args.t_end, table=table, order=order, second=second)
+        try:
+            pred = av.predict_slow_motion(body, theta0, psi0, args.t_end, table=table, order=order, second=second)
+        except av.ChartWidthError as exc:  # wider than the release tables: the region tables of its energy hold it
+            start = av.EulerState(theta0, 0.0, psi0)
+            pred, _, more = _from_state(args, body, start, av.default_order(start) if args.order is None else args.order)
+            messages += [f"{exc}: predicted on the region tables of its energy (map of order {pred.order})", *more]
     pend = None
     try:
         pend = pendulum_prediction(body, theta0, psi0, args.t_end, constants=consts)
@@ -288,8 +292,7 @@ def run(args: argparse.Namespace) -> int:
                     "region_runs": [list(r) for r in pred.region_runs or []],
                     "crossings": [list(c) for c in pred.crossings or []], "n_maxima": int(pred.series.t.size),
                     "eps": body.epsilon, "theta0": theta0, "psi0": psi0, "t_end": args.t_end})
-    summary["periodic_orbit"] = periodic_summary(periodic_start(body, theta0, psi0, order=pred.order,
-                                                                workers=args.processes))
+    summary["periodic_orbit"] = periodic_summary(periodic_start(body, theta0, psi0, order=pred.order))
     summary["pendulum"] = None if pend is None else {
         **{q: getattr(pend, q) for q in _QUANTITIES}, "kappa": consts.kappa,
         "eps_period_doubling": consts.eps_period_doubling, "T0": consts.T0, "C0": list(consts.C0),

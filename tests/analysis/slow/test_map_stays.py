@@ -15,6 +15,7 @@ from rocknroller.analysis.slow.compiled_map import iterate_slow_map
 from rocknroller.analysis.slow.ensemble_statistics import STATISTICS, StartBall, map_ensemble
 from rocknroller.analysis.slow.exact_step import exact_step
 from rocknroller.analysis.slow.family import rest_energy
+from rocknroller.analysis.slow.limits import AveragingValidityWarning
 from rocknroller.analysis.slow.second_order import load_or_build_second_order_table
 
 THETA0 = 0.85 * math.pi
@@ -45,35 +46,52 @@ def test_the_implicit_kick_does_not_stop_at_an_overshooting_first_iterate():
 
 
 def test_an_ensemble_goes_on_past_a_member_that_leaves():
-    """Order 1 at eps = 0.04 leaves the release tables genuinely (its v misses the O(eps^2) part of the kick across
-    the chart, which the exact step and order 2 have: docs/averaging.md): those members are counted in ``left``, the
-    statistics are over the others, and order 2 keeps every member of the issue's ball."""
-    body = Body.paper(EPS)
-    ball = StartBall(THETA0, 0.5 * math.pi, 0.5 * math.pi, 16, seed=1)  # the whole circle of psi0
-    ens = map_ensemble(body, ball, 1000.0, order=1)
+    """Far past the period doubling (0.95pi, eps = 0.03, K = 12.8) some orbits leave the release tables along the kick
+    direction (|u| > U): those members are counted in ``left``, the statistics are over the others; order 2 keeps
+    every member of the ball psi0 = 0.003 +- 1e-3 at 0.85pi, eps = 0.04 (on main one of them stopped the ensemble)."""
+    body = Body.paper(0.03)
+    ball = StartBall(0.95 * math.pi, 0.5 * math.pi, 0.5 * math.pi, 16, seed=1)  # the whole circle of psi0
+    with pytest.warns(AveragingValidityWarning, match="K = eps"):
+        ens = map_ensemble(body, ball, 1000.0, order=1)
     assert 0 < len(ens.left) < ball.members
     assert set(ens.left) <= set(ball.psi0_values().tolist())
     for name in STATISTICS:
         assert ens.values[name].size == ball.members - len(ens.left)
-    ens2 = map_ensemble(body, StartBall(THETA0, 0.003, 1e-3, 32, seed=0), 1000.0, order=2)  # main: raised
+    for psi0 in ens.left:
+        with pytest.raises(av.AveragingRangeError, match="left the tabulated region"):
+            av.predict_slow_motion(body, 0.95 * math.pi, psi0, 1000.0, order=1)
+    with pytest.raises(av.AveragingRangeError, match="fewer than two"):  # both members of a tiny ball about one leave
+        map_ensemble(body, StartBall(0.95 * math.pi, ens.left[0], 1e-6, 2, seed=1), 1000.0, order=1)
+    ens2 = map_ensemble(Body.paper(EPS), StartBall(THETA0, 0.003, 1e-3, 32, seed=0), 1000.0, order=2)
     assert ens2.left == () and ens2.values["QR_extent"].size == 32
 
 
-def test_an_ensemble_with_fewer_than_two_members_left_on_the_tables_is_refused():
-    with pytest.raises(av.AveragingRangeError, match="fewer than two"):
-        map_ensemble(Body.paper(EPS), StartBall(THETA0, 0.1, 1e-4, 2, seed=0), 1000.0, order=1)
-
-
-def test_an_orbit_wider_than_the_release_chart_is_sent_to_the_region_tables():
+def test_an_orbit_wider_than_the_release_chart_is_sent_to_the_region_tables(capsys):
     """At 0.85pi, K = 3 the motion spreads across the kick direction beyond the release chart's |v| <= V (the direct
-    ODE's orbits reach 1.5 V): the error says so and names the region tables of the release's energy, which hold it."""
-    from rocknroller.analysis.model.equations import EulerState
+    ODE's orbits reach 1.5 V): the release tables' error says so (ChartWidthError), and a release is predicted on the
+    region tables of its energy instead, which hold it, with a warning; slow does the same and says so."""
+    import json
 
-    body = Body.paper(3.0 / av.load_or_build_table(Body.paper(0.0), THETA0).kappa)
-    with pytest.raises(av.AveragingRangeError, match=r"across the kick direction grows like eps\^2.*--theta-dot0 0"):
-        av.predict_slow_motion(body, THETA0, 0.01, 1000.0, order=1)
-    pred = av.predict_slow_motion(body, EulerState(THETA0, 0.0, 0.01), t_end=1000.0, order=1)
+    from rocknroller.analysis.model.equations import EulerState
+    from rocknroller.analysis.slow.limits import ChartWidthError
+    from rocknroller.cli import main
+
+    table = av.load_or_build_table(Body.paper(0.0), THETA0)
+    eps = 3.0 / table.kappa
+    body = Body.paper(eps)
+    with pytest.raises(ChartWidthError, match=r"across the kick direction grows like eps\^2.*--theta-dot0 0"):
+        iterate_slow_map(table, eps, 0.01, 1000.0)
+    with pytest.raises(ChartWidthError):  # a table given by the caller is used as given
+        av.predict_slow_motion(body, THETA0, 0.01, 1000.0, table=table, order=1)
+    with pytest.warns(AveragingValidityWarning, match="predicted on the region tables of its energy"):
+        pred = av.predict_slow_motion(body, THETA0, 0.01, 1000.0)  # main: AveragingRangeError
+    assert pred.order == 1 and pred.start == EulerState(THETA0, 0.0, 0.01)  # the region tables' default order
     assert pred.chaos is not None and pred.series.t[-1] > 900.0
+    assert main(["slow", "--theta0", "0.85pi", "--eps", repr(eps), "--psi0", "0.01", "--t-end", "500", "--statistics",
+                 "0", "--json", "--quiet"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["order"] == 1 and out["chaos"] is not None
+    assert any("predicted on the region tables of its energy (map of order 1)" in w for w in out["warnings"])
 
 
 def test_slow_statistics_goes_on_without_an_ensemble(monkeypatch, capsys):
