@@ -209,7 +209,7 @@ def _from_state(args: argparse.Namespace, body: Any, start: Any,
 def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller slow`` with the parsed ``args``; returns the exit status."""
     from rocknroller.analysis.slow.pendulum import pendulum_constants, pendulum_prediction
-    from rocknroller.analysis.slow.periodic_orbits import periodic_start
+    from rocknroller.analysis.slow.periodic_orbits import on_rocking_axis, periodic_start
 
     if args.plot is not None:
         prepare_output_dir(args.plot, "--plot", args.force, ["slow_orbit.png", "slow_orbit.pdf"])
@@ -292,7 +292,8 @@ def run(args: argparse.Namespace) -> int:
                     "region_runs": [list(r) for r in pred.region_runs or []],
                     "crossings": [list(c) for c in pred.crossings or []], "n_maxima": int(pred.series.t.size),
                     "eps": body.epsilon, "theta0": theta0, "psi0": psi0, "t_end": args.t_end})
-    summary["periodic_orbit"] = periodic_summary(periodic_start(body, theta0, psi0, order=pred.order))
+    summary["periodic_orbit"] = periodic_summary(periodic_start(body, theta0, psi0, order=pred.order),
+                                                 on_rocking_axis(psi0))
     summary["pendulum"] = None if pend is None else {
         **{q: getattr(pend, q) for q in _QUANTITIES}, "kappa": consts.kappa,
         "eps_period_doubling": consts.eps_period_doubling, "T0": consts.T0, "C0": list(consts.C0),

@@ -21,12 +21,11 @@ import numpy as np
 __all__ = ["periodic_summary", "periodic_lines", "apply_periodic"]
 
 
-def periodic_summary(orbit: Any) -> dict[str, Any] | None:
+def periodic_summary(orbit: Any, rocking: bool) -> dict[str, Any] | None:
     """The summary's ``periodic_orbit`` entry of a :class:`~rocknroller.analysis.slow.periodic_orbits.PeriodicOrbit`
-    (None for None)."""
+    (None for None); ``rocking``: the start is pure rocking (ψ0 = 0 or π/2 from rest)."""
     if orbit is None:
         return None
-    rocking = orbit.period == 1 and not np.any(orbit.Q)
     return {"kind": "pure rocking" if rocking else ("fixed point" if orbit.period == 1 else "period-2 orbit"),
             "period": orbit.period, "order": orbit.order,
             "psi": [float(np.mod(0.5 * p[2], math.pi)) for p in orbit.points],
@@ -41,7 +40,9 @@ def apply_periodic(summary: dict[str, Any]) -> None:
     and Φ over its points, no slow period, line, regions runs or crossings; no relative errors (the ODE's extents are
     round-off about 0 as well)."""
     po = summary["periodic_orbit"]
-    summary.update(slow_period=None, QR_extent=float(np.ptp(po["QR"])), QJ_extent=float(np.ptp(po["QJ"])), Phi=0.0,
+    rocking = po["kind"] == "pure rocking"  # Q = 0 by symmetry; the map's fixed point within its tables' error of it
+    summary.update(slow_period=None, QR_extent=0.0 if rocking else float(np.ptp(po["QR"])),
+                   QJ_extent=0.0 if rocking else float(np.ptp(po["QJ"])), Phi=0.0,
                    line_slope=None, region_runs=[], crossings=[], rocks_per_region={})
     if "rel_error" in summary:
         summary["rel_error"] = {q: None for q in summary["rel_error"]}
@@ -64,6 +65,6 @@ def periodic_lines(s: dict[str, Any]) -> list[str]:
     where = ("psi = " + ", ".join(f"{p:.6g}" for p in po["psi"]) + " mod pi" +
              ("" if po["kind"] == "pure rocking" else f", Q = ({po['QR'][0]:.6g}, {po['QJ'][0]:.6g})"))
     return [f"periodic orbit: {po['kind']} ({where}): a {'fixed point' if po['period'] == 1 else 'period-2 orbit'} of "
-            f"the map of order {po['order']} to |F(x) - x| <= {po['residual_bound']:.2g}",
+            f"the map of order {po['order']} to |F(x) - x| = {po['residual']:.2g}",
             f"  Greene's residue R = {R:.6g}, multipliers {mult}: {kind}",
             "  no finite-time indicators, horizon or relative errors: on this orbit they would measure round-off"]

@@ -62,3 +62,24 @@ def test_periodic_start_checks_and_limits():
         periodic_start(Body.paper(EPS), THETA0, math.nan)
     with pytest.raises(ValueError, match="theta0"):
         periodic_start(Body.paper(EPS), 0.5 * math.pi, 0.0)
+
+
+def test_pure_rocking_is_found_where_the_second_order_map_moves_it_by_its_tables_error():
+    """At 0.85pi, K = 3.9, order 2, one step of the map from Q = 0, Theta = pi moves it by 1e-11 in Theta (the
+    harmonics of k2 cancel at Q = 0 to the tables' accuracy only): the start is pure rocking by symmetry, and its
+    fixed point of the map is found nearby by Newton's method, to the residual periodic_orbit solves to."""
+    from rocknroller.analysis.slow.periodic_orbits import on_rocking_axis
+
+    assert on_rocking_axis(0.0) and on_rocking_axis(0.5 * math.pi) and on_rocking_axis(math.pi)
+    assert on_rocking_axis(-1.5 * math.pi) and not on_rocking_axis(1e-9) and not on_rocking_axis(0.25 * math.pi)
+    theta0 = 0.85 * math.pi
+    eps = 3.9 / load_or_build_table(Body.paper(0.0), theta0).kappa
+    po = periodic_start(Body.paper(eps), theta0, 0.5 * math.pi, order=2)
+    assert po.period == 1 and po.residual <= po.residual_bound and po.stable
+    assert np.max(np.abs(po.Q)) < 1e-9
+
+
+def test_a_start_whose_first_step_leaves_the_release_tables_is_not_periodic():
+    theta0 = 0.85 * math.pi
+    eps = 3.9 / load_or_build_table(Body.paper(0.0), theta0).kappa
+    assert periodic_start(Body.paper(eps), theta0, math.pi / 16, order=2) is None
