@@ -9,8 +9,9 @@
  * simplified Newton: the explicit kick as first iterate, the Jacobian I - (eps/2) dk/dm once at that
  * iterate, and a stop when the change of the end point 2m - a is within 1e-13 of the kick (+ 4 ulp of |Q| + U) or
  * the observed contraction eta puts the remaining error eta/(1 - eta) x change below 1e-3 of that
- * (Hairer & Wanner, Solving ODEs II, IV.8).  The time and phi kicks at the midpoint are corrected to
- * first order by the last Newton correction.  It computes no formula of its own: every number comes
+ * (Hairer & Wanner, Solving ODEs II, IV.8); an iterate outside the table is moved halfway back towards the last one
+ * inside (the start, to begin with), which leaves the solution as it is.  The time and phi kicks at the midpoint are
+ * corrected to first order by the last Newton correction.  It computes no formula of its own: every number comes
  * from the tables.  tests/test_averaging.py::_reference_map evaluates the same map plainly in NumPy
  * (fixed-point kick) and the tests compare the two.
  *
