@@ -163,10 +163,12 @@ def relative_errors(pred: Any, ref: Any) -> dict[str, float | None]:
 
 
 def sample_errors(series: av.SlowSeries, ref: OdeSlowSummary) -> dict[str, float]:
-    """Largest differences map − ODE maximum by maximum: |ΔQ|/(Q_R extent), Θ, t and φ mod π."""
+    """Largest differences map − ODE maximum by maximum: |ΔQ|/(Q_R extent), Θ, t and φ mod π.  Where the ODE's Q_R
+    does not move (pure rocking), the Q entry is 0 if the map's Q agrees to the bit and infinite otherwise."""
     n = min(series.t.size, ref.t.size)
-    dQ = np.hypot(series.QR[:n] - ref.QR[:n], series.QJ[:n] - ref.QJ[:n])
-    return {"Q": float(dQ.max() / np.ptp(ref.QR)),
+    dQ = float(np.hypot(series.QR[:n] - ref.QR[:n], series.QJ[:n] - ref.QJ[:n]).max())
+    extent = float(np.ptp(ref.QR))
+    return {"Q": dQ / extent if extent > 0.0 else (math.inf if dQ > 0.0 else 0.0),
             "Theta": float(np.abs(wrap_angle(series.Theta[:n] - ref.Theta[:n])).max()),
             "t": float(np.abs(series.t[:n] - ref.t[:n]).max()),
             "phi": float(np.abs(wrap_angle(series.phi[:n] - ref.phi[:n], math.pi)).max())}

@@ -53,7 +53,7 @@ if TYPE_CHECKING:
 
 __all__ = ["MAX_PORTRAIT_ORBITS", "MAX_ODE_STARTS", "MAX_PORTRAIT_MAXIMA", "BYTES_PER_MAXIMUM", "CSV_BYTES_PER_ROW",
            "N_P_DEFAULT", "check_portrait_size", "SlowPortrait", "orbit_values", "portrait_values",
-           "theta0_of_energy", "slow_portrait", "plot_portrait", "write_portrait"]
+           "theta0_of_energy", "slow_portrait", "plot_portrait", "orbit_rows", "write_portrait"]
 
 #: Most map orbits of one portrait (grid points; each ~1 ms per 1000 time units).
 MAX_PORTRAIT_ORBITS = 10_000
@@ -470,11 +470,33 @@ def plot_portrait(portrait: SlowPortrait, values: ArrayLike | None = None, *, cm
     return fig
 
 
+def orbit_rows(portrait: SlowPortrait) -> dict[str, list]:
+    """One row per map orbit, as columns: its index and start (Θ0, p0), whether it left the tables before t_end, its
+    number of θ-maxima, the span over which its indicators were measured (from its start to its last maximum), its
+    verdict (``"regular"`` for MEGNO ≤ ``MEGNO_CHAOTIC``, ``"chaotic"`` above, None without indicators: fewer than
+    ``MIN_SAMPLES`` maxima or a portrait made with ``chaos=False``), MEGNO and the finite-time Lyapunov exponent per unit
+    time and per rock (None where there is no verdict)."""
+    cols: dict[str, list] = {k: [] for k in ("orbit", "Theta0", "p0", "left_tables", "n_maxima", "span", "verdict",
+                                              "megno", "lyapunov", "lyapunov_per_rock")}
+    left = set(portrait.left)
+    for k, s in enumerate(portrait.orbits):
+        c = portrait.chaos[k] if k < len(portrait.chaos) else None
+        for key, v in (("orbit", k), ("Theta0", float(portrait.Theta0[k])), ("p0", float(portrait.p0[k])),
+                       ("left_tables", k in left), ("n_maxima", int(s.t.size)),
+                       ("span", float(s.t[-1]) if s.t.size else 0.0),
+                       ("verdict", None if c is None else ("regular" if c.regular else "chaotic")),
+                       ("megno", None if c is None else c.megno), ("lyapunov", None if c is None else c.lyapunov),
+                       ("lyapunov_per_rock", None if c is None else c.lyapunov_per_rock)):
+            cols[key].append(v)
+    return cols
+
+
 def write_portrait(portrait: SlowPortrait, out: str | Path, name: str = "portrait",
                    values: ArrayLike | None = None, orbits: Sequence[Any] | None = None) -> list[Path]:
-    """Save the figure (:func:`plot_portrait`) as ``name.png`` and ``name.pdf`` and the samples as ``name.csv``
+    """Save the figure (:func:`plot_portrait`) as ``name.png`` and ``name.pdf``, the samples as ``name.csv``
     (one row per θ-maximum: source ``map`` or ``ode``, orbit index, its start (Θ0, p0), colour value (empty where
-    not measured), t, Θ mod 2π, p, Q_R, Q_J; header with the parameters); returns the paths.
+    not measured), t, Θ mod 2π, p, Q_R, Q_J; header with the parameters) and the map's orbits as
+    ``name_orbits.csv`` (one row per orbit: :func:`orbit_rows`); returns the paths.
 
     Examples
     --------
@@ -516,4 +538,9 @@ def write_portrait(portrait: SlowPortrait, out: str | Path, name: str = "portrai
               + f"; orbits that left the tables before t_end: {list(portrait.left)}",
               "source ode: the direct ODE from the same maxima (value empty)"]
     paths.append(write_csv(Path(out) / f"{name}.csv", cols, header))
+    paths.append(write_csv(Path(out) / f"{name}_orbits.csv", orbit_rows(portrait), header[:2] + [
+        f"one row per map orbit: its start, left_tables (true: it left the tables before t_end), its maxima, span (the "
+        f"time from its start to its last maximum, over which its indicators are measured), verdict (regular: MEGNO <= "
+        f"{MEGNO_CHAOTIC:g}; chaotic above; empty: fewer than {MIN_SAMPLES} maxima or no indicators), MEGNO and the "
+        f"finite-time Lyapunov exponent per unit time and per rock"]))
     return paths

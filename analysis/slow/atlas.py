@@ -56,8 +56,13 @@ if TYPE_CHECKING:
 
 __all__ = [
     "ATLAS_OBSERVABLES", "CHAOS_OBSERVABLES", "PLANES", "METHODS", "MAX_ATLAS_POINTS", "MAX_ODE_ATLAS_POINTS", "Atlas",
-    "AtlasCheck", "reversal_counts", "atlas_from_rest", "atlas_of_rates", "confirm_atlas"
+    "AtlasCheck", "reversal_counts", "atlas_from_rest", "atlas_of_rates", "confirm_atlas", "ATLAS_ORDER"
 ]
+
+#: The map's order in ε of a map-made atlas: 1, whatever ``predict_slow_motion``'s default (2 for releases in
+#: ``THETA0_RANGE``): order 2 adds a second-order table per release angle, a row of the atlas, each many times the
+#: first-order table's cost (module docstring); every output of the atlas names this order.
+ATLAS_ORDER = 1
 
 #: What the atlas maps, per point: the map's diagnostics and the reversals per 1000 time units.
 ATLAS_OBSERVABLES = ("slow_period", "Phi", "QR_extent", "QJ_extent", "full_reversals", "visible_reversals")
@@ -199,7 +204,8 @@ def _rows(body: Body, theta0: NDArray[np.float64], psi0: NDArray[np.float64], t_
         for i, t0 in enumerate(theta0):
             table = None if av.releases_on_region_tables(t0) else av.load_or_build_table(body, t0, build=build)
             for j, p0 in enumerate(psi0):
-                pred = av.predict_slow_motion(body, float(t0), float(p0), t_end, table=table, build=build, order=1,
+                pred = av.predict_slow_motion(body, float(t0), float(p0), t_end, table=table, build=build,
+                                              order=ATLAS_ORDER,
                                               indicators=chaos)
                 for k, v in enumerate(_values(pred, t_end, chaos)):
                     mask[k, i, j] = v is None

@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
@@ -172,10 +172,12 @@ class EnsembleStatistics:
     ball : the starts.
     t_end : time span of every member.
     values : dict
-        For each of ``STATISTICS`` an array of one value per member (in the order of ``ball.psi0_values()``).
+        For each of ``STATISTICS`` an array of one value per member (in the order of ``ball.psi0_values()``, without
+        the members in ``left``).
     rocks : number of θ-maxima of each member within t_end.
     order : the map's order in ε (None for the ODE).
     warnings : the distinct validity warnings of the map's predictions (e.g. K = ε κ > 4).
+    left : the ψ0 of the map's members whose slow orbit left the tables before t_end (counted, not in ``values``).
 
     Examples
     --------
@@ -196,6 +198,7 @@ class EnsembleStatistics:
     rocks: NDArray[np.int64] = field(repr=False)
     order: int | None = None
     warnings: tuple[str, ...] = ()
+    left: tuple[float, ...] = ()
 
     def mean(self, name: str) -> float:
         """Mean of one statistic over the members."""
@@ -256,12 +259,13 @@ def map_ensemble(body: Body, ball: StartBall, t_end: float, *, order: int | None
     -------
     EnsembleStatistics
         Its ``warnings`` hold the predictions' distinct :class:`AveragingValidityWarning` messages, each also issued
-        once here.
+        once here; its ``left`` the ψ0 of the members whose slow orbit left the tables (their statistics are left out,
+        the other members' kept).
 
     Raises
     ------
     AveragingRangeError
-        If a member's slow orbit leaves the tables.
+        If fewer than two members stay on the tables (no standard deviation).
     WorkBudgetError
         A ValueError: the estimated work exceeds ``budget`` (before any run).
 
@@ -286,8 +290,14 @@ def map_ensemble(body: Body, ball: StartBall, t_end: float, *, order: int | None
     members, rocks = [], []
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", av.AveragingValidityWarning)
+        left = []
         for psi0 in ball.psi0_values():
-            pred = av.predict_slow_motion(body, ball.theta0, float(psi0), t_end, order=order, progress=progress)
+            try:
+                pred = av.predict_slow_motion(body, ball.theta0, float(psi0), t_end, order=order, progress=progress,
+                                              indicators=False)
+            except av.AveragingRangeError:
+                left.append(float(psi0))
+                continue
             s = pred.series
             members.append(member_statistics(body, s.t, s.QR, s.QJ, t_end))
             rocks.append(s.t.size)
@@ -295,7 +305,10 @@ def map_ensemble(body: Body, ball: StartBall, t_end: float, *, order: int | None
                                                                                av.AveragingValidityWarning)))
     for message in distinct:
         warnings.warn(message, av.AveragingValidityWarning, stacklevel=2)
-    return _collect("map", body, ball, t_end, members, rocks, order=order, caught=distinct)
+    if len(members) < 2:
+        raise av.AveragingRangeError(f"{len(left)} of the {ball.members} members' slow orbits left the tables before "
+                                     f"t_end={t_end!r} ({ball.describe()}): fewer than two remain for statistics")
+    return replace(_collect("map", body, ball, t_end, members, rocks, order=order, caught=distinct), left=tuple(left))
 
 
 def ode_ensemble(body: Body, ball: StartBall, t_end: float, *, scheduler: str | None = None,

@@ -77,8 +77,9 @@ from rocknroller.analysis.slow.map.family import first_maximum, rest_energy
 # The stages' public names are re-exported (``prediction.load_or_build_table`` etc., module docstring); pyflakes
 # reports those this module does not use itself as unused.
 from rocknroller.analysis.slow.map.limits import (K_PERIOD_DOUBLING, MAX_MAXIMA, THETA0_RANGE,  # noqa: F401
-                                              AveragingRangeError, AveragingValidityWarning, check_map_theta0,
-                                              check_release_theta0, check_t_end, eps_period_doubling, t_end_limit)
+                                                  AveragingRangeError, AveragingValidityWarning, ChartWidthError,
+                                                  check_map_theta0, check_release_theta0, check_t_end,
+                                                  eps_period_doubling, t_end_limit)
 from rocknroller.analysis.slow.map.orbit import symmetric_data
 from rocknroller.analysis.slow.map.table import (REGION_TABLE_ACCURACY, TableNotCachedError, build_table,  # noqa: F401
                                              load_or_build_table)
@@ -338,6 +339,7 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
     True None
     """
     body.require_gravity("the slow-motion prediction")
+    requested = order
     if order is None:
         order = default_order(theta0)
     if order not in (1, 2) or isinstance(order, bool):
@@ -357,6 +359,7 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
     eps, psi0 = body.epsilon, as_float("psi0", psi0)
     if not math.isfinite(psi0):
         raise ValueError(f"psi0 must be finite, got psi0={psi0!r}")
+    own_table = table is None  # a release table of the caller's is used as given, without the region tables' fallback
     if table is None:
         sym = body.symmetric()
         check_t_end(t_end, _rocking_period(sym, rest_energy(sym, theta0)))
@@ -387,7 +390,19 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
         elif abs(second.theta0 - theta0) > 1e-15 or second.E0 != table.E0:
             raise ValueError(f"the second-order table is for theta0={second.theta0!r}, not {theta0!r}")
     second = second if order == 2 else None
-    series = iterate_slow_map(table, eps, psi0, t_end, second=second, tangent=indicators)
+    try:
+        series = iterate_slow_map(table, eps, psi0, t_end, second=second, tangent=indicators)
+    except ChartWidthError as exc:
+        if not own_table:
+            raise
+        # the orbit spreads across the kick direction beyond the release tables (ε large): the region tables of its
+        # energy, at the order asked for, or their default
+        start = EulerState(theta0, 0.0, psi0)
+        warnings.warn(f"{exc}: predicted on the region tables of its energy instead", AveragingValidityWarning,
+                      stacklevel=2)
+        return _predict_from_state(body, start, t_end, table=None, build=build,
+                                   order=default_order(start) if requested is None else order, progress=progress,
+                                   indicators=indicators)
     chaos, probe = (run_indicators(table.body, eps, table, second, series, (0.0, 0.0, 2.0 * psi0)) if indicators
                     else (None, None))
     return replace(_prediction(eps, theta0, psi0, t_end, K, series, table.body), order=order, chaos=chaos,

@@ -48,8 +48,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="release: (theta0, psi0) from rest; rates: (phi_dot0, psi_dot0) at fixed theta0, psi0 "
                         "(default release)")
     p.add_argument("--method", choices=("map", "ode"), default=None,
-                   help="the averaged map (release plane only) or the direct ODE at every point (default: map for "
-                        "the release plane, ode for the rates plane)")
+                   help="the averaged map (release plane only; of order 1 in eps, which every output names: order 2 "
+                        "would build a second-order table per theta0 of the grid) or the direct ODE at every point "
+                        "(default: map for the release plane, ode for the rates plane)")
     p.add_argument("--theta0", type=str, default=None, metavar="LO:HI:N",
                    help="tilts, an inclusive grid of N values (angles like 0.95pi), or one value; 0 < theta0 <= "
                         f"0.999pi (default {rel['theta0']}; with --plane rates one value, default {rat['theta0']})")
@@ -132,7 +133,7 @@ def _grids(args: argparse.Namespace) -> tuple[str, dict[str, str]]:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller atlas`` with the parsed ``args``; returns the exit status."""
-    from rocknroller.analysis.slow.atlas import atlas_from_rest, atlas_of_rates, confirm_atlas
+    from rocknroller.analysis.slow.atlas import ATLAS_ORDER, atlas_from_rest, atlas_of_rates, confirm_atlas
     from rocknroller.papers.atlas_plots import plot_atlas, plot_atlas_check
     from rocknroller.papers.output import write_csv
 
@@ -170,8 +171,8 @@ def run(args: argparse.Namespace) -> int:
     starts = ("releases from rest" if atlas.at is None else  # at: (theta0, psi0) of a rates plane, None for release
               f"theta0={atlas.at[0] / np.pi:.4g}pi, psi0={atlas.at[1] / np.pi:.4g}pi, theta_dot0=0")
     if method == "map":
-        how = (f"averaged map; {0 if check is None else len(check.index)} points confirmed by the direct ODE "
-               f"({where})")
+        how = (f"averaged map of order {ATLAS_ORDER} in eps; {0 if check is None else len(check.index)} points "
+               f"confirmed by the direct ODE ({where})")
     else:
         how = f"direct ODE at every point ({where})"
     title = f"eps={body.epsilon:.3g}, {starts}, t_end={args.t_end:g}; {how}"
@@ -208,7 +209,8 @@ def run(args: argparse.Namespace) -> int:
     written += plot_atlas(atlas, args.out, title, body)
     if check is not None:
         written += plot_atlas_check(atlas, check, args.out, title)
-    summary: dict[str, Any] = {"plane": args.plane, "method": method, "n_points": int(R.size),
+    summary: dict[str, Any] = {"plane": args.plane, "method": method,
+                               "order": ATLAS_ORDER if method == "map" else None, "n_points": int(R.size),
                                "n_confirmed": 0 if check is None else len(check.index),
                                "warnings": list(atlas.warnings), "files": [str(p) for p in written]}
     if check is not None:

@@ -36,8 +36,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--exact-at", type=float, nargs="+", default=None, metavar="F",
                    help="fractions of eps_pd, in (0, --to], at which the exact map's orbits are found (default: those "
                         f"of {' '.join(f'{f:g}' for f in EXACT_FRACTIONS)} up to --to)")
-    p.add_argument("--order", type=int, choices=(1, 2), default=1,
-                   help="order of the slow map (2 builds the second-order tables once, then cached)")
+    p.add_argument("--order", type=int, choices=(1, 2), default=None,
+                   help="order of the slow map (default 2, as rocknroller slow's for a release in the release tables' "
+                        "range: the second-order tables are built once per body and theta0, then cached)")
     p.add_argument("--out", type=Path, default=Path("."), metavar="DIR",
                    help="write bifurcation.png, .pdf and .csv to DIR (default: current directory; existing files are "
                         "not overwritten without --force)")
@@ -54,6 +55,7 @@ def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller bifurcation`` with the parsed ``args``; returns the exit status."""
     from rocknroller.analysis.slow.map.second_order import load_or_build_second_order_table
     from rocknroller.analysis.slow.map.table import load_or_build_table
+    from rocknroller.analysis.slow.prediction import default_order
     from rocknroller.papers.bifurcation import MAX_DIAGRAM_THETA0, MAX_EXACT_FRACTIONS, bifurcation_diagram
 
     body = body_from_args(args)
@@ -66,13 +68,14 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError(f"--exact-at takes at most {MAX_EXACT_FRACTIONS} values (an exact-map solve each), got "
                          f"{len(exact_at)}")
     prepare_output_dir(args.out, "--out", args.force, ["bifurcation.png", "bifurcation.pdf", "bifurcation.csv"])
+    order = max(default_order(t) for t in theta0s) if args.order is None else args.order
     progress = False if args.quiet else None
     for theta0 in theta0s:  # the tables first: --cached-only refuses before any work, --quiet hides their builds
         load_or_build_table(body, theta0, build=not args.cached_only, progress=progress)
-        if args.order == 2:
+        if order == 2:
             load_or_build_second_order_table(body, theta0, build=not args.cached_only, progress=progress)
     paths, data = bifurcation_diagram(body, args.out, theta0s, fractions=(args.lo, args.hi), n_points=args.points,
-                                      exact_fractions=tuple(exact_at), order=args.order,
+                                      exact_fractions=tuple(exact_at), order=order,
                                       budget=budget_from_args(args))
     rows = [{"theta0": d.theta0, "eps": e.eps, "eps_over_pd": e.eps / d.eps_pd,
              "kick_phase": {"slow": s.kick_phase.tolist(), "exact": e.kick_phase.tolist()},
@@ -80,7 +83,7 @@ def run(args: argparse.Namespace) -> int:
              "u": {"slow": float(s.points[0, 0]), "exact": float(e.points[0, 0])},
              "residue": {"slow": s.residue, "exact": e.residue}, "stable": {"slow": s.stable, "exact": e.stable}}
             for d in data for s, e in zip(d.slow_period2, d.exact_period2)]
-    summary = {"files": [str(p) for p in paths], "eps_pd": {f"{d.theta0 / math.pi:.6g}pi": d.eps_pd for d in data},
+    summary = {"files": [str(p) for p in paths], "order": order, "eps_pd": {f"{d.theta0 / math.pi:.6g}pi": d.eps_pd for d in data},
                "period2": rows}
     if args.json:
         print_json(summary)

@@ -14,7 +14,7 @@ from rocknroller.cli.options import (add_body_options, add_budget_option, add_fo
                                      budget_from_args, parse_angle, prepare_output_dir, print_json)
 
 #: Files written to --out.
-OUTPUTS = ("portrait.png", "portrait.pdf", "portrait.csv")
+OUTPUTS = ("portrait.png", "portrait.pdf", "portrait.csv", "portrait_orbits.csv")
 #: Default asymmetry: K = eps kappa = 2.1 at theta0 = 0.95pi, a mixed phase space (islands and a chaotic sea).
 EPS_DEFAULT = 5e-3
 #: Default grid of Theta = 2 psi.
@@ -37,7 +37,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         "the orbit, colours clipped at 5, above 3 chaotic, grey for an orbit of fewer than 8 maxima), with the "
         "releases from rest "
         "marked (the line p = 0, the point Q = 0) and the direct ODE's maxima from the --ode-start starts overlaid. "
-        "Writes portrait.png, portrait.pdf and portrait.csv (every sample, header with the parameters).",
+        "Writes portrait.png, portrait.pdf, portrait.csv (every sample, header with the parameters) and "
+        "portrait_orbits.csv (every orbit: its start, verdict, MEGNO, Lyapunov exponent and the span they are "
+        "measured over).",
     )
     add_body_options(p, eps_default=EPS_DEFAULT)
     p.add_argument("--theta0", type=str, default=None,
@@ -54,9 +56,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "theta-maxima of all orbits and direct runs (about t_end/T_theta(0) each) are limited: past "
                         "the limit the command refuses before any work, naming it and the memory and CSV size they "
                         "would take")
-    p.add_argument("--order", type=int, choices=(1, 2), default=1,
-                   help="order of the map in eps (default 1; 2 builds the second-order tables once per body and "
-                        "theta0, then cached)")
+    p.add_argument("--order", type=int, choices=(1, 2), default=None,
+                   help="order of the map in eps (default 2, as rocknroller slow's for a release in the release "
+                        "tables' range: the second-order tables are built once per body and theta0, then cached)")
     p.add_argument("--ode-start", action="append", default=[], metavar="THETA,P",
                    help="overlay the direct ODE's maxima from this start (Theta, p), e.g. 0.2,0 for the release from "
                         "rest at psi0 = 0.1; repeat for more (default: none)")
@@ -134,7 +136,8 @@ def read_values(path: Path, n_orbits: int) -> np.ndarray:
 def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller portrait`` with the parsed ``args``; returns the exit status."""
     from rocknroller.numerics.megno import MEGNO_CHAOTIC
-    from rocknroller.papers.portrait import slow_portrait, theta0_of_energy, write_portrait
+    from rocknroller.analysis.slow.prediction import default_order
+    from rocknroller.papers.portrait import orbit_rows, slow_portrait, theta0_of_energy, write_portrait
 
     body = body_from_args(args)
     if args.E is not None and args.theta0 is not None:
@@ -151,7 +154,8 @@ def run(args: argparse.Namespace) -> int:
         values = read_values(args.values, Theta.size * (N_P_DEFAULT if p is None else p.size))
     prepare_output_dir(args.out, "--out", args.force, OUTPUTS)
     progress = False if args.quiet else None
-    portrait = slow_portrait(body, theta0, Theta, p, args.t_end, order=args.order, ode_starts=starts,
+    order = default_order(theta0) if args.order is None else args.order
+    portrait = slow_portrait(body, theta0, Theta, p, args.t_end, order=order, ode_starts=starts,
                              ode_t_end=args.ode_t_end, build=not args.cached_only, progress=progress,
                              budget=budget_from_args(args))
     paths = write_portrait(portrait, args.out, values=values)
@@ -161,8 +165,10 @@ def run(args: argparse.Namespace) -> int:
         "left_tables": list(portrait.left), "n_ode": len(portrait.ode), "files": [str(q) for q in paths]}
     megno = portrait.megno
     measured = megno[np.isfinite(megno)]
+    rows = orbit_rows(portrait)
     summary.update(n_megno=int(measured.size), n_chaotic=int(np.sum(measured > MEGNO_CHAOTIC)),
-                   megno_range=[float(measured.min()), float(measured.max())] if measured.size else None)
+                   megno_range=[float(measured.min()), float(measured.max())] if measured.size else None,
+                   orbits=[dict(zip(rows, r)) for r in zip(*rows.values())])
     if args.json:
         print_json(summary)
     else:

@@ -19,7 +19,8 @@ own per-step error, grown at that rate, reaches 10 % of the extents).  A t_end p
 the maxima, each with ``beyond_horizon``).  For ε = 0 from rest (pure rocking) there are no indicators and no horizon
 (null, with the reason).  Beside a release's past-horizon numbers stands the statistical prediction, the map's
 ensemble over a stated small ball of releases (``--statistics``; :mod:`rocknroller.cli.slow_statistics`): in the
-text, the JSON (``statistics``) and, with ``--csv``, ``slow_statistics.csv`` and the maxima's header.
+text, the JSON (``statistics``) and, with ``--csv``, ``slow_statistics.csv`` and the maxima's header.  Pure rocking
+(ψ0 = 0 or π/2) is reported as that periodic orbit with its stability instead (:mod:`rocknroller.cli.slow_periodic`).
 """
 
 from __future__ import annotations
@@ -35,6 +36,7 @@ from rocknroller.analysis.slow import prediction as av
 from rocknroller.cli.options import (add_body_options, add_critical_line_options, add_force_option,
                                      add_initial_state_options, body_from_args, check_critical_line_options,
                                      critical_line_state, parse_angle, prepare_output_dir, print_json, rates_given)
+from rocknroller.cli.slow_periodic import apply_periodic, periodic_lines, periodic_summary
 from rocknroller.cli.slow_statistics import (STATISTICS_CSV, add_statistics_options, check_statistics_options,
                                              check_statistics_work, statistics_lines, statistics_summary,
                                              write_statistics_csv)
@@ -209,6 +211,7 @@ def _from_state(args: argparse.Namespace, body: Any, start: Any,
 def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller slow`` with the parsed ``args``; returns the exit status."""
     from rocknroller.analysis.slow.dynamics.pendulum import pendulum_constants, pendulum_prediction
+    from rocknroller.analysis.slow.dynamics.periodic_orbits import on_rocking_axis, periodic_start
 
     if args.plot is not None:
         prepare_output_dir(args.plot, "--plot", args.force, ["slow_orbit.png", "slow_orbit.pdf"])
@@ -236,7 +239,7 @@ def run(args: argparse.Namespace) -> int:
                         "region_runs": [list(r) for r in pred.region_runs or []],
                         "crossings": [list(c) for c in pred.crossings or []], "n_maxima": int(pred.series.t.size),
                         "eps": body.epsilon, "theta0": start.theta, "psi0": start.psi, "t_end": args.t_end,
-                        "pendulum": None, **extra})
+                        "pendulum": None, "periodic_orbit": None, **extra})
         return _finish(args, body, pred, None, start, summary, messages)
     check_critical_line_options(args)  # --QR and --offset place a start on a line; a release reads neither
     check_statistics_options(args, release=True)
@@ -275,7 +278,12 @@ def run(args: argparse.Namespace) -> int:
 
             second = load_or_build_second_order_table(body, theta0, build=not args.cached_only,
                                                       workers=args.processes, progress=_progress(args))
-        pred = av.predict_slow_motion(body, theta0, psi0, args.t_end, table=table, order=order, second=second)
+        try:
+            pred = av.predict_slow_motion(body, theta0, psi0, args.t_end, table=table, order=order, second=second)
+        except av.ChartWidthError as exc:  # wider than the release tables: the region tables of its energy hold it
+            start = av.EulerState(theta0, 0.0, psi0)
+            pred, _, more = _from_state(args, body, start, av.default_order(start) if args.order is None else args.order)
+            messages += [f"{exc}: predicted on the region tables of its energy (map of order {pred.order})", *more]
     pend = None
     try:
         pend = pendulum_prediction(body, theta0, psi0, args.t_end, constants=consts)
@@ -287,6 +295,8 @@ def run(args: argparse.Namespace) -> int:
                     "region_runs": [list(r) for r in pred.region_runs or []],
                     "crossings": [list(c) for c in pred.crossings or []], "n_maxima": int(pred.series.t.size),
                     "eps": body.epsilon, "theta0": theta0, "psi0": psi0, "t_end": args.t_end})
+    summary["periodic_orbit"] = periodic_summary(periodic_start(body, theta0, psi0, order=pred.order),
+                                                 on_rocking_axis(psi0))
     summary["pendulum"] = None if pend is None else {
         **{q: getattr(pend, q) for q in _QUANTITIES}, "kappa": consts.kappa,
         "eps_period_doubling": consts.eps_period_doubling, "T0": consts.T0, "C0": list(consts.C0),
@@ -325,7 +335,12 @@ def _finish(args: argparse.Namespace, body: Any, pred: Any, pend: Any, start: An
         if pend is not None:
             summary["pendulum"]["rel_error"] = {q: summary["rel_error"][q] if pred.pure_rocking else
                                                 relative_errors(pend, ode)[q] for q in _QUANTITIES}
-    summary.update(_chaos_summary(pred))
+    if summary["periodic_orbit"] is None:
+        summary.update(_chaos_summary(pred))
+    else:
+        apply_periodic(summary)
+        note = "a periodic orbit of the map: its multipliers and residue give its stability"
+        summary.update(chaos=None, horizon=None, beyond_horizon=None, chaos_note=note, horizon_note=note)
     off_tables = None
     if start is not None and not (rates_given(args) or args.critical_line is not None):
         off_tables = (f"a release from rest off the release tables (theta0 below {_LO:g}pi or --phi0 not 0) runs from "
@@ -453,10 +468,12 @@ def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: flo
         print(f"exact one-step map: period doubling at eps = {pd['eps_exact']:.8g} (first order 4/kappa = "
               f"{pd['eps_first_order']:.8g}; K = eps*kappa = {pd['K_exact']:.8g} = 4 {'-' if pd['correction'] < 0 else '+'} "
               f"{abs(pd['correction']):.4g} eps)")
-    for line in _chaos_lines(s) + statistics_lines(s):
+    for line in _chaos_lines(s) + statistics_lines(s) + periodic_lines(s):
         print(line)
     if s["pure_rocking"]:
         print(_PURE_ROCKING)
+        return
+    if s["periodic_orbit"] is not None:
         return
     print(f"line of the turning points: dQ_J/dQ_R = {_fmt(s['line_slope'])}")
     runs = ", ".join(f"{lab}:{n}" for lab, n, _ in s["region_runs"])

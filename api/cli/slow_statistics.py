@@ -93,7 +93,7 @@ def statistics_summary(args: argparse.Namespace, body: Any, pred: Any, summary: 
     import numpy as np
 
     from rocknroller.analysis.slow.ensemble_statistics import STATISTICS, StartBall, map_ensemble, member_statistics
-    from rocknroller.analysis.slow.map.limits import AveragingValidityWarning
+    from rocknroller.analysis.slow.map.limits import AveragingRangeError, AveragingValidityWarning
 
     n = args.statistics
     if n is None:
@@ -108,7 +108,11 @@ def statistics_summary(args: argparse.Namespace, body: Any, pred: Any, summary: 
     ball = StartBall(summary["theta0"], summary["psi0"], args.statistics_delta, n, seed=args.statistics_seed)
     with warnings.catch_warnings():  # the members' tables and K are the point prediction's: its warnings say it
         warnings.simplefilter("ignore", AveragingValidityWarning)
-        ens = map_ensemble(body, ball, args.t_end, order=pred.order, progress=False, budget=budget_from_args(args))
+        try:
+            ens = map_ensemble(body, ball, args.t_end, order=pred.order, progress=False,
+                               budget=budget_from_args(args))
+        except AveragingRangeError as exc:  # fewer than two members stayed on the tables
+            return {"statistics": None, "statistics_note": f"no statistical prediction: {exc}"}
     s = pred.series
     point = member_statistics(body, s.t, s.QR, s.QJ, args.t_end)
     values = {name: {"point": point[name], "mean": ens.mean(name), "std": float(np.std(ens.values[name], ddof=1)),
@@ -116,7 +120,7 @@ def statistics_summary(args: argparse.Namespace, body: Any, pred: Any, summary: 
     label = f"statistical (map ensemble of {n} starts within +-{args.statistics_delta:g} in psi0)"
     return {"statistics": {"label": label, "ball": ball.describe(), "members": n, "delta": args.statistics_delta,
                            "seed": args.statistics_seed, "order": ens.order, "t_end": args.t_end,
-                           "values": values}}
+                           "members_left": len(ens.left), "psi0_left": list(ens.left), "values": values}}
 
 
 def statistics_lines(s: dict[str, Any]) -> list[str]:
@@ -126,8 +130,12 @@ def statistics_lines(s: dict[str, Any]) -> list[str]:
     if st is None:
         return [s["statistics_note"]] if "statistics_note" in s else []
     point = "point prediction" + (" (past the horizon)" if s.get("beyond_horizon") else "")
-    lines = [f"{st['label']}: {st['ball']}, map of order {st['order']}, over t_end = {st['t_end']:g}",
-             f"  {'statistic':<18}  {point:>33}  {'ensemble mean +- std':>26}"]
+    lines = [f"{st['label']}: {st['ball']}, map of order {st['order']}, over t_end = {st['t_end']:g}"]
+    if st["members_left"]:
+        lines.append(f"  {st['members_left']} of the {st['members']} members left the tables before t_end (psi0 = "
+                     f"{', '.join(f'{p:.6g}' for p in st['psi0_left'])}); the statistics are over the other "
+                     f"{st['members'] - st['members_left']}")
+    lines.append(f"  {'statistic':<18}  {point:>33}  {'ensemble mean +- std':>26}")
     for name, v in st["values"].items():
         lines.append(f"  {name:<18}  {v['point']:>33.6g}  {v['mean']:>12.6g} +- {v['std']:<10.3g}")
     return lines
@@ -141,7 +149,8 @@ def write_statistics_csv(path: Path, body: Any, s: dict[str, Any]) -> Path:
     st = s["statistics"]
     header = [f"rocknroller slow: body {body.describe()}; eps={body.epsilon_text()}; "
               f"theta0={angle_text(s['theta0'])}; psi0={angle_text(s['psi0'])}; t_end={s['t_end']!r}",
-              f"{st['label']}: {st['ball']}; map of order {st['order']}",
+              f"{st['label']}: {st['ball']}; map of order {st['order']}; {st['members_left']} members left the tables "
+              f"before t_end (left out)",
               "point: the point prediction's own value" + (" (past the predictability horizon: statistical only)"
                                                           if s.get("beyond_horizon") else "")
               + "; mean, std (ddof 1), standard_error: over the ensemble's members; reversals per 1000 time units"]

@@ -42,7 +42,7 @@ def test_release_line_orbits_are_the_predictions_and_the_ode_overlay_is_the_dire
     assert len(m) == len(ode)
     assert np.max(np.hypot(m.QR - ode.QR, m.QJ - ode.QJ)) < 1e-10
     paths = write_portrait(P, tmp_path)
-    assert sorted(p.name for p in paths) == ["portrait.csv", "portrait.pdf", "portrait.png"]
+    assert sorted(p.name for p in paths) == ["portrait.csv", "portrait.pdf", "portrait.png", "portrait_orbits.csv"]
     assert all(p.stat().st_size > 0 for p in paths)
     text = (tmp_path / "portrait.csv").read_text().splitlines()
     header = [ln for ln in text if ln.startswith("#")]

@@ -9,8 +9,9 @@
  * simplified Newton: the explicit kick as first iterate, the Jacobian I - (eps/2) dk/dm once at that
  * iterate, and a stop when the change of the end point 2m - a is within 1e-13 of the kick (+ 4 ulp of |Q| + U) or
  * the observed contraction eta puts the remaining error eta/(1 - eta) x change below 1e-3 of that
- * (Hairer & Wanner, Solving ODEs II, IV.8).  The time and phi kicks at the midpoint are corrected to
- * first order by the last Newton correction.  It computes no formula of its own: every number comes
+ * (Hairer & Wanner, Solving ODEs II, IV.8); an iterate outside the table is moved halfway back towards the last one
+ * inside (the start, to begin with), which leaves the solution as it is.  The time and phi kicks at the midpoint are
+ * corrected to first order by the last Newton correction.  It computes no formula of its own: every number comes
  * from the tables.  tests/test_averaging.py::_reference_map evaluates the same map plainly in NumPy
  * (fixed-point kick) and the tests compare the two.
  *
@@ -60,6 +61,7 @@
 #define MAX_ITER 60
 #define KICK_RTOL 1e-13
 #define NEWTON_SAFETY 1e-3
+#define MAX_SHORTENINGS 60 /* halvings of iterates outside the table in one kick (2^-60 of the first step) */
 
 enum { DONE = 0, FULL = 1, LEFT_TABLE = 2, NO_CONVERGENCE = 3 };
 
@@ -196,13 +198,30 @@ static int implicit_kick(const table_t *tb, double eps, double u, double v, doub
     double mt = th + h * (k0[6] + k0[7] * c + k0[8] * s);
     double k[N_JAC], ji[9], prev = 0.0, k2[N_K2], cs[4];
     const double *kdu = k + N_FUN, *kdv = k + N_FUN + N_KICK;
-    int have_jac = 0;
+    /* the last iterate inside the table (the start a, evaluated by the caller, to begin with) */
+    double pu = u, pv = v, pt = th;
+    int have_jac = 0, shortened = 0;
     for (int it = 0; it < MAX_ITER; it++) {
-        if (evaluate(tb, have_jac ? tb->rows : tb->rows_jac, have_jac ? N_FUN : N_JAC, mu, mv, k)) {
+        if (evaluate(tb, have_jac ? tb->rows : tb->rows_jac, have_jac ? N_FUN : N_JAC, mu, mv, k)
+            || (tb->rows2 != NULL && evaluate(tb, tb->rows2, N_K2, mu, mv, k2))) {
+            /* an iterate outside the table, where the midpoint itself need not be: near the chart's edge the explicit
+               first iterate a + (eps/2) k(a) can overshoot it (at K = 2 the kick's v turns within one step).  The
+               iterate is moved halfway back towards the last one inside (the start a, inside, bounds the halvings),
+               which leaves the solution of m = a + (eps/2) k(m), and every step whose iterates stay inside, as they
+               were; only a midpoint or end point outside the table leaves it */
             bad[0] = mu;
             bad[1] = mv;
-            return LEFT_TABLE;
+            if (shortened++ >= MAX_SHORTENINGS)
+                return LEFT_TABLE;
+            mu = 0.5 * (mu + pu);
+            mv = 0.5 * (mv + pv);
+            mt = 0.5 * (mt + pt);
+            it--;
+            continue;
         }
+        pu = mu;
+        pv = mv;
+        pt = mt;
         counts[have_jac]++;
         c = cos(mt);
         s = sin(mt);
@@ -210,11 +229,6 @@ static int implicit_kick(const table_t *tb, double eps, double u, double v, doub
         double kv = k[3] + k[4] * c + k[5] * s;
         double kth = k[6] + k[7] * c + k[8] * s;
         if (tb->rows2 != NULL) {
-            if (evaluate(tb, tb->rows2, N_K2, mu, mv, k2)) {
-                bad[0] = mu;
-                bad[1] = mv;
-                return LEFT_TABLE;
-            }
             cs[0] = c;
             cs[1] = s;
             cs[2] = c * c - s * s;
@@ -279,7 +293,7 @@ static int implicit_kick(const table_t *tb, double eps, double u, double v, doub
         }
         prev = change;
     }
-    return NO_CONVERGENCE;
+    return shortened ? LEFT_TABLE : NO_CONVERGENCE; /* pushed back from the edge until the iterations ran out */
 }
 
 /* the derivative of the Theta-harmonics c0 + c1 cos + s1 sin (+ c2 cos 2 + s2 sin 2 with n = 5) of k at cs */

@@ -22,7 +22,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.slow.map.limits import K_PERIOD_DOUBLING, AveragingRangeError, eps_period_doubling
+from rocknroller.analysis.slow.map.limits import (K_PERIOD_DOUBLING, AveragingRangeError, ChartWidthError,
+                                                  eps_period_doubling)
 
 __all__ = [
     "TABLE_FUNCTIONS", "CHART_TERMS", "SlowMapTable", "stretch", "unstretch", "stretch_slope", "SecondOrderTable"
@@ -180,11 +181,16 @@ class SlowMapTable:
                     f"the spindle chart, Q_J,pi^crit for the band) and distances >= {self.delta_min:g}; nearer "
                     f"steady rolling the oscillation of theta is too small to average, and the band does not reach "
                     f"the spindle's tips (axis='spindle' covers them where it is accurate)")
-            raise AveragingRangeError(
+            across = abs(xi) <= 1.0 and not abs(eta) <= 1.0
+            raise (ChartWidthError if across else AveragingRangeError)(
                 f"the slow orbit left the tabulated region at Q=({Q[0]:.4g}, {Q[1]:.4g}): the tables cover "
                 f"|u| <= {self.U:.4g} along the kick direction e=({self.e[0]:.4f}, {self.e[1]:.4f}) and "
                 f"|v| <= {self.w_coef[0]:.3g} across it; the averaging is valid for K = eps*kappa < "
-                f"{K_PERIOD_DOUBLING:g} (eps < {eps_period_doubling(self.kappa):.4g}) and orbits near pure rocking")
+                f"{K_PERIOD_DOUBLING:g} (eps < {eps_period_doubling(self.kappa):.4g}) and orbits near pure rocking"
+                + (f"; the orbit's spread across the kick direction grows like eps^2 and passes this width at large "
+                   f"eps (from K ~ 3 at 0.85pi; docs/averaging.md): the region tables of the release's energy "
+                   f"cover it (an explicit zero rate, --theta-dot0 0, or the EulerState(theta0, 0, psi0))"
+                   if across else ""))
         nu, nv = self.coef.shape[1:]
         return (self.coef @ _cheb_basis(eta, nv)) @ _cheb_basis(xi, nu)
 

@@ -337,7 +337,9 @@ def iterate_slow_map(table: SlowMapTable, eps: float, psi0: float, t_end: float,
 
     One step: Θ += W(Q)/2; (Q, Θ) += ε k(midpoint) (implicit midpoint, solved by simplified Newton
     to 1e-13 of the kick, + 4 ulp, or until the observed contraction η puts the remaining error
-    η/(1 − η) × change below 1e-3 of that; Hairer & Wanner, Solving ODEs II, §IV.8); Θ += W(Q')/2;
+    η/(1 − η) × change below 1e-3 of that; Hairer & Wanner, Solving ODEs II, §IV.8; an iterate outside the table,
+    such as an explicit first iterate that overshoots its edge, is moved halfway back towards the last one inside);
+    Θ += W(Q')/2;
     t += ½[T_θ(Q) + T_θ(Q')] + ε k_t(midpoint); φ += ½[Δφ(Q) + Δφ(Q')] + ε k_φ(midpoint).
     The loop runs in the compiled kernel ``rocknroller.analysis.slow.map._kernel``.
 

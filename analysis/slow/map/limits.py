@@ -18,8 +18,8 @@ from rocknroller.analysis.model.body import as_float
 
 __all__ = [
     "THETA0_RANGE", "MAX_MAXIMA", "K_PERIOD_DOUBLING", "eps_period_doubling", "stable_rocking_psi",
-    "AveragingRangeError", "AveragingValidityWarning", "check_map_theta0", "t_end_limit", "check_t_end",
-    "check_release_theta0"
+    "AveragingRangeError", "ChartWidthError", "AveragingValidityWarning", "check_map_theta0", "t_end_limit",
+    "check_t_end", "check_release_theta0"
 ]
 
 #: Release angles (θ0_min, θ0_max) for which the tables are built and the map is validated against the direct ODE
@@ -51,6 +51,11 @@ def stable_rocking_psi(kappa: float) -> float:
 
 class AveragingRangeError(ValueError):
     """The slow orbit leaves the region where the averaging tables were built."""
+
+
+class ChartWidthError(AveragingRangeError):
+    """The slow orbit of a release leaves its release tables across the kick direction (|v| > V), where the region
+    tables of its energy still hold it."""
 
 
 class AveragingValidityWarning(UserWarning):

@@ -34,8 +34,9 @@ def test_small_run_writes_the_figure_and_the_csv(tmp_path, capsys):
             "--values", str(values), "--out", str(out), "--json", "--quiet"]
     assert main(argv) == 0
     summary = json.loads(capsys.readouterr().out)
-    assert summary["n_orbits"] == 4 and summary["n_ode"] == 1 and summary["order"] == 1
-    assert sorted(p.rsplit("/", 1)[1] for p in summary["files"]) == ["portrait.csv", "portrait.pdf", "portrait.png"]
+    assert summary["n_orbits"] == 4 and summary["n_ode"] == 1 and summary["order"] == 2  # slow's default
+    assert sorted(p.rsplit("/", 1)[1] for p in summary["files"]) == ["portrait.csv", "portrait.pdf", "portrait.png",
+                                                                    "portrait_orbits.csv"]
     assert "# value: value;" in (out / "portrait.csv").read_text()
     assert main(argv) == 2  # the files exist: not overwritten without --force
     assert "--force" in capsys.readouterr().err
