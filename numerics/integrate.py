@@ -74,7 +74,7 @@ from rocknroller.analysis.model.equations import STATE_SIZE, EulerState, body_fr
 from rocknroller.analysis.model.invariants import energy
 from rocknroller.numerics.budget import (DOP853_SECONDS_PER_RADIAN, HEYOKA_EXTENDED_SECONDS_PER_RADIAN,
                                          HEYOKA_SECONDS_PER_RADIAN, WORK_BUDGET_SECONDS, check_work)
-from rocknroller.numerics.cache import (CacheWarning, cache_dir, probe_writable,  # cache_dir: re-exported
+from rocknroller.numerics.cache import (CacheWarning, cache_dir, compiling, probe_writable,  # cache_dir: re-exported
                                         warn_unwritable)
 from rocknroller.numerics.events import _U, THETA_MIN, _turning_points, start_turning_point
 from rocknroller.numerics.trajectory import (DenseOutput, Trajectory, TurningPointRun, TurningPoints, _Samples,
@@ -184,7 +184,14 @@ def _compile(precision: str) -> Any:
     """Build the integrator of ``precision`` (from heyoka's disk cache when it holds it), after checking that the
     cache can be used (:func:`check_diskcache`)."""
     check_diskcache()
-    return _build_heyoka(float if precision == "double" else np.longdouble)
+    what, seconds = _COMPILE_NOTES[precision]
+    with compiling(what, seconds):
+        return _build_heyoka(float if precision == "double" else np.longdouble)
+
+
+#: What :func:`_compile` compiles at each precision and the CPU seconds it usually takes (measured, one core).
+_COMPILE_NOTES = {"double": ("the direct integrator (heyoka, double precision)", 6.0),
+                  "extended": ("the direct integrator (heyoka, extended precision)", 8.0)}
 
 
 def check_diskcache() -> None:

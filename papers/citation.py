@@ -281,6 +281,7 @@ USES: dict[str, tuple[str, ...]] = {
     "bifurcation": ("heyoka", "scipy"),
     "portrait": ("heyoka",),
     "verify": ("heyoka", "scipy", "mpmath"),
+    "warm": ("heyoka",),
 }
 
 

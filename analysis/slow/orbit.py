@@ -49,6 +49,8 @@ from rocknroller.analysis.routh.reduction import effective_potential, state_from
 from rocknroller.analysis.routh.turning_points import turning_points
 from rocknroller.analysis.slow.family import (_central_difference, _central_second_difference, _second_directional,
                                               directional_derivative, maximum_state)
+from rocknroller.numerics.cache import compiling
+from rocknroller.numerics.integrate import check_diskcache
 
 __all__ = [
     "HARMONIC_PSI", "FIRST_ORDER_NAMES", "eps_derivative_rhs", "FirstOrderStep", "first_order_step",
@@ -61,6 +63,8 @@ HARMONIC_PSI = (0.0, math.pi / 3.0, 2.0 * math.pi / 3.0)
 #: First-order responses per step: ε-derivatives of Q_R, Q_J, Θ = 2ψ, the event time and φ.
 FIRST_ORDER_NAMES = ("QR", "QJ", "Theta", "t", "phi")
 _INTEGRATOR: dict[str, Any] = {}
+#: CPU seconds a compilation of :func:`_variational_integrator` of each order usually takes (measured, one core).
+_COMPILE_SECONDS = {1: 10.0, 2: 30.0}
 
 
 def eps_derivative_rhs(y: ArrayLike, body: Body) -> NDArray[np.float64]:
@@ -132,8 +136,11 @@ def _variational_integrator(order: int = 1, lanes: int | None = None) -> Any:
         eqs = _variational_system(order)
         y = hy.make_vars("g1", "g2", "g3", "w1", "w2", "w3")
         ev = hy.t_event_batch(turning_point_function(y), callback=_NextMaximum())
-        _INTEGRATOR[key] = hy.taylor_adaptive_batch(eqs, np.zeros((len(eqs), lanes)), pars=np.zeros((5, lanes)),
-                                                    compact_mode=True, t_events=[ev])
+        check_diskcache()
+        with compiling(f"the averaging tables' variational integrator (order {order}, {lanes} lanes)",
+                       _COMPILE_SECONDS[order]):
+            _INTEGRATOR[key] = hy.taylor_adaptive_batch(eqs, np.zeros((len(eqs), lanes)), pars=np.zeros((5, lanes)),
+                                                        compact_mode=True, t_events=[ev])
     return _INTEGRATOR[key]
 
 
