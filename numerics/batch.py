@@ -98,7 +98,7 @@ def _build(width: int) -> Any:
     y = hy.make_vars("g1", "g2", "g3", "w1", "w2", "w3", "x1", "x2", "x3", "X", "Y")
     pars = [hy.par[i] for i in range(5)]
     ev = hy.nt_event_batch(turning_point_function(y), _BatchLog())
-    with compiling(f"the ensembles' batch integrator ({width} lanes)", 10.0):
+    with compiling(f"the ensembles' batch integrator ({width} lanes)", 6.0):
         return hy.taylor_adaptive_batch(list(zip(y, body_frame_rhs(y, pars))), np.zeros((STATE_SIZE, width)),
                                         pars=np.zeros((5, width)), nt_events=[ev])
 

@@ -190,8 +190,8 @@ def _compile(precision: str) -> Any:
 
 
 #: What :func:`_compile` compiles at each precision and the CPU seconds it usually takes (measured, one core).
-_COMPILE_NOTES = {"double": ("the direct integrator (heyoka, double precision)", 6.0),
-                  "extended": ("the direct integrator (heyoka, extended precision)", 8.0)}
+_COMPILE_NOTES = {"double": ("the direct integrator (heyoka, double precision)", 5.0),
+                  "extended": ("the direct integrator (heyoka, extended precision)", 18.0)}
 
 
 def check_diskcache() -> None:

@@ -107,7 +107,7 @@ def _build() -> Any:
     rhs = body_frame_rhs(y, pars)[:_N]  # (γ̇, ω̇) involve only γ, ω and the parameters
     vsys = hy.var_ode_sys(list(zip(y[:_N], rhs)), [y[0]], order=1)
     maxima = hy.t_event(turning_point_function(y), direction=hy.event_direction.positive)
-    with compiling("the chaos indicators' variational integrator", 45.0):
+    with compiling("the chaos indicators' variational integrator", 24.0):
         return hy.taylor_adaptive(vsys, np.zeros(_N), pars=np.zeros(5), t_events=[maxima])
 
 

@@ -33,7 +33,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         description="Compile the package's integrators (the direct ODE in double and extended precision, the "
         "ensembles' batch integrator, the chaos indicators' and the averaging tables' variational integrators) into "
         "heyoka's disk cache (HEYOKA_CACHE_DIR), so that no later command waits for a compilation: one that is "
-        "already there loads in a fraction of a second. The first compilation of all takes a few minutes of CPU. "
+        "already there loads in a fraction of a second. Compiling all of them takes about a minute of CPU. "
         "Prints each integrator with the seconds it took.",
     )
     p.set_defaults(run=run)
