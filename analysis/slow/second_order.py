@@ -1,7 +1,8 @@
 """The second-order kick k₂ of the drift–kick–drift slow map, at a point and in tables.  It holds k₂ at a point from
 the step's second ε-derivatives and a first-order table (:func:`second_order_kick`, with the table's first-order
 kick and drifts: :func:`first_order_kick`, :func:`drift_derivatives`), its harmonics in Θ_a
-(:func:`k2_harmonics`), the check of the formula against the exact step (:func:`dkd_residual`), and the tables of
+(:func:`k2_harmonics`; at many points at once, their orbits in the batch integrator's lanes: :func:`k2_harmonics_at`,
+:func:`second_order_kicks`), the check of the formula against the exact step (:func:`dkd_residual`), and the tables of
 k₂ on the chart of a release table (:func:`build_second_order_table`, :func:`load_or_build_second_order_table`) or
 of the region table of an energy (:func:`build_second_order_region_table`,
 :func:`load_or_build_second_order_region_table`).
@@ -300,8 +301,9 @@ def build_second_order_table(body: Body, theta0: float, *, nu: int = 64, nv: int
     Only half the Chebyshev nodes are computed: the grid is symmetric under (ξ, η) → (−ξ, −η), Q → −Q, where each
     component keeps or flips its sign (``_K2_ODD``), which makes the map reversible.  ``workers`` processes share
     the nodes (the table does not depend on how many); ``progress``: a tqdm bar on stderr naming the table (None:
-    only if stderr is a terminal).  Checked at off-grid points against direct evaluations;
-    above ``K2_ACCURACY`` an AveragingValidityWarning.  Cost: five second-order variational orbits per computed node.
+    only if stderr is a terminal).  Checked at off-grid points against direct evaluations; above ``K2_ACCURACY`` an
+    AveragingValidityWarning.  Cost: five second-order variational orbits per computed node, those of 16 nodes
+    together in the batch integrator's lanes (:func:`k2_harmonics_at`).
 
     Raises
     ------
