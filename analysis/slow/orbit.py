@@ -21,7 +21,8 @@ of ψ_n (0 and 1 of Θ_n = 2ψ_n): three orbits per Q (ψ_n = 0, π/3, 2π/3) de
 
 To second order (:func:`second_order_step`; :func:`second_order_steps` for many starts, in the batch lanes) the state
 also carries w, the second ε-derivative along the start's curve y₀(ε)
-(:func:`rocknroller.analysis.slow.family.maximum_state`, differenced in ε), with ẇ = A w + D²f[z, z] + 2 ∂²f/∂y∂ε z + ∂²f/∂ε² (A = ∂f/∂y); the second derivative of the event time follows from
+(:func:`rocknroller.analysis.slow.family.maximum_state`, differenced in ε), with
+ẇ = A w + D²f[z, z] + 2 ∂²f/∂y∂ε z + ∂²f/∂ε² (A = ∂f/∂y); the second derivative of the event time follows from
 h = 0 at the next maximum as the first's does.
 
 The orbits run in heyoka's batch mode, one per SIMD lane (:func:`first_order_steps`, :func:`harmonic_steps`): the
