@@ -4,10 +4,13 @@ velocity (tables included) beside the direct ODE.
 Run:  python benchmarks/bench_tables.py
 In a fresh cache folder, CPU seconds (this process's, threads included, and its worker processes') and wall seconds
 of: a release table
-(θ0 = 0.95π), its second-order table with two processes (``rocknroller slow``'s default ``--processes 2``), the region
+(θ0 = 0.95π), its second-order table in one process (CPU seconds, the measure the tables' cost is stated in), the region
 tables of a start with velocity on the spindle chart (a release at 0.3π) and on the band chart (the paper's fig. 8
 start on Q_J,π^crit), and for that start the first prediction (its tables built) and a second one (tables cached)
-against the direct ODE over the same 1000 time units.
+against the direct ODE over the same 1000 time units.  Before and after: k₂ at nodes of the second-order table by
+the scalar path (one start's turning-point solve and one orbit per Θ_a, the chart's derivatives per point; kept as
+the reference in tests/analysis/slow/test_second_order_batch.py) and by the batched path the build uses, on the same
+nodes, one after the other in this process.
 """
 
 from __future__ import annotations
@@ -30,6 +33,34 @@ def timed(fn):
     return out, _cpu() - c, time.perf_counter() - w
 
 
+def k2_before_after(nodes: int = 4) -> tuple[float, float, float]:
+    """CPU seconds per node of k₂'s harmonics by the scalar path (before) and the batched one (after) on the same
+    ``nodes`` nodes of the release table at 0.95π, and their largest difference relative to each component's
+    largest harmonic."""
+    import sys
+    from pathlib import Path
+
+    import numpy as np
+
+    from rocknroller.analysis.model.body import Body
+    from rocknroller.analysis.slow.map.chart import _cheb_nodes
+    from rocknroller.analysis.slow.map.second_order import k2_harmonics_at
+    from rocknroller.analysis.slow.map.table import load_or_build_table
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "analysis" / "slow"))
+    from test_second_order_batch import _k2_harmonics_scalar
+
+    table = load_or_build_table(Body.paper(), 0.95 * math.pi, progress=False)
+    XI, ETA = np.meshgrid(_cheb_nodes(64), _cheb_nodes(6), indexing="ij")
+    QR, QJ = table.chart(XI, ETA)
+    picks = np.linspace(0, 31, nodes).astype(int)
+    Q = np.array([(QR[i, k % 6], QJ[i, k % 6]) for k, i in enumerate(picks)])
+    old, c_old, _ = timed(lambda: np.array([_k2_harmonics_scalar(table, q) for q in Q]))
+    new, c_new, _ = timed(lambda: k2_harmonics_at(table, Q))
+    diff = float((np.abs(new - old).max(axis=2) / np.abs(old).max(axis=2)).max())
+    return c_old / nodes, c_new / nodes, diff
+
+
 def main() -> None:
     os.environ["ROCKNROLLER_CACHE"] = tempfile.mkdtemp(prefix="bench_tables_")
     import warnings
@@ -47,10 +78,13 @@ def main() -> None:
     print(f"load average: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
     sym, body = Body.paper(), Body.paper(1e-3)
     simulate(body, EulerState(0.95 * math.pi), 10.0)  # the compiled integrator, from heyoka's cache
-    rows = [("release table, theta0 = 0.95pi (1 process)", *timed(lambda: av.build_table(sym, 0.95 * math.pi,
+    c_old, c_new, diff = k2_before_after()
+    rows = [("k2 per node of the second-order table: scalar path (before)", c_old, math.nan),
+            ("k2 per node of the second-order table: batched (after)", c_new, math.nan),
+            ("release table, theta0 = 0.95pi (1 process)", *timed(lambda: av.build_table(sym, 0.95 * math.pi,
                                                                                          progress=False))[1:]),
-            ("its second-order table (2 processes)",
-             *timed(lambda: build_second_order_table(sym, 0.95 * math.pi, workers=2, progress=False))[1:]),
+            ("its second-order table (1 process)",
+             *timed(lambda: build_second_order_table(sym, 0.95 * math.pi, workers=1, progress=False))[1:]),
             ("region tables, spindle chart, E of a release at 0.3pi (1 process)",
              *timed(lambda: build_region_table(sym, rest_energy(sym, 0.3 * math.pi), progress=False))[1:])]
     start = critical_start(body, 0.95 * math.pi, math.pi / 4, "pi", psi_dot0=0.002).state()
@@ -75,6 +109,8 @@ def main() -> None:
     for what, c, w in rows:
         print(f"{what:66s} {c:9.3g} {w:9.3g}")
     print(f"first prediction / ODE: {c_first / c_ode:.0f}x CPU; second prediction: ODE / map = {c_ode / c_again:.1f}x")
+    print(f"k2 per node, scalar / batched: {c_old / c_new:.1f}x CPU; largest difference {diff:.1e} of each component's "
+          "largest harmonic")
 
 
 if __name__ == "__main__":

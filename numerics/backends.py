@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import STATE_SIZE, body_frame_rhs, turning_point_function
-from rocknroller.numerics.cache import probe_writable, warn_unwritable
+from rocknroller.numerics.cache import compiling, probe_writable, warn_unwritable
 from rocknroller.numerics.events import _turning_points, start_turning_point
 from rocknroller.numerics.run_limits import MAX_DENSE_STEPS
 from rocknroller.numerics.trajectory import DenseOutput
@@ -87,9 +87,17 @@ def heyoka_integrator(precision: str = "double", tol: float | None = None) -> An
 
 def _compile(precision: str, tol: float) -> Any:
     """Build the integrator of ``precision`` at ``tol`` (from heyoka's disk cache when it holds it), after checking
-    that the cache can be used (:func:`check_diskcache`)."""
+    that the cache can be used (:func:`check_diskcache`); a build that takes long says so on stderr
+    (:func:`~rocknroller.numerics.cache.compiling`)."""
     check_diskcache()
-    return _build_heyoka(float if precision == "double" else np.longdouble, tol)
+    what, seconds = _COMPILE_NOTES[precision]
+    with compiling(what, seconds):
+        return _build_heyoka(float if precision == "double" else np.longdouble, tol)
+
+
+#: What :func:`_compile` compiles at each precision and the CPU seconds it usually takes (measured, one core).
+_COMPILE_NOTES = {"double": ("the direct integrator (heyoka, double precision)", 5.0),
+                  "extended": ("the direct integrator (heyoka, extended precision)", 18.0)}
 
 
 def check_diskcache() -> None:

@@ -1,5 +1,6 @@
-"""The on-disk cache: where it lives, how files are written, and plain-array files that are checked on load; and
-the bound of the in-memory caches (:class:`MemoryCache`).
+"""The on-disk cache: where it lives, how files are written, and plain-array files that are checked on load; the
+bound of the in-memory caches (:class:`MemoryCache`); and the note on stderr while an integrator is compiled for
+heyoka's own disk cache (:func:`compiling`).
 
 Nothing in the cache is trusted: it holds plain numeric arrays only (``.npz`` read with
 ``allow_pickle=False``), each file carries its key and a SHA-256 checksum of its contents, and a file
@@ -19,11 +20,13 @@ from __future__ import annotations
 import hashlib
 import os
 import stat
+import sys
 import tempfile
 import threading
 import warnings
 import zipfile
 from collections import OrderedDict
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Callable, Hashable, Iterator, Mapping
 
@@ -31,7 +34,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["CacheWarning", "MemoryCache", "array_bytes", "cache_dir", "atomic_write", "probe_writable", "warn_unwritable", "array_checksum",
-           "save_arrays", "load_arrays"]
+           "save_arrays", "load_arrays", "COMPILE_NOTE_AFTER", "compiling"]
 
 #: Names of the two bookkeeping members of an array file (0-d unicode arrays).
 KEY_FIELD, CHECKSUM_FIELD = "__key__", "__sha256__"
@@ -272,3 +275,25 @@ def load_arrays(path: str | os.PathLike, key: str,
         return None, "its checksum does not match its contents"
     return arrays, ""
 
+
+#: Seconds of a build of a compiled integrator after which it is announced on stderr: one from heyoka's disk cache
+#: takes a fraction of a second, a compilation ten seconds or more.
+COMPILE_NOTE_AFTER = 2.0
+
+
+@contextmanager
+def compiling(what: str, seconds: float) -> Iterator[None]:
+    """Build a compiled integrator inside this context: if the build is still running after ``COMPILE_NOTE_AFTER``
+    seconds (a compilation, not a load from heyoka's disk cache), one line on stderr says what is being compiled, how
+    long that usually takes (``seconds``, measured on one core) and that it happens once per machine."""
+    def note() -> None:
+        print(f"rocknroller: compiling {what} (once per machine, usually ~{seconds:.0f} s CPU; kept in heyoka's disk "
+              "cache; 'rocknroller warm' compiles all integrators ahead of time)", file=sys.stderr, flush=True)
+
+    timer = threading.Timer(COMPILE_NOTE_AFTER, note)
+    timer.daemon = True
+    timer.start()
+    try:
+        yield
+    finally:
+        timer.cancel()

@@ -71,6 +71,7 @@ from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState, body_frame_rhs, turning_point_function
 from rocknroller.analysis.model.invariants import energy
 from rocknroller.numerics.budget import WORK_BUDGET_SECONDS, check_work
+from rocknroller.numerics.cache import compiling
 from rocknroller.numerics.events import start_turning_point
 from rocknroller.numerics.integrate import check_energy_error, check_run, check_theta_resolved, heyoka_integrator
 from rocknroller.numerics.megno import ChaosIndicators, chaos_indicators
@@ -109,7 +110,8 @@ def _build() -> Any:
     rhs = body_frame_rhs(y, pars)[:_N]  # (γ̇, ω̇) involve only γ, ω and the parameters
     vsys = hy.var_ode_sys(list(zip(y[:_N], rhs)), [y[0]], order=1)
     maxima = hy.t_event(turning_point_function(y), direction=hy.event_direction.positive)
-    return hy.taylor_adaptive(vsys, np.zeros(_N), pars=np.zeros(5), t_events=[maxima])
+    with compiling("the chaos indicators' variational integrator", 24.0):
+        return hy.taylor_adaptive(vsys, np.zeros(_N), pars=np.zeros(5), t_events=[maxima])
 
 
 def variational_integrator() -> Any:

@@ -316,6 +316,7 @@ USES: dict[str, tuple[str, ...]] = {
     "bifurcation": ("heyoka", "scipy", "standard_map", "residue"),
     "portrait": ("heyoka", "megno", "standard_map"),
     "verify": ("heyoka", "scipy", "mpmath"),
+    "warm": ("heyoka",),
 }
 
 

@@ -31,6 +31,7 @@ from numpy.typing import NDArray
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import STATE_SIZE, EulerState, body_frame_rhs, turning_point_function
+from rocknroller.numerics.cache import compiling
 from rocknroller.numerics.events import _turning_points_lanes, start_turning_point
 from rocknroller.numerics.integrate import (CHUNK_RADIANS, DT_RADIANS, _grid_pieces, _RunRecord, _stretch_end,
                                             check_diskcache, check_run, finish_run)
@@ -99,8 +100,9 @@ def _build(width: int, tol: float) -> Any:
     y = hy.make_vars("g1", "g2", "g3", "w1", "w2", "w3", "x1", "x2", "x3", "X", "Y")
     pars = [hy.par[i] for i in range(5)]
     ev = hy.nt_event_batch(turning_point_function(y), _BatchLog())
-    return hy.taylor_adaptive_batch(list(zip(y, body_frame_rhs(y, pars))), np.zeros((STATE_SIZE, width)),
-                                    pars=np.zeros((5, width)), nt_events=[ev], tol=tol)
+    with compiling(f"the ensembles' batch integrator ({width} lanes)", 6.0):
+        return hy.taylor_adaptive_batch(list(zip(y, body_frame_rhs(y, pars))), np.zeros((STATE_SIZE, width)),
+                                        pars=np.zeros((5, width)), nt_events=[ev], tol=tol)
 
 
 class _Lane:

@@ -182,13 +182,16 @@ def family_member(sym: Body, eps: float) -> tuple[Body, float]:
     return Body(sym.a, sym.I1 * (1.0 + eps), sym.I1, sym.I3, sym.g), 0.5 * math.pi
 
 
-def maximum_state(sym: Body, eps: float, E: float, QR: float, QJ: float, psi: float) -> tuple[Body, float, EulerState]:
+def maximum_state(sym: Body, eps: float, E: float, QR: float, QJ: float, psi: float, *,
+                  theta_X: float | None = None) -> tuple[Body, float, EulerState]:
     """The family member's state at a maximum of θ with energy E, Routh's and Jellett's quantities (Q_R, Q_J)
     and spin angle ψ (θ̇ = 0, φ = 0): (body, ψ shift, state in the body's own Euler angles).
 
     At θ̇ = 0 the rates with the given (Q_R, Q_J) are Routh's sphere's, φ̇ = V_φ(θ), ψ̇ = V_ψ(θ) (paper eqs.
     phidotCJQR, psidotCJQR: Q_R and Q_J involve only I1, I3 and a, the family's), after which E(θ) = E (paper eq.
-    energy, with the member's I2) is solved by Brent's method in a bracket grown about the symmetric body's θ_X.
+    energy, with the member's I2) is solved by Brent's method in a bracket grown about the symmetric body's θ_X
+    (``theta_X`` if the caller has it, the root of its :func:`turning_points` with these (E, Q_R, Q_J); else solved
+    here).
 
     Raises
     ------
@@ -199,7 +202,7 @@ def maximum_state(sym: Body, eps: float, E: float, QR: float, QJ: float, psi: fl
     from scipy.optimize import brentq
 
     body, shift = family_member(sym, eps)
-    theta_X = float(turning_points(E, QR, QJ, sym)[1])
+    theta_X = float(turning_points(E, QR, QJ, sym)[1] if theta_X is None else theta_X)
     p = psi + shift
 
     def rates(th: float) -> tuple[float, float]:

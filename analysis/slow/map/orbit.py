@@ -19,8 +19,9 @@ dy_{n+1}/dε = z + f dt₁/dε,  dt₁/dε = −∇h·z / ∇h·f,  h = dγ3/dt.
 By the rotational symmetry of Routh's sphere, the first-order response contains only the harmonics 0 and 2
 of ψ_n (0 and 1 of Θ_n = 2ψ_n): three orbits per Q (ψ_n = 0, π/3, 2π/3) determine it.
 
-To second order (:func:`second_order_step`) the state also carries w, the second ε-derivative along the start's
-curve y₀(ε) (:func:`rocknroller.analysis.slow.map.family.maximum_state`, differenced in ε), with
+To second order (:func:`second_order_step`; :func:`second_order_steps` for many starts, in the batch lanes) the state
+also carries w, the second ε-derivative along the start's curve y₀(ε)
+(:func:`rocknroller.analysis.slow.map.family.maximum_state`, differenced in ε), with
 ẇ = A w + D²f[z, z] + 2 ∂²f/∂y∂ε z + ∂²f/∂ε² (A = ∂f/∂y); the second derivative of the event time follows from
 h = 0 at the next maximum as the first's does.
 
@@ -49,11 +50,13 @@ from rocknroller.analysis.routh.reduction import effective_potential, state_from
 from rocknroller.analysis.routh.turning_points import turning_points
 from rocknroller.analysis.slow.map.family import (_central_difference, _central_second_difference, _second_directional,
                                               directional_derivative, maximum_state)
+from rocknroller.numerics.cache import compiling
+from rocknroller.numerics.integrate import check_diskcache
 
 __all__ = [
     "HARMONIC_PSI", "FIRST_ORDER_NAMES", "eps_derivative_rhs", "FirstOrderStep", "first_order_step",
-    "first_order_steps", "harmonic_steps", "second_order_step", "StepCoefficients", "step_coefficients",
-    "symmetric_data"
+    "first_order_steps", "harmonic_steps", "second_order_step", "second_order_steps", "StepCoefficients",
+    "step_coefficients", "symmetric_data"
 ]
 
 #: Spin angles ψ_n of the three orbits that determine the harmonics 0 and 2 of ψ_n.
@@ -61,6 +64,8 @@ HARMONIC_PSI = (0.0, math.pi / 3.0, 2.0 * math.pi / 3.0)
 #: First-order responses per step: ε-derivatives of Q_R, Q_J, Θ = 2ψ, the event time and φ.
 FIRST_ORDER_NAMES = ("QR", "QJ", "Theta", "t", "phi")
 _INTEGRATOR: dict[str, Any] = {}
+#: CPU seconds a compilation of :func:`_variational_integrator` of each order usually takes (measured, one core).
+_COMPILE_SECONDS = {1: 1.0, 2: 1.0}
 
 
 def eps_derivative_rhs(y: ArrayLike, body: Body) -> NDArray[np.float64]:
@@ -132,8 +137,11 @@ def _variational_integrator(order: int = 1, lanes: int | None = None) -> Any:
         eqs = _variational_system(order)
         y = hy.make_vars("g1", "g2", "g3", "w1", "w2", "w3")
         ev = hy.t_event_batch(turning_point_function(y), callback=_NextMaximum())
-        _INTEGRATOR[key] = hy.taylor_adaptive_batch(eqs, np.zeros((len(eqs), lanes)), pars=np.zeros((5, lanes)),
-                                                    compact_mode=True, t_events=[ev])
+        check_diskcache()
+        with compiling(f"the averaging tables' variational integrator (order {order}, {lanes} lanes)",
+                       _COMPILE_SECONDS[order]):
+            _INTEGRATOR[key] = hy.taylor_adaptive_batch(eqs, np.zeros((len(eqs), lanes)), pars=np.zeros((5, lanes)),
+                                                        compact_mode=True, t_events=[ev])
     return _INTEGRATOR[key]
 
 
@@ -297,7 +305,17 @@ def second_order_step(body: Body, E: float, QR: float, QJ: float, psi: float, *,
                       h: float = 1e-3) -> dict[str, float]:
     """Second ε-derivatives at fixed (E, Q_n, ψ_n) of Q_R, Q_J, Θ = 2ψ, the event time and φ at the next maximum
     (keys of ``FIRST_ORDER_NAMES``), by the second-order variational equations: a second formulation of what
-    :func:`rocknroller.analysis.slow.map.exact_step.eps_derivatives` differences.
+    :func:`rocknroller.analysis.slow.map.exact_step.eps_derivatives` differences.  One start of
+    :func:`second_order_steps`, which documents the method."""
+    out = second_order_steps(body, E, QR, QJ, psi, h=h)
+    return {k: float(v[0]) for k, v in out.items()}
+
+
+def second_order_steps(body: Body, E: float, QR: ArrayLike, QJ: ArrayLike, psi: ArrayLike,
+                       theta_X: ArrayLike | None = None, *, h: float = 1e-3) -> dict[str, NDArray[np.float64]]:
+    """:func:`second_order_step` for N starts at once (arrays of one shape, or scalars broadcast to it; raveled),
+    their orbits run side by side in the lanes of the batch integrator; each value an array (N,).  θ_X: the
+    symmetric maxima θ_X(E, Q_R, Q_J) if known, else from one vectorised ``turning_points`` for all starts.
 
     The start's curve y₀(ε) (the maximum with the same (E, Q, ψ) for I2 = (1 + ε) I1,
     :func:`rocknroller.analysis.slow.map.family.maximum_state`) is differenced in ε (step ``h``, fourth order: it is an
@@ -307,16 +325,30 @@ def second_order_step(body: Body, E: float, QR: float, QJ: float, psi: float, *,
     t₁' = −∇h·Z / ∇h·F and ∇h·G'' + D²h[G', G'] = 0, G' = Z + F t₁', G'' = W + 2 Ż t₁' + (A F) t₁'² + F t₁''.
     The outputs q(G) have q'' = ∇q·G'' + D²q[G', G'] (directional differences of q, exact for the quadratic Q_J).
     """
-
     sym = body.symmetric()
+    given = [v for v in (QR, QJ, psi, theta_X) if v is not None]
+    flat = [np.ravel(v) for v in np.broadcast_arrays(*(np.asarray(v, float) for v in given))]
+    QR, QJ, psi = flat[:3]
+    theta_X = flat[3] if theta_X is not None else np.asarray(turning_points(E, QR, QJ, sym)[1], float)
+    x0 = np.empty((33, len(QR)))
+    for k in range(len(QR)):
+        args = (E, float(QR[k]), float(QJ[k]), float(psi[k]))
 
-    def start(eps: float) -> NDArray[np.float64]:  # the family's frame: the requested ψ whatever the relabelling
-        st = maximum_state(sym, eps, E, QR, QJ, psi)[2]
-        return state_from_euler(st.theta, 0.0, psi, 0.0, st.phi_dot, st.psi_dot)
+        def start(eps: float, args: tuple[float, ...] = args, thX: float = float(theta_X[k])) -> NDArray[np.float64]:
+            st = maximum_state(sym, eps, *args, theta_X=thX)[2]  # the family's frame: the requested ψ
+            return state_from_euler(st.theta, 0.0, args[3], 0.0, st.phi_dot, st.psi_dot)
 
-    start = functools.lru_cache(maxsize=None)(start)  # the five solves are shared by both differences
-    a0, b0 = _central_difference(start, 0.0, h), _central_second_difference(start, 0.0, h)
-    out = _to_next_maxima(2, sym, np.concatenate([start(0.0), a0, b0])[:, None])[1][:, 0]
+        start = functools.lru_cache(maxsize=None)(start)  # the five solves are shared by both differences
+        x0[:, k] = np.concatenate([start(0.0), _central_difference(start, 0.0, h),
+                                   _central_second_difference(start, 0.0, h)])
+    out = _to_next_maxima(2, sym, x0)[1]
+    res = [_second_derivatives(sym, out[:, k]) for k in range(len(QR))]
+    return {name: np.array([r[name] for r in res]) for name in FIRST_ORDER_NAMES}
+
+
+def _second_derivatives(sym: Body, out: NDArray[np.float64]) -> dict[str, float]:
+    """The second ε-derivatives of the outputs of one step from the state (Y, Z, W) (33,) at the next maximum
+    (:func:`second_order_steps`)."""
     Y, Z, W = out[:11], out[11:22], out[22:]
     p0 = sym.params
 

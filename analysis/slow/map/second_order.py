@@ -1,7 +1,8 @@
 """The second-order kick k₂ of the drift–kick–drift slow map, at a point and in tables.  It holds k₂ at a point from
 the step's second ε-derivatives and a first-order table (:func:`second_order_kick`, with the table's first-order
 kick and drifts: :func:`first_order_kick`, :func:`drift_derivatives`), its harmonics in Θ_a
-(:func:`k2_harmonics`), the check of the formula against the exact step (:func:`dkd_residual`), and the tables of
+(:func:`k2_harmonics`; at many points at once, their orbits in the batch integrator's lanes: :func:`k2_harmonics_at`,
+:func:`second_order_kicks`), the check of the formula against the exact step (:func:`dkd_residual`), and the tables of
 k₂ on the chart of a release table (:func:`build_second_order_table`, :func:`load_or_build_second_order_table`) or
 of the region table of an energy (:func:`build_second_order_region_table`,
 :func:`load_or_build_second_order_region_table`).
@@ -42,16 +43,18 @@ from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.diagnostics import wrap_angle
-from rocknroller.analysis.slow.map.chart import (_HARM, _IDX, _ODD, SecondOrderTable, SlowMapTable, _basis,
+from rocknroller.analysis.routh.turning_points import turning_points
+from rocknroller.analysis.slow.map.chart import (_HARM, _IDX, _ODD, SecondOrderTable, SlowMapTable, _basis, _cheb_basis,
                                              _cheb_fit_matrix, _cheb_nodes)
 from rocknroller.analysis.slow.map.exact_step import STEP_NAMES, exact_step
-from rocknroller.analysis.slow.map.orbit import second_order_step
+from rocknroller.analysis.slow.map.orbit import second_order_steps
 from rocknroller.analysis.slow.map.table import cached_table, load_or_build_table
 from rocknroller.numerics.parallel import check_processes, map_blocks
 
 __all__ = [
-    "first_order_kick", "drift_derivatives", "second_order_kick", "dkd_residual", "K2_HARMONICS", "K2_FUNCTIONS",
-    "K2_ACCURACY", "K2_REGION_ACCURACY", "k2_harmonics", "build_second_order_table", "load_or_build_second_order_table",
+    "first_order_kick", "drift_derivatives", "second_order_kick", "second_order_kicks", "dkd_residual",
+    "K2_HARMONICS", "K2_FUNCTIONS", "K2_ACCURACY", "K2_REGION_ACCURACY", "k2_harmonics", "k2_harmonics_at",
+    "build_second_order_table", "load_or_build_second_order_table",
     "build_second_order_region_table", "load_or_build_second_order_region_table"
 ]
 
@@ -63,57 +66,102 @@ _DRIFT = ("W", "T", "dphi")
 _H_HESSIAN = 1e-6
 
 
-def _q_gradient(table: SlowMapTable, name: str, Q: NDArray[np.float64]) -> NDArray[np.float64]:
-    """(∂/∂Q_R, ∂/∂Q_J) of a table function: its (∂/∂u, ∂/∂v) turned by the frame (Q = u e + v n)."""
-    gu, gv = (float(g) for g in table.gradient(name, Q))
-    return gu * np.asarray(table.e, float) + gv * np.asarray(table.n, float)
+def _derivative_coefficients(table: SlowMapTable) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The Chebyshev coefficients of ∂/∂ξ and ∂/∂η of every table function, formed once per table (numpy's
+    ``chebder`` along each axis of ``table.coef``)."""
+    cheb = np.polynomial.chebyshev
+    return cheb.chebder(table.coef, axis=1), cheb.chebder(table.coef, axis=2)
+
+
+def _jet(table: SlowMapTable, dcoef: tuple[NDArray[np.float64], NDArray[np.float64]],
+         Q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """All ``TABLE_FUNCTIONS`` at Q (raising outside the table) and their (∂/∂Q_R, ∂/∂Q_J), shape (F, 2): the
+    chart's (∂/∂ξ, ∂/∂η) (``dcoef``: :func:`_derivative_coefficients`) by the chain rule to (∂/∂u, ∂/∂v), turned
+    by the frame (Q = u e + v n)."""
+    vals = table.evaluate(Q)
+    xi, eta = table.coordinates(Q)
+    nu, nv = table.coef.shape[1:]
+    f_xi = (dcoef[0] @ _cheb_basis(eta, nv)) @ _cheb_basis(xi, nu - 1)
+    f_eta = (dcoef[1] @ _cheb_basis(eta, nv - 1)) @ _cheb_basis(xi, nu)
+    dxi_du, deta_du, deta_dv = (float(v) for v in table.inverse_jacobian(xi, eta))
+    gu, gv = f_xi * dxi_du + f_eta * deta_du, f_eta * deta_dv
+    return vals, gu[:, None] * np.asarray(table.e, float) + gv[:, None] * np.asarray(table.n, float)
+
+
+def _hessians(table: SlowMapTable, dcoef: tuple[NDArray[np.float64], NDArray[np.float64]], Q: NDArray[np.float64],
+              rows: list[int]) -> NDArray[np.float64]:
+    """Hessians (len(rows), 2, 2) in (Q_R, Q_J) of the table functions ``rows`` at Q: central differences (step
+    ``_H_HESSIAN``) of their gradients (:func:`_jet`), symmetrised."""
+    H = np.zeros((len(rows), 2, 2))
+    for j in range(2):
+        step = np.zeros(2)
+        step[j] = _H_HESSIAN
+        ahead, behind = _jet(table, dcoef, Q + step)[1][rows], _jet(table, dcoef, Q - step)[1][rows]
+        H[:, :, j] = (ahead - behind) / (2.0 * _H_HESSIAN)
+    return 0.5 * (H + np.swapaxes(H, 1, 2))
+
+
+_KICK_ROWS = [[_IDX[f"{pre}_{h}"] for h in _HARM] for pre in _PREFIX]
+_DRIFT_ROWS = [_IDX[name] for name in _DRIFT]
+
+
+def _kick_from_jet(vals: NDArray[np.float64], grads: NDArray[np.float64],
+                   theta_a: float) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """k₁ (5,), its Q-gradient (5, 2) and Θ-derivative (5,) at Θ_a from the table's harmonics c0 + c1 cos Θ_a +
+    s1 sin Θ_a and their gradients (:func:`_jet`)."""
+    c, s = math.cos(theta_a), math.sin(theta_a)
+    h = vals[_KICK_ROWS]  # (5, 3): c0, c1, s1
+    g = grads[_KICK_ROWS]  # (5, 3, 2)
+    return (h[:, 0] + h[:, 1] * c + h[:, 2] * s, g[:, 0] + g[:, 1] * c + g[:, 2] * s, -h[:, 1] * s + h[:, 2] * c)
 
 
 def first_order_kick(table: SlowMapTable, Q: ArrayLike,
                      theta_a: float) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """k₁ at (Q, Θ_a) for the components of ``STEP_NAMES`` (Q_R, Q_J, Θ, t, φ), its Q-gradient (5, 2) and its
     Θ-derivative (5,), from the table's harmonics c0 + c1 cos Θ_a + s1 sin Θ_a."""
-    Q = np.asarray(Q, float)
-    vals = table.evaluate(Q)
-    c, s = math.cos(theta_a), math.sin(theta_a)
-    k, dk_dq, dk_dth = np.zeros(5), np.zeros((5, 2)), np.zeros(5)
-    for i, pre in enumerate(_PREFIX):
-        c0, c1, s1 = (float(vals[_IDX[f"{pre}_{h}"]]) for h in _HARM)
-        k[i] = c0 + c1 * c + s1 * s
-        dk_dth[i] = -c1 * s + s1 * c
-        g0, g1, g2 = (_q_gradient(table, f"{pre}_{h}", Q) for h in _HARM)
-        dk_dq[i] = g0 + g1 * c + g2 * s
-    return k, dk_dq, dk_dth
+    return _kick_from_jet(*_jet(table, _derivative_coefficients(table), np.asarray(Q, float)), theta_a)
 
 
 def drift_derivatives(table: SlowMapTable, name: str, Q: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Gradient (2,) and Hessian (2, 2) in (Q_R, Q_J) of the drift ``name`` (W, T or dphi): the gradient by the
     chain rule through the chart, the Hessian by central differences of it (symmetrised)."""
-    Q = np.asarray(Q, float)
-    g = _q_gradient(table, name, Q)
-    H = np.zeros((2, 2))
-    for j in range(2):
-        e = np.zeros(2)
-        e[j] = _H_HESSIAN
-        H[:, j] = (_q_gradient(table, name, Q + e) - _q_gradient(table, name, Q - e)) / (2.0 * _H_HESSIAN)
-    return g, 0.5 * (H + H.T)
+    Q, dcoef = np.asarray(Q, float), _derivative_coefficients(table)
+    return _jet(table, dcoef, Q)[1][_IDX[name]], _hessians(table, dcoef, Q, [_IDX[name]])[0]
+
+
+def second_order_kicks(table: SlowMapTable, Q: ArrayLike, theta_a: ArrayLike) -> NDArray[np.float64]:
+    """k₂ at the points Q (M, 2) and the angles Θ_a (M, K), shape (M, K, 5) for the components of ``STEP_NAMES``
+    (module docstring), at the table's energy: the M·K exact steps' second derivatives by the second-order
+    variational equations, run in the batch integrator's lanes (:func:`~rocknroller.analysis.slow.map.orbit.
+    second_order_steps`, the M maxima θ_X from one vectorised turning-point solve); the first-order kick, the drifts'
+    gradients and Hessians once per point, from the table's derivative series formed once."""
+    Q = np.asarray(Q, float).reshape(-1, 2)
+    theta_a = np.asarray(theta_a, float).reshape(len(Q), -1)
+    dcoef = _derivative_coefficients(table)
+    jets = [_jet(table, dcoef, q) for q in Q]
+    hess = [_hessians(table, dcoef, q, _DRIFT_ROWS) for q in Q]
+    W = np.array([vals[_IDX["W"]] for vals, _ in jets])
+    theta_X = turning_points(table.E0, Q[:, 0], Q[:, 1], table.body)[1]
+    shape = theta_a.shape
+    d2 = second_order_steps(table.body, table.E0, np.broadcast_to(Q[:, :1], shape), np.broadcast_to(Q[:, 1:], shape),
+                            0.5 * (theta_a - 0.5 * W[:, None]), np.broadcast_to(np.asarray(theta_X)[:, None], shape))
+    A2 = 0.5 * np.stack([d2[k] for k in STEP_NAMES], axis=-1).reshape(shape + (5,))
+    k2 = np.empty(shape + (5,))
+    for m, ((vals, grads), H) in enumerate(zip(jets, hess)):
+        g = grads[_DRIFT_ROWS]
+        for j, ta in enumerate(theta_a[m]):
+            k1, dk_dq, dk_dth = _kick_from_jet(vals, grads, float(ta))
+            kq, a2 = k1[:2], A2[m, j]
+            k = a2 - 0.5 * (dk_dq @ kq + dk_dth * k1[2])
+            k[2:] -= 0.5 * g @ a2[:2] + 0.25 * np.einsum("i,dij,j->d", kq, H, kq)
+            k2[m, j] = k
+    return k2
 
 
 def second_order_kick(table: SlowMapTable, Q: ArrayLike, theta_a: float) -> NDArray[np.float64]:
     """k₂ at (Q, Θ_a) for the components of ``STEP_NAMES`` (module docstring), at the table's energy; the exact
-    step's second derivatives by the second-order variational equations (one orbit)."""
-    Q = np.asarray(Q, float)
-    W = float(table.evaluate(Q)[_IDX["W"]])
-    theta = theta_a - 0.5 * W
-    d2 = second_order_step(table.body, table.E0, float(Q[0]), float(Q[1]), 0.5 * theta)
-    A2 = 0.5 * np.array([d2[k] for k in STEP_NAMES])
-    k1, dk_dq, dk_dth = first_order_kick(table, Q, theta_a)
-    kq = k1[:2]
-    k2 = A2 - 0.5 * (dk_dq @ kq + dk_dth * k1[2])
-    for i, drift in zip((2, 3, 4), _DRIFT):
-        g, H = drift_derivatives(table, drift, Q)
-        k2[i] -= 0.5 * g @ A2[:2] + 0.25 * kq @ H @ kq
-    return k2
+    step's second derivatives by the second-order variational equations (one orbit; :func:`second_order_kicks`)."""
+    return second_order_kicks(table, np.asarray(Q, float)[None, :], [[float(theta_a)]])[0, 0]
 
 
 def dkd_residual(table: SlowMapTable, eps: float, Q: ArrayLike, theta: float) -> NDArray[np.float64]:
@@ -160,8 +208,15 @@ K2_REGION_ACCURACY = 2e-2
 def k2_harmonics(table: SlowMapTable, Q: ArrayLike) -> NDArray[np.float64]:
     """The harmonics ``K2_HARMONICS`` of k₂ in Θ_a at Q, shape (5 components, 5 harmonics), from
     :func:`second_order_kick` at five Θ_a (five second-order variational orbits and the starts' 25 solves)."""
-    vals = np.array([second_order_kick(table, Q, ta) for ta in _K2_THETA_A])
-    return np.linalg.solve(_basis(np.array(_K2_THETA_A)), vals).T
+    return k2_harmonics_at(table, np.asarray(Q, float)[None, :])[0]
+
+
+def k2_harmonics_at(table: SlowMapTable, Q: ArrayLike) -> NDArray[np.float64]:
+    """:func:`k2_harmonics` at M points Q (M, 2), shape (M, 5, 5): their 5 M orbits in the batch integrator's lanes
+    (:func:`second_order_kicks`)."""
+    Q = np.asarray(Q, float).reshape(-1, 2)
+    vals = second_order_kicks(table, Q, np.broadcast_to(np.array(_K2_THETA_A), (len(Q), len(_K2_THETA_A))))
+    return np.swapaxes(np.linalg.solve(_basis(np.array(_K2_THETA_A))[None], vals), 1, 2)
 
 
 def _first_table(body: Body, where: float, kind: str, **run: Any) -> SlowMapTable:
@@ -176,7 +231,7 @@ def _first_table(body: Body, where: float, kind: str, **run: Any) -> SlowMapTabl
 
 def _k2_block(body: Body, where: float, kind: str, nodes: list[tuple[float, float]]) -> NDArray[np.float64]:
     table = _first_table(body, where, kind)
-    return np.array([k2_harmonics(table, q).ravel() for q in nodes])
+    return k2_harmonics_at(table, nodes).reshape(len(nodes), -1)
 
 
 def _build_k2(body: Body, where: float, kind: str, nu: int, nv: int, workers: int,
@@ -246,8 +301,9 @@ def build_second_order_table(body: Body, theta0: float, *, nu: int = 64, nv: int
     Only half the Chebyshev nodes are computed: the grid is symmetric under (ξ, η) → (−ξ, −η), Q → −Q, where each
     component keeps or flips its sign (``_K2_ODD``), which makes the map reversible.  ``workers`` processes share
     the nodes (the table does not depend on how many); ``progress``: a tqdm bar on stderr naming the table (None:
-    only if stderr is a terminal).  Checked at off-grid points against direct evaluations;
-    above ``K2_ACCURACY`` an AveragingValidityWarning.  Cost: five second-order variational orbits per computed node.
+    only if stderr is a terminal).  Checked at off-grid points against direct evaluations; above ``K2_ACCURACY`` an
+    AveragingValidityWarning.  Cost: five second-order variational orbits per computed node, those of 16 nodes
+    together in the batch integrator's lanes (:func:`k2_harmonics_at`).
 
     Raises
     ------
