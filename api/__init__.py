@@ -25,7 +25,8 @@ from rocknroller.analysis.routh.quadrature_mp import precession_mp
 from rocknroller.analysis.routh.reduction import (F, NoMotionError, SteadyRollingError, effective_potential,
                                                   invariants_from_euler, state_from_turning_point)
 from rocknroller.analysis.routh.turning_points import solve_turning_points, turning_points
-from rocknroller.analysis.slow.atlas import Atlas, AtlasCheck, atlas_from_rest, atlas_of_rates, confirm_atlas
+from rocknroller.analysis.slow.atlas import Atlas, atlas_from_rest, atlas_of_rates
+from rocknroller.analysis.slow.atlas_check import AtlasCheck, confirm_atlas
 from rocknroller.analysis.slow.ensemble_statistics import (EnsembleComparison, EnsembleStatistics, StartBall,
                                                            compare_ensembles, map_ensemble, ode_ensemble)
 from rocknroller.analysis.slow.map.maps import ExactMap, SlowMap

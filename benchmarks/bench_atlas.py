@@ -18,6 +18,7 @@ import time
 import numpy as np
 
 from rocknroller.analysis.slow import atlas as at
+from rocknroller.analysis.slow.atlas_check import confirm_atlas
 from rocknroller.analysis.slow import prediction as av
 from rocknroller.analysis.slow.map import compiled_map as slow_map, table as slow_table
 from rocknroller.analysis.model.body import Body
@@ -76,10 +77,10 @@ def main() -> None:
     print(f"the MEGNO layer: {t_one[True] / t_one[False]:.2f}x the atlas without it (one process)")
     t_map = t_one[True]
     t0 = time.perf_counter()
-    at.confirm_atlas(atlas, body, every=50, progress=False, chaos=False)
+    confirm_atlas(atlas, body, every=50, progress=False, chaos=False)
     t_plain = time.perf_counter() - t0
     t0 = time.perf_counter()
-    check = at.confirm_atlas(atlas, body, every=50, progress=False)
+    check = confirm_atlas(atlas, body, every=50, progress=False)
     t_ode = time.perf_counter() - t0
     k = len(check.index)
     print(f"ODE confirmation of {k} points (1 in 50), in process: {t_ode:.1f} s ({1e3 * t_ode / k:.0f} ms a point, "

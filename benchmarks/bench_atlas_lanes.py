@@ -24,6 +24,7 @@ import numpy as np
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.slow import atlas as at
+from rocknroller.analysis.slow.atlas_check import confirm_atlas
 from rocknroller.numerics.ensembles import ensemble as ens
 
 
@@ -66,7 +67,7 @@ def main() -> None:
     checks = {}
     for label, runner in paths.items():
         ens.run_ensemble = runner
-        checks[label] = timed(lambda: at.confirm_atlas(atlas, body, every=1, progress=False, chaos=False))
+        checks[label] = timed(lambda: confirm_atlas(atlas, body, every=1, progress=False, chaos=False))
     ens.run_ensemble = run_ensemble
     (a, c_a), (b, c_b) = checks.values()
     worst = max(float(np.nanmax(np.abs(a.ode[k].filled(np.nan) - b.ode[k].filled(np.nan)), initial=0.0))

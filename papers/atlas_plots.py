@@ -14,7 +14,8 @@ import numpy as np
 
 from rocknroller.analysis.criticality.starts import PSI0, THETA0, paper_rate_starts
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.slow.atlas import Atlas, AtlasCheck
+from rocknroller.analysis.slow.atlas import Atlas
+from rocknroller.analysis.slow.atlas_check import AtlasCheck
 from rocknroller.analysis.slow.dynamics.result_plots import line_axis
 from rocknroller.numerics.megno import MEGNO_CHAOTIC
 from rocknroller.papers.output import new_figure, save_figure

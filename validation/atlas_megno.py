@@ -5,7 +5,7 @@ Run:  python validation/atlas_megno.py [--n-eps 20] [--n-psi 20] [--t-end 1000] 
 For ε log-spaced in [1e-3, 1.5e-2] (``--n-eps`` values) the release atlas of the paper body over θ0 ∈ {0.9π, 0.95π}
 and ψ0 evenly in (0, π/2] (``--n-psi`` values, π/2 included: issue 23's acceptance grid), by the first-order map
 with its chaos layer (:func:`rocknroller.analysis.slow.atlas.atlas_from_rest`), is confirmed at every point
-(:func:`~rocknroller.analysis.slow.atlas.confirm_atlas` with ``every=1``: the direct run and the variational run
+(:func:`~rocknroller.analysis.slow.atlas_check.confirm_atlas` with ``every=1``: the direct run and the variational run
 over the same t_end), one start at a time (a start that the first-order map cannot step, past the period
 doubling, is listed and left out).  Prints per ε and θ0 how many starts each method calls chaotic (MEGNO > 3) and how many
 verdicts agree, the overall agreement, every disagreement with both MEGNO values, the ratio map/ODE of the Lyapunov
@@ -24,6 +24,7 @@ import numpy as np
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.slow import atlas as at
+from rocknroller.analysis.slow.atlas_check import confirm_atlas
 from rocknroller.analysis.slow.map.limits import AveragingRangeError, AveragingValidityWarning
 from rocknroller.numerics.megno import MEGNO_CHAOTIC
 
@@ -64,7 +65,7 @@ def main() -> None:
                 atlas = at.atlas_from_rest(body, [th], [p0], args.t_end, progress=False)
                 cpu["map"] += time.process_time() - t
                 t = time.process_time()
-                check = at.confirm_atlas(atlas, body, every=1, progress=False, threads=args.threads, budget=None)
+                check = confirm_atlas(atlas, body, every=1, progress=False, threads=args.threads, budget=None)
                 cpu["direct and variational runs"] += time.process_time() - t
                 rows.append((float(check.map["megno"][0]), float(check.ode["megno"][0]),
                              float(check.map["lyapunov"][0]), float(check.ode["lyapunov"][0]), float(p0)))

@@ -1,8 +1,9 @@
 """Recession atlas: the slow motion over a plane of starts, by the averaged map or the direct ODE.  It holds the
 atlas of releases from rest (:func:`atlas_from_rest`) and of initial rates (:func:`atlas_of_rates`), their result
 :class:`Atlas`, the reversal counts per 1000 time units, crossings of the critical lines Q_J,0^crit and Q_J,π^crit
-(:func:`reversal_counts`; paper eqs. QJcrit_0, QJcrit_pi), and the check of a map-made atlas by the direct ODE
-(:func:`confirm_atlas`, :class:`AtlasCheck`).
+(:func:`reversal_counts`; paper eqs. QJcrit_0, QJcrit_pi).  The check of a map-made atlas by the direct ODE
+(:func:`~rocknroller.analysis.slow.atlas_check.confirm_atlas`, :class:`~rocknroller.analysis.slow.atlas_check.AtlasCheck`)
+is :mod:`rocknroller.analysis.slow.atlas_check`.
 
 Two planes: releases from rest over (ψ0, θ0) (:func:`atlas_from_rest`, by the map, or by the ODE), and initial rates
 (φ̇0, ψ̇0) at fixed θ0, ψ0 (:func:`atlas_of_rates`, the plane of the paper's reversal starts, by the ODE: each
@@ -26,11 +27,11 @@ indicators at every point (``CHAOS_OBSERVABLES``): MEGNO and the finite-time Lya
 run (:func:`rocknroller.analysis.slow.dynamics.chaos.map_indicators`, the tangent vector that ``predict_slow_motion`` carries;
 ~1.5-1.8x the map's cost without it: benchmarks/bench_chaos_map.py), masked where a run has fewer than
 :data:`~rocknroller.numerics.megno.MIN_SAMPLES` maxima.  Its verdict, regular (MEGNO ≤
-:data:`~rocknroller.numerics.megno.MEGNO_CHAOTIC` = 3) or chaotic, is :attr:`Atlas.regular`.  :func:`confirm_atlas`
+:data:`~rocknroller.numerics.megno.MEGNO_CHAOTIC` = 3) or chaotic, is :attr:`Atlas.regular`.  :func:`~rocknroller.analysis.slow.atlas_check.confirm_atlas`
 checks that layer at its sample against the direct motion's indicators over the same span
 (:func:`rocknroller.numerics.variational.direct_chaos_indicators`: heyoka's variational equations, which do not run
 through ``run_ensemble``; they run in this process, on ``threads`` threads) and reports where the two verdicts agree
-(:attr:`AtlasCheck.verdict_agrees`).  An atlas made by the ODE has no chaos layer (a variational run costs ~1-3
+(:attr:`~rocknroller.analysis.slow.atlas_check.AtlasCheck.verdict_agrees`).  An atlas made by the ODE has no chaos layer (a variational run costs ~1-3
 plain runs a point; ``direct_chaos_indicators`` gives it for any start).
 """
 
@@ -56,7 +57,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "ATLAS_OBSERVABLES", "CHAOS_OBSERVABLES", "PLANES", "METHODS", "MAX_ATLAS_POINTS", "MAX_ODE_ATLAS_POINTS", "Atlas",
-    "AtlasCheck", "reversal_counts", "atlas_from_rest", "atlas_of_rates", "confirm_atlas", "ATLAS_ORDER"
+    "reversal_counts", "atlas_from_rest", "atlas_of_rates", "ATLAS_ORDER"
 ]
 
 #: The map's order in ε of a map-made atlas: 1, whatever ``predict_slow_motion``'s default (2 for releases in
@@ -411,159 +412,3 @@ def atlas_of_rates(body: Body, theta0: float, psi0: float, phi_dot0: ArrayLike, 
     pd = _check_grid("phi_dot0", phi_dot0, -RATE_MAX, RATE_MAX)
     sd = _check_grid("psi_dot0", psi_dot0, -RATE_MAX, RATE_MAX)
     return _ode_atlas(body, "rates", sd, pd, (th, ps), t_end, scheduler, workers, threads, progress, budget)
-
-
-@dataclass(frozen=True)
-class AtlasCheck:
-    """The direct ODE at some points of an atlas, and the map's relative errors there.
-
-    Attributes
-    ----------
-    index : ndarray (n, 2) of int, the (row, column) of each point.
-    ode : dict, for each of the atlas's observables (``Atlas.observables``), the ODE's values (masked where
-        undefined); ``megno`` and ``lyapunov`` are those of the direct motion's variational run over the same span
-        (:func:`rocknroller.numerics.variational.direct_chaos_indicators`), masked where the map has none.
-    rel_error : dict, the map's value / the ODE's − 1 (masked where either is undefined or the ODE's is 0);
-        for the reversal counts, MEGNO and the Lyapunov exponent, the difference map − ODE instead (a regular
-        orbit's MEGNO is ≈ 2 and its finite-time exponent ≈ 0 by either method: a ratio would measure noise).
-    map : dict, the atlas's own values at those points, for the same names as ``ode``.
-
-    Examples
-    --------
-    >>> import math
-    >>> import rocknroller as rr
-    >>> body = rr.Body.paper(epsilon=1e-3)
-    >>> atlas = rr.atlas_from_rest(body, [0.95 * math.pi], [0.3, 0.8], 200.0)
-    >>> check = rr.confirm_atlas(atlas, body, every=1, chaos=False)
-    >>> print(check.index.tolist(), sorted(check.ode) == sorted(check.map))
-    [[0, 0], [0, 1]] True
-    """
-
-    index: NDArray[np.int64]
-    ode: dict[str, np.ma.MaskedArray] = field(repr=False)
-    rel_error: dict[str, np.ma.MaskedArray] = field(repr=False)
-    map: dict[str, np.ma.MaskedArray] = field(default_factory=dict, repr=False)
-
-    @property
-    def verdict_agrees(self) -> np.ma.MaskedArray:
-        """At each confirmed point, whether the map and the ODE give the same verdict, regular (MEGNO ≤
-        ``MEGNO_CHAOTIC``) or chaotic; masked where either has no MEGNO.
-
-        Raises
-        ------
-        ValueError
-            A check without the chaos layer.
-        """
-        if "megno" not in self.ode:
-            raise ValueError("this check has no chaos layer (the atlas was made with chaos=False, or confirm_atlas "
-                             "was called with chaos=False)")
-        return (self.map["megno"] <= MEGNO_CHAOTIC) == (self.ode["megno"] <= MEGNO_CHAOTIC)
-
-    @property
-    def verdict_agreement(self) -> float | None:
-        """The fraction of the points with both MEGNOs at which the verdicts agree (None: no such point)."""
-        agrees = self.verdict_agrees
-        n = int(np.ma.count(agrees))
-        return None if n == 0 else float(np.ma.sum(agrees)) / n
-
-
-def _check_chaos_work(body: Body, states: Sequence[EulerState], t_end: float, budget: float | None) -> None:
-    """Refuse variational runs from ``states`` whose estimated cost together (Λ t_end each, at
-    ``VARIATIONAL_SECONDS_PER_RADIAN``) exceeds ``budget``."""
-    from rocknroller.numerics.integrate import check_run
-    from rocknroller.numerics.variational import VARIATIONAL_SECONDS_PER_RADIAN
-
-    radians = sum(check_run(body, s, t_end, samples=False)[4] * t_end for s in states)
-    check_work(radians * VARIATIONAL_SECONDS_PER_RADIAN,
-               f"the atlas's {len(states)} variational runs (Λ t_end = {radians:.3g} radians in all)", budget)
-
-
-def _ode_chaos(body: Body, states: Sequence[EulerState], t_end: float, threads: int | None) -> NDArray[np.float64]:
-    """(MEGNO, λ) of the direct motion from each state over [0, t_end], shape (2, len(states)): one variational run
-    each (:func:`rocknroller.numerics.variational.direct_chaos_indicators`), on ``threads`` threads of this process
-    (each run is the same whichever thread makes it)."""
-    from concurrent.futures import ThreadPoolExecutor
-
-    from rocknroller.numerics.variational import direct_chaos_indicators
-
-    def one(state: EulerState) -> tuple[float, float]:
-        ind = direct_chaos_indicators(body, state, t_end, budget=None).indicators
-        return ind.megno, ind.lyapunov
-
-    with ThreadPoolExecutor(max_workers=max(1, threads or 1)) as pool:
-        found = list(pool.map(one, states))
-    return np.array(found, dtype=float).reshape(-1, 2).T
-
-
-def confirm_atlas(atlas: Atlas, body: Body, *, every: int | None = 50, points: Sequence[tuple[int, int]] = (),
-                  scheduler: str | None = None, workers: int | None = None, threads: int | None = None,
-                  progress: bool | None = None, budget: float | None = WORK_BUDGET_SECONDS,
-                  chaos: bool | None = None) -> AtlasCheck:
-    """Run the direct ODE at 1 point in ``every`` (row-major, starting at the first; None: none) and at ``points``
-    (row, column) of a map-made atlas, as an ensemble (:func:`rocknroller.numerics.ensembles.ensemble.run_ensemble`; where it
-    runs does not change the numbers); ``budget``: the CPU seconds the runs may take (as for ``run_ensemble``), and
-    separately the variational runs.
-
-    ``chaos`` (None: whether the atlas has its chaos layer) also confirms the map's MEGNO and λ there by the direct
-    motion's (:func:`rocknroller.numerics.variational.direct_chaos_indicators` over the atlas's t_end, at the points
-    where the map has them; on ``threads`` threads of this process whatever ``scheduler`` and ``workers`` say: the
-    variational runs do not go through ``run_ensemble``); :attr:`AtlasCheck.verdict_agrees` compares the verdicts.
-
-    Raises
-    ------
-    ValueError
-        An atlas made by the ODE (there is nothing to confirm), ``every`` not an integer ≥ 1, a point outside the
-        grid, ``chaos=True`` for an atlas without the chaos layer, or the ensemble's own limits, naming them.
-
-    Examples
-    --------
-    >>> import math
-    >>> import rocknroller as rr
-    >>> body = rr.Body.paper(epsilon=1e-3)
-    >>> atlas = rr.atlas_from_rest(body, [0.95 * math.pi], [0.3, 0.8], 200.0)
-    >>> check = rr.confirm_atlas(atlas, body, every=None, points=[(0, 1)], chaos=False)
-    >>> print(abs(check.rel_error["Phi"][0]) < 0.01)
-    True
-    """
-    if atlas.method != "map":
-        raise ValueError(f"atlas.method must be 'map' to be confirmed by the ODE, got {atlas.method!r} (an atlas made "
-                         "by the ODE is its own confirmation)")
-    has_chaos = "megno" in atlas.values
-    if chaos is None:
-        chaos = has_chaos
-    elif not isinstance(chaos, bool) or (chaos and not has_chaos):
-        raise ValueError(f"chaos must be None, False, or True for an atlas with its chaos layer (atlas_from_rest's "
-                         f"chaos=True), got chaos={chaos!r} for an atlas {'with' if has_chaos else 'without'} it")
-    n_t, n_p = atlas.rows.size, atlas.cols.size
-    if every is not None and (int(every) != every or every < 1):
-        raise ValueError(f"every must be an integer >= 1 or None, got every={every!r}")
-    chosen = [] if every is None else list(range(0, n_t * n_p, int(every)))
-    for i, j in points:
-        if not (0 <= i < n_t and 0 <= j < n_p):
-            raise ValueError(f"points must lie on the {n_t} x {n_p} grid, got {(i, j)!r}")
-        chosen.append(int(i) * n_p + int(j))
-    flat = sorted(set(chosen))
-    if not flat:
-        raise ValueError("nothing to confirm: give every or points")
-    index = np.array([divmod(f, n_p) for f in flat], dtype=np.int64).reshape(-1, 2)
-    states = [atlas.state(i, j) for i, j in index]
-    names = ATLAS_OBSERVABLES + (CHAOS_OBSERVABLES if chaos else ())
-    have = ~np.ma.getmaskarray(atlas.values["megno"][index[:, 0], index[:, 1]]) if chaos else np.zeros(0, bool)
-    chaos_states = [s for s, h in zip(states, have) if h]
-    _check_chaos_work(body, chaos_states, atlas.t_end, budget)
-    out, mask = _ode_values(body, states, atlas.t_end, scheduler, workers, threads, progress, budget)
-    ode = {name: np.ma.MaskedArray(out[k], mask[k]) for k, name in enumerate(ATLAS_OBSERVABLES)}
-    if chaos:
-        found = np.zeros((len(CHAOS_OBSERVABLES), len(states)))
-        if chaos_states:
-            found[:, have] = _ode_chaos(body, chaos_states, atlas.t_end, threads)
-        ode.update({name: np.ma.MaskedArray(found[k], ~have) for k, name in enumerate(CHAOS_OBSERVABLES)})
-    rel: dict[str, np.ma.MaskedArray] = {}
-    own = {name: atlas.values[name][index[:, 0], index[:, 1]] for name in names}
-    for name, mv in own.items():
-        if name.endswith("reversals") or name in CHAOS_OBSERVABLES:
-            rel[name] = mv - ode[name]
-        else:
-            with np.errstate(divide="ignore", invalid="ignore"):
-                rel[name] = np.ma.masked_invalid(mv / np.ma.masked_equal(ode[name], 0.0) - 1.0)
-    return AtlasCheck(index=index, ode=ode, rel_error=rel, map=own)

@@ -133,7 +133,8 @@ def _grids(args: argparse.Namespace) -> tuple[str, dict[str, str]]:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller atlas`` with the parsed ``args``; returns the exit status."""
-    from rocknroller.analysis.slow.atlas import ATLAS_ORDER, atlas_from_rest, atlas_of_rates, confirm_atlas
+    from rocknroller.analysis.slow.atlas import ATLAS_ORDER, atlas_from_rest, atlas_of_rates
+    from rocknroller.analysis.slow.atlas_check import confirm_atlas
     from rocknroller.papers.atlas_plots import plot_atlas, plot_atlas_check
     from rocknroller.papers.output import write_csv
 

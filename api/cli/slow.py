@@ -211,7 +211,7 @@ def _from_state(args: argparse.Namespace, body: Any, start: Any,
 def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller slow`` with the parsed ``args``; returns the exit status."""
     from rocknroller.analysis.slow.dynamics.pendulum import pendulum_constants, pendulum_prediction
-    from rocknroller.analysis.slow.dynamics.periodic_orbits import on_rocking_axis, periodic_start
+    from rocknroller.analysis.slow.dynamics.periodic_starts import on_rocking_axis, periodic_start
 
     if args.plot is not None:
         prepare_output_dir(args.plot, "--plot", args.force, ["slow_orbit.png", "slow_orbit.pdf"])

@@ -57,7 +57,7 @@ def test_a_plane_is_still_drawn_as_heat_maps(line_atlas):
 def test_one_theta0_check_is_drawn_along_psi0(line_atlas, tmp_path):
     """The ODE's check of a one-θ0 atlas: the largest error at each confirmed ψ0 on a log scale, not points over an
     invented θ0 range."""
-    from rocknroller.analysis.slow.atlas import confirm_atlas
+    from rocknroller.analysis.slow.atlas_check import confirm_atlas
     from rocknroller.papers.atlas_plots import atlas_check_figure
 
     check = confirm_atlas(line_atlas, BODY, every=3, progress=False)

@@ -11,6 +11,7 @@ import pytest
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.slow import atlas as at
+from rocknroller.analysis.slow.atlas_check import confirm_atlas
 from rocknroller.cli import main
 from rocknroller.numerics.ensembles.ensemble import Job, run_ensemble
 
@@ -48,7 +49,7 @@ def test_confirmation_agrees_with_the_ode(small_atlas):
     releases 0.75π–0.95π: ≤ 3.7e-4 measured) and it counts the same reversals; the ODE's values are those of a
     run_ensemble of the same start, to the bit (a job's lane does not depend on its batch; the lanes' agreement with
     simulate is tests/numerics/ensembles/test_batch.py's)."""
-    check = at.confirm_atlas(small_atlas, BODY, every=2, points=[(1, 1)], progress=False)
+    check = confirm_atlas(small_atlas, BODY, every=2, points=[(1, 1)], progress=False)
     assert check.index.tolist() == [[0, 0], [0, 2], [1, 1]]
     for name in ("slow_period", "Phi", "QR_extent"):
         assert np.ma.max(np.ma.abs(check.rel_error[name])) < 5e-3, name
@@ -60,8 +61,8 @@ def test_confirmation_agrees_with_the_ode(small_atlas):
 
 def test_confirmation_on_a_dask_cluster_is_identical(small_atlas):
     pytest.importorskip("distributed")
-    here = at.confirm_atlas(small_atlas, BODY, every=3, progress=False)
-    there = at.confirm_atlas(small_atlas, BODY, every=3, workers=2, progress=False)
+    here = confirm_atlas(small_atlas, BODY, every=3, progress=False)
+    there = confirm_atlas(small_atlas, BODY, every=3, workers=2, progress=False)
     for name in at.ATLAS_OBSERVABLES:
         assert np.array_equal(here.ode[name].filled(np.nan), there.ode[name].filled(np.nan), equal_nan=True), name
 
@@ -74,9 +75,9 @@ def test_bad_grids_and_points_are_refused(small_atlas):
     with pytest.raises(ValueError, match="MAX_ATLAS_POINTS"):
         at.atlas_from_rest(BODY, np.linspace(0.8, 0.9, 600) * math.pi, np.linspace(0, 1, 600))
     with pytest.raises(ValueError, match="every must be"):
-        at.confirm_atlas(small_atlas, BODY, every=0)
+        confirm_atlas(small_atlas, BODY, every=0)
     with pytest.raises(ValueError, match="points must lie"):
-        at.confirm_atlas(small_atlas, BODY, every=None, points=[(2, 0)])
+        confirm_atlas(small_atlas, BODY, every=None, points=[(2, 0)])
 
 
 def test_atlas_command(tmp_path, capsys):
@@ -143,13 +144,13 @@ def test_a_start_near_the_visible_line_reverses(rates_atlas):
 def test_ode_release_atlas_is_the_confirmation(small_atlas):
     """The release plane by the ODE gives, at every point, what confirm_atlas's ODE gives there (bit for bit)."""
     ode = at.atlas_from_rest(BODY, THETA0, PSI0, 400.0, method="ode", progress=False, threads=2)
-    check = at.confirm_atlas(small_atlas, BODY, every=1, progress=False)
+    check = confirm_atlas(small_atlas, BODY, every=1, progress=False)
     assert ode.observables == at.ATLAS_OBSERVABLES  # the ODE's atlas has no chaos layer
     for name in at.ATLAS_OBSERVABLES:
         assert np.array_equal(ode.values[name].filled(np.nan).ravel(), check.ode[name].filled(np.nan),
                               equal_nan=True), name
     with pytest.raises(ValueError, match="atlas.method must be 'map'"):
-        at.confirm_atlas(ode, BODY, every=1)
+        confirm_atlas(ode, BODY, every=1)
 
 
 def test_rates_plane_refusals():
@@ -222,8 +223,8 @@ def test_chaos_layer_is_the_maps_indicators(small_atlas):
     with pytest.raises(ValueError, match="chaos must be True, False or None"):
         at.atlas_from_rest(BODY, THETA0, PSI0, 400.0, chaos="yes")
     with pytest.raises(ValueError, match="chaos must be None, False, or True"):
-        at.confirm_atlas(plain, BODY, every=1, chaos=True)
-    check = at.confirm_atlas(plain, BODY, every=5, progress=False)  # no layer, nothing to confirm of it
+        confirm_atlas(plain, BODY, every=1, chaos=True)
+    check = confirm_atlas(plain, BODY, every=5, progress=False)  # no layer, nothing to confirm of it
     assert "megno" not in check.ode
     with pytest.raises(ValueError, match="no chaos layer"):
         check.verdict_agrees
@@ -236,7 +237,7 @@ def test_chaos_layer_confirmed_by_the_odes_megno(chaos_atlas):
     from rocknroller.numerics.variational import direct_chaos_indicators
 
     assert chaos_atlas.regular.tolist() == [[False, True]]
-    check = at.confirm_atlas(chaos_atlas, CHAOS_BODY, every=1, progress=False, threads=2)
+    check = confirm_atlas(chaos_atlas, CHAOS_BODY, every=1, progress=False, threads=2)
     assert check.verdict_agrees.tolist() == [True, True] and check.verdict_agreement == 1.0
     assert check.ode["megno"][0] > 3.0 >= check.ode["megno"][1]
     ref = direct_chaos_indicators(CHAOS_BODY, chaos_atlas.state(0, 0), 1000.0).indicators
@@ -244,7 +245,7 @@ def test_chaos_layer_confirmed_by_the_odes_megno(chaos_atlas):
     assert check.rel_error["megno"][0] == chaos_atlas.values["megno"][0, 0] - ref.megno
     assert check.map["megno"][1] == chaos_atlas.values["megno"][0, 1]
     with pytest.raises(ValueError, match="variational runs"):
-        at.confirm_atlas(chaos_atlas, CHAOS_BODY, every=1, progress=False, budget=1e-4)
+        confirm_atlas(chaos_atlas, CHAOS_BODY, every=1, progress=False, budget=1e-4)
 
 
 def test_atlas_command_chaos_layer(tmp_path, capsys):

@@ -12,7 +12,8 @@ import pytest
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.slow.map.limits import stable_rocking_psi
-from rocknroller.analysis.slow.dynamics.periodic_orbits import periodic_orbit, periodic_start
+from rocknroller.analysis.slow.dynamics.periodic_orbits import periodic_orbit
+from rocknroller.analysis.slow.dynamics.periodic_starts import periodic_start
 from rocknroller.analysis.slow.map.table import load_or_build_table
 from rocknroller.cli import main
 
@@ -68,7 +69,7 @@ def test_pure_rocking_is_found_where_the_second_order_map_moves_it_by_its_tables
     """At 0.85pi, K = 3.9, order 2, one step of the map from Q = 0, Theta = pi moves it by 1e-11 in Theta (the
     harmonics of k2 cancel at Q = 0 to the tables' accuracy only): the start is pure rocking by symmetry, and its
     fixed point of the map is found nearby by Newton's method, to the residual periodic_orbit solves to."""
-    from rocknroller.analysis.slow.dynamics.periodic_orbits import on_rocking_axis
+    from rocknroller.analysis.slow.dynamics.periodic_starts import on_rocking_axis
 
     assert on_rocking_axis(0.0) and on_rocking_axis(0.5 * math.pi) and on_rocking_axis(math.pi)
     assert on_rocking_axis(-1.5 * math.pi) and not on_rocking_axis(1e-9) and not on_rocking_axis(0.25 * math.pi)
