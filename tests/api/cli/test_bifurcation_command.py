@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.slow import table as slow_table
-from rocknroller.analysis.slow import periodic_orbits
+from rocknroller.analysis.slow.map import table as slow_table
+from rocknroller.analysis.slow.dynamics import periodic_orbits
 from rocknroller.analysis.slow.dynamics.periodic_orbits import continue_orbit
 from rocknroller.cli import build_parser, main
 

@@ -13,7 +13,7 @@ import pytest
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.slow import prediction as av
-from rocknroller.analysis.slow import region as sr
+from rocknroller.analysis.slow.map import region as sr
 from rocknroller.analysis.slow.map.chart import _IDX, _basis, _cheb_nodes
 from rocknroller.analysis.slow.map.exact_step import STEP_NAMES
 from rocknroller.analysis.slow.map.orbit import second_order_step
