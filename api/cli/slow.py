@@ -11,10 +11,12 @@ undefined is null: the slow period when the samples cross their mean fewer than 
 closed form when ψ0 is its unstable equilibrium, and the relative errors of a quantity the ODE gives as 0
 or that is undefined.
 
-Order and chaos (issue 23).  Every prediction reports the map's verdict, regular or chaotic (MEGNO ≤ 3 or above;
-:mod:`rocknroller.numerics.megno`), MEGNO, the finite-time Lyapunov exponent per unit time and per rock, and the
-predictability horizon (:meth:`rocknroller.analysis.slow.prediction.SlowPrediction.horizon`: the time at which the map's
-own per-step error, grown at that rate, reaches 10 % of the extents).  A t_end past the horizon is labelled
+Order and chaos.  Every prediction reports the map's verdict over a stated span (max(t_end, 1000 rocks), whatever
+t_end is), regular, chaotic or undecided (MEGNO and λ·span must agree: the criterion is printed;
+:mod:`rocknroller.analysis.slow.chaos`), MEGNO, the finite-time Lyapunov exponent per unit time and per rock, and the
+predictability horizon (:meth:`rocknroller.analysis.slow.prediction.SlowPrediction.horizon_estimate`: the time at which
+the map − ODE error reaches 10 % of the extents, measured over a short direct probe and extrapolated by its growth law;
+its method is printed).  A t_end past the horizon is labelled
 (``beyond_horizon``; "predictions past t = ... are statistical only"), in the text, the JSON and the CSV (``--csv``:
 the maxima, each with ``beyond_horizon``).  For ε = 0 from rest (pure rocking) there are no indicators and no horizon
 (null, with the reason).  Beside a release's past-horizon numbers stands the statistical prediction, the map's
@@ -68,9 +70,10 @@ def register(sub: argparse._SubParsersAction) -> None:
         "and cached; the costs of every build: docs/performance.md). Prints the slow "
         "period of Theta = 2 psi, the extents of Q_R and Q_J, the azimuth span Phi of phi mod pi, the rocks "
         "spent in each critical region, the period-doubling eps, and the map's order or chaos: regular or chaotic "
-        "(MEGNO <= 3 or above), MEGNO, the Lyapunov exponent per unit time and per rock, and the predictability "
-        "horizon (the time at which the map's own per-step error, grown at that rate, reaches 10% of the extents; a t_end past it is "
-        "labelled: the predictions past it are statistical only, and for a release from rest the "
+        "(MEGNO and lambda*span agree; else undecided), over a span of max(t_end, 1000 rocks), MEGNO, the "
+        "Lyapunov exponent per unit time and per rock, and the predictability horizon (the time at which the map - "
+        "ODE error reaches 10% of the extents, measured over a 40-rock direct probe and extrapolated by its growth "
+        "law; a t_end past it is labelled: the predictions past it are statistical only, and for a release from rest the "
         "statistical prediction, the map's ensemble over a small ball of releases, is given beside them: "
         "--statistics). Valid for 0 <= eps with K = eps*kappa < 4 "
         f"and, for releases from rest, 0 < theta0 <= {_HI:g}pi: the release tables in [{_LO:g}pi, {_HI:g}pi], the "
