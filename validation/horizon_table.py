@@ -137,14 +137,18 @@ def main() -> None:
         print(name, r, flush=True)
     cols = ("K", "order", "verdict", "megno", "lyapunov", "span", "twins", "megno_ode", "horizon", "method", "t10",
             "max_error", "verdict_span", "horizon_span", "verdict_2span", "horizon_2span", "cpu_probe")
-    print(f"\n| start | ε | {' | '.join(cols)} | ratio horizon/t10 |")
-    print("|---|---|" + "---|" * (len(cols) + 1))
+    print("\n| start | ε | K | map: verdict (MEGNO, λ) over the span | span | twins | direct MEGNO | horizon (method) "
+          "| t_10 | horizon/t_10 | largest error to t_end | t_end = span, 2 span: verdicts, horizons |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for name, body, r in rows:
         if r["note"]:
-            print(f"| {name} | {body.epsilon:.3g} | {r['note']} |")
+            print(f"| {name} | {body.epsilon:.3g} | | {r['note']} | | | | | | | | |")
             continue
         ratio = r["horizon"] / r["t10"] if math.isfinite(r["t10"]) else math.nan
-        print(f"| {name} | {body.epsilon:.3g} | " + " | ".join(_f(r[c]) for c in cols) + f" | {_f(ratio)} |")
+        print(f"| {name} | {body.epsilon:.3g} | {r['K']:.3g} | {r['verdict']} ({r['megno']:.3g}, "
+              f"{r['lyapunov']:.2g}) | {r['span']:.0f} | {r['twins']} | {r['megno_ode']:.3g} | {_f(r['horizon'], '.4g')} "
+              f"({r['method']}) | {_f(r['t10'], '.4g')} | {_f(ratio)} | {r['max_error']:.2g} | {r['verdict_span']}, "
+              f"{r['verdict_2span']}; {_f(r['horizon_span'], '.4g')}, {_f(r['horizon_2span'], '.4g')} |")
     done = [r for _, _, r in rows if not r["note"]]
     agree = sum(r["verdict"] == r["twins"] for r in done)
     agree_megno = sum(r["verdict"] == ("chaotic" if r["megno_ode"] > MEGNO_CHAOTIC else "regular") for r in done)
