@@ -161,9 +161,8 @@ def main() -> None:
     print(f"\nstarts run: {len(done)} of {len(rows)}; map verdict = twins' at {agree}, = direct MEGNO's at "
           f"{agree_megno}; chaotic or undecided with a measured t_10: horizon within 3x at {within} of "
           f"{len(chaotic)}; error < 1 % over t_end: horizon >= t_end at {quiet_ok} of {len(quiet)}; t_end = span and "
-          f"2 span: same verdict and horizons within 1.5x at {stable}; CPU of the horizon's probe: median "
-          f"{np.median([r['cpu_probe'] for r in done]):.3g} s, of the map's prediction "
-          f"{np.median([r['cpu_map'] for r in done]):.3g} s")
+          f"2 span: same verdict and horizons within 1.5x at {stable}; CPU of the horizon's probe over the map's "
+          f"prediction: median {np.median([r['cpu_probe'] / r['cpu_map'] for r in done]):.2g}")
     if args.csv is not None:
         keys = ("note", "cpu_map") + cols
         write_csv(args.csv / "horizon_table.csv",
