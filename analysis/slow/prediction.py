@@ -262,7 +262,7 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
                         t_end: float = 1000.0, *,
                         table: SlowMapTable | None = None, build: bool = True, order: int | None = None,
                         second: "SecondOrderTable | None" = None, progress: bool | None = None,
-                        indicators: bool = True) -> SlowPrediction:
+                        indicators: bool = True, span: float | None = None) -> SlowPrediction:
     """Predict the slow (Q_R, Q_J) motion of ``body`` released from rest at θ0 with spin angle ψ0, or from any
     initial state.
 
@@ -301,6 +301,10 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
         Carry a tangent vector along the map and give the prediction its chaos indicators (``chaos``, ``regular``)
         and its predictability horizon (:meth:`SlowPrediction.horizon`); ~1.5× the map's own cost
         (benchmarks/bench_chaos_map.py).
+    span : float, optional
+        The time over which the indicators are measured, ≥ t_end: by default max(t_end, ``SPAN_ROCKS`` · T_θ(0))
+        (:func:`rocknroller.analysis.slow.chaos.indicator_span`; ~1000 rocks, whatever t_end is); t_end itself for
+        indicators over the run only (an atlas's, compared with the direct motion's over the same t_end).
 
     Returns
     -------
@@ -326,13 +330,14 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
         if psi0 is not None:
             raise ValueError("psi0 is part of the initial state: give either (theta0, psi0) or an EulerState")
         return _predict_from_state(body, theta0, t_end, table=table, build=build, order=order, second=second,
-                                   progress=progress, indicators=indicators)
+                                   progress=progress, indicators=indicators, span=span)
     if psi0 is None:
         raise ValueError("psi0 must be given with a release angle theta0")
     theta0 = check_release_theta0(theta0)
     if table is None and releases_on_region_tables(theta0):
         return _predict_from_state(body, EulerState(float(theta0), 0.0, float(psi0)), t_end, table=None, build=build,
-                                   order=order, second=second, progress=progress, indicators=indicators)
+                                   order=order, second=second, progress=progress, indicators=indicators,
+                                   span=span)
     theta0 = check_map_theta0(theta0)
     eps, psi0 = body.epsilon, as_float("psi0", psi0)
     if not math.isfinite(psi0):
@@ -369,16 +374,20 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
     second = second if order == 2 else None
     T0 = centre_period(table)
     run = _run(lambda t: iterate_slow_map(table, eps, psi0, t, second=second, tangent=indicators), t_end, T0,
-               indicators)
+               indicators, span)
     chaos, probe = _indicators(body, EulerState(float(theta0), 0.0, psi0), run, run, T0, indicators)
     return replace(_prediction(eps, theta0, psi0, t_end, K, _until(run, t_end), table.body), order=order, chaos=chaos,
                    horizon_probe=probe)
 
 
-def _run(iterate: Callable[[float], SlowSeries], t_end: float, T0: float, indicators: bool) -> SlowSeries:
-    """The map's run from its start over the indicators' span (``indicator_span``; t_end without indicators), or
-    over t_end where the orbit leaves the tables after t_end and before the span's end (the span is then t_end)."""
-    span = indicator_span(t_end, T0) if indicators else float(t_end)
+def _run(iterate: Callable[[float], SlowSeries], t_end: float, T0: float, indicators: bool,
+         span: float | None) -> SlowSeries:
+    """The map's run from its start over the indicators' span (``indicator_span``, or ``span``; t_end without
+    indicators), or over t_end where the orbit leaves the tables after t_end and before the span's end (the span is
+    then t_end)."""
+    if span is not None and not (math.isfinite(span) and span >= t_end):
+        raise ValueError(f"span must be a time >= t_end, got span={span!r}")
+    span = float(t_end) if not indicators else indicator_span(t_end, T0) if span is None else float(span)
     try:
         return iterate(span)
     except AveragingRangeError:
@@ -457,7 +466,8 @@ def _prediction(eps: float, theta0: float, psi0: float, t_end: float, K: float, 
 
 def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: SlowMapTable | None,
                         build: bool, order: int = 1, second: "SecondOrderTable | None" = None,
-                        progress: bool | None = None, indicators: bool = True) -> SlowPrediction:
+                        progress: bool | None = None, indicators: bool = True,
+                        span: float | None = None) -> SlowPrediction:
     """predict_slow_motion from an initial state: its first maximum, then the map on the region tables (and for
     order 2 the second-order tables on their chart)."""
     from rocknroller.analysis.routh.steady_rolling import boundary_distance
@@ -507,7 +517,7 @@ def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: S
     second = second if order == 2 else None
     T0 = centre_period(table)
     rest = _run(lambda t: iterate_slow_map(table, eps, fm.psi, t - fm.t, Q0=(fm.QR, fm.QJ), phi0=fm.phi,
-                                           second=second, tangent=indicators), t_end, T0, indicators)
+                                           second=second, tangent=indicators), t_end, T0, indicators, span)
     first = [fm.t > 0.0]  # a start that is itself a maximum is not a sample (the ODE reports none at t = 0)
     series = SlowSeries(t=np.concatenate([[fm.t][: sum(first)], fm.t + rest.t]),
                         QR=np.concatenate([[fm.QR][: sum(first)], rest.QR]),

@@ -131,3 +131,11 @@ def test_regular_horizon_past_3000(theta0, eps, psi0):
         later = [av.predict_slow_motion(body, start.theta, psi0, t) for t in (pred.chaos.span, 2.0 * pred.chaos.span)]
     assert {p.chaos.verdict for p in later} == {"regular"}
     assert 1.0 / 1.5 < later[1].horizon() / later[0].horizon() < 1.5
+
+
+def test_span_option():
+    """``span`` sets the indicators' span (an atlas's: t_end); one shorter than t_end is refused."""
+    p = av.predict_slow_motion(Body.paper(3e-3), THETA0, 0.05, 300.0, span=300.0)
+    assert p.chaos.span <= 300.0 and p.chaos.span == p.series.t[-1]
+    with pytest.raises(ValueError, match="span must be a time >= t_end"):
+        av.predict_slow_motion(Body.paper(3e-3), THETA0, 0.05, 300.0, span=200.0)
