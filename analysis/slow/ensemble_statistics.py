@@ -231,7 +231,8 @@ def map_ensemble(body: Body, ball: StartBall, t_end: float, *, order: int | None
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", av.AveragingValidityWarning)
         for psi0 in ball.psi0_values():
-            pred = av.predict_slow_motion(body, ball.theta0, float(psi0), t_end, order=order, progress=progress)
+            pred = av.predict_slow_motion(body, ball.theta0, float(psi0), t_end, order=order, progress=progress,
+                                          indicators=False)  # the statistics need the orbit only
             s = pred.series
             members.append(member_statistics(body, s.t, s.QR, s.QJ, t_end))
             rocks.append(s.t.size)
