@@ -1,9 +1,10 @@
 """Order and chaos of the averaged slow map: its chaos indicators and the horizon up to which its point predictions
 hold.  It holds :func:`map_indicators` (MEGNO and the finite-time Lyapunov exponent of a run of the map with a tangent
-vector, by the package's one formula, :func:`rocknroller.numerics.megno.chaos_indicators`), :class:`StepErrorProbe`
-(the map's own error over one step, against the exact step of the direct ODE), :func:`shear_rate` and
-:func:`predictability_horizon` (the time at which that error, grown at the measured rate, reaches a stated fraction
-of the extents), used by :class:`rocknroller.analysis.slow.prediction.SlowPrediction`.
+vector, by the package's one formula, :func:`rocknroller.numerics.megno.chaos_indicators`, with their span and
+verdict: :class:`MapChaos`, :func:`map_verdict`, :func:`indicator_span`), :class:`HorizonProbe` and
+:func:`horizon_from_errors` (the time at which the map − ODE error, measured over a short direct probe and
+extrapolated by its growth law, reaches a stated fraction of the extents: :class:`Horizon`), used by
+:class:`rocknroller.analysis.slow.prediction.SlowPrediction`, and :func:`layer_width`.
 
 The tangent vector.  :func:`rocknroller.analysis.slow.compiled_map.iterate_slow_map` with ``tangent=True`` carries a
 tangent vector w of (u, v, Θ) (Q = u e + v n) through the exact derivative of each step as implemented, from
