@@ -153,7 +153,7 @@ class _HeyokaRun:
             return True
 
         # the step cap is heyoka's own (max_steps: one past the cap, to tell reaching it from needing more); a Python
-        # call per step only to move a bar that is shown (it cost 7 % of a run that shows none, issue 25, item 18):
+        # call per step only to move a bar that is shown (it cost 7 % of a run that shows none):
         # without one, heyoka keeps the GIL released for the whole stretch (threads run in parallel).  The steps
         # themselves are the same either way.
         cap = 0 if self.max_steps is None else self.max_steps - self.n_steps + 1

@@ -2,7 +2,7 @@
 
 The limits elsewhere bound one run, one table or one grid (``numerics.integrate``, ``analysis.slow.map.limits``); a call
 that makes many of them (an ensemble, an atlas, a table of mpmath points) or runs the slow independent check (DOP853)
-for long could still take hours with no sign of it (issue 25, item 24: ``atlas --theta0 0.8pi:0.95pi:3000``, 100 runs
+for long could still take hours with no sign of it (measured: ``atlas --theta0 0.8pi:0.95pi:3000``, 100 runs
 of ``--t-end 1e7``, ``simulate --method scipy --t-end 1e7`` ~5 h, ``table --dps 1000`` on 2000 points).  Such calls
 estimate their CPU time from the rates below and refuse past ``budget`` seconds (default ``WORK_BUDGET_SECONDS``),
 naming the estimate: ``budget=`` in the API (None: no limit), ``--budget`` on the command line.

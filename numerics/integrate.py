@@ -97,7 +97,7 @@ _METHODS = ("heyoka", "scipy")
 
 #: Radians of Λ integrated per stretch when only the turning points are kept (≈ 5·10³ steps, ≈ 9 MB of dense output).
 #: Below glibc's largest mmap threshold (32 MB) a stretch's buffers, freed, are reused by the next: at 2·10⁴ radians
-#: (≈ 36 MB) each stretch mapped fresh pages, 10 % of a long run's CPU in page faults (issue 25, item 18;
+#: (≈ 36 MB) each stretch mapped fresh pages, 10 % of a long run's CPU in page faults (measured;
 #: benchmarks/bench_long_run.py counts them).
 CHUNK_RADIANS = 5.0e3
 #: Most points of the unwrapping grid sampled at once with ``samples=False`` (pieces of a stretch's grid): at most

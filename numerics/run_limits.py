@@ -79,7 +79,7 @@ DT_RADIANS = 0.15
 #: energy: ≈ 0.35 time units, ≈ 40 points per rocking period, for the paper's runs.  The unwrapping does not rest on
 #: it: an interval over which an angle's rate at either end (φ̇, ψ̇ from the state, unbounded near the pole) would turn
 #: it by 2π/3 is bisected down to the output grid's spacing ``DT_RADIANS``/Λ (:mod:`rocknroller.numerics.trajectory`),
-#: so wherever the angles turn fast the grid is at least as fine as the one used before (issue 24), and the turning
+#: so wherever the angles turn fast the grid is at least as fine as the output grid, and the turning
 #: points are the same to the bit (tests/numerics/ensembles/test_batch.py); elsewhere 6.7× fewer points than ``DT_RADIANS``
 #: cut a run's sampling by as much.
 UNWRAP_RADIANS = 1.0

@@ -1,6 +1,6 @@
 """Chaos indicators of the direct motion: a tangent vector integrated along the ODE, sampled at the θ-maxima.
 
-The reference for the slow map's indicators (issue 23): MEGNO and the finite-time maximal Lyapunov exponent of a
+The reference for the slow map's indicators: MEGNO and the finite-time maximal Lyapunov exponent of a
 direct run, in the units the slow map reports them (per unit time and per rock), from the package's one formula,
 :func:`rocknroller.numerics.megno.chaos_indicators`.
 

@@ -31,7 +31,7 @@ BRANCH_STYLE = {"fixed_stable_axis": ("C0", "rocking about the stable axis (fixe
 __all__ = ["MAX_EXACT_FRACTIONS", "MAX_DIAGRAM_THETA0", "BifurcationData", "bifurcation_seconds", "bifurcation_data",
            "bifurcation_figure", "bifurcation_diagram"]
 
-#: ε/ε_pd at which the exact map's orbits are found (the acceptance of issue 23, item 4).
+#: ε/ε_pd at which the exact map's orbits are found (below and past the period doubling).
 EXACT_FRACTIONS = (0.9, 1.05, 1.2, 1.5)
 #: Most fractions of ε_pd at which the exact map's orbits are found for one θ0 (each a Newton solve on direct-ODE
 #: steps, ``EXACT_ORBIT_SECONDS``; above ε_pd a period-2 orbit besides).

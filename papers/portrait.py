@@ -1,6 +1,6 @@
 """Phase portrait of the slow motion: the averaged map's orbits from a grid of starts, in the (Θ, p) plane of the
 standard map and in the (Q_R, Q_J) plane over the critical lines, with the direct ODE's θ-maxima of chosen starts
-overlaid (issue 23, item 3; ``rocknroller portrait``).
+overlaid (``rocknroller portrait``).
 
 The plane.  Near pure rocking the slow map is Chirikov's standard map p' = p + K sin Θ, Θ' = Θ + p' with
 K = ε κ and p = ∇W(0)·Q (docs/averaging.md, "Closed forms"; :mod:`rocknroller.analysis.slow.dynamics.pendulum`).  A start

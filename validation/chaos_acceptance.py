@@ -68,9 +68,10 @@ LAYER_PSI0 = 1e-3
 
 
 def map_chaos(body: Body, theta0: float, psi0: float, t_end: float) -> ChaosIndicators:
-    """The map's indicators (order: the package's default, 2 for these releases) over [0, t_end]; raises
-    :class:`~rocknroller.analysis.slow.map.limits.AveragingRangeError` where the orbit leaves the tables."""
-    chaos = av.predict_slow_motion(body, theta0, psi0, t_end).chaos
+    """The map's indicators (order: the package's default, 2 for these releases) over [0, t_end] (``span=t_end``, the
+    ODE's span); raises :class:`~rocknroller.analysis.slow.map.limits.AveragingRangeError` where the orbit leaves the
+    tables."""
+    chaos = av.predict_slow_motion(body, theta0, psi0, t_end, span=t_end).chaos
     assert chaos is not None
     return chaos
 

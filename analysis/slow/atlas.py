@@ -22,9 +22,10 @@ A sample of a map-made atlas's points (and any the caller names) is run by the d
 (:func:`rocknroller.numerics.ensembles.ensemble.run_ensemble`: in process, threads, or a dask cluster, the same numbers bit for
 bit), and the map's relative errors there are returned beside the atlas.
 
-Order and chaos (issue 23, item 6).  A map-made release atlas also carries, by default, the map's own chaos
+Order and chaos.  A map-made release atlas also carries, by default, the map's own chaos
 indicators at every point (``CHAOS_OBSERVABLES``): MEGNO and the finite-time Lyapunov exponent per unit time of the
-run (:func:`rocknroller.analysis.slow.dynamics.chaos.map_indicators`, the tangent vector that ``predict_slow_motion`` carries;
+run over t_end, the atlas's span (:func:`rocknroller.analysis.slow.dynamics.chaos.map_indicators`, the tangent vector that
+``predict_slow_motion`` carries, with ``span=t_end``;
 ~1.5-1.8x the map's cost without it: benchmarks/bench_chaos_map.py), masked where a run has fewer than
 :data:`~rocknroller.numerics.megno.MIN_SAMPLES` maxima.  Its verdict, regular (MEGNO ≤
 :data:`~rocknroller.numerics.megno.MEGNO_CHAOTIC` = 3) or chaotic, is :attr:`Atlas.regular`.  :func:`~rocknroller.analysis.slow.atlas_check.confirm_atlas`
@@ -206,8 +207,8 @@ def _rows(body: Body, theta0: NDArray[np.float64], psi0: NDArray[np.float64], t_
             table = None if av.releases_on_region_tables(t0) else av.load_or_build_table(body, t0, build=build)
             for j, p0 in enumerate(psi0):
                 pred = av.predict_slow_motion(body, float(t0), float(p0), t_end, table=table, build=build,
-                                              order=ATLAS_ORDER,
-                                              indicators=chaos)
+                                              order=ATLAS_ORDER, indicators=chaos,
+                                              span=t_end)  # the ODE's check runs over t_end
                 for k, v in enumerate(_values(pred, t_end, chaos)):
                     mask[k, i, j] = v is None
                     out[k, i, j] = 0.0 if v is None else v

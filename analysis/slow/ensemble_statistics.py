@@ -61,7 +61,7 @@ __all__ = ["STATISTICS", "DISTRIBUTION_STATISTICS", "KS_ALPHA", "N_STANDARD_ERRO
 #: The statistics of one member, in this order: region fractions, reversals per 1000 time units, extents.
 STATISTICS = tuple(f"fraction_{r}" for r in REGIONS) + ("full_reversals", "visible_reversals", "QR_extent",
                                                        "QJ_extent")
-#: The statistics whose distributions issue 23's acceptance asks to be consistent (region fractions and reversal
+#: The statistics whose distributions the map and the ODE must give consistently (region fractions and reversal
 #: counts); the extents are compared too, and reported beside them.
 DISTRIBUTION_STATISTICS = STATISTICS[:6]
 #: Significance level of the two-sample KS test: p above it is consistent.
@@ -294,7 +294,7 @@ def map_ensemble(body: Body, ball: StartBall, t_end: float, *, order: int | None
         for psi0 in ball.psi0_values():
             try:
                 pred = av.predict_slow_motion(body, ball.theta0, float(psi0), t_end, order=order, progress=progress,
-                                              indicators=False)
+                                              indicators=False)  # the statistics need the orbit only
             except av.AveragingRangeError:
                 left.append(float(psi0))
                 continue

@@ -61,7 +61,7 @@ import functools
 import math
 import warnings
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Callable
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -70,7 +70,8 @@ from rocknroller.analysis.model.body import Body, as_float
 from rocknroller.analysis.model.diagnostics import azimuth_span, slow_period, span, unwrap_phase
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.routh.reduction import u_ends
-from rocknroller.analysis.slow.dynamics.chaos import HORIZON_FRACTION, StepErrorProbe, predictability_horizon, run_indicators
+from rocknroller.analysis.slow.dynamics.chaos import (HORIZON_FRACTION, PROBE_ROCKS, Horizon, HorizonProbe, MapChaos,
+                                            indicator_span, map_indicators)
 from rocknroller.analysis.slow.map.chart import TABLE_FUNCTIONS, SlowMapTable  # noqa: F401 (re-exported)
 from rocknroller.analysis.slow.map.compiled_map import SlowSeries, centre_period, iterate_slow_map
 from rocknroller.analysis.slow.map.family import first_maximum, rest_energy
@@ -83,7 +84,6 @@ from rocknroller.analysis.slow.map.limits import (K_PERIOD_DOUBLING, MAX_MAXIMA,
 from rocknroller.analysis.slow.map.orbit import symmetric_data
 from rocknroller.analysis.slow.map.table import (REGION_TABLE_ACCURACY, TableNotCachedError, build_table,  # noqa: F401
                                              load_or_build_table)
-from rocknroller.numerics.megno import ChaosIndicators
 
 if TYPE_CHECKING:
     import pandas
@@ -168,13 +168,14 @@ class SlowPrediction:
         and Φ are 0 and the slow period and line slope are None.
     start : the initial state of a start with velocity (None for a release from rest).
     order : the map's order in ε (1 or 2).
-    chaos : the map's chaos indicators (:func:`rocknroller.analysis.slow.dynamics.chaos.map_indicators`: MEGNO, the
-        finite-time Lyapunov exponent per unit time and per rock, ``regular`` by MEGNO ≤ 3), from a tangent vector
-        carried along the map from its start (the first maximum, for a start with velocity).  None for pure rocking
-        (ε = 0 from rest: the map is the identity in Q there, Q ≡ 0 and Θ fixed, and no map is run), for a run of
-        fewer than ``MIN_SAMPLES`` = 8 maxima (too short to measure), and with ``indicators=False``.
-    error_probe : the map's own per-step error along the run, computed when the horizon is first asked for
-        (:class:`rocknroller.analysis.slow.dynamics.chaos.StepErrorProbe`); None where ``chaos`` is.
+    chaos : the map's chaos indicators over their span (:class:`rocknroller.analysis.slow.dynamics.chaos.MapChaos`: MEGNO,
+        the finite-time Lyapunov exponent per unit time and per rock, ``span``, ``verdict`` regular, chaotic or
+        undecided, and its ``criterion``), from a tangent vector carried along the map from its start (the first
+        maximum, for a start with velocity) over ``span`` = max(t_end, ``SPAN_ROCKS`` · T_θ(0)), whatever t_end is.
+        None for pure rocking (ε = 0 from rest: the map is the identity in Q there, Q ≡ 0 and Θ fixed, and no map is
+        run) and with ``indicators=False``.
+    horizon_probe : the map − ODE error over the first ``PROBE_ROCKS`` rocks, the direct ODE run when the horizon is
+        first asked for (:class:`rocknroller.analysis.slow.dynamics.chaos.HorizonProbe`); None where ``chaos`` is.
     body : the symmetric body of the map's tables (whose critical lines :meth:`plot` draws); None for a prediction
         made by hand without it.
 
@@ -207,38 +208,41 @@ class SlowPrediction:
     pure_rocking: bool = False
     start: EulerState | None = field(default=None, repr=False)
     order: int = 1
-    chaos: ChaosIndicators | None = None
-    error_probe: StepErrorProbe | None = field(default=None, repr=False, compare=False)
+    chaos: MapChaos | None = None
+    horizon_probe: HorizonProbe | None = field(default=None, repr=False, compare=False)
     body: Body | None = field(default=None, repr=False)
 
     @property
     def regular(self) -> bool | None:
-        """The map's verdict, regular (MEGNO ≤ 3) or chaotic, over the run; None where ``chaos`` is None."""
-        return None if self.chaos is None else self.chaos.regular
+        """The map's verdict over its span: True (regular), False (chaotic); None where it is undecided or there are
+        no indicators (``chaos.verdict``)."""
+        return None if self.chaos is None or self.chaos.verdict == "undecided" else self.chaos.verdict == "regular"
 
     def horizon(self, fraction: float = HORIZON_FRACTION) -> float:
-        """The predictability horizon: the time at which the map's own per-step error, grown at the measured rate
-        (e^(λt) on a chaotic orbit, linearly by the shear on a regular one), reaches ``fraction`` of the larger extent
-        (:func:`rocknroller.analysis.slow.dynamics.chaos.predictability_horizon`, where the formulas are derived).  Past it the
-        point predictions are statistical only.  The first call runs four exact steps of the direct ODE (~0.1 s).
+        """The predictability horizon: the time since the start at which the map − ODE error reaches ``fraction`` of
+        the extents, measured over a probe window of the direct ODE and extrapolated by its growth law
+        (:meth:`horizon_estimate`; inf where no growth is resolved).  Past it the point predictions are statistical
+        only.  The first call runs the direct ODE over ``PROBE_ROCKS`` rocks (~0.02 s).
 
         Raises
         ------
         ValueError
             For ε = 0 (the map is exact: Routh's sphere is integrable, Q is conserved, and no error grows), without
-            indicators (a run of fewer than 8 maxima, or ``indicators=False``), for an orbit without extent (a fixed
+            indicators (``indicators=False``), for an orbit without extent (a fixed
             point of the map), or ``fraction`` outside (0, 1].
         """
+        return self.horizon_estimate(fraction).t
+
+    def horizon_estimate(self, fraction: float = HORIZON_FRACTION) -> Horizon:
+        """The horizon with its method, probe window and growth rate
+        (:meth:`rocknroller.analysis.slow.dynamics.chaos.HorizonProbe.horizon`); raises as :meth:`horizon`."""
         if self.eps == 0.0:
             raise ValueError("a predictability horizon is not defined for eps = 0: the map is then exact (Routh's "
                              "sphere is integrable: Q_R, Q_J are conserved, and released from rest it rocks in a fixed "
                              "plane), so there is no error to grow")
-        if self.chaos is None or self.error_probe is None:
-            raise ValueError("a predictability horizon needs the chaos indicators: they are measured on runs of at "
-                             "least 8 maxima (give a longer t_end) with indicators=True")
-        probe = self.error_probe
-        return probe.t0 + predictability_horizon(self.chaos, probe.step_error(), max(self.QR_extent, self.QJ_extent),
-                                                 probe.scale, fraction)
+        if self.horizon_probe is None:
+            raise ValueError("a predictability horizon needs the chaos indicators (indicators=True)")
+        return self.horizon_probe.horizon(fraction)
 
     def beyond_horizon(self, fraction: float = HORIZON_FRACTION) -> bool:
         """True if t_end lies past :meth:`horizon` (same errors)."""
@@ -270,7 +274,7 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
                         t_end: float = 1000.0, *,
                         table: SlowMapTable | None = None, build: bool = True, order: int | None = None,
                         second: "SecondOrderTable | None" = None, progress: bool | None = None,
-                        indicators: bool = True) -> SlowPrediction:
+                        indicators: bool = True, span: float | None = None) -> SlowPrediction:
     """Predict the slow (Q_R, Q_J) motion of ``body`` released from rest at θ0 with spin angle ψ0, or from any
     initial state.
 
@@ -309,6 +313,10 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
         Carry a tangent vector along the map and give the prediction its chaos indicators (``chaos``, ``regular``)
         and its predictability horizon (:meth:`SlowPrediction.horizon`); ~1.5× the map's own cost
         (benchmarks/bench_chaos_map.py).
+    span : float, optional
+        The time over which the indicators are measured, ≥ t_end: by default max(t_end, ``SPAN_ROCKS`` · T_θ(0))
+        (:func:`rocknroller.analysis.slow.dynamics.chaos.indicator_span`; ~1000 rocks, whatever t_end is); t_end itself for
+        indicators over the run only (an atlas's, compared with the direct motion's over the same t_end).
 
     Returns
     -------
@@ -348,13 +356,14 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
         if psi0 is not None:
             raise ValueError("psi0 is part of the initial state: give either (theta0, psi0) or an EulerState")
         return _predict_from_state(body, theta0, t_end, table=table, build=build, order=order, second=second,
-                                   progress=progress, indicators=indicators)
+                                   progress=progress, indicators=indicators, span=span)
     if psi0 is None:
         raise ValueError("psi0 must be given with a release angle theta0")
     theta0 = check_release_theta0(theta0)
     if table is None and releases_on_region_tables(theta0):
         return _predict_from_state(body, EulerState(float(theta0), 0.0, float(psi0)), t_end, table=None, build=build,
-                                   order=order, second=second, progress=progress, indicators=indicators)
+                                   order=order, second=second, progress=progress, indicators=indicators,
+                                   span=span)
     theta0 = check_map_theta0(theta0)
     eps, psi0 = body.epsilon, as_float("psi0", psi0)
     if not math.isfinite(psi0):
@@ -390,8 +399,10 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
         elif abs(second.theta0 - theta0) > 1e-15 or second.E0 != table.E0:
             raise ValueError(f"the second-order table is for theta0={second.theta0!r}, not {theta0!r}")
     second = second if order == 2 else None
+    T0 = centre_period(table)
     try:
-        series = iterate_slow_map(table, eps, psi0, t_end, second=second, tangent=indicators)
+        run = _run(lambda t: iterate_slow_map(table, eps, psi0, t, second=second, tangent=indicators), t_end, T0,
+                   indicators, span)
     except ChartWidthError as exc:
         if not own_table:
             raise
@@ -402,11 +413,41 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
                       stacklevel=2)
         return _predict_from_state(body, start, t_end, table=None, build=build,
                                    order=default_order(start) if requested is None else order, progress=progress,
-                                   indicators=indicators)
-    chaos, probe = (run_indicators(table.body, eps, table, second, series, (0.0, 0.0, 2.0 * psi0)) if indicators
-                    else (None, None))
-    return replace(_prediction(eps, theta0, psi0, t_end, K, series, table.body), order=order, chaos=chaos,
-                   error_probe=probe)
+                                   indicators=indicators, span=span)
+    chaos, probe = _indicators(body, EulerState(float(theta0), 0.0, psi0), run, run, T0, indicators)
+    return replace(_prediction(eps, theta0, psi0, t_end, K, _until(run, t_end), table.body), order=order, chaos=chaos,
+                   horizon_probe=probe)
+
+
+def _run(iterate: Callable[[float], SlowSeries], t_end: float, T0: float, indicators: bool,
+         span: float | None) -> SlowSeries:
+    """The map's run from its start over the indicators' span (``indicator_span``, or ``span``; t_end without
+    indicators), or over t_end where the orbit leaves the tables after t_end and before the span's end (the span is
+    then t_end)."""
+    if span is not None and not (math.isfinite(span) and span >= t_end):
+        raise ValueError(f"span must be a time >= t_end, got span={span!r}")
+    span = float(t_end) if not indicators else indicator_span(t_end, T0) if span is None else float(span)
+    try:
+        return iterate(span)
+    except AveragingRangeError:
+        if span == t_end:
+            raise
+        return iterate(float(t_end))
+
+
+def _until(series: SlowSeries, t_end: float) -> SlowSeries:
+    """The maxima of ``series`` at t ≤ t_end."""
+    keep = series.t <= t_end
+    return SlowSeries(*(getattr(series, n)[keep] for n in ("t", "QR", "QJ", "Theta", "phi")),
+                      log_growth=None if series.log_growth is None else series.log_growth[keep])
+
+
+def _indicators(body: Body, start: EulerState, run: SlowSeries, series: SlowSeries, T0: float,
+                indicators: bool) -> tuple[MapChaos | None, HorizonProbe | None]:
+    """The indicators of the map's ``run`` (from its start, over its span) and the probe of its horizon along
+    ``series`` (the maxima from the start); (None, None) without indicators."""
+    chaos = map_indicators(run.t, run.log_growth) if indicators else None
+    return chaos, None if chaos is None else HorizonProbe(body, start, series, chaos, PROBE_ROCKS * T0)
 
 
 def _warn_validity(eps: float, table: SlowMapTable) -> None:
@@ -465,7 +506,8 @@ def _prediction(eps: float, theta0: float, psi0: float, t_end: float, K: float, 
 
 def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: SlowMapTable | None,
                         build: bool, order: int = 1, second: "SecondOrderTable | None" = None,
-                        progress: bool | None = None, indicators: bool = True) -> SlowPrediction:
+                        progress: bool | None = None, indicators: bool = True,
+                        span: float | None = None) -> SlowPrediction:
     """predict_slow_motion from an initial state: its first maximum, then the map on the region tables (and for
     order 2 the second-order tables on their chart)."""
     from rocknroller.analysis.routh.steady_rolling import boundary_distance
@@ -513,10 +555,9 @@ def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: S
     eps = body.epsilon
     _warn_validity(eps, table)
     second = second if order == 2 else None
-    rest = iterate_slow_map(table, eps, fm.psi, t_end - fm.t, Q0=(fm.QR, fm.QJ), phi0=fm.phi, second=second,
-                            tangent=indicators)
-    chaos, probe = (run_indicators(table.body, eps, table, second, rest, (fm.QR, fm.QJ, 2.0 * fm.psi), fm.t)
-                    if indicators else (None, None))
+    T0 = centre_period(table)
+    rest = _run(lambda t: iterate_slow_map(table, eps, fm.psi, t - fm.t, Q0=(fm.QR, fm.QJ), phi0=fm.phi,
+                                           second=second, tangent=indicators), t_end, T0, indicators, span)
     first = [fm.t > 0.0]  # a start that is itself a maximum is not a sample (the ODE reports none at t = 0)
     series = SlowSeries(t=np.concatenate([[fm.t][: sum(first)], fm.t + rest.t]),
                         QR=np.concatenate([[fm.QR][: sum(first)], rest.QR]),
@@ -525,8 +566,10 @@ def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: S
                         phi=np.concatenate([[fm.phi][: sum(first)], rest.phi]),
                         log_growth=None if rest.log_growth is None
                         else np.concatenate([[0.0][: sum(first)], rest.log_growth]))
-    return replace(_prediction(eps, float(start.theta), float(start.psi), t_end, eps * table.kappa, series,
-                               table.body, start=start), order=order, chaos=chaos, error_probe=probe)
+    chaos, probe = _indicators(body, start, rest, series, T0, indicators)
+    return replace(_prediction(eps, float(start.theta), float(start.psi), t_end, eps * table.kappa,
+                               _until(series, t_end), table.body, start=start), order=order, chaos=chaos,
+                   horizon_probe=probe)
 
 
 def critical_regions(QR: ArrayLike, QJ: ArrayLike, t: ArrayLike, body: Body):

@@ -183,8 +183,8 @@ def run(args: argparse.Namespace) -> int:
               "reversals per 1000 time units; ode_* and err_* only at confirmed points "
               "(err: map/ODE - 1, or map - ODE for the reversal counts, megno and lyapunov)"]
     if "megno" in names:
-        header.append("megno, lyapunov: the map's MEGNO and finite-time Lyapunov exponent per unit time over t_end "
-                      "(regular: MEGNO <= 3); ode_megno, ode_lyapunov: the direct motion's (variational equations "
+        header.append("megno, lyapunov: the map's MEGNO and finite-time Lyapunov exponent per unit time over the span "
+                      f"t_end = {args.t_end:g} (criterion: regular if MEGNO <= 3, else chaotic); ode_megno, ode_lyapunov: the direct motion's (variational equations "
                       "over the same span); verdict_agrees: the same regular/chaotic verdict")
     R, C = np.meshgrid(atlas.rows, atlas.cols, indexing="ij")
     cols: dict[str, list] = {atlas.row_name: R.ravel().tolist(), atlas.col_name: C.ravel().tolist()}

@@ -11,10 +11,12 @@ undefined is null: the slow period when the samples cross their mean fewer than 
 closed form when ψ0 is its unstable equilibrium, and the relative errors of a quantity the ODE gives as 0
 or that is undefined.
 
-Order and chaos (issue 23).  Every prediction reports the map's verdict, regular or chaotic (MEGNO ≤ 3 or above;
-:mod:`rocknroller.numerics.megno`), MEGNO, the finite-time Lyapunov exponent per unit time and per rock, and the
-predictability horizon (:meth:`rocknroller.analysis.slow.prediction.SlowPrediction.horizon`: the time at which the map's
-own per-step error, grown at that rate, reaches 10 % of the extents).  A t_end past the horizon is labelled
+Order and chaos.  Every prediction reports the map's verdict over a stated span (max(t_end, 1000 rocks), whatever
+t_end is), regular, chaotic or undecided (MEGNO and λ·span must agree: the criterion is printed;
+:mod:`rocknroller.analysis.slow.dynamics.chaos`), MEGNO, the finite-time Lyapunov exponent per unit time and per rock, and the
+predictability horizon (:meth:`rocknroller.analysis.slow.prediction.SlowPrediction.horizon_estimate`: the time at which
+the map − ODE error reaches 10 % of the extents, measured over a short direct probe and extrapolated by its growth law;
+its method is printed).  A t_end past the horizon is labelled
 (``beyond_horizon``; "predictions past t = ... are statistical only"), in the text, the JSON and the CSV (``--csv``:
 the maxima, each with ``beyond_horizon``).  For ε = 0 from rest (pure rocking) there are no indicators and no horizon
 (null, with the reason).  Beside a release's past-horizon numbers stands the statistical prediction, the map's
@@ -71,9 +73,10 @@ def register(sub: argparse._SubParsersAction) -> None:
         "and cached; the costs of every build: docs/performance.md). Prints the slow "
         "period of Theta = 2 psi, the extents of Q_R and Q_J, the azimuth span Phi of phi mod pi, the rocks "
         "spent in each critical region, the period-doubling eps, and the map's order or chaos: regular or chaotic "
-        "(MEGNO <= 3 or above), MEGNO, the Lyapunov exponent per unit time and per rock, and the predictability "
-        "horizon (the time at which the map's own per-step error, grown at that rate, reaches 10% of the extents; a t_end past it is "
-        "labelled: the predictions past it are statistical only, and for a release from rest the "
+        "(MEGNO and lambda*span agree; else undecided), over a span of max(t_end, 1000 rocks), MEGNO, the "
+        "Lyapunov exponent per unit time and per rock, and the predictability horizon (the time at which the map - "
+        "ODE error reaches 10% of the extents, measured over a 40-rock direct probe and extrapolated by its growth "
+        "law; a t_end past it is labelled: the predictions past it are statistical only, and for a release from rest the "
         "statistical prediction, the map's ensemble over a small ball of releases, is given beside them: "
         "--statistics). Valid for 0 <= eps with K = eps*kappa < 4 "
         f"and, for releases from rest, 0 < theta0 <= {_HI:g}pi: the release tables in [{_LO:g}pi, {_HI:g}pi], the "
@@ -366,30 +369,42 @@ def _finish(args: argparse.Namespace, body: Any, pred: Any, pend: Any, start: An
 
 
 def _chaos_summary(pred: Any) -> dict[str, Any]:
-    """The summary's entries on order and chaos: ``chaos`` (regular, MEGNO, λ, 1/λ; null with ``chaos_note`` where
-    there are no indicators), ``horizon`` (t, fraction, the per-step error, the label; null with ``horizon_note`` where
-    it is not defined) and ``beyond_horizon`` (t_end past the horizon; null without one)."""
-    from rocknroller.analysis.slow.dynamics.chaos import HORIZON_FRACTION
-
+    """The summary's entries on order and chaos: ``chaos`` (verdict, regular, MEGNO, λ, 1/λ, the span and the
+    criterion; null with ``chaos_note`` where there are no indicators), ``horizon`` (t, null if infinite; its method,
+    fraction, probe window and error, rate, the label; null with ``horizon_note`` where it is not defined) and
+    ``beyond_horizon`` (t_end past the horizon; null without one)."""
     out: dict[str, Any] = {"chaos": None, "horizon": None, "beyond_horizon": None}
     ch = pred.chaos
     if ch is None:
-        out["chaos_note"] = ("eps = 0 from rest: pure rocking, the map is the identity in Q (no indicators)"
-                             if pred.pure_rocking else "fewer than 8 maxima: too short to measure the indicators")
+        out["chaos_note"] = "eps = 0 from rest: pure rocking, the map is the identity in Q (no indicators)"
     else:
-        out["chaos"] = {"regular": ch.regular, "megno": ch.megno, "lyapunov": ch.lyapunov,
+        out["chaos"] = {"verdict": ch.verdict, "regular": pred.regular, "megno": ch.megno, "lyapunov": ch.lyapunov,
                         "lyapunov_per_rock": ch.lyapunov_per_rock,
-                        "lyapunov_time": None if ch.lyapunov == 0.0 else ch.lyapunov_time}  # 1/λ; null for λ = 0
+                        "lyapunov_time": None if ch.lyapunov == 0.0 else ch.lyapunov_time,  # 1/λ; null for λ = 0
+                        "span": ch.span, "criterion": ch.criterion}
     try:
-        t_h = pred.horizon()
+        h = pred.horizon_estimate()
     except ValueError as exc:
         out["horizon_note"] = str(exc)
         return out
-    beyond = bool(pred.t_end > t_h)
-    out["horizon"] = {"t": t_h, "fraction": HORIZON_FRACTION, "step_error": pred.error_probe.step_error(),
-                      "statistical_only": _STATISTICAL.format(t=t_h) if beyond else None}
+    beyond = bool(pred.t_end > h.t)
+    out["horizon"] = {"t": h.t if math.isfinite(h.t) else None, "method": h.method, "fraction": h.fraction,
+                      "probe_t": h.probe_t, "probe_error": h.probe_error, "rate": h.rate,
+                      "statistical_only": _STATISTICAL.format(t=h.t) if beyond else None}
     out["beyond_horizon"] = beyond
     return out
+
+
+#: How each method of the horizon found it, for the text.
+_HORIZON_METHODS = {
+    "measured": "measured: the map - ODE error reached {f:.0%} of the extents within the direct probe of t <= {p:.4g}",
+    "exponential": "the map - ODE error {e:.2g} of the extents at the end of the direct probe (t = {p:.4g}), grown "
+                   "exponentially at {r:.3g} per unit time",
+    "linear": "the map - ODE error {e:.2g} of the extents at the end of the direct probe (t = {p:.4g}), grown linearly "
+              "at its measured slope {r:.3g} per unit time",
+    "unresolved": "no growth of the map - ODE error ({e:.2g} of the extents) resolved over the direct probe of "
+                  "t <= {p:.4g}: beyond any t_end",
+}
 
 
 def _chaos_lines(s: dict[str, Any]) -> list[str]:
@@ -398,14 +413,18 @@ def _chaos_lines(s: dict[str, Any]) -> list[str]:
     if ch is None:
         lines = [f"order/chaos: not measured ({s['chaos_note']})"]
     else:
-        kind = "regular" if ch["regular"] else "CHAOTIC"
-        lines = [f"order/chaos: {kind} (MEGNO = {ch['megno']:.4g}; <= 3 regular); Lyapunov exponent "
-                 f"{ch['lyapunov']:.4g} per unit time, {ch['lyapunov_per_rock']:.4g} per rock"]
+        kind = {"regular": "regular", "chaotic": "CHAOTIC", "undecided": "UNDECIDED (MEGNO and lambda disagree)"}
+        from rocknroller.analysis.slow.dynamics.chaos import SPAN_ROCKS
+
+        lines = [f"order/chaos over the span t <= {ch['span']:.6g} (max(t_end, {SPAN_ROCKS} rocks)): {kind[ch['verdict']]} "
+                 f"(MEGNO = {ch['megno']:.4g}; Lyapunov exponent {ch['lyapunov']:.4g} per unit time, "
+                 f"{ch['lyapunov_per_rock']:.4g} per rock; {ch['criterion']})"]
     if h is None:
         lines.append(f"predictability horizon: not defined ({s['horizon_note']})")
         return lines
-    lines.append(f"predictability horizon: t = {h['t']:.6g} (the map's per-step error {h['step_error']:.3g}, grown at "
-                 f"the measured rate, reaches {h['fraction']:.0%} of the extents)")
+    how = _HORIZON_METHODS[h["method"]].format(f=h["fraction"], p=h["probe_t"], e=h["probe_error"], r=h["rate"])
+    t = "infinite" if h["t"] is None else f"t = {h['t']:.6g}"
+    lines.append(f"predictability horizon: {t} (map - ODE error reaches {h['fraction']:.0%} of the extents; {how})")
     if s["beyond_horizon"]:
         lines.append(f"beyond the horizon: t_end = {s['t_end']:g} > {h['t']:.6g}: {h['statistical_only']}")
     return lines
@@ -418,9 +437,10 @@ def _write_csv(path: Path, pred: Any, body: Any, s: dict[str, Any]) -> Path:
     from rocknroller.papers.output import angle_text, write_csv
 
     ser = pred.series
-    t_h = None if s["horizon"] is None else s["horizon"]["t"]
+    t_h = None if s["horizon"] is None else (math.inf if s["horizon"]["t"] is None else s["horizon"]["t"])
     header = [f"rocknroller slow: body {body.describe()}; eps={body.epsilon_text()}; "
-              f"theta0={angle_text(s['theta0'])}; psi0={angle_text(s['psi0'])}; t_end={s['t_end']!r}; map of order {pred.order} in eps; K={s['K']!r}",
+              f"theta0={angle_text(s['theta0'])}; psi0={angle_text(s['psi0'])}; t_end={s['t_end']!r}; "
+              f"map of order {pred.order} in eps; K={s['K']!r}",
               *_chaos_lines(s), *statistics_lines(s),
               "columns: the maxima of theta: t, Q_R, Q_J, Theta = 2 psi (unwrapped), phi, critical region, "
               "log_growth = ln(|w|/|w0|) of the tangent vector since the map's start (empty without indicators), "

@@ -1,4 +1,4 @@
-"""``rocknroller slow --statistics``: the statistical prediction beside the point prediction (issue 23, item 6).
+"""``rocknroller slow --statistics``: the statistical prediction beside the point prediction.
 
 Past the predictability horizon the map's point predictions hold statistically only
 (:meth:`rocknroller.analysis.slow.prediction.SlowPrediction.horizon`).  Beside them ``slow`` then gives the

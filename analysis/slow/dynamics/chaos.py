@@ -1,9 +1,10 @@
 """Order and chaos of the averaged slow map: its chaos indicators and the horizon up to which its point predictions
 hold.  It holds :func:`map_indicators` (MEGNO and the finite-time Lyapunov exponent of a run of the map with a tangent
-vector, by the package's one formula, :func:`rocknroller.numerics.megno.chaos_indicators`), :class:`StepErrorProbe`
-(the map's own error over one step, against the exact step of the direct ODE), :func:`shear_rate` and
-:func:`predictability_horizon` (the time at which that error, grown at the measured rate, reaches a stated fraction
-of the extents), used by :class:`rocknroller.analysis.slow.prediction.SlowPrediction`.
+vector, by the package's one formula, :func:`rocknroller.numerics.megno.chaos_indicators`, with their span and
+verdict: :class:`MapChaos`, :func:`map_verdict`, :func:`indicator_span`), :class:`HorizonProbe` and
+:func:`horizon_from_errors` (the time at which the map − ODE error, measured over a short direct probe and
+extrapolated by its growth law, reaches a stated fraction of the extents: :class:`Horizon`), used by
+:class:`rocknroller.analysis.slow.prediction.SlowPrediction`, and :func:`layer_width`.
 
 The tangent vector.  :func:`rocknroller.analysis.slow.map.compiled_map.iterate_slow_map` with ``tangent=True`` carries a
 tangent vector w of (u, v, Θ) (Q = u e + v n) through the exact derivative of each step as implemented, from
@@ -12,22 +13,37 @@ a change δQ changes the twist by ≈ S|δQ|, so both parts of w are phases, as 
 starts from that same vector.  The samples of the indicators are the times t_k of the map's maxima after its start
 and ℓ_k = ln(‖w_k‖/‖w_0‖) in the norm √(S²(w_u² + w_v²) + w_Θ²).
 
-The predictability horizon.  The map of order p makes an error δ per step (O(ε^(p+1)) per rock): measured here as the
-largest difference, in the same scaled norm, between one step of the map and one exact step of the direct ODE from
-the same maximum (:func:`rocknroller.analysis.slow.map.exact_step.exact_step`), over the start and three maxima spread
-along the run (:class:`StepErrorProbe`).  An error made at one step grows afterwards as a tangent vector does; summed
-over the steps (continuously, n rocks of mean length T̄ = t_N/N):
+The span.  A prediction's indicators are measured over a span that its start fixes, not over the t_end asked for:
+``span = max(t_end, SPAN_ROCKS · T_θ(0))`` (:func:`indicator_span`; T_θ(0) the time between maxima of pure rocking
+at the start's energy), the map being run that far and its series cut at t_end.  Over a span of ~SPAN_ROCKS rocks a
+sticky orbit, which stays near an island for a hundred rocks or more before it leaves, is seen to leave: at 0.93π,
+ε = 5e-3, ψ0 = 0.05 the map's verdict is regular over 80 rocks (MEGNO 2.3) and chaotic from 160 rocks on (MEGNO 6.5,
+then 16, 51, 73 over 250, 500, 1000 rocks).  If the map's orbit leaves its tables after t_end and before the span's
+end, the span is t_end (and says so).
 
-* chaotic orbit (``regular`` False), growth e^(Λ m) per m rocks, Λ = λ T̄ the exponent per rock:
-  e(n) = δ (e^(Λ n) − 1)/Λ, so  n_h = ln(1 + Λ R)/Λ;
-* regular orbit, linear growth 1 + σ m by the shear (σ = :func:`shear_rate`): e(n) = δ (n + σ n²/2), so
-  n_h = 2R/(1 + √(1 + 2σR));
+The verdict.  MEGNO ⟨Y⟩ ≈ λt/2 on a chaotic orbit and → 2 on a regular one, and the finite-time exponent λ (the
+slope of ℓ over the later half of the span) makes λ·span ≈ 2 ln 2 on a regular orbit (‖w‖ growing linearly): the
+two agree when MEGNO > ``MEGNO_CHAOTIC`` = 3 goes with λ·span ≥ ``LYAPUNOV_SPAN`` = 6 = 2 · 3 (chaotic) and
+MEGNO ≤ 3 with λ·span < 6 (regular).  Where they do not (an orbit chaotic early in the span that stuck to an island
+in its later half: MEGNO ≫ 2 beside λ ≈ 0) the verdict is ``"undecided"``, with both numbers (:func:`map_verdict`).
 
-with R = f S D/δ the number of per-step errors that make up the fraction f (``HORIZON_FRACTION`` = 10 %) of the
-larger extent D = max(Q_R extent, Q_J extent) (scaled by S as the error is), and the horizon t_h = n_h T̄.  Both tend
-to R T̄ (errors that merely add up) as the growth vanishes.  Beyond t_h the map's point predictions (the orbit's
-Q and Θ at a given time, and so the region runs and crossings) are statistical only; its extents and the region
-fractions over the run are what the chaotic orbit fills, not where it is.
+The predictability horizon.  Measured, not modelled: the direct ODE (heyoka) runs from the start over a probe window
+of ``PROBE_ROCKS`` rocks (:class:`HorizonProbe`; ~0.03 s of CPU per 1000 time units), and the map − ODE error at each
+maximum, e_k = max(|ΔQ_R|/D_R, |ΔQ_J|/D_J) over the extents D of the map's orbit over the span, is followed by its
+running maximum (the envelope).  If the envelope reaches the fraction f (``HORIZON_FRACTION`` = 10 %) within the
+window, the horizon is that time (method ``"measured"``).  Otherwise its growth law is extrapolated from the window's
+end (t_p, e_p) (:func:`horizon_from_errors`):
+
+* chaotic or undecided: exponential at the rate Λ = max(λ, 2 MEGNO/span) (MEGNO's own rate, where λ of the later
+  half is smaller): t_h = t_p + ln(f/e_p)/Λ  (method ``"exponential"``);
+* regular: linear (a phase drift along the torus): the least-squares slope a of the envelope over the window's later
+  half, t_h = t_p + (f − e_p)/a  (method ``"linear"``); with no growth resolved (a = 0) the horizon is infinite
+  (method ``"unresolved"``).
+
+Past t_h the map's point predictions (the orbit's Q and Θ at a given time, and so the region runs and crossings) are
+statistical only; its extents and the region fractions over the run are what a chaotic orbit fills, not where it is.
+The accuracy of the horizon against the measured time at which the map − ODE error first exceeds 10 % is tabulated by
+``validation/horizon_table.py`` (docs/order_and_chaos.md, "How long a prediction holds").
 """
 
 from __future__ import annotations
@@ -40,33 +56,77 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.slow.map.compiled_map import SlowSeries, _fast, _tangent_rows, iterate_slow_map
-from rocknroller.analysis.slow.map.exact_step import exact_step, step_difference
-from rocknroller.numerics.megno import MIN_SAMPLES, ChaosIndicators, chaos_indicators
+from rocknroller.analysis.model.equations import EulerState
+from rocknroller.analysis.slow.map.compiled_map import SlowSeries, _fast, _tangent_rows
+from rocknroller.numerics.megno import MEGNO_CHAOTIC, MIN_SAMPLES, ChaosIndicators, chaos_indicators
 
 if TYPE_CHECKING:
-    from rocknroller.analysis.slow.map.chart import SecondOrderTable, SlowMapTable
+    from rocknroller.analysis.slow.map.chart import SlowMapTable
 
-__all__ = ["HORIZON_FRACTION", "map_indicators", "tangent_scale", "StepErrorProbe", "run_indicators", "shear_rate",
-           "predictability_horizon", "LAYER_GRID", "LayerWidth", "layer_width"]
+__all__ = ["HORIZON_FRACTION", "SPAN_ROCKS", "LYAPUNOV_SPAN", "CRITERION", "PROBE_ROCKS", "MapChaos", "map_verdict",
+           "map_indicators", "indicator_span", "tangent_scale", "Horizon", "map_ode_errors", "horizon_from_errors",
+           "HorizonProbe", "LAYER_GRID", "LayerWidth", "layer_width"]
 
-#: Fraction of the extents that the grown error may reach at the predictability horizon.
+#: Fraction of the extents that the map − ODE error reaches at the predictability horizon.
 HORIZON_FRACTION = 0.1
+#: Fewest rocks, in units of T_θ(0), over which a prediction's indicators are measured (:func:`indicator_span`).
+SPAN_ROCKS = 1000
+#: λ·span that a chaotic verdict needs beside MEGNO > ``MEGNO_CHAOTIC`` (MEGNO ≈ λt/2 on a chaotic orbit).
+LYAPUNOV_SPAN = 2.0 * MEGNO_CHAOTIC
+#: The verdict's criterion, as every output states it.
+CRITERION = (f"chaotic: MEGNO > {MEGNO_CHAOTIC:g} and lambda*span >= {LYAPUNOV_SPAN:g}; regular: MEGNO <= "
+             f"{MEGNO_CHAOTIC:g} and lambda*span < {LYAPUNOV_SPAN:g}; otherwise undecided")
+#: Length of the horizon's direct-ODE probe window, in rocks (units of T_θ(0)).
+PROBE_ROCKS = 40
 #: The decreasing log grid of ψ0 scanned by :func:`layer_width`: 16 points per decade from 1 down to 1e-10 (at
 #: K ≈ 1.3 an island chain inside the layer leaves a regular band ψ0 ≈ 0.06-0.078 at θ0 = 0.95π, ε = 3e-3, below a
 #: chaotic one at 0.08-0.09, which a grid of 4 points per decade steps over).
 LAYER_GRID = 10.0 ** np.arange(0.0, -10.001, -1.0 / 16)
 #: Most bisection steps :func:`layer_width` takes (2⁻³⁰ of a grid step is far below any orbit's resolution).
 _MAX_BISECTIONS = 30
-#: Maxima of a run, besides its start, at which :class:`StepErrorProbe` compares the map's step with the exact one.
-_PROBES = 3
 
 
-def map_indicators(t: ArrayLike, log_growth: ArrayLike) -> ChaosIndicators | None:
-    """The chaos indicators of a run of the map from its maxima's times after the start and ℓ (module docstring);
-    None for a run with fewer than ``MIN_SAMPLES`` maxima (too short to measure them)."""
+@dataclass(frozen=True)
+class MapChaos(ChaosIndicators):
+    """The map's indicators over a stated span, with the verdict of both (module docstring).
+
+    Attributes
+    ----------
+    span : the time over which the indicators were measured (from the map's start).
+    verdict : "regular", "chaotic" or "undecided" (:func:`map_verdict`).
+    criterion : ``CRITERION``.
+    (and those of :class:`~rocknroller.numerics.megno.ChaosIndicators`; its ``regular`` is MEGNO ≤ 3 alone)
+    """
+
+    span: float
+    verdict: str
+    criterion: str = CRITERION
+
+
+def map_verdict(megno: float, lyapunov: float, span: float) -> str:
+    """"chaotic" if MEGNO > ``MEGNO_CHAOTIC`` and λ·span ≥ ``LYAPUNOV_SPAN``, "regular" if MEGNO ≤ ``MEGNO_CHAOTIC``
+    and λ·span < ``LYAPUNOV_SPAN``, "undecided" where the two disagree (module docstring)."""
+    by_megno, by_lambda = megno > MEGNO_CHAOTIC, lyapunov * span >= LYAPUNOV_SPAN
+    if by_megno != by_lambda:
+        return "undecided"
+    return "chaotic" if by_megno else "regular"
+
+
+def map_indicators(t: ArrayLike, log_growth: ArrayLike) -> MapChaos | None:
+    """The chaos indicators of a run of the map from its maxima's times after the start and ℓ, over the run's span
+    (its last maximum), with their verdict; None for a run with fewer than ``MIN_SAMPLES`` maxima."""
     t = np.asarray(t, float)
-    return None if t.size < MIN_SAMPLES else chaos_indicators(t, log_growth)
+    if t.size < MIN_SAMPLES:
+        return None
+    c = chaos_indicators(t, log_growth)
+    span = float(t[-1])
+    return MapChaos(**{f: getattr(c, f) for f in ChaosIndicators.__dataclass_fields__}, span=span,
+                    verdict=map_verdict(c.megno, c.lyapunov, span))
+
+
+def indicator_span(t_end: float, rock_time: float) -> float:
+    """The span of a prediction's indicators: max(t_end, ``SPAN_ROCKS`` · T_θ(0)), ``rock_time`` = T_θ(0)."""
+    return max(float(t_end), SPAN_ROCKS * float(rock_time))
 
 
 def tangent_scale(table: "SlowMapTable") -> float:
@@ -74,116 +134,129 @@ def tangent_scale(table: "SlowMapTable") -> float:
     return _tangent_rows(_fast(table)).scale
 
 
-class StepErrorProbe:
-    """The map's own error over one step along a run: computed when first asked for (``step_error``; four exact
-    steps of the direct ODE, ~0.1 s), then remembered.
-
-    Parameters
-    ----------
-    sym : the symmetric body of the tables.
-    eps : ε > 0.
-    table, second : the run's tables (``second`` None for order 1).
-    points : (N, 3) array of the run's maxima (Q_R, Q_J, Θ), its start first.
-    t0 : the time of the run's start (the times of its samples count from it).
+@dataclass(frozen=True)
+class Horizon:
+    """The predictability horizon of a start and how it was found (:func:`horizon_from_errors`).
 
     Attributes
     ----------
-    scale : S = |∇W(0)| of the table (:func:`tangent_scale`).
+    t : the horizon, in time since the start (inf where no growth of the error was resolved: method "unresolved").
+    method : "measured" (the error reached the fraction within the probe window), "exponential", "linear" or
+        "unresolved" (the law extrapolated from the window's end).
+    probe_t : the end of the probe window (the time of its last maximum).
+    probe_error : the error envelope at the window's end (a fraction of the extents).
+    rate : the growth used: Λ per unit time ("exponential"), the envelope's slope per unit time ("linear"), 0 else.
+    fraction : the fraction of the extents the error reaches at t.
     """
 
-    def __init__(self, sym: Body, eps: float, table: "SlowMapTable", second: "SecondOrderTable | None",
-                 points: NDArray[np.float64], t0: float = 0.0) -> None:
-        self.sym, self.eps, self.table, self.second, self.t0 = sym, float(eps), table, second, float(t0)
-        self.scale = tangent_scale(table)
-        points = np.asarray(points, float)
-        picks = np.unique(np.concatenate([[0], np.linspace(0, len(points) - 1, _PROBES + 1)[1:].round()]))
-        self.points = points[picks.astype(int)]
-        self._value: float | None = None
-
-    def step_error(self) -> float:
-        """δ: the largest √(S²|ΔQ|² + ΔΘ²) over the probed maxima (ΔΘ wrapped to (−π, π]) between one step of the
-        map and the exact step of the direct ODE from the same maximum (module docstring)."""
-        if self._value is None:
-            S = self.scale
-            worst = 0.0
-            for QR, QJ, Th in self.points:
-                exact = exact_step(self.sym, self.eps, self.table.E0, float(QR), float(QJ), 0.5 * float(Th))
-                step = iterate_slow_map(self.table, self.eps, 0.5 * float(Th), 10.0 * exact[3], Q0=(QR, QJ), n_steps=1,
-                                        second=self.second)
-                d = step_difference(np.array([step.QR[0], step.QJ[0], step.Theta[0]]) - exact[:3])
-                worst = max(worst, math.sqrt(S * S * (d[0] ** 2 + d[1] ** 2) + d[2] ** 2))
-            self._value = worst
-        return self._value
+    t: float
+    method: str
+    probe_t: float
+    probe_error: float
+    rate: float
+    fraction: float
 
 
-def run_indicators(sym: Body, eps: float, table: "SlowMapTable", second: "SecondOrderTable | None", run: SlowSeries,
-                   start: tuple[float, float, float], t0: float = 0.0
-                   ) -> tuple[ChaosIndicators | None, StepErrorProbe | None]:
-    """The indicators of a run of the map with ``tangent=True`` (:func:`map_indicators`) and, where they exist, the
-    probe of its per-step error; ``start`` is its starting (Q_R, Q_J, Θ), ``t0`` the time of its start."""
-    assert run.log_growth is not None, "the run carries no tangent vector"
-    chaos = map_indicators(run.t, run.log_growth)
-    if chaos is None:
-        return None, None
-    points = np.concatenate([[start], np.stack([run.QR, run.QJ, run.Theta], axis=1)])
-    return chaos, StepErrorProbe(sym, eps, table, second, points, t0)
+def map_ode_errors(QR: ArrayLike, QJ: ArrayLike, QR_ode: ArrayLike, QJ_ode: ArrayLike,
+                   extents: tuple[float, float]) -> NDArray[np.float64]:
+    """e_k = max(|ΔQ_R|/D_R, |ΔQ_J|/D_J) at the maxima both series share (paired by their index from the start),
+    with ``extents`` = (D_R, D_J) > 0."""
+    n = min(len(QR), len(QR_ode))
+    DR, DJ = extents
+    return np.maximum(np.abs(np.asarray(QR[:n], float) - np.asarray(QR_ode[:n], float)) / DR,
+                      np.abs(np.asarray(QJ[:n], float) - np.asarray(QJ_ode[:n], float)) / DJ)
 
 
-def shear_rate(log_growth: ArrayLike) -> float:
-    """σ: the least-squares slope of ‖w_k‖/‖w_0‖ = exp(ℓ_k) against the rock number k over the later half of the
-    samples (the window of :func:`rocknroller.numerics.megno.lyapunov_slope`), floored at 0: the linear growth per rock
-    of a tangent vector on a regular orbit (the shear of its torus)."""
-    ell = np.asarray(log_growth, float)
-    half = ell.size // 2
-    k = np.arange(1, ell.size + 1, dtype=float)
-    return max(float(np.polyfit(k[half:], np.exp(ell[half:]), 1)[0]), 0.0)
-
-
-def predictability_horizon(chaos: ChaosIndicators, step_error: float, extent: float, scale: float,
-                           fraction: float = HORIZON_FRACTION) -> float:
-    """The time t_h at which the map's per-step error, grown at the measured rate, reaches ``fraction`` of the
-    extent (module docstring):
-
-        chaotic:  t_h = T̄ ln(1 + Λ R)/Λ,      regular:  t_h = T̄ · 2R/(1 + √(1 + 2σR)),
-
-    R = fraction · scale · extent / step_error, T̄ the mean time between maxima, Λ the Lyapunov exponent per rock,
-    σ the shear rate (:func:`shear_rate`).
-
-    Parameters
-    ----------
-    chaos : the run's indicators (its samples give T̄, Λ and σ).
-    step_error : δ > 0, the per-step error in the scaled norm (:meth:`StepErrorProbe.step_error`).
-    extent : D > 0, the larger of the Q_R and Q_J extents.
-    scale : S > 0 (:func:`tangent_scale`).
-    fraction : f, 0 < f ≤ 1.
-
-    Returns
-    -------
-    float : t_h, finite and > 0, in the units of the samples' times (the time since the map's start).
+def horizon_from_errors(t: ArrayLike, error: ArrayLike, law: str, rate: float = 0.0,
+                        fraction: float = HORIZON_FRACTION) -> Horizon:
+    """The horizon from the map − ODE errors over a probe window (module docstring): the first time the error
+    exceeds ``fraction``, else the window end's envelope e_p extrapolated by ``law``: "exponential" at ``rate`` Λ > 0
+    per unit time (t_p + ln(f/e_p)/Λ), or "linear" at the least-squares slope of the envelope over the window's later
+    half (t_p + (f − e_p)/a; inf, method "unresolved", for a = 0).
 
     Raises
     ------
     ValueError
-        ``fraction`` outside (0, 1], ``extent``, ``scale`` or ``step_error`` not finite and > 0 (an orbit without
-        extent is a fixed point of the map: there is no fraction of it to reach; an error of 0 means the map is
-        exact to the ODE's accuracy there).
+        Fewer than 2 samples, times not increasing, errors not finite, ``law`` unknown, an exponential ``rate`` not
+        finite and > 0, or ``fraction`` outside (0, 1].
     """
-    for name, value in (("step_error", step_error), ("extent", extent), ("scale", scale)):
-        if not (math.isfinite(value) and value > 0.0):
-            raise ValueError(f"{name} must be a finite number > 0 for a predictability horizon, got {name}={value!r}"
-                             + (": the orbit does not move (a fixed point of the map), so it has no extent of which "
-                                "an error could reach a fraction" if name == "extent" else ""))
+    t, e = np.asarray(t, float), np.asarray(error, float)
+    if t.ndim != 1 or t.shape != e.shape or t.size < 2 or not np.all(np.diff(t) > 0.0):
+        raise ValueError("t and error must be 1-d arrays of one length >= 2, t increasing")
+    if not np.all(np.isfinite(e)):
+        raise ValueError("error must be finite")
     if not (math.isfinite(fraction) and 0.0 < fraction <= 1.0):
         raise ValueError(f"fraction must lie in (0, 1], got fraction={fraction!r}")
-    t_bar = float(chaos.t[-1]) / chaos.t.size
-    R = fraction * scale * extent / step_error
-    if chaos.regular:
-        sigma = shear_rate(chaos.log_growth)
-        n_h = 2.0 * R / (1.0 + math.sqrt(1.0 + 2.0 * sigma * R))
-    else:
-        lam = chaos.lyapunov_per_rock
-        n_h = math.log1p(lam * R) / lam if lam > 0.0 else R
-    return n_h * t_bar
+    if law not in ("exponential", "linear"):
+        raise ValueError(f"law must be 'exponential' or 'linear', got law={law!r}")
+    if law == "exponential" and not (math.isfinite(rate) and rate > 0.0):
+        raise ValueError(f"an exponential law needs a rate > 0 per unit time, got rate={rate!r}")
+    envelope = np.maximum.accumulate(e)
+    over = np.flatnonzero(e > fraction)
+    t_p, e_p = float(t[-1]), float(envelope[-1])
+    if over.size:
+        return Horizon(float(t[over[0]]), "measured", t_p, e_p, 0.0, fraction)
+    if law == "exponential":
+        return Horizon(t_p + math.log(fraction / max(e_p, np.finfo(float).tiny)) / rate, law, t_p, e_p, rate,
+                       fraction)
+    half = t.size // 2
+    slope = max(float(np.polyfit(t[half:], envelope[half:], 1)[0]), 0.0) if t.size - half >= 2 else 0.0
+    if slope == 0.0:
+        return Horizon(math.inf, "unresolved", t_p, e_p, 0.0, fraction)
+    return Horizon(t_p + (fraction - e_p) / slope, law, t_p, e_p, slope, fraction)
+
+
+class HorizonProbe:
+    """The map − ODE error over the probe window of a prediction: the direct ODE is run (heyoka, ~0.03 s of CPU per
+    1000 time units) when the horizon is first asked for, then remembered.
+
+    Parameters
+    ----------
+    body : the asymmetric body.
+    start : the start's initial state (a release from rest: (θ0, 0, ψ0) with zero rates).
+    series : the map's maxima from the start over at least the probe window (the prediction's run over its span).
+    chaos : the map's indicators over the span (their verdict chooses the growth law, λ and MEGNO its rate).
+    t_probe : the probe window's length, > 0.
+
+    Attributes
+    ----------
+    extents : (D_R, D_J), the map's Q_R and Q_J extents over the span.
+    """
+
+    def __init__(self, body: Body, start: EulerState, series: SlowSeries, chaos: MapChaos, t_probe: float) -> None:
+        self.body, self.start, self.chaos, self.t_probe = body, start, chaos, float(t_probe)
+        self.extents = (float(np.ptp(series.QR)), float(np.ptp(series.QJ)))
+        keep = series.t <= self.t_probe
+        self.t, self.QR, self.QJ = series.t[keep], series.QR[keep], series.QJ[keep]
+        self._errors: NDArray[np.float64] | None = None
+
+    def errors(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """(t_k, e_k): the map's maxima in the window and their errors against the direct ODE's
+        (:func:`map_ode_errors`)."""
+        if self._errors is None:
+            from rocknroller.numerics.integrate import simulate
+
+            m = simulate(self.body, self.start, self.t_probe, samples=False).maxima
+            self._errors = map_ode_errors(self.QR, self.QJ, m.QR, m.QJ, self.extents)
+        return self.t[: self._errors.size], self._errors
+
+    def horizon(self, fraction: float = HORIZON_FRACTION) -> Horizon:
+        """The horizon (:func:`horizon_from_errors`): exponential growth at Λ = max(λ, 2 MEGNO/span) for a chaotic
+        or undecided verdict, linear for a regular one.
+
+        Raises
+        ------
+        ValueError
+            An orbit without extent in Q_R or Q_J (a fixed point of the map: no fraction of its extent to reach).
+        """
+        if not min(self.extents) > 0.0:
+            raise ValueError("the orbit does not move (a fixed point of the map): it has no extent of which an error "
+                             "could reach a fraction, and no predictability horizon")
+        t, e = self.errors()
+        c = self.chaos
+        if c.verdict == "regular":
+            return horizon_from_errors(t, e, "linear", fraction=fraction)
+        return horizon_from_errors(t, e, "exponential", max(c.lyapunov, 2.0 * c.megno / c.span), fraction)
 
 
 @dataclass(frozen=True)

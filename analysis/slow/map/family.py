@@ -143,7 +143,7 @@ def first_maximum(body: Body, initial: EulerState) -> FirstMaximum:
     if root is not None and root.kind > 0:
         return FirstMaximum(t=0.0, E=E, theta=float(initial.theta), QR=QR0, QJ=QJ0, psi=float(initial.psi),
                             phi=float(initial.phi))
-    # How far to look is set by the period of θ, whose quadrature costs ~5x the short run itself (issue 25, item 4:
+    # How far to look is set by the period of θ, whose quadrature costs ~5x the short run itself (measured:
     # 25 ms of a 30 ms prediction): look first over as many small-amplitude periods (closed form, the slower axis)
     # and compute the period only where that finds no maximum.
     look = _FIRST_MAXIMUM_PERIODS * 2.0 * math.pi / small_amplitude_frequency(body, max(body.I1, body.I2))

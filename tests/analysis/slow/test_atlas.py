@@ -202,12 +202,14 @@ def chaos_atlas():
 
 
 def test_chaos_layer_is_the_maps_indicators(small_atlas):
-    """Each point's MEGNO and λ are predict_slow_motion's (order 1) to the bit, and its verdict MEGNO <= 3; without
-    the layer (chaos=False: no tangent vector) the other observables are the same to the bit."""
+    """Each point's MEGNO and λ are predict_slow_motion's (order 1) over the atlas's span, t_end, to the bit, and its
+    verdict MEGNO <= 3; without the layer (chaos=False: no tangent vector) the other observables are the same to the
+    bit."""
     from rocknroller.analysis.slow.prediction import predict_slow_motion
 
     assert small_atlas.observables == at.ATLAS_OBSERVABLES + at.CHAOS_OBSERVABLES
-    pred = predict_slow_motion(BODY, THETA0[1], PSI0[2], 400.0, order=1)
+    pred = predict_slow_motion(BODY, THETA0[1], PSI0[2], 400.0, order=1, span=400.0)
+    assert pred.chaos.span <= 400.0
     assert small_atlas.values["megno"][1, 2] == pred.chaos.megno
     assert small_atlas.values["lyapunov"][1, 2] == pred.chaos.lyapunov
     assert small_atlas.regular[1, 2] == pred.chaos.regular

@@ -334,17 +334,20 @@ def test_chaos_and_horizon_in_text_json_and_csv(fresh_cache, tmp_path, capsys):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", av.AveragingValidityWarning)  # K = 4.26 > 4: the issue's case
         api = av.predict_slow_motion(Body.paper(1e-2), 0.95 * math.pi, 0.1, 3000.0, order=1)
-    assert out["chaos"] == {"regular": False, "megno": api.chaos.megno, "lyapunov": api.chaos.lyapunov,
-                            "lyapunov_per_rock": api.chaos.lyapunov_per_rock,
-                            "lyapunov_time": 1.0 / api.chaos.lyapunov}
-    assert out["chaos"]["megno"] > 3.0
+    assert out["chaos"] == {"verdict": "chaotic", "regular": False, "megno": api.chaos.megno,
+                            "lyapunov": api.chaos.lyapunov, "lyapunov_per_rock": api.chaos.lyapunov_per_rock,
+                            "lyapunov_time": 1.0 / api.chaos.lyapunov, "span": api.chaos.span,
+                            "criterion": api.chaos.criterion}
+    assert out["chaos"]["megno"] > 3.0 and out["chaos"]["span"] > 3000.0  # over ~1000 rocks, whatever t_end
     assert out["horizon"]["t"] == api.horizon() < 3000.0 and out["horizon"]["fraction"] == 0.1
+    assert out["horizon"]["method"] == api.horizon_estimate().method
     assert out["beyond_horizon"] is True
     assert "statistical only" in out["horizon"]["statistical_only"]
     path = tmp_path / "out" / "slow_maxima.csv"
     lines = path.read_text().splitlines()
     head = [line for line in lines if line.startswith("#")]
     assert any("CHAOTIC" in line for line in head) and any("statistical only" in line for line in head)
+    assert any("over the span t <= " in line and "lambda*span" in line for line in head)
     rows = list(csv.DictReader(line for line in lines if not line.startswith("#")))
     assert len(rows) == out["n_maxima"]
     for row in rows:
@@ -352,13 +355,13 @@ def test_chaos_and_horizon_in_text_json_and_csv(fresh_cache, tmp_path, capsys):
     assert {row["beyond_horizon"] for row in rows} == {"true", "false"}
     assert main(argv) == 0
     text = capsys.readouterr().out
-    assert "order/chaos: CHAOTIC" in text and "per rock" in text
+    assert "order/chaos over the span" in text and "CHAOTIC" in text and "per rock" in text
     assert f"predictions past t = {out['horizon']['t']:.6g} are statistical only" in text
 
 
 def test_regular_release_within_its_horizon(fresh_cache, capsys):
-    """ε = 1e-3, ψ0 = π/4 (regular): MEGNO ≤ 3 (1.15 over these 75 rocks, 6.5 slow periods; it tends to 2 slowly,
-    1.81 after 20000 time units), and t_end = 1000 lies within the horizon (~2000): nothing is labelled."""
+    """ε = 1e-3, ψ0 = π/4 (regular): MEGNO ≤ 3 over the span of ~1000 rocks (1.46 at order 1; it tends to 2
+    slowly), and t_end = 1000 lies within the horizon: nothing is labelled."""
     assert main(["slow", "--order", "1", "--t-end", "1000", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["chaos"]["regular"] is True and 0.0 < out["chaos"]["megno"] <= 3.0
@@ -366,19 +369,19 @@ def test_regular_release_within_its_horizon(fresh_cache, capsys):
     assert out["horizon"]["statistical_only"] is None
     assert main(["slow", "--order", "1", "--t-end", "1000"]) == 0
     text = capsys.readouterr().out
-    assert "order/chaos: regular" in text and "statistical only" not in text
+    assert "regular (MEGNO" in text and "statistical only" not in text
 
 
 def test_no_indicators_said_so(fresh_cache, capsys):
-    """ε = 0 (pure rocking) and a run of fewer than 8 maxima: no indicators, no horizon, and the reason (null in
-    JSON, never NaN)."""
+    """ε = 0 (pure rocking): no indicators, no horizon, and the reason (null in JSON, never NaN); a run of fewer than
+    8 maxima has its indicators all the same, over their span."""
     assert main(["slow", "--eps", "0", "--t-end", "300", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["chaos"] is None and out["horizon"] is None and out["beyond_horizon"] is None
     assert "pure rocking" in out["chaos_note"] and "eps = 0" in out["horizon_note"]
     assert main(["slow", "--order", "1", "--t-end", "60", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert out["n_maxima"] < 8 and out["chaos"] is None and "fewer than 8" in out["chaos_note"]
+    assert out["n_maxima"] < 8 and out["chaos"]["verdict"] == "regular" and out["chaos"]["span"] > 60.0
     assert main(["slow", "--eps", "0", "--t-end", "300"]) == 0
     assert "predictability horizon: not defined" in capsys.readouterr().out
 

@@ -38,7 +38,7 @@ def _psi(k: int) -> float:
 def _map(eps: float, psi0: float, t_end: float):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", av.AveragingValidityWarning)
-        return av.predict_slow_motion(Body.paper(eps), THETA0, psi0, t_end).chaos
+        return av.predict_slow_motion(Body.paper(eps), THETA0, psi0, t_end, span=t_end).chaos
 
 
 def _ode(eps: float, psi0: float, t_end: float):
