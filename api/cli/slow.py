@@ -38,6 +38,7 @@ from rocknroller.analysis.slow import prediction as av
 from rocknroller.cli.options import (add_body_options, add_critical_line_options, add_force_option,
                                      add_initial_state_options, body_from_args, check_critical_line_options,
                                      critical_line_state, parse_angle, prepare_output_dir, print_json, rates_given)
+from rocknroller.cli.slow_chaos import chaos_lines, chaos_summary
 from rocknroller.cli.slow_periodic import apply_periodic, periodic_lines, periodic_summary
 from rocknroller.cli.slow_statistics import (STATISTICS_CSV, add_statistics_options, check_statistics_options,
                                              check_statistics_work, statistics_lines, statistics_summary,
@@ -45,10 +46,6 @@ from rocknroller.cli.slow_statistics import (STATISTICS_CSV, add_statistics_opti
 from rocknroller.numerics.parallel import check_processes
 
 _QUANTITIES = ("slow_period", "QR_extent", "QJ_extent", "Phi")
-#: What the horizon's label says about the quantities past it.
-_STATISTICAL = ("predictions past t = {t:.6g} are statistical only: the orbit's Q, Theta at a given time and the order "
-                "of its region runs and crossings are not predicted past it; its extents, Phi and rocks per region "
-                "over the run describe the region the orbit fills")
 CSV_NAME = "slow_maxima.csv"
 #: Body options (attribute, flag), for error messages that name what the user gave.
 _BODY_OPTIONS = (("a", "--a"), ("I1", "--I1"), ("I2", "--I2"), ("eps", "--eps"), ("I3", "--I3"), ("g", "--g"),
@@ -339,7 +336,7 @@ def _finish(args: argparse.Namespace, body: Any, pred: Any, pend: Any, start: An
             summary["pendulum"]["rel_error"] = {q: summary["rel_error"][q] if pred.pure_rocking else
                                                 relative_errors(pend, ode)[q] for q in _QUANTITIES}
     if summary["periodic_orbit"] is None:
-        summary.update(_chaos_summary(pred))
+        summary.update(chaos_summary(pred))
     else:
         apply_periodic(summary)
         note = "a periodic orbit of the map: its multipliers and residue give its stability"
@@ -368,68 +365,6 @@ def _finish(args: argparse.Namespace, body: Any, pred: Any, pend: Any, start: An
     return 0
 
 
-def _chaos_summary(pred: Any) -> dict[str, Any]:
-    """The summary's entries on order and chaos: ``chaos`` (verdict, regular, MEGNO, λ, 1/λ, the span and the
-    criterion; null with ``chaos_note`` where there are no indicators), ``horizon`` (t, null if infinite; its method,
-    fraction, probe window and error, rate, the label; null with ``horizon_note`` where it is not defined) and
-    ``beyond_horizon`` (t_end past the horizon; null without one)."""
-    out: dict[str, Any] = {"chaos": None, "horizon": None, "beyond_horizon": None}
-    ch = pred.chaos
-    if ch is None:
-        out["chaos_note"] = "eps = 0 from rest: pure rocking, the map is the identity in Q (no indicators)"
-    else:
-        out["chaos"] = {"verdict": ch.verdict, "regular": pred.regular, "megno": ch.megno, "lyapunov": ch.lyapunov,
-                        "lyapunov_per_rock": ch.lyapunov_per_rock,
-                        "lyapunov_time": None if ch.lyapunov == 0.0 else ch.lyapunov_time,  # 1/λ; null for λ = 0
-                        "span": ch.span, "criterion": ch.criterion}
-    try:
-        h = pred.horizon_estimate()
-    except ValueError as exc:
-        out["horizon_note"] = str(exc)
-        return out
-    beyond = bool(pred.t_end > h.t)
-    out["horizon"] = {"t": h.t if math.isfinite(h.t) else None, "method": h.method, "fraction": h.fraction,
-                      "probe_t": h.probe_t, "probe_error": h.probe_error, "rate": h.rate,
-                      "statistical_only": _STATISTICAL.format(t=h.t) if beyond else None}
-    out["beyond_horizon"] = beyond
-    return out
-
-
-#: How each method of the horizon found it, for the text.
-_HORIZON_METHODS = {
-    "measured": "measured: the map - ODE error reached {f:.0%} of the extents within the direct probe of t <= {p:.4g}",
-    "exponential": "the map - ODE error {e:.2g} of the extents at the end of the direct probe (t = {p:.4g}), grown "
-                   "exponentially at {r:.3g} per unit time",
-    "linear": "the map - ODE error {e:.2g} of the extents at the end of the direct probe (t = {p:.4g}), grown linearly "
-              "at its measured slope {r:.3g} per unit time",
-    "unresolved": "no growth of the map - ODE error ({e:.2g} of the extents) resolved over the direct probe of "
-                  "t <= {p:.4g}: beyond any t_end",
-}
-
-
-def _chaos_lines(s: dict[str, Any]) -> list[str]:
-    """The text lines on order and chaos (:func:`_chaos_summary`)."""
-    ch, h = s["chaos"], s["horizon"]
-    if ch is None:
-        lines = [f"order/chaos: not measured ({s['chaos_note']})"]
-    else:
-        kind = {"regular": "regular", "chaotic": "CHAOTIC", "undecided": "UNDECIDED (MEGNO and lambda disagree)"}
-        from rocknroller.analysis.slow.dynamics.chaos import SPAN_ROCKS
-
-        lines = [f"order/chaos over the span t <= {ch['span']:.6g} (max(t_end, {SPAN_ROCKS} rocks)): {kind[ch['verdict']]} "
-                 f"(MEGNO = {ch['megno']:.4g}; Lyapunov exponent {ch['lyapunov']:.4g} per unit time, "
-                 f"{ch['lyapunov_per_rock']:.4g} per rock; {ch['criterion']})"]
-    if h is None:
-        lines.append(f"predictability horizon: not defined ({s['horizon_note']})")
-        return lines
-    how = _HORIZON_METHODS[h["method"]].format(f=h["fraction"], p=h["probe_t"], e=h["probe_error"], r=h["rate"])
-    t = "infinite" if h["t"] is None else f"t = {h['t']:.6g}"
-    lines.append(f"predictability horizon: {t} (map - ODE error reaches {h['fraction']:.0%} of the extents; {how})")
-    if s["beyond_horizon"]:
-        lines.append(f"beyond the horizon: t_end = {s['t_end']:g} > {h['t']:.6g}: {h['statistical_only']}")
-    return lines
-
-
 def _write_csv(path: Path, pred: Any, body: Any, s: dict[str, Any]) -> Path:
     """The predicted maxima with their regions, log-growth and ``beyond_horizon``; the header records the run."""
     import numpy as np
@@ -441,7 +376,7 @@ def _write_csv(path: Path, pred: Any, body: Any, s: dict[str, Any]) -> Path:
     header = [f"rocknroller slow: body {body.describe()}; eps={body.epsilon_text()}; "
               f"theta0={angle_text(s['theta0'])}; psi0={angle_text(s['psi0'])}; t_end={s['t_end']!r}; "
               f"map of order {pred.order} in eps; K={s['K']!r}",
-              *_chaos_lines(s), *statistics_lines(s),
+              *chaos_lines(s), *statistics_lines(s),
               "columns: the maxima of theta: t, Q_R, Q_J, Theta = 2 psi (unwrapped), phi, critical region, "
               "log_growth = ln(|w|/|w0|) of the tangent vector since the map's start (empty without indicators), "
               "beyond_horizon (true past the predictability horizon: statistical only; empty without a horizon)"]
@@ -488,7 +423,7 @@ def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: flo
         print(f"exact one-step map: period doubling at eps = {pd['eps_exact']:.8g} (first order 4/kappa = "
               f"{pd['eps_first_order']:.8g}; K = eps*kappa = {pd['K_exact']:.8g} = 4 {'-' if pd['correction'] < 0 else '+'} "
               f"{abs(pd['correction']):.4g} eps)")
-    for line in _chaos_lines(s) + statistics_lines(s) + periodic_lines(s):
+    for line in chaos_lines(s) + statistics_lines(s) + periodic_lines(s):
         print(line)
     if s["pure_rocking"]:
         print(_PURE_ROCKING)

@@ -1,0 +1,78 @@
+"""``rocknroller slow``: what it says on order and chaos, the map's verdict over its span with MEGNO and λ, and the
+predictability horizon with the method that found it (the summary's ``chaos``, ``horizon`` and ``beyond_horizon``
+entries and their text lines).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+__all__ = ["chaos_summary", "chaos_lines"]
+
+#: What the horizon's label says about the quantities past it.
+_STATISTICAL = ("predictions past t = {t:.6g} are statistical only: the orbit's Q, Theta at a given time and the order "
+                "of its region runs and crossings are not predicted past it; its extents, Phi and rocks per region "
+                "over the run describe the region the orbit fills")
+
+
+def chaos_summary(pred: Any) -> dict[str, Any]:
+    """The summary's entries on order and chaos: ``chaos`` (verdict, regular, MEGNO, λ, 1/λ, the span and the
+    criterion; null with ``chaos_note`` where there are no indicators), ``horizon`` (t, null if infinite; its method,
+    fraction, probe window and error, rate, the label; null with ``horizon_note`` where it is not defined) and
+    ``beyond_horizon`` (t_end past the horizon; null without one)."""
+    out: dict[str, Any] = {"chaos": None, "horizon": None, "beyond_horizon": None}
+    ch = pred.chaos
+    if ch is None:
+        out["chaos_note"] = "eps = 0 from rest: pure rocking, the map is the identity in Q (no indicators)"
+    else:
+        out["chaos"] = {"verdict": ch.verdict, "regular": pred.regular, "megno": ch.megno, "lyapunov": ch.lyapunov,
+                        "lyapunov_per_rock": ch.lyapunov_per_rock,
+                        "lyapunov_time": None if ch.lyapunov == 0.0 else ch.lyapunov_time,  # 1/λ; null for λ = 0
+                        "span": ch.span, "criterion": ch.criterion}
+    try:
+        h = pred.horizon_estimate()
+    except ValueError as exc:
+        out["horizon_note"] = str(exc)
+        return out
+    beyond = bool(pred.t_end > h.t)
+    out["horizon"] = {"t": h.t if math.isfinite(h.t) else None, "method": h.method, "fraction": h.fraction,
+                      "probe_t": h.probe_t, "probe_error": h.probe_error, "rate": h.rate,
+                      "statistical_only": _STATISTICAL.format(t=h.t) if beyond else None}
+    out["beyond_horizon"] = beyond
+    return out
+
+
+#: How each method of the horizon found it, for the text.
+_HORIZON_METHODS = {
+    "measured": "measured: the map - ODE error reached {f:.0%} of the extents within the direct probe of t <= {p:.4g}",
+    "exponential": "the map - ODE error {e:.2g} of the extents at the end of the direct probe (t = {p:.4g}), grown "
+                   "exponentially at {r:.3g} per unit time",
+    "linear": "the map - ODE error {e:.2g} of the extents at the end of the direct probe (t = {p:.4g}), grown linearly "
+              "at its measured slope {r:.3g} per unit time",
+    "unresolved": "no growth of the map - ODE error ({e:.2g} of the extents) resolved over the direct probe of "
+                  "t <= {p:.4g}: beyond any t_end",
+}
+
+
+def chaos_lines(s: dict[str, Any]) -> list[str]:
+    """The text lines on order and chaos (:func:`chaos_summary`)."""
+    ch, h = s["chaos"], s["horizon"]
+    if ch is None:
+        lines = [f"order/chaos: not measured ({s['chaos_note']})"]
+    else:
+        kind = {"regular": "regular", "chaotic": "CHAOTIC", "undecided": "UNDECIDED (MEGNO and lambda disagree)"}
+        from rocknroller.analysis.slow.dynamics.chaos import SPAN_ROCKS
+
+        lines = [f"order/chaos over the span t <= {ch['span']:.6g} (max(t_end, {SPAN_ROCKS} rocks)): {kind[ch['verdict']]} "
+                 f"(MEGNO = {ch['megno']:.4g}; Lyapunov exponent {ch['lyapunov']:.4g} per unit time, "
+                 f"{ch['lyapunov_per_rock']:.4g} per rock; {ch['criterion']})"]
+    if h is None:
+        lines.append(f"predictability horizon: not defined ({s['horizon_note']})")
+        return lines
+    how = _HORIZON_METHODS[h["method"]].format(f=h["fraction"], p=h["probe_t"], e=h["probe_error"], r=h["rate"])
+    t = "infinite" if h["t"] is None else f"t = {h['t']:.6g}"
+    lines.append(f"predictability horizon: {t} (map - ODE error reaches {h['fraction']:.0%} of the extents; {how})")
+    if s["beyond_horizon"]:
+        lines.append(f"beyond the horizon: t_end = {s['t_end']:g} > {h['t']:.6g}: {h['statistical_only']}")
+    return lines
