@@ -56,7 +56,7 @@ if TYPE_CHECKING:
 
 __all__ = ["MAX_PORTRAIT_ORBITS", "MAX_ODE_STARTS", "MAX_PORTRAIT_MAXIMA", "BYTES_PER_MAXIMUM", "CSV_BYTES_PER_ROW",
            "N_P_DEFAULT", "check_portrait_size", "SlowPortrait", "orbit_values", "portrait_values",
-           "theta0_of_energy", "slow_portrait", "plot_portrait", "orbit_rows", "write_portrait"]
+           "theta0_of_energy", "slow_portrait", "plot_portrait", "orbit_horizons", "orbit_rows", "write_portrait"]
 
 @dataclass(frozen=True)
 class SlowPortrait:
@@ -426,24 +426,58 @@ def plot_portrait(portrait: SlowPortrait, values: ArrayLike | None = None, *, cm
     return fig
 
 
-def orbit_rows(portrait: SlowPortrait) -> dict[str, list]:
-    """One row per map orbit, as columns: its index and start (Θ0, p0), whether it left the tables before t_end, its
-    number of θ-maxima, the span over which its indicators were measured (from its start to its last maximum), its
-    verdict (``"regular"`` for MEGNO ≤ ``MEGNO_CHAOTIC``, ``"chaotic"`` above, None without indicators: fewer than
-    ``MIN_SAMPLES`` maxima or a portrait made with ``chaos=False``), MEGNO and the finite-time Lyapunov exponent per unit
-    time and per rock (None where there is no verdict)."""
-    cols: dict[str, list] = {k: [] for k in ("orbit", "Theta0", "p0", "left_tables", "n_maxima", "span", "verdict",
-                                              "megno", "lyapunov", "lyapunov_per_rock")}
-    left = set(portrait.left)
+def orbit_horizons(portrait: SlowPortrait) -> list[Any]:
+    """Each map orbit's predictability horizon (:class:`rocknroller.analysis.slow.dynamics.chaos.Horizon`), as
+    ``predict_slow_motion`` measures it for a release: the map − ODE error over the first ``PROBE_ROCKS`` rocks from
+    the orbit's start (the direct ODE from the same maximum, :func:`rocknroller.analysis.slow.map.family.maximum_state`),
+    extrapolated by the growth law its verdict gives.  None for an orbit without indicators (fewer than
+    ``MIN_SAMPLES`` maxima, or a portrait made with ``chaos=False``) or without extent (a fixed point of the map).
+    Costs one direct run of ``PROBE_ROCKS`` rocks an orbit (~0.02 s)."""
+    from rocknroller.analysis.slow.dynamics.chaos import PROBE_ROCKS, HorizonProbe
+    from rocknroller.analysis.slow.work import rocking_period
+
+    sym, eps = portrait.body.symmetric(), portrait.body.epsilon
+    window = PROBE_ROCKS * rocking_period(portrait.body, portrait.theta0)
+    along = float(portrait.grad_W @ portrait.e)
+    out: list[Any] = []
     for k, s in enumerate(portrait.orbits):
         c = portrait.chaos[k] if k < len(portrait.chaos) else None
-        for key, v in (("orbit", k), ("Theta0", float(portrait.Theta0[k])), ("p0", float(portrait.p0[k])),
-                       ("left_tables", k in left), ("n_maxima", int(s.t.size)),
-                       ("span", float(s.t[-1]) if s.t.size else 0.0),
-                       ("verdict", None if c is None else ("regular" if c.regular else "chaotic")),
-                       ("megno", None if c is None else c.megno), ("lyapunov", None if c is None else c.lyapunov),
-                       ("lyapunov_per_rock", None if c is None else c.lyapunov_per_rock)):
-            cols[key].append(v)
+        if c is None or not (np.ptp(s.QR) > 0.0 and np.ptp(s.QJ) > 0.0):
+            out.append(None)
+            continue
+        QR, QJ = (float(portrait.p0[k]) / along) * portrait.e
+        state = maximum_state(sym, eps, portrait.E, QR, QJ, 0.5 * float(portrait.Theta0[k]))[2]
+        out.append(HorizonProbe(portrait.body, state, s, c, window).horizon())
+    return out
+
+
+def orbit_rows(portrait: SlowPortrait, horizons: bool = True) -> dict[str, list]:
+    """One row per map orbit, as columns: its index and start (Θ0, p0), whether it left the tables before t_end, its
+    number of θ-maxima, the span over which its indicators were measured (from its start to its last maximum), its
+    verdict over that span (regular, chaotic or undecided, by MEGNO and λ together as for ``predict_slow_motion``,
+    :func:`rocknroller.analysis.slow.dynamics.chaos.map_verdict`; None without indicators: fewer than
+    ``MIN_SAMPLES`` maxima or a portrait made with ``chaos=False``), MEGNO and the finite-time Lyapunov exponent per
+    unit time and per rock (None where there is no verdict), and with ``horizons`` its predictability horizon and the
+    method that found it (:func:`orbit_horizons`; None where there is none, the horizon None also where it is
+    infinite)."""
+    keys = ["orbit", "Theta0", "p0", "left_tables", "n_maxima", "span", "verdict", "megno", "lyapunov",
+            "lyapunov_per_rock"] + (["horizon", "horizon_method"] if horizons else [])
+    cols: dict[str, list] = {k: [] for k in keys}
+    left = set(portrait.left)
+    found = orbit_horizons(portrait) if horizons else []
+    for k, s in enumerate(portrait.orbits):
+        c = portrait.chaos[k] if k < len(portrait.chaos) else None
+        row = {"orbit": k, "Theta0": float(portrait.Theta0[k]), "p0": float(portrait.p0[k]),
+               "left_tables": k in left, "n_maxima": int(s.t.size), "span": float(s.t[-1]) if s.t.size else 0.0,
+               "verdict": None if c is None else c.verdict, "megno": None if c is None else c.megno,
+               "lyapunov": None if c is None else c.lyapunov,
+               "lyapunov_per_rock": None if c is None else c.lyapunov_per_rock}
+        if horizons:
+            h = found[k]
+            row["horizon"] = None if h is None or not math.isfinite(h.t) else h.t
+            row["horizon_method"] = None if h is None else h.method
+        for key in keys:
+            cols[key].append(row[key])
     return cols
 
 

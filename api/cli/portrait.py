@@ -38,8 +38,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         "releases from rest "
         "marked (the line p = 0, the point Q = 0) and the direct ODE's maxima from the --ode-start starts overlaid. "
         "Writes portrait.png, portrait.pdf, portrait.csv (every sample, header with the parameters) and "
-        "portrait_orbits.csv (every orbit: its start, verdict, MEGNO, Lyapunov exponent and the span they are "
-        "measured over).",
+        "portrait_orbits.csv (every orbit: its start, verdict, MEGNO, Lyapunov exponent, the span they are "
+        "measured over, and its predictability horizon with the method that found it, from a direct run of 40 rocks "
+        "per orbit as for rocknroller slow); --json lists the same per orbit.",
     )
     add_body_options(p, eps_default=EPS_DEFAULT)
     p.add_argument("--theta0", type=str, default=None,

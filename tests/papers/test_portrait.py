@@ -199,3 +199,22 @@ def test_chaotic_orbits_are_drawn_over_the_regular_ones_and_tick_labels_stay_apa
         for axis in (ax.xaxis, ax.yaxis):
             labels = tick_labels(axis)
             assert len(labels) >= 3 and overlapping(fig, labels) == []
+
+
+def test_each_orbit_lists_its_verdict_and_horizon_as_a_release_would():
+    """The portrait's rows carry every orbit's verdict, MEGNO, λ, span and horizon; on the release line (p = 0) an
+    orbit is the release from rest at ψ0 = Θ0/2, so its verdict and horizon are ``predict_slow_motion``'s at the same
+    order and span, to the bit (the same map orbit, the same direct probe)."""
+    from rocknroller.papers.portrait import orbit_rows
+
+    body = Body.paper(5e-3)
+    theta0, t_end = 0.93 * math.pi, 1000.0
+    portrait = slow_portrait(body, theta0, [0.1, 1.0], [0.0], t_end, order=1, progress=False)
+    rows = orbit_rows(portrait)
+    assert {"verdict", "megno", "lyapunov", "span", "horizon", "horizon_method"} <= set(rows)
+    for k, th in enumerate(portrait.Theta0):
+        pred = predict_slow_motion(body, theta0, 0.5 * th, t_end, order=1, span=t_end)
+        h = pred.horizon_estimate()
+        assert rows["verdict"][k] == pred.chaos.verdict
+        assert rows["megno"][k] == pred.chaos.megno
+        assert rows["horizon"][k] == h.t and rows["horizon_method"][k] == h.method
