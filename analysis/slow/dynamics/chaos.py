@@ -94,13 +94,16 @@ class MapChaos(ChaosIndicators):
     ----------
     span : the time over which the indicators were measured (from the map's start).
     verdict : "regular", "chaotic" or "undecided" (:func:`map_verdict`).
-    criterion : ``CRITERION``.
     (and those of :class:`~rocknroller.numerics.megno.ChaosIndicators`; its ``regular`` is MEGNO ≤ 3 alone)
     """
 
     span: float
     verdict: str
-    criterion: str = CRITERION
+
+    @property
+    def criterion(self) -> str:
+        """The rule the verdict follows, ``CRITERION`` (stated in every output beside the verdict)."""
+        return CRITERION
 
 
 def map_verdict(megno: float, lyapunov: float, span: float) -> str:
