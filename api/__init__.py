@@ -81,7 +81,7 @@ _LAZY = {"direct_chaos_indicators": "rocknroller.numerics.variational",
          "DiagramData": "rocknroller.papers.plotting",
          "bifurcation_diagram": "rocknroller.papers.bifurcation",
          "slow_portrait": "rocknroller.papers.portrait",
-         "write_portrait": "rocknroller.papers.portrait",
+         "write_portrait": "rocknroller.papers.portrait_output",
          "SlowPortrait": "rocknroller.papers.portrait"}
 
 

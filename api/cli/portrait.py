@@ -138,7 +138,8 @@ def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller portrait`` with the parsed ``args``; returns the exit status."""
     from rocknroller.numerics.megno import MEGNO_CHAOTIC
     from rocknroller.analysis.slow.prediction import default_order
-    from rocknroller.papers.portrait import orbit_rows, slow_portrait, theta0_of_energy, write_portrait
+    from rocknroller.papers.portrait import slow_portrait, theta0_of_energy
+    from rocknroller.papers.portrait_output import orbit_rows, write_portrait
 
     body = body_from_args(args)
     if args.E is not None and args.theta0 is not None:
@@ -159,15 +160,16 @@ def run(args: argparse.Namespace) -> int:
     portrait = slow_portrait(body, theta0, Theta, p, args.t_end, order=order, ode_starts=starts,
                              ode_t_end=args.ode_t_end, build=not args.cached_only, progress=progress,
                              budget=budget_from_args(args))
-    paths = write_portrait(portrait, args.out, values=values)
+    rows = orbit_rows(portrait)  # each orbit's verdict and horizon (a short direct run each), once for CSV and JSON
+    paths = write_portrait(portrait, args.out, values=values, rows=rows)
     summary: dict[str, Any] = {
         "body": body.describe(), "theta0": portrait.theta0, "E": portrait.E, "K": portrait.K,
         "order": portrait.order, "t_end": portrait.t_end, "n_orbits": len(portrait.orbits),
         "left_tables": list(portrait.left), "n_ode": len(portrait.ode), "files": [str(q) for q in paths]}
     megno = portrait.megno
     measured = megno[np.isfinite(megno)]
-    rows = orbit_rows(portrait)
     summary.update(n_megno=int(measured.size), n_chaotic=int(np.sum(measured > MEGNO_CHAOTIC)),
+                   verdicts={v: rows["verdict"].count(v) for v in ("regular", "chaotic", "undecided")},
                    megno_range=[float(measured.min()), float(measured.max())] if measured.size else None,
                    orbits=[dict(zip(rows, r)) for r in zip(*rows.values())])
     if args.json:

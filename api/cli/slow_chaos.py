@@ -50,6 +50,8 @@ _HORIZON_METHODS = {
                    "exponentially at {r:.3g} per unit time",
     "linear": "the map - ODE error {e:.2g} of the extents at the end of the direct probe (t = {p:.4g}), grown linearly "
               "at its measured slope {r:.3g} per unit time",
+    "beyond": "the map - ODE error {e:.2g} of the extents at the end of the direct probe (t = {p:.4g}), extrapolated "
+              "at {r:.3g} per unit time, reaches it only past the longest run the map makes: beyond any t_end",
     "unresolved": "no growth of the map - ODE error ({e:.2g} of the extents) resolved over the direct probe of "
                   "t <= {p:.4g}: beyond any t_end",
 }

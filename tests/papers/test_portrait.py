@@ -21,7 +21,8 @@ from rocknroller.numerics.integrate import simulate
 from rocknroller.numerics.megno import MIN_SAMPLES
 from rocknroller.numerics.variational import direct_chaos_indicators
 from rocknroller.papers.portrait import (MAX_PORTRAIT_ORBITS, orbit_values, plot_portrait, portrait_values,
-                                         slow_portrait, theta0_of_energy, write_portrait)
+                                         slow_portrait, theta0_of_energy)
+from rocknroller.papers.portrait_output import write_portrait
 
 THETA0 = 0.95 * math.pi
 
@@ -205,7 +206,7 @@ def test_each_orbit_lists_its_verdict_and_horizon_as_a_release_would():
     """The portrait's rows carry every orbit's verdict, MEGNO, λ, span and horizon; on the release line (p = 0) an
     orbit is the release from rest at ψ0 = Θ0/2, so its verdict and horizon are ``predict_slow_motion``'s at the same
     order and span, to the bit (the same map orbit, the same direct probe)."""
-    from rocknroller.papers.portrait import orbit_rows
+    from rocknroller.papers.portrait_output import orbit_rows
 
     body = Body.paper(5e-3)
     theta0, t_end = 0.93 * math.pi, 1000.0

@@ -40,6 +40,11 @@ end (t_p, e_p) (:func:`horizon_from_errors`):
   half, t_h = t_p + (f − e_p)/a  (method ``"linear"``); with no growth resolved (a = 0) the horizon is infinite
   (method ``"unresolved"``).
 
+An extrapolated horizon past the longest run the map makes (``t_end_limit``: ``MAX_MAXIMA`` maxima, ~5·10⁵ rocks) is
+beyond any t_end a prediction can ask for, and its value there rests on a growth rate resolved only to a few digits
+over the window (a slope of the envelope of ~10⁻⁹ per unit time gives 10⁸, or 10²¹ for one at round-off): it is
+reported as infinite (method ``"beyond"``), so that it does not change with t_end.
+
 Past t_h the map's point predictions (the orbit's Q and Θ at a given time, and so the region runs and crossings) are
 statistical only; its extents and the region fractions over the run are what a chaotic orbit fills, not where it is.
 The accuracy of the horizon against the measured time at which the map − ODE error first exceeds 10 % is tabulated by
@@ -58,6 +63,7 @@ from numpy.typing import ArrayLike, NDArray
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.slow.map.compiled_map import SlowSeries, _fast, _tangent_rows
+from rocknroller.analysis.slow.map.limits import t_end_limit
 from rocknroller.numerics.megno import MEGNO_CHAOTIC, MIN_SAMPLES, ChaosIndicators, chaos_indicators
 
 if TYPE_CHECKING:
@@ -145,7 +151,8 @@ class Horizon:
     ----------
     t : the horizon, in time since the start (inf where no growth of the error was resolved: method "unresolved").
     method : "measured" (the error reached the fraction within the probe window), "exponential", "linear" or
-        "unresolved" (the law extrapolated from the window's end).
+        "unresolved" (the law extrapolated from the window's end), or "beyond" (extrapolated past the longest run
+        the map makes: t is inf).
     probe_t : the end of the probe window (the time of its last maximum).
     probe_error : the error envelope at the window's end (a fraction of the extents).
     rate : the growth used: Λ per unit time ("exponential"), the envelope's slope per unit time ("linear"), 0 else.
@@ -245,7 +252,8 @@ class HorizonProbe:
 
     def horizon(self, fraction: float = HORIZON_FRACTION) -> Horizon:
         """The horizon (:func:`horizon_from_errors`): exponential growth at Λ = max(λ, 2 MEGNO/span) for a chaotic
-        or undecided verdict, linear for a regular one.
+        or undecided verdict, linear for a regular one; infinite (method "beyond") where it extrapolates past the
+        longest run the map makes (module docstring), the probe window being ``PROBE_ROCKS`` rocks.
 
         Raises
         ------
@@ -258,8 +266,12 @@ class HorizonProbe:
         t, e = self.errors()
         c = self.chaos
         if c.verdict == "regular":
-            return horizon_from_errors(t, e, "linear", fraction=fraction)
-        return horizon_from_errors(t, e, "exponential", max(c.lyapunov, 2.0 * c.megno / c.span), fraction)
+            h = horizon_from_errors(t, e, "linear", fraction=fraction)
+        else:
+            h = horizon_from_errors(t, e, "exponential", max(c.lyapunov, 2.0 * c.megno / c.span), fraction)
+        if h.method in ("linear", "exponential") and h.t > t_end_limit(self.t_probe / PROBE_ROCKS):
+            return Horizon(math.inf, "beyond", h.probe_t, h.probe_error, h.rate, fraction)
+        return h
 
 
 @dataclass(frozen=True)

@@ -139,3 +139,25 @@ def test_span_option():
     assert p.chaos.span <= 300.0 and p.chaos.span == p.series.t[-1]
     with pytest.raises(ValueError, match="span must be a time >= t_end"):
         av.predict_slow_motion(Body.paper(3e-3), THETA0, 0.05, 300.0, span=200.0)
+
+
+def test_a_horizon_past_the_longest_run_is_beyond_any_t_end():
+    """An extrapolated horizon past ``t_end_limit`` (the longest run the map makes) is infinite, method "beyond": its
+    value there rests on a slope resolved to a few digits and would change with t_end; just inside it is kept."""
+    from types import SimpleNamespace
+
+    from rocknroller.analysis.slow.dynamics.chaos import PROBE_ROCKS, HorizonProbe
+    from rocknroller.analysis.slow.map.limits import t_end_limit
+
+    t = np.linspace(1.0, 400.0, 40)
+    ramp = np.linspace(0.0, 1.0, 40)
+    series = SimpleNamespace(t=t, QR=ramp, QJ=ramp)
+    chaos = SimpleNamespace(verdict="regular", lyapunov=0.0, megno=2.0, span=400.0)
+    probe = HorizonProbe(Body.paper(1e-3), EulerState(3.0), series, chaos, t_probe=400.0)
+    longest = t_end_limit(400.0 / PROBE_ROCKS)
+    for factor, method in ((2.0, "beyond"), (0.5, "linear")):
+        slope = (0.1 - 1e-3) / (factor * longest)
+        probe._errors = 1e-3 + slope * (t - t[0])
+        h = probe.horizon()
+        assert h.method == method
+        assert (h.t == math.inf) if method == "beyond" else (h.t == pytest.approx(factor * longest, rel=1e-6))
