@@ -428,12 +428,14 @@ def cached_table(builder: Callable[..., Any], body: Body, where: float, what: st
 
 
 def store_table(builder: Callable[..., Any], body: Body, where: float, what: str, table: Any, *,
-                use_cache: bool = True, **grid: Any) -> None:
+                use_cache: bool = True, spec_of: Callable[[dict[str, Any]], dict[str, tuple[int, ...]]] | None = None,
+                **grid: Any) -> None:
     """Keep ``table``, built as ``builder(body.symmetric(), where, **grid)`` builds it (elsewhere: by
     :mod:`rocknroller.analysis.slow.map.tables_at_once`), in memory and, with ``use_cache``, in the disk cache, as
-    :func:`cached_table` keeps the tables it builds (first-order tables: a SlowMapTable's fields)."""
+    :func:`cached_table` keeps the tables it builds (``spec_of`` as there)."""
     key, directory, path, opts, _ = _table_location(builder, body, where, grid)
-    _store(table, key, directory, path, _table_spec(opts["nu"], opts["nv"]), what, use_cache)
+    spec = spec_of(opts) if spec_of is not None else _table_spec(opts["nu"], opts["nv"])
+    _store(table, key, directory, path, spec, what, use_cache)
     _TABLES[key] = table
 
 

@@ -1,7 +1,7 @@
 """Release tables of many θ0 at once: every array of every table the same bit for bit as the one-process
 ``build_table``'s, whether the nodes ran in threads, spawned processes, a local dask cluster or the workers of a
 running one; the tables are cached as ``load_or_build_table`` caches them; bad input is refused before any work,
-naming the parameter.
+naming the parameter; the same for the second-order tables.
 
 A coarse grid (16 × 8 nodes: two blocks of nodes per table, so the blocks of different tables interleave on the
 workers) keeps each build to about a second; the built tables go to a temporary ROCKNROLLER_CACHE (heyoka's
@@ -22,7 +22,8 @@ from rocknroller.analysis.slow.map import table as slow_table
 from rocknroller.analysis.slow.map import tables_at_once
 from rocknroller.analysis.slow.map.limits import AveragingValidityWarning
 from rocknroller.analysis.slow.map.table import build_table, load_or_build_table
-from rocknroller.analysis.slow.map.tables_at_once import build_release_tables
+from rocknroller.analysis.slow.map.second_order import build_second_order_table, load_or_build_second_order_table
+from rocknroller.analysis.slow.map.tables_at_once import build_release_tables, build_second_order_tables
 
 BODY = Body.paper(1e-3)
 THETA0 = (0.95 * math.pi, 0.9 * math.pi, 0.95 * math.pi)  # a repeated angle is built once
@@ -32,7 +33,7 @@ GRID = {"nu": 16, "nv": 8}
 def _quiet(fn, *args, **kw):
     """``fn(*args, **kw)`` without the coarse grid's interpolation warning."""
     with warnings.catch_warnings():
-        warnings.filterwarnings("ignore", "the averaging tables .* interpolate", AveragingValidityWarning)
+        warnings.filterwarnings("ignore", "the (averaging|second-order) tables .* interpolate", AveragingValidityWarning)
         return fn(*args, **kw)
 
 
@@ -124,3 +125,37 @@ def test_bad_input_is_refused_before_any_work(kw, name, empty_cache, monkeypatch
     kw = {"theta0": THETA0, **GRID, **kw}
     with pytest.raises(ValueError, match=name):
         build_release_tables(BODY, kw.pop("theta0"), progress=False, **kw)
+
+
+K2_GRID = {"nu": 16, "nv": 4}  # 32 nodes, 16 computed: two blocks of k2 nodes
+
+
+@pytest.fixture(scope="module")
+def one_process_k2(tmp_path_factory):
+    """The second-order table of 0.95π and its release table (default grid), built by one process in a cache of
+    their own."""
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("ROCKNROLLER_CACHE", str(tmp_path_factory.mktemp("k2")))
+        mp.setattr(slow_table, "_TABLES", {})
+        second = _quiet(build_second_order_table, BODY, THETA0[0], **K2_GRID)
+        return load_or_build_table(BODY, THETA0[0], build=False), second
+
+
+@pytest.mark.parametrize("where", [{"threads": 2}, {"workers": 2}], ids=["threads", "local cluster"])
+def test_second_order_tables_are_the_one_process_builds(where, one_process_k2, empty_cache):
+    if "workers" in where:
+        pytest.importorskip("distributed")
+    first, second = one_process_k2
+    tables = _quiet(build_second_order_tables, BODY, THETA0[:1] * 2, progress=False, **where, **K2_GRID)
+    assert len(tables) == 2 and tables[0] is tables[1]
+    assert_bit_identical(tables[0], second)
+    slow_table._TABLES = {}  # read back from the disk cache: the release table and the second-order table
+    assert_bit_identical(load_or_build_table(BODY, THETA0[0], build=False), first)
+    assert_bit_identical(load_or_build_second_order_table(BODY, THETA0[0], build=False, **K2_GRID), second)
+
+
+def test_second_order_bad_input_is_refused_before_any_work(empty_cache, monkeypatch):
+    monkeypatch.setattr(tables_at_once, "build_release_tables", lambda *a, **k: pytest.fail("work started"))
+    for kw, name in (({"nu": 7}, "nu"), ({"threads": 0}, "threads"), ({"scheduler": "x"}, "scheduler")):
+        with pytest.raises(ValueError, match=name):
+            build_second_order_tables(BODY, THETA0, **kw)
