@@ -81,6 +81,15 @@ def build_release_tables(body: Body, theta0: ArrayLike, *, scheduler: str | None
         Naming the parameter: a θ0 outside ``THETA0_RANGE`` or too many of them, bad grid options, a bad
         ``scheduler``, ``workers``, ``threads`` or ``processes`` or two of them, an estimate over ``budget``; all
         before any work.  As ``build_table`` for a body whose tables cannot be built.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> tables = rr.build_release_tables(body, [0.9 * math.pi, 0.95 * math.pi], threads=2, progress=False)
+    >>> print([f"{t.theta0 / math.pi:.2f}pi" for t in tables], tables[1].coef.shape)
+    ['0.90pi', '0.95pi'] (18, 128, 6)
     """
     angles_list = _check_angles(theta0)
     _check_where(scheduler, workers, threads, processes)
