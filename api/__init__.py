@@ -30,6 +30,7 @@ from rocknroller.analysis.slow.atlas_check import AtlasCheck, confirm_atlas
 from rocknroller.analysis.slow.ensemble_statistics import (EnsembleComparison, EnsembleStatistics, StartBall,
                                                            compare_ensembles, map_ensemble, ode_ensemble)
 from rocknroller.analysis.slow.map.maps import ExactMap, SlowMap
+from rocknroller.analysis.slow.map.tables_at_once import build_release_tables
 from rocknroller.analysis.slow.dynamics.pendulum import PendulumConstants, pendulum_constants, pendulum_prediction
 from rocknroller.analysis.slow.dynamics.period_doubling import PeriodDoubling, period_doubling
 from rocknroller.analysis.slow.dynamics.periodic_orbits import Branch, PeriodicOrbit, continue_orbit, periodic_orbit
@@ -58,7 +59,7 @@ __all__ = [
     # the slow motion of the rock'n'roller
     "predict_slow_motion", "SlowPrediction", "pendulum_constants", "pendulum_prediction", "PendulumConstants",
     "period_doubling", "PeriodDoubling", "periodic_orbit", "continue_orbit", "PeriodicOrbit", "Branch",
-    "SlowMap", "ExactMap",
+    "SlowMap", "ExactMap", "build_release_tables",
     "azimuth_span", "atlas_from_rest", "atlas_of_rates", "confirm_atlas", "Atlas", "AtlasCheck",
     "check_prediction", "PredictionCheck",
     # statistics where the slow motion is chaotic: map and ODE ensembles over a ball of starts, and their test

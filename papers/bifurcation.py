@@ -16,6 +16,7 @@ import numpy as np
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.slow.map.limits import K_PERIOD_DOUBLING, check_map_theta0
+from rocknroller.analysis.slow.map.tables_at_once import build_release_tables
 from rocknroller.analysis.slow.dynamics.period_doubling import period_doubling
 from rocknroller.analysis.slow.dynamics.periodic_orbits import (K_MAX, MAX_BRANCH_POINTS, Branch, PeriodicOrbit,
                                                                 continue_orbit, periodic_orbit)
@@ -209,10 +210,15 @@ def bifurcation_figure(data: Sequence[BifurcationData]) -> Any:
 
 
 def bifurcation_diagram(body: Body, out_dir: str | Path, theta0s: Sequence[float] = (0.9 * math.pi, 0.95 * math.pi),
-                        budget: float | None = WORK_BUDGET_SECONDS,
-                        **kwargs: Any) -> tuple[list[Path], list[BifurcationData]]:
+                        budget: float | None = WORK_BUDGET_SECONDS, scheduler: str | None = None,
+                        threads: int | None = None, **kwargs: Any) -> tuple[list[Path], list[BifurcationData]]:
     """Compute (:func:`bifurcation_data`, ``kwargs``) and write ``bifurcation.png``, ``.pdf`` and ``.csv`` to
     ``out_dir`` (the figure: :func:`bifurcation_figure`).  Returns the paths and the data.
+
+    The release tables of all ``theta0s`` not yet cached are built first, together
+    (:func:`rocknroller.analysis.slow.map.tables_at_once.build_release_tables`), their nodes on the workers of the
+    dask scheduler at ``scheduler``, on ``threads`` threads, or on ``kwargs["workers"]`` spawned processes (which
+    also build order 2's second-order tables); the tables, and so the diagram, do not depend on where.
 
     Raises
     ------
@@ -241,6 +247,9 @@ def bifurcation_diagram(body: Body, out_dir: str | Path, theta0s: Sequence[float
     _check_counts(n_points, exact)
     check_work(bifurcation_seconds(body, theta0s, n_points, exact),
                f"a bifurcation diagram at {len(theta0s)} theta0 with {len(exact)} exact fractions each", budget)
+    where = {"scheduler": scheduler, "threads": threads} if (scheduler, threads) != (None, None) else \
+        {"processes": kwargs.get("workers", 1)}
+    build_release_tables(body, theta0s, progress=False, budget=None, **where)  # the budget is checked above
     data = [bifurcation_data(body, t, budget=None, **kwargs) for t in theta0s]
     paths = save_figure(bifurcation_figure(data), out_dir, "bifurcation")
     rows = [r for d in data for r in _rows(d)]

@@ -313,7 +313,10 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
         way wherever it runs; more than one starts "spawn" processes, which import the calling script: guard a
         script's top level with ``if __name__ == "__main__":``).
     scheduler, workers, threads
-        Where the ODE's runs go (method "ode"), as for :func:`rocknroller.numerics.ensembles.ensemble.run_ensemble`.
+        Where the ODE's runs go (method "ode"), as for :func:`rocknroller.numerics.ensembles.ensemble.run_ensemble`;
+        for the map, where the release tables of the rows not yet cached are built, the nodes of all of them on that
+        scheduler at once (:func:`rocknroller.analysis.slow.map.tables_at_once.build_release_tables`: the tables are
+        the same bit for bit wherever they are built) before the rows run.
     budget : float or None
         CPU seconds the atlas may take (:mod:`rocknroller.numerics.budget`; None: no limit), estimated before any
         work: for the map, its runs' θ-maxima (:func:`rocknroller.analysis.slow.work.check_map_work`) and, separately,
@@ -355,6 +358,11 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
                    "time units each", budget)
     if build:
         _check_table_work(body, th, budget)
+        if (scheduler, workers, threads) != (None, None, None):
+            from rocknroller.analysis.slow.map.tables_at_once import build_release_tables
+
+            build_release_tables(body, [t0 for t0 in th if not av.releases_on_region_tables(t0)], scheduler=scheduler,
+                                 workers=workers, threads=threads, progress=progress, budget=None)  # checked above
     blocks = np.array_split(np.arange(th.size), min(processes, th.size) if processes > 1 else th.size)
     parts = map_blocks(_rows, [(body, th[rows], ps, float(t_end), build, chaos) for rows in blocks],
                        [b.size for b in blocks],

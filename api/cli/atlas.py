@@ -39,8 +39,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--confirm points) and the map's errors there, or by the direct ODE everywhere (--method ode). --plane "
         "rates: initial rates (phi_dot0, psi_dot0) at one theta0, psi0 (default the paper's reversal starts, "
         "figs. 7-11), by the direct ODE (each start has its own energy, and the map's tables are per energy), with "
-        "the critical lines drawn. The direct runs go in this process or on a dask cluster (--scheduler / "
-        "--workers); the numbers do not depend on where.",
+        "the critical lines drawn. The direct runs, and the nodes of the map's tables not yet cached, go in this "
+        "process or on a dask cluster (--scheduler / --workers); the numbers do not depend on where.",
     )
     add_body_options(p, eps_default=1e-3)
     accept_negative_values(p)
@@ -69,9 +69,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--confirm", action="append", default=[], metavar="THETA0,PSI0",
                    help="the map: also confirm the grid point nearest to THETA0,PSI0 (repeatable)")
     p.add_argument("--processes", type=int, default=2, metavar="N",
-                   help="processes of this machine that build the map's tables and share its rows, or threads that "
-                        "share the direct runs when they run in this process (default 2; the numbers do not depend on "
-                        "it). --workers is another thing: dask's worker processes, for the direct runs")
+                   help="processes of this machine that share the map's rows, and threads that build the map's "
+                        "uncached tables (all their nodes at once) or share the direct runs when they run in this "
+                        "process (default 2; the numbers do not depend on it). --workers is another thing: dask's "
+                        "worker processes, for the map's tables or the direct runs")
     add_cluster_options(p)
     p.add_argument("--out", type=Path, default=Path("atlas"), metavar="DIR",
                    help="write atlas.csv and the figures to DIR (default ./atlas; created if missing; existing files "

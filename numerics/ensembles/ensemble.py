@@ -55,7 +55,7 @@ from rocknroller.numerics.trajectory import TurningPointRun, TurningPoints
 if TYPE_CHECKING:
     import pandas
 
-__all__ = ["Job", "RunSummary", "run_job", "run_jobs", "run_ensemble", "check_cluster", "MAX_JOBS", "MAX_WORKERS", "MAX_THREADS",
+__all__ = ["Job", "RunSummary", "run_job", "run_jobs", "run_ensemble", "check_cluster", "cluster_map", "MAX_JOBS", "MAX_WORKERS", "MAX_THREADS",
            "DISTRIBUTED_HINT"]
 
 #: Most jobs in one call (each summary holds its θ-maxima: 17 floats, 136 bytes, per maximum).
@@ -369,12 +369,12 @@ def run_ensemble(jobs: Sequence[Job], *, scheduler: str | None = None, workers: 
     return [r for r in results if r is not None]
 
 
-def _bar(total: int, enabled: bool | None) -> Any:
+def _bar(total: int, enabled: bool | None, unit: str = "run") -> Any:
     from tqdm import tqdm
 
     if enabled is None:
         enabled = sys.stderr.isatty()
-    return tqdm(total=total, disable=not enabled, unit="run", leave=False, file=sys.stderr)
+    return tqdm(total=total, disable=not enabled, unit=unit, leave=False, file=sys.stderr)
 
 
 def _run_in_process(jobs: list[Job], batches: list[list[int]], lanes: int, threads: int,
@@ -418,25 +418,37 @@ def _import_distributed(what: str) -> Any:
 
 def _run_on_cluster(jobs: list[Job], batches: list[list[int]], lanes: int, scheduler: str | None,
                     workers: int | None, progress: bool | None) -> list[list[RunSummary]]:
-    what = f"scheduler={scheduler!r}" if scheduler is not None else f"workers={workers}"
-    distributed = _import_distributed(what)
+    _import_distributed(f"scheduler={scheduler!r}" if scheduler is not None else f"workers={workers}")
     # fill heyoka's disk cache (if empty) before any worker needs the integrator
     for tol in {job.tol for job in jobs}:
         heyoka_integrator("double", tol) if lanes == 1 else batch_integrator(lanes, tol)
+    return cluster_map(run_jobs, [([jobs[i] for i in batch], lanes) for batch in batches], [len(b) for b in batches],
+                       scheduler=scheduler, workers=workers, progress=progress)
+
+
+def cluster_map(fn: Callable[..., Any], tasks: Sequence[tuple[Any, ...]], sizes: Sequence[int], *,
+                scheduler: str | None = None, workers: int | None = None, progress: bool | None = None,
+                unit: str = "run") -> list[Any]:
+    """``[fn(*task) for task in tasks]`` on a dask.distributed cluster: the one at ``scheduler`` (an address checked by
+    :func:`check_cluster`), or a local one of ``workers`` single-threaded processes started for the call.  A tqdm bar
+    advances by ``sizes[i]`` as task i completes.  Workers whose versions of (rocknroller, heyoka, numpy) differ from
+    this process's are refused (ValueError), as is a missing dask.distributed or an unreachable scheduler."""
+    what = f"scheduler={scheduler!r}" if scheduler is not None else f"workers={workers}"
+    distributed = _import_distributed(what)
     if workers is not None:  # the scheduler's HTTP server on a free port: never a clash with another cluster's
         with distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                       dashboard_address=":0") as cluster, distributed.Client(cluster) as client:
-            return _submit(client, jobs, batches, lanes, what, progress)
+            return _submit(client, fn, tasks, sizes, what, progress, unit)
     try:
         client = distributed.Client(scheduler)
     except (OSError, TimeoutError) as exc:
         raise ValueError(f"scheduler={scheduler!r}: cannot connect to the dask scheduler ({exc})") from None
     with client:
-        return _submit(client, jobs, batches, lanes, what, progress)
+        return _submit(client, fn, tasks, sizes, what, progress, unit)
 
 
-def _submit(client: Any, jobs: list[Job], batches: list[list[int]], lanes: int, what: str,
-            progress: bool | None) -> list[list[RunSummary]]:
+def _submit(client: Any, fn: Callable[..., Any], tasks: Sequence[tuple[Any, ...]], sizes: Sequence[int], what: str,
+            progress: bool | None, unit: str) -> list[Any]:
     import distributed
 
     here = _versions()
@@ -444,11 +456,11 @@ def _submit(client: Any, jobs: list[Job], batches: list[list[int]], lanes: int, 
     if odd:
         raise ValueError(f"{what}: workers run other versions of (rocknroller, heyoka, numpy) than {here}, so their "
                          f"results could differ: {odd}")
-    futures = client.map(run_jobs, [[jobs[i] for i in batch] for batch in batches], lanes=lanes, pure=False)
-    sizes = {future.key: len(batch) for future, batch in zip(futures, batches)}
-    with _bar(len(jobs), progress) as bar:
+    futures = [client.submit(fn, *task, pure=False) for task in tasks]
+    size_of = {future.key: n for future, n in zip(futures, sizes)}
+    with _bar(sum(sizes), progress, unit) as bar:
         for future in distributed.as_completed(futures):
             if future.status == "error":
-                future.result()  # re-raises the job's exception here; leaving the client drops the other jobs
-            bar.update(sizes[future.key])
+                future.result()  # re-raises the task's exception here; leaving the client drops the other tasks
+            bar.update(size_of[future.key])
     return client.gather(futures)

@@ -93,7 +93,7 @@ PUBLIC_NAMES = [
     "StartBall", "map_ensemble", "ode_ensemble", "compare_ensembles", "EnsembleStatistics", "EnsembleComparison",
     "slow_portrait", "write_portrait", "SlowPortrait",
     # issue 32, item 20: the slow map and the exact map as objects
-    "SlowMap", "ExactMap",
+    "SlowMap", "ExactMap", "build_release_tables",
     # issue 32, item 14: the region fractions of a run's maxima (run_ensemble's summaries)
     "region_fractions",
 ]

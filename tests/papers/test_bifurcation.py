@@ -60,3 +60,26 @@ def test_figure_has_a_legend_inside_it(tmp_path):
              or "axis" in t.get_text()}
     assert named == {"C0", "C1", "C2"} and named <= drawn
     assert all(isinstance(h, Line2D) for h in leg.legend_handles)
+
+
+def test_the_release_tables_of_all_theta0_are_built_at_once(tmp_path, monkeypatch):
+    """bifurcation_diagram hands the release tables of all its θ0 to one build_release_tables call on the scheduler
+    asked for (threads here), and the diagram's table is the same, byte for byte, as without it."""
+    from rocknroller.papers import bifurcation as bif
+
+    calls, real = [], bif.build_release_tables
+
+    def spy(body, theta0, **kw):
+        calls.append((list(theta0), kw))
+        return real(body, theta0, **kw)
+
+    monkeypatch.setattr(bif, "build_release_tables", spy)
+    angles = [0.9 * math.pi, THETA0]
+    opts = dict(n_points=5, exact_fractions=())
+    bifurcation_diagram(Body.paper(0.0), tmp_path / "loop", angles, **opts)
+    bifurcation_diagram(Body.paper(0.0), tmp_path / "threads", angles, threads=2, **opts)
+    assert [c[0] for c in calls] == [angles, angles]
+    assert calls[0][1]["processes"] == 1 and calls[1][1]["threads"] == 2
+    assert (tmp_path / "loop" / "bifurcation.csv").read_bytes() == (tmp_path / "threads" / "bifurcation.csv").read_bytes()
+    with pytest.raises(ValueError, match="threads must be"):
+        bifurcation_diagram(Body.paper(0.0), tmp_path, angles, threads=0, **opts)

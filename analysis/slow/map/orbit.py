@@ -32,8 +32,10 @@ one-lane run by the rounding of the vector kernels only (~1e-14 of each response
 
 from __future__ import annotations
 
+import copy
 import functools
 import math
+import threading
 from dataclasses import dataclass, field
 from typing import Any, Callable, Mapping
 
@@ -63,7 +65,10 @@ __all__ = [
 HARMONIC_PSI = (0.0, math.pi / 3.0, 2.0 * math.pi / 3.0)
 #: First-order responses per step: ε-derivatives of Q_R, Q_J, Θ = 2ψ, the event time and φ.
 FIRST_ORDER_NAMES = ("QR", "QJ", "Theta", "t", "phi")
+#: The compiled integrators of this process (templates), each thread's copies, and the lock that guards the templates.
 _INTEGRATOR: dict[str, Any] = {}
+_PER_THREAD = threading.local()
+_INTEGRATOR_LOCK = threading.Lock()
 #: CPU seconds a compilation of :func:`_variational_integrator` of each order usually takes (measured, one core).
 _COMPILE_SECONDS = {1: 1.0, 2: 1.0}
 
@@ -128,21 +133,27 @@ def _variational_system(order: int) -> list[tuple[Any, Any]]:
 def _variational_integrator(order: int = 1, lanes: int | None = None) -> Any:
     """heyoka batch integrator of :func:`_variational_system` (``order`` 1 or 2), by default in lanes of heyoka's
     recommended SIMD width: one orbit per lane, each with its own steps (the lanes do not interact), so a batch runs
-    several orbits for about the price of one (docs/slow_validation.md, "Cost"; ``lanes=1``: one orbit at a time)."""
+    several orbits for about the price of one (docs/slow_validation.md, "Cost"; ``lanes=1``: one orbit at a time).
+    Compiled once per process, one copy per thread (threads may build tables side by side)."""
     import heyoka as hy
 
     lanes = int(hy.recommended_simd_size()) if lanes is None else int(lanes)
     key = f"batch{order}x{lanes}"
-    if key not in _INTEGRATOR:
-        eqs = _variational_system(order)
-        y = hy.make_vars("g1", "g2", "g3", "w1", "w2", "w3")
-        ev = hy.t_event_batch(turning_point_function(y), callback=_NextMaximum())
-        check_diskcache()
-        with compiling(f"the averaging tables' variational integrator (order {order}, {lanes} lanes)",
-                       _COMPILE_SECONDS[order]):
-            _INTEGRATOR[key] = hy.taylor_adaptive_batch(eqs, np.zeros((len(eqs), lanes)), pars=np.zeros((5, lanes)),
-                                                        compact_mode=True, t_events=[ev])
-    return _INTEGRATOR[key]
+    mine = _PER_THREAD.__dict__.setdefault("integrators", {})
+    if key in mine:
+        return mine[key]
+    with _INTEGRATOR_LOCK:
+        if key not in _INTEGRATOR:
+            eqs = _variational_system(order)
+            y = hy.make_vars("g1", "g2", "g3", "w1", "w2", "w3")
+            ev = hy.t_event_batch(turning_point_function(y), callback=_NextMaximum())
+            check_diskcache()
+            with compiling(f"the averaging tables' variational integrator (order {order}, {lanes} lanes)",
+                           _COMPILE_SECONDS[order]):
+                _INTEGRATOR[key] = hy.taylor_adaptive_batch(eqs, np.zeros((len(eqs), lanes)),
+                                                            pars=np.zeros((5, lanes)), compact_mode=True, t_events=[ev])
+        mine[key] = copy.deepcopy(_INTEGRATOR[key])
+    return mine[key]
 
 
 # ----------------------------------------------------------------------------- one orbit

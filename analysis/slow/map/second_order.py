@@ -55,7 +55,8 @@ __all__ = [
     "first_order_kick", "drift_derivatives", "second_order_kick", "second_order_kicks", "dkd_residual",
     "K2_HARMONICS", "K2_FUNCTIONS", "K2_ACCURACY", "K2_REGION_ACCURACY", "k2_harmonics", "k2_harmonics_at",
     "build_second_order_table", "load_or_build_second_order_table",
-    "build_second_order_region_table", "load_or_build_second_order_region_table"
+    "build_second_order_region_table", "load_or_build_second_order_region_table", "k2_block", "k2_blocks", "fit_k2",
+    "check_k2_nu", "k2_spec"
 ]
 
 #: Table prefix of each kick component, in ``STEP_NAMES`` order (Q_R, Q_J, Θ, t, φ), and the drift of the last three.
@@ -229,34 +230,58 @@ def _first_table(body: Body, where: float, kind: str, **run: Any) -> SlowMapTabl
     return load_or_build_region_table(body, where, **run)
 
 
-def _k2_block(body: Body, where: float, kind: str, nodes: list[tuple[float, float]]) -> NDArray[np.float64]:
-    table = _first_table(body, where, kind)
-    return k2_harmonics_at(table, nodes).reshape(len(nodes), -1)
+def k2_block(first: SlowMapTable, nodes: list[tuple[float, float]]) -> NDArray[np.float64]:
+    """k₂'s harmonics at ``nodes`` (Q_R, Q_J) on the first-order table ``first``, one row per node."""
+    return k2_harmonics_at(first, nodes).reshape(len(nodes), -1)
 
 
-def _build_k2(body: Body, where: float, kind: str, nu: int, nv: int, workers: int,
-              progress: bool | None) -> SecondOrderTable:
-    """k₂ on the chart of the first-order table (:func:`_first_table`): half the nodes computed, the others by the
-    parity (module docstring of :func:`build_second_order_table`), checked at off-grid points."""
-    from rocknroller.analysis.slow.map.limits import AveragingRangeError, AveragingValidityWarning
-
+def check_k2_nu(nu: int) -> None:
+    """ValueError naming nu unless it is an even integer in [8, 256] (the second-order tables' nodes along)."""
     if isinstance(nu, bool) or int(nu) != nu or nu % 2 or not 8 <= nu <= 256:
         raise ValueError(f"nu must be an even integer in [8, 256], got nu={nu!r}")
-    workers = check_processes(workers, "workers")
-    first = _first_table(body, where, kind, progress=progress, workers=workers)
+
+
+#: Nodes per task of a second-order build (those of a task share the batch integrator's lanes).
+_K2_BLOCK_NODES = 16
+
+
+def k2_blocks(first: SlowMapTable, nu: int, nv: int) -> list[tuple[SlowMapTable, list[tuple[float, float]]]]:
+    """The arguments of :func:`k2_block` for the computed half of the nu × nv Chebyshev nodes on ``first``'s chart
+    (ξ ≤ 0, in C order), in blocks of ``_K2_BLOCK_NODES``; nu and nv checked (ValueError naming them)."""
+    check_k2_nu(nu)
     if isinstance(nv, bool) or int(nv) != nv or not 2 <= nv <= first.coef.shape[2]:
         raise ValueError(f"nv must be an integer in [2, {first.coef.shape[2]}] (the first-order table's terms "
                          f"across), got nv={nv!r}")
     XI, ETA = np.meshgrid(_cheb_nodes(nu), _cheb_nodes(nv), indexing="ij")
     QR, QJ = first.chart(XI, ETA)
     half = [(float(QR[i, j]), float(QJ[i, j])) for i in range(nu // 2) for j in range(nv)]
-    size = 16
-    blocks = [half[k:k + size] for k in range(0, len(half), size)]
-    rows = map_blocks(_k2_block, [(body.symmetric(), float(where), kind, b) for b in blocks],
-                      [len(b) for b in blocks], processes=workers, unit="node",
+    return [(first, half[k:k + _K2_BLOCK_NODES]) for k in range(0, len(half), _K2_BLOCK_NODES)]
+
+
+def _build_k2(body: Body, where: float, kind: str, nu: int, nv: int, workers: int,
+              progress: bool | None) -> SecondOrderTable:
+    """k₂ on the chart of the first-order table (:func:`_first_table`): half the nodes computed, the others by the
+    parity (module docstring of :func:`build_second_order_table`), checked at off-grid points."""
+    check_k2_nu(nu)
+    workers = check_processes(workers, "workers")
+    first = _first_table(body, where, kind, progress=progress, workers=workers)
+    blocks = k2_blocks(first, nu, nv)
+    rows = map_blocks(k2_block, blocks, [len(b[1]) for b in blocks], processes=workers, unit="node",
                       desc=(f"second-order tables, theta0={where / math.pi:.6g}pi" if kind == "release" else
                             f"second-order tables, E={where:.6g}"),
                       progress=progress)
+    return fit_k2(first, where, kind, nu, nv, rows)
+
+
+def fit_k2(first: SlowMapTable, where: float, kind: str, nu: int, nv: int,
+           rows: list[NDArray[np.float64]]) -> SecondOrderTable:
+    """The second-order table on ``first`` (a ``kind`` "release" table of θ0 = ``where`` or "region" table of
+    E = ``where``) from the rows of
+    :func:`k2_block` for :func:`k2_blocks`' blocks: the other half of the nodes by the parity, the Chebyshev fit,
+    and the check at off-grid points (above ``K2_ACCURACY``, or ``K2_REGION_ACCURACY``, an
+    AveragingValidityWarning)."""
+    from rocknroller.analysis.slow.map.limits import AveragingRangeError, AveragingValidityWarning
+
     data = np.empty((nu, nv, 5, 5))
     data[: nu // 2] = np.concatenate(rows).reshape(nu // 2, nv, 5, 5)
     sign = np.where(np.array(_K2_ODD), -1.0, 1.0)[:, None]
@@ -336,7 +361,7 @@ def load_or_build_second_order_table(body: Body, theta0: float, *, build: bool =
     theta0 = check_map_theta0(theta0)
 
     return cached_table(build_second_order_table, body, theta0, f"theta0={theta0!r}", build=build,
-                        use_cache=use_cache, table_type=SecondOrderTable, spec_of=_k2_spec, **grid)
+                        use_cache=use_cache, table_type=SecondOrderTable, spec_of=k2_spec, **grid)
 
 
 def load_or_build_second_order_region_table(body: Body, E: float, *, build: bool = True, use_cache: bool = True,
@@ -350,7 +375,7 @@ def load_or_build_second_order_region_table(body: Body, E: float, *, build: bool
                         table_type=SecondOrderTable, spec_of=_k2_region_spec, unstored={"theta0": math.nan}, **grid)
 
 
-def _k2_spec(opts: dict[str, Any]) -> dict[str, tuple[int, ...]]:
+def k2_spec(opts: dict[str, Any]) -> dict[str, tuple[int, ...]]:
     """The fields of a release's second-order table file, in checksum order."""
     return {"theta0": (), **_k2_region_spec(opts)}
 

@@ -50,7 +50,8 @@ from rocknroller.numerics.parallel import check_processes, map_blocks
 
 __all__ = [
     "REGION_TABLE_ACCURACY", "build_table", "check_grid", "kick_at_rest", "fit_table", "fit_and_check",
-    "load_or_build_table", "cached_table", "TableNotCachedError", "orbit_data", "is_cached"
+    "load_or_build_table", "cached_table", "TableNotCachedError", "orbit_data", "is_cached", "node_blocks",
+    "assemble_nodes", "node_block", "release_frame", "fit_release_table", "store_table"
 ]
 
 #: Bump when the table construction or its file format changes (part of the cache key).
@@ -86,7 +87,7 @@ def _table_spec(nu: int, nv: int) -> dict[str, tuple[int, ...]]:
     return {name: shapes.get(name, ()) for name in SlowMapTable.__dataclass_fields__}
 
 
-def _node_block(sym: Body, E: float, nodes: list[tuple[float, float, float]]) -> NDArray[np.float64]:
+def node_block(sym: Body, E: float, nodes: list[tuple[float, float, float]]) -> NDArray[np.float64]:
     """Rows (T, W mod 2π, Δφ mod π, the harmonics of the ε-responses) at nodes (Q_R, Q_J, θ_X): three orbits
     each, all run through the batch integrator's lanes."""
     QR, QJ, thX = np.array(nodes, float).T
@@ -104,6 +105,22 @@ def _node_block(sym: Body, E: float, nodes: list[tuple[float, float, float]]) ->
 _BLOCK_NODES = 64
 
 
+def node_blocks(sym: Body, E: float, QR: NDArray, QJ: NDArray,
+                theta_X: NDArray) -> list[tuple[Body, float, list[tuple[float, float, float]]]]:
+    """The arguments of :func:`node_block` for the nodes (Q_R, Q_J) with their θ_X, in blocks of ``_BLOCK_NODES``
+    in node order (C order of ``QR``'s shape)."""
+    nodes = list(zip(np.ravel(QR).tolist(), np.ravel(QJ).tolist(), np.ravel(theta_X).tolist()))
+    return [(sym, E, nodes[i:i + _BLOCK_NODES]) for i in range(0, len(nodes), _BLOCK_NODES)]
+
+
+def assemble_nodes(rows: list[NDArray], shape: tuple[int, ...]) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """T, W mod 2π, Δφ mod π (each of ``shape``) and the harmonics of the ε-responses (shape
+    ``(len(FIRST_ORDER_NAMES), *shape, 3)``) from the rows of :func:`node_block` of :func:`node_blocks`' blocks."""
+    data = np.concatenate(rows).reshape(shape + (-1,))
+    resp = np.moveaxis(data[..., 3:].reshape(shape + (len(FIRST_ORDER_NAMES), 3)), -2, 0)
+    return data[..., 0], data[..., 1], data[..., 2], resp
+
+
 def orbit_data(sym: Body, E: float, QR: NDArray, QJ: NDArray, theta_X: NDArray, *, progress: bool | None = None,
                workers: int = 1, desc: str = "tables") -> tuple[NDArray, NDArray, NDArray, NDArray]:
     """T, W mod 2π, Δφ mod π (each shaped like QR) and the harmonics of the ε-responses (shape
@@ -111,13 +128,10 @@ def orbit_data(sym: Body, E: float, QR: NDArray, QJ: NDArray, theta_X: NDArray, 
     ``_BLOCK_NODES`` shared by ``workers`` processes, under a tqdm bar named ``desc`` (``progress`` None: only if
     stderr is a terminal).  Each node's numbers depend on neither the blocks nor the processes (the batch
     integrator's lanes are independent)."""
-    nodes = list(zip(np.ravel(QR).tolist(), np.ravel(QJ).tolist(), np.ravel(theta_X).tolist()))
-    blocks = [nodes[i:i + _BLOCK_NODES] for i in range(0, len(nodes), _BLOCK_NODES)]
-    rows = map_blocks(_node_block, [(sym, E, block) for block in blocks], [len(b) for b in blocks],
-                      processes=workers, desc=desc, unit="node", progress=progress)
-    data = np.concatenate(rows).reshape(np.shape(QR) + (-1,))
-    resp = np.moveaxis(data[..., 3:].reshape(np.shape(QR) + (len(FIRST_ORDER_NAMES), 3)), -2, 0)
-    return data[..., 0], data[..., 1], data[..., 2], resp
+    blocks = node_blocks(sym, E, QR, QJ, theta_X)
+    rows = map_blocks(node_block, blocks, [len(b[2]) for b in blocks], processes=workers, desc=desc, unit="node",
+                      progress=progress)
+    return assemble_nodes(rows, np.shape(QR))
 
 
 def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_factor: float = 2.5,
@@ -148,10 +162,22 @@ def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_fact
         θ0 outside ``THETA0_RANGE`` or bad grid options; AveragingRangeError if the energy of the release
         admits no motion somewhere on the table rectangle (possible for bodies other than the paper's).
     """
+    workers = check_processes(workers, "workers")
+    frame, T, W, dphi, thX = release_frame(body, theta0, nu=nu, nv=nv, u_factor=u_factor, v_ratio=v_ratio)
+    QRg, QJg = frame.nodes()
+    resp = orbit_data(frame.body, frame.E0, QRg, QJg, thX, progress=progress, workers=workers,
+                      desc=f"release tables, theta0={frame.theta0 / math.pi:.6g}pi")[3]
+    return fit_release_table(frame, T, W, dphi, resp)
+
+
+def release_frame(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_factor: float = 2.5,
+                  v_ratio: float = 0.002) -> tuple[SlowMapTable, NDArray, NDArray, NDArray, NDArray]:
+    """The release table of (body, θ0) without its coefficients (its chart: ``frame.nodes()``), and T, W mod 2π,
+    Δφ mod π and θ_X of the symmetric orbits at its nodes (quadratures): :func:`build_table` up to the nodes'
+    variational orbits, its parameters checked as there."""
     body.require_gravity("the averaged slow map (its release tables)")
     theta0 = check_map_theta0(theta0)
     check_grid(nu, nv)
-    workers = check_processes(workers, "workers")
     if not (u_factor > 0 and 0 < v_ratio <= 1):
         raise ValueError(f"u_factor must be > 0 and v_ratio in (0, 1], got {u_factor!r}, {v_ratio!r}")
     sym = body.symmetric()
@@ -175,11 +201,15 @@ def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_fact
         raise AveragingRangeError(
             f"the averaging tables of theta0={theta0!r} cannot be built for this body ({sym.describe()}): on their "
             f"rectangle |u| <= {U:.4g} (2.5 times the libration amplitude at K = 4) {exc}") from None
-    resp = orbit_data(sym, E0, QRg, QJg, thX, progress=progress, workers=workers,
-                      desc=f"release tables, theta0={theta0 / math.pi:.6g}pi")[3]
+    return frame, T, W, dphi, thX
+
+
+def fit_release_table(frame: SlowMapTable, T: NDArray, W: NDArray, dphi: NDArray, resp: NDArray) -> SlowMapTable:
+    """The release table on ``frame`` (:func:`release_frame`) from the data at its nodes: :func:`fit_and_check`."""
+    nu, nv = T.shape
     return fit_and_check(frame, T, W, dphi, resp, _interpolation_error, _INTERP_WARN,
-                         f"the averaging tables for theta0={theta0!r} interpolate the coefficients only to {{err:.1e}} "
-                         f"(relative); use more nodes (nu={nu}, nv={nv})")
+                         f"the averaging tables for theta0={frame.theta0!r} interpolate the coefficients only to "
+                         f"{{err:.1e}} (relative); use more nodes (nu={nu}, nv={nv})")
 
 
 def check_grid(nu: int, nv: int) -> None:
@@ -392,13 +422,32 @@ def cached_table(builder: Callable[..., Any], body: Body, where: float, what: st
                 f"no averaging tables for {what} and this body ({sym.describe()}); they are built "
                 "on first use: call without build=False / --cached-only")
         table = builder(sym, where, **opts, **run)
-        if use_cache:
-            try:
-                save_arrays(path, key, {k: getattr(table, k) for k in spec})
-            except OSError as exc:
-                warn_unwritable(directory, exc, f"the averaging tables are rebuilt in every process (for each body "
-                                f"and {what.split('=')[0]})")
+        _store(table, key, directory, path, spec, what, use_cache)
     _TABLES[key] = table
     return table
+
+
+def store_table(builder: Callable[..., Any], body: Body, where: float, what: str, table: Any, *,
+                use_cache: bool = True, spec_of: Callable[[dict[str, Any]], dict[str, tuple[int, ...]]] | None = None,
+                **grid: Any) -> None:
+    """Keep ``table``, built as ``builder(body.symmetric(), where, **grid)`` builds it (elsewhere: by
+    :mod:`rocknroller.analysis.slow.map.tables_at_once`), in memory and, with ``use_cache``, in the disk cache, as
+    :func:`cached_table` keeps the tables it builds (``spec_of`` as there)."""
+    key, directory, path, opts, _ = _table_location(builder, body, where, grid)
+    spec = spec_of(opts) if spec_of is not None else _table_spec(opts["nu"], opts["nv"])
+    _store(table, key, directory, path, spec, what, use_cache)
+    _TABLES[key] = table
+
+
+def _store(table: Any, key: str, directory: str, path: str, spec: dict[str, tuple[int, ...]], what: str,
+           use_cache: bool) -> None:
+    """Write the fields ``spec`` of ``table`` to the cache file ``path`` (one CacheWarning per process if the
+    folder is unwritable)."""
+    if use_cache:
+        try:
+            save_arrays(path, key, {k: getattr(table, k) for k in spec})
+        except OSError as exc:
+            warn_unwritable(directory, exc, f"the averaging tables are rebuilt in every process (for each body "
+                            f"and {what.split('=')[0]})")
 
 

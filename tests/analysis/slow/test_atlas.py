@@ -44,6 +44,29 @@ def test_processes_do_not_change_the_atlas(small_atlas):
         at.atlas_from_rest(BODY, THETA0, PSI0, 400.0, processes=0)
 
 
+def test_the_maps_tables_are_built_on_the_schedulers_all_rows_at_once(small_atlas, monkeypatch):
+    """With threads (or workers, a scheduler) the map's atlas hands the release tables of all its rows (those on
+    release tables: not the region tables' angles) to build_release_tables in one call, on that scheduler, and the
+    atlas is the same bit for bit (the tables are: tests/analysis/slow/map/test_tables_at_once.py)."""
+    from rocknroller.analysis.slow.map import tables_at_once
+
+    calls, real = [], tables_at_once.build_release_tables
+
+    def spy(body, theta0, **kw):
+        calls.append((list(theta0), kw["threads"]))
+        return real(body, theta0, **kw)
+
+    monkeypatch.setattr(tables_at_once, "build_release_tables", spy)
+    rows = (0.7 * math.pi, *THETA0)  # 0.7π: on the region tables
+    threaded = at.atlas_from_rest(BODY, rows, PSI0, 400.0, progress=False, threads=2)
+    assert calls == [(list(THETA0), 2)]
+    for name in at.ATLAS_OBSERVABLES:
+        assert np.array_equal(threaded.values[name][1:].filled(np.nan), small_atlas.values[name].filled(np.nan),
+                              equal_nan=True), name
+    with pytest.raises(ValueError, match="threads must be"):
+        at.atlas_from_rest(BODY, THETA0, PSI0, 400.0, threads=0)
+
+
 def test_confirmation_agrees_with_the_ode(small_atlas):
     """At ε = 1e-3 the first-order map's slow period, Φ and Q_R extent are within 5e-3 of the ODE (docs/averaging.md,
     releases 0.75π–0.95π: ≤ 3.7e-4 measured) and it counts the same reversals; the ODE's values are those of a
