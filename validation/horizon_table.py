@@ -156,12 +156,14 @@ def main() -> None:
     within = sum(1 / 3 <= r["horizon"] / r["t10"] <= 3 for r in chaotic)
     quiet = [r for r in done if r["max_error"] < 0.01]
     quiet_ok = sum(r["horizon"] >= args.t_end for r in quiet)
-    stable = sum(r["verdict_span"] == r["verdict_2span"] and 1 / 1.5 < r["horizon_2span"] / r["horizon_span"] < 1.5
-                 for r in done if math.isfinite(r["horizon_span"]) and math.isfinite(r["horizon_2span"]))
+    # the same verdict, and horizons within 1.5x of each other or both infinite (beyond any t_end, or unresolved)
+    stable = sum(r["verdict_span"] == r["verdict_2span"] and (
+        (math.isinf(r["horizon_span"]) and math.isinf(r["horizon_2span"]))
+        or 1 / 1.5 < r["horizon_2span"] / r["horizon_span"] < 1.5) for r in done)
     print(f"\nstarts run: {len(done)} of {len(rows)}; map verdict = twins' at {agree}, = direct MEGNO's at "
           f"{agree_megno}; chaotic or undecided with a measured t_10: horizon within 3x at {within} of "
           f"{len(chaotic)}; error < 1 % over t_end: horizon >= t_end at {quiet_ok} of {len(quiet)}; t_end = span and "
-          f"2 span: same verdict and horizons within 1.5x at {stable}; CPU of the horizon's probe over the map's "
+          f"2 span: same verdict and horizons within 1.5x (or both infinite) at {stable} of {len(done)}; CPU of the horizon's probe over the map's "
           f"prediction: median {np.median([r['cpu_probe'] / r['cpu_map'] for r in done]):.2g}")
     if args.csv is not None:
         keys = ("note", "cpu_map") + cols
