@@ -107,7 +107,7 @@ def main() -> None:
              ("the direct ODE, same start, 1000 time units", c_ode, w_ode)]
     print(f"{'what':66s} {'CPU s':>9s} {'wall s':>9s}")
     for what, c, w in rows:
-        print(f"{what:66s} {c:9.3g} {w:9.3g}")
+        print(f"{what:66s} {c:9.3g} {'-' if math.isnan(w) else f'{w:9.3g}':>9s}")
     print(f"first prediction / ODE: {c_first / c_ode:.0f}x CPU; second prediction: ODE / map = {c_ode / c_again:.1f}x")
     print(f"k2 per node, scalar / batched: {c_old / c_new:.1f}x CPU; largest difference {diff:.1e} of each component's "
           "largest harmonic")
