@@ -155,7 +155,7 @@ def main() -> None:
     c_ref, w_ref, ref = best["before"]
     c_scalar, _, scalar = best["scalar"]
     c_lanes, _, lanes = best["lanes"]
-    rows = [("before issue 24: scalar, one by one, 0.15-radian grid", c_ref, w_ref, "reference"),
+    rows = [("fixed 0.15-radian grid: scalar, one by one", c_ref, w_ref, "reference"),
             ("run_ensemble(lanes=1): scalar, one by one", c_scalar, best["scalar"][1],
              "same turning points" if same_turning_points(scalar, ref) else "DIFFERENT turning points"),
             (f"run_ensemble: batches of {batch_width()} lanes", c_lanes, best["lanes"][1], "batch reference"),

@@ -9,7 +9,7 @@ tables of a start with velocity on the spindle chart (a release at 0.3π) and on
 start on Q_J,π^crit), and for that start the first prediction (its tables built) and a second one (tables cached)
 against the direct ODE over the same 1000 time units.  Before and after: k₂ at nodes of the second-order table by
 the scalar path (one start's turning-point solve and one orbit per Θ_a, the chart's derivatives per point; kept as
-the reference in tests/analysis/slow/test_second_order_batch.py) and by the batched path the build uses, on the same
+the reference in tests/analysis/slow/map/test_second_order_batch.py) and by the batched path the build uses, on the same
 nodes, one after the other in this process.
 """
 
@@ -47,7 +47,7 @@ def k2_before_after(nodes: int = 4) -> tuple[float, float, float]:
     from rocknroller.analysis.slow.map.second_order import k2_harmonics_at
     from rocknroller.analysis.slow.map.table import load_or_build_table
 
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "analysis" / "slow"))
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "analysis" / "slow" / "map"))
     from test_second_order_batch import _k2_harmonics_scalar
 
     table = load_or_build_table(Body.paper(), 0.95 * math.pi, progress=False)
@@ -107,7 +107,7 @@ def main() -> None:
              ("the direct ODE, same start, 1000 time units", c_ode, w_ode)]
     print(f"{'what':66s} {'CPU s':>9s} {'wall s':>9s}")
     for what, c, w in rows:
-        print(f"{what:66s} {c:9.3g} {w:9.3g}")
+        print(f"{what:66s} {c:9.3g} {'-' if math.isnan(w) else f'{w:9.3g}':>9s}")
     print(f"first prediction / ODE: {c_first / c_ode:.0f}x CPU; second prediction: ODE / map = {c_ode / c_again:.1f}x")
     print(f"k2 per node, scalar / batched: {c_old / c_new:.1f}x CPU; largest difference {diff:.1e} of each component's "
           "largest harmonic")

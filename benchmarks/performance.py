@@ -32,6 +32,8 @@ BENCHMARKS = [
     ("bench_chaos_map.py", [], "the slow map's chaos indicators (tangent map) against the map alone"),
     ("bench_averaging.py", [], "the averaged map and the closed form against the direct ODE"),
     ("bench_tables.py", [], "the averaging tables' builds; a first prediction from a start with velocity"),
+    ("bench_commands.py", [], "the commands as typed: the first run at a new energy from an empty table cache and "
+     "again; the first chaos call, heyoka's cache warm and cold"),
     ("bench_table_maxima.py", [], "the tables' orbits to their next maxima: a Python step loop vs batch terminal "
      "events"),
     ("bench_atlas.py", ["20"], "a release atlas by the map from cached tables, and its ODE confirmation"),

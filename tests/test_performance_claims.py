@@ -68,3 +68,31 @@ def test_the_performance_page_is_the_script_output():
     script = (ROOT / "benchmarks" / "performance.py").read_text()
     for name in re.findall(r'\("(bench_\w+\.py)"', script):
         assert f"benchmarks/{name}" in text, name
+
+
+#: What the page states of the first uses and of the ensembles at equal error, by the benchmark that prints it: the
+#: second-order table (k₂ per node by the scalar path beside the batched one), the region tables, each command's first
+#: run from an empty table cache beside its rerun, the first chaos call with heyoka's cache warm and cold, and the
+#: ensembles' lanes against CyRK at equal energy error and against the scalar loop.
+FIRST_USES = {
+    "bench_tables.py": ["k2 per node, scalar / batched:", "its second-order table (1 process)",
+                        "region tables, spindle chart", "region tables, band chart"],
+    "bench_commands.py": [f"slow --order {n} (theta0 0.93pi, 1 process): {when}" for n in (1, 2)
+                          for when in ("first, empty table cache", "again, tables cached")]
+                         + [f"{command}, its defaults: first, empty table cache"
+                            for command in ("portrait", "bifurcation")]
+                         + ["reproduce (every figure and table): first", "slow --statistics 32, tables cached",
+                            "first chaos call, new process, heyoka cache warm",
+                            "first chaos call, new process, heyoka cache cold", "first / again"],
+    "bench_ensemble.py": ["ratio CyRK / lanes at tol", "ratio scalar loop / lanes at tol = eps"],
+}
+
+
+@pytest.mark.parametrize("script", FIRST_USES)
+def test_the_page_states_the_first_uses_and_the_ensembles_at_equal_error(script):
+    """Each of those rows is in the section of its benchmark, which ran to the end."""
+    sections = re.split(r"(?m)^## ", (ROOT / "docs" / "performance.md").read_text())
+    section = next((s for s in sections if f"`python benchmarks/{script}`" in s), "")
+    assert section and "[exit status" not in section, script
+    missing = [row for row in FIRST_USES[script] if row not in section]
+    assert not missing, f"{script}: {missing}"
