@@ -12,6 +12,7 @@ from typing import Any, Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
+from rocknroller.analysis.slow.dynamics.chaos import CRITERION, HORIZON_FRACTION, PROBE_ROCKS
 from rocknroller.analysis.slow.map.family import maximum_state
 from rocknroller.numerics.megno import MEGNO_CHAOTIC, MIN_SAMPLES
 from rocknroller.papers.output import angle_text, save_figure, write_csv
@@ -27,7 +28,7 @@ def orbit_horizons(portrait: SlowPortrait) -> list[Any]:
     extrapolated by the growth law its verdict gives.  None for an orbit without indicators (fewer than
     ``MIN_SAMPLES`` maxima, or a portrait made with ``chaos=False``) or without extent (a fixed point of the map).
     Costs one direct run of ``PROBE_ROCKS`` rocks an orbit (~0.02 s)."""
-    from rocknroller.analysis.slow.dynamics.chaos import PROBE_ROCKS, HorizonProbe
+    from rocknroller.analysis.slow.dynamics.chaos import HorizonProbe
     from rocknroller.analysis.slow.work import rocking_period
 
     sym, eps = portrait.body.symmetric(), portrait.body.epsilon
@@ -126,7 +127,9 @@ def write_portrait(portrait: SlowPortrait, out: str | Path, name: str = "portrai
     paths.append(write_csv(Path(out) / f"{name}.csv", cols, header))
     paths.append(write_csv(Path(out) / f"{name}_orbits.csv", orbit_rows(portrait) if rows is None else rows, header[:2] + [
         f"one row per map orbit: its start, left_tables (true: it left the tables before t_end), its maxima, span (the "
-        f"time from its start to its last maximum, over which its indicators are measured), verdict (regular: MEGNO <= "
-        f"{MEGNO_CHAOTIC:g}; chaotic above; empty: fewer than {MIN_SAMPLES} maxima or no indicators), MEGNO and the "
-        f"finite-time Lyapunov exponent per unit time and per rock"]))
+        f"time from its start to its last maximum, over which its indicators are measured: the portrait's t_end), "
+        f"verdict ({CRITERION}; empty: fewer than {MIN_SAMPLES} maxima or no indicators), MEGNO and the finite-time "
+        f"Lyapunov exponent per unit time and per rock, horizon (the time at which the map - ODE error reaches "
+        f"{HORIZON_FRACTION:.0%} of the extents, from a direct probe of {PROBE_ROCKS} rocks; empty: none, or infinite) "
+        f"and the method that found it"]))
     return paths

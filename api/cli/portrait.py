@@ -139,6 +139,7 @@ def run(args: argparse.Namespace) -> int:
     from rocknroller.numerics.megno import MEGNO_CHAOTIC
     from rocknroller.analysis.slow.prediction import default_order
     from rocknroller.papers.portrait import slow_portrait, theta0_of_energy
+    from rocknroller.analysis.slow.dynamics.chaos import CRITERION
     from rocknroller.papers.portrait_output import orbit_rows, write_portrait
 
     body = body_from_args(args)
@@ -170,6 +171,7 @@ def run(args: argparse.Namespace) -> int:
     measured = megno[np.isfinite(megno)]
     summary.update(n_megno=int(measured.size), n_chaotic=int(np.sum(measured > MEGNO_CHAOTIC)),
                    verdicts={v: rows["verdict"].count(v) for v in ("regular", "chaotic", "undecided")},
+                   criterion=CRITERION, span="each orbit's run, from its start to its last maximum before t_end",
                    megno_range=[float(measured.min()), float(measured.max())] if measured.size else None,
                    orbits=[dict(zip(rows, r)) for r in zip(*rows.values())])
     if args.json:
