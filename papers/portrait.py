@@ -38,12 +38,12 @@ from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.model.body import Body, as_float
 from rocknroller.analysis.slow import prediction as av
-from rocknroller.analysis.slow.dynamics.chaos import map_indicators
+from rocknroller.analysis.slow.dynamics.chaos import MapChaos, map_indicators
 from rocknroller.analysis.slow.map.compiled_map import SlowSeries
 from rocknroller.analysis.slow.map.family import maximum_state, rest_energy
 from rocknroller.analysis.slow.map.maps import SlowMap
 from rocknroller.numerics.budget import WORK_BUDGET_SECONDS
-from rocknroller.numerics.megno import MEGNO_CHAOTIC, MIN_SAMPLES, ChaosIndicators
+from rocknroller.numerics.megno import MEGNO_CHAOTIC, MIN_SAMPLES
 from rocknroller.papers.output import new_figure
 from rocknroller.papers.plotting import MEGNO_CLIP, draw_critical_lines, scaled_axis
 from rocknroller.papers.portrait_limits import (BYTES_PER_MAXIMUM, CSV_BYTES_PER_ROW, MAX_ODE_STARTS,  # re-exported
@@ -100,7 +100,7 @@ class SlowPortrait:
     left: tuple[int, ...] = ()
     ode_starts: tuple[tuple[float, float], ...] = ()
     ode: tuple[Any, ...] = field(default=(), repr=False)
-    chaos: tuple[ChaosIndicators | None, ...] = field(default=(), repr=False)
+    chaos: tuple[MapChaos | None, ...] = field(default=(), repr=False)
 
     @property
     def megno(self) -> NDArray[np.float64]:

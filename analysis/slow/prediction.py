@@ -287,15 +287,15 @@ def _run(iterate: Callable[[float], SlowSeries], t_end: float, T0: float, indica
 def _until(series: SlowSeries, t_end: float) -> SlowSeries:
     """The maxima of ``series`` at t ≤ t_end."""
     keep = series.t <= t_end
-    return SlowSeries(*(getattr(series, n)[keep] for n in ("t", "QR", "QJ", "Theta", "phi")),
-                      log_growth=None if series.log_growth is None else series.log_growth[keep])
+    return SlowSeries(t=series.t[keep], QR=series.QR[keep], QJ=series.QJ[keep], Theta=series.Theta[keep],
+                      phi=series.phi[keep], log_growth=None if series.log_growth is None else series.log_growth[keep])
 
 
 def _indicators(body: Body, start: EulerState, run: SlowSeries, series: SlowSeries, T0: float,
                 indicators: bool) -> tuple[MapChaos | None, HorizonProbe | None]:
     """The indicators of the map's ``run`` (from its start, over its span) and the probe of its horizon along
     ``series`` (the maxima from the start); (None, None) without indicators."""
-    chaos = map_indicators(run.t, run.log_growth) if indicators else None
+    chaos = map_indicators(run.t, run.log_growth) if indicators and run.log_growth is not None else None
     return chaos, None if chaos is None else HorizonProbe(body, start, series, chaos, PROBE_ROCKS * T0)
 
 

@@ -171,10 +171,11 @@ def map_ode_errors(QR: ArrayLike, QJ: ArrayLike, QR_ode: ArrayLike, QJ_ode: Arra
                    extents: tuple[float, float]) -> NDArray[np.float64]:
     """e_k = max(|ΔQ_R|/D_R, |ΔQ_J|/D_J) at the maxima both series share (paired by their index from the start),
     with ``extents`` = (D_R, D_J) > 0."""
-    n = min(len(QR), len(QR_ode))
+    qr, qj = np.asarray(QR, float), np.asarray(QJ, float)
+    qr_ode, qj_ode = np.asarray(QR_ode, float), np.asarray(QJ_ode, float)
+    n = min(qr.size, qr_ode.size)
     DR, DJ = extents
-    return np.maximum(np.abs(np.asarray(QR[:n], float) - np.asarray(QR_ode[:n], float)) / DR,
-                      np.abs(np.asarray(QJ[:n], float) - np.asarray(QJ_ode[:n], float)) / DJ)
+    return np.maximum(np.abs(qr[:n] - qr_ode[:n]) / DR, np.abs(qj[:n] - qj_ode[:n]) / DJ)
 
 
 def horizon_from_errors(t: ArrayLike, error: ArrayLike, law: str, rate: float = 0.0,

@@ -71,7 +71,7 @@ def _derivative_coefficients(table: SlowMapTable) -> tuple[NDArray[np.float64], 
     """The Chebyshev coefficients of ∂/∂ξ and ∂/∂η of every table function, formed once per table (numpy's
     ``chebder`` along each axis of ``table.coef``)."""
     cheb = np.polynomial.chebyshev
-    return cheb.chebder(table.coef, axis=1), cheb.chebder(table.coef, axis=2)
+    return (np.asarray(cheb.chebder(table.coef, axis=1), float), np.asarray(cheb.chebder(table.coef, axis=2), float))
 
 
 def _jet(table: SlowMapTable, dcoef: tuple[NDArray[np.float64], NDArray[np.float64]],

@@ -143,7 +143,8 @@ def build_second_order_tables(body: Body, theta0: ArrayLike, *, scheduler: str |
     angles_list = _check_angles(theta0)
     _check_where(scheduler, workers, threads, processes)
     check_k2_nu(nu)
-    where = dict(scheduler=scheduler, workers=workers, threads=threads, processes=processes, progress=progress)
+    where: dict[str, Any] = dict(scheduler=scheduler, workers=workers, threads=threads, processes=processes,
+                                 progress=progress)
     seconds: dict[float, SecondOrderTable] = {}
     todo = []
     for t in dict.fromkeys(angles_list):

@@ -121,7 +121,8 @@ def test_chaotic_horizon_within_a_factor_3(theta0, eps, psi0):
 @pytest.mark.parametrize("theta0, eps, psi0", [(0.95, 1e-3, math.pi / 4), (0.93, 8e-3, 0.7)])
 def test_regular_horizon_past_3000(theta0, eps, psi0):
     """Regular starts whose map − ODE error stays below 1 % over 3000 time units: horizon ≥ 3000 and no row of the
-    CLI's CSV labelled past it (measured: 0.034 % and 0.6 % at 3000; horizons 7.9e6 and 2.2e5, linear growth)."""
+    CLI's CSV labelled past it (measured: 0.034 % and 0.6 % at 3000; horizons beyond the map's longest run, i.e.
+    infinite, and 2.2e5, linear growth); unchanged between t_end = span and 2 span (both infinite, or within 1.5x)."""
     body, start = Body.paper(eps), EulerState(theta0 * math.pi, 0.0, psi0)
     pred = av.predict_slow_motion(body, start.theta, psi0, 3000.0)
     assert pred.chaos.verdict == "regular" and _t10(body, start, pred, 3000.0) == math.inf
@@ -130,7 +131,8 @@ def test_regular_horizon_past_3000(theta0, eps, psi0):
         warnings.simplefilter("ignore")
         later = [av.predict_slow_motion(body, start.theta, psi0, t) for t in (pred.chaos.span, 2.0 * pred.chaos.span)]
     assert {p.chaos.verdict for p in later} == {"regular"}
-    assert 1.0 / 1.5 < later[1].horizon() / later[0].horizon() < 1.5
+    h = [p.horizon() for p in later]
+    assert h[0] == h[1] == math.inf or 1.0 / 1.5 < h[1] / h[0] < 1.5
 
 
 def test_span_option():
