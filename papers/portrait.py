@@ -53,8 +53,7 @@ from rocknroller.papers.portrait_limits import (BYTES_PER_MAXIMUM, CSV_BYTES_PER
 if TYPE_CHECKING:
     import pandas
 
-__all__ = ["MAX_PORTRAIT_ORBITS", "MAX_ODE_STARTS", "MAX_PORTRAIT_MAXIMA", "BYTES_PER_MAXIMUM", "CSV_BYTES_PER_ROW",
-           "N_P_DEFAULT", "check_portrait_size", "SlowPortrait", "orbit_values", "portrait_values",
+__all__ = ["N_P_DEFAULT", "SlowPortrait", "orbit_values", "portrait_values",
            "theta0_of_energy", "slow_portrait", "plot_portrait"]
 
 @dataclass(frozen=True)

@@ -22,7 +22,7 @@ MAX_ODE_STARTS = 100
 #: Most θ-maxima one portrait may keep, over all its orbits and direct runs (each orbit is kept whole, drawn and
 #: written, one CSV row a maximum): t_end/T_θ(0) an orbit (:func:`rocknroller.analysis.slow.work.map_maxima`).
 MAX_PORTRAIT_MAXIMA = 1_000_000
-#: Peak memory per θ-maximum of a portrait made, drawn and written (:func:`~rocknroller.papers.portrait.write_portrait`): 563 bytes measured
+#: Peak memory per θ-maximum of a portrait made, drawn and written (:func:`~rocknroller.papers.portrait_output.write_portrait`): 563 bytes measured
 #: (20 orbits of 3e5 time units, 4.6e5 maxima).
 BYTES_PER_MAXIMUM = 600
 #: Bytes of one row of ``portrait.csv``: 147 measured (the same run).

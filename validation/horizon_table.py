@@ -10,7 +10,7 @@ Paper body, a grid of starts chosen across θ0 = 0.8π-0.97π and K = εκ(θ0) 
 and starts with velocity, each at the package's default order (:func:`rocknroller.analysis.slow.prediction.default_order`):
 
 * the map's prediction over ``--t-end`` (its indicators over their span, :func:`rocknroller.analysis.slow.dynamics.chaos.indicator_span`,
-  and its horizon, :meth:`~rocknroller.analysis.slow.prediction.SlowPrediction.horizon_estimate`, with the CPU time
+  and its horizon, :meth:`~rocknroller.analysis.slow.prediction_result.SlowPrediction.horizon_estimate`, with the CPU time
   of the horizon's direct probe);
 * the direct ODE over ``--t-end`` from the same start: the error e_k = max(|ΔQ_R|/D_R, |ΔQ_J|/D_J) at the maxima
   (D the direct ODE's extents over ``--t-end``; :func:`rocknroller.analysis.slow.dynamics.chaos.map_ode_errors`), its first

@@ -16,7 +16,7 @@ point once the tables are cached (order 2 would add a second-order table per θ0
 asks for order 1 whatever ``predict_slow_motion``'s default; the costs: docs/performance.md). Each point gives the slow period of Θ = 2ψ, the azimuth span Φ, the Q_R
 and Q_J extents and the numbers of full-angle (Q_J,0^crit) and visible-angle (Q_J,π^crit) reversals per 1000 time
 units: crossings of the critical lines by the maxima's (Q_R, Q_J), as
-:func:`rocknroller.analysis.slow.prediction.critical_regions` counts them for the map and the ODE alike.
+:func:`rocknroller.analysis.slow.prediction_result.critical_regions` counts them for the map and the ODE alike.
 
 A sample of a map-made atlas's points (and any the caller names) is run by the direct ODE as an ensemble
 (:func:`rocknroller.numerics.ensembles.ensemble.run_ensemble`: in process, threads, or a dask cluster, the same numbers bit for

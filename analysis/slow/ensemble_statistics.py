@@ -11,7 +11,7 @@ over the stated time span [0, t_end] (:func:`member_statistics`):
   and of Q_J,π^crit (visible-angle) between consecutive θ-maxima;
 * ``QR_extent``, ``QJ_extent``: max − min of Q_R and Q_J at the maxima.
 
-The regions and crossings are the package's own (:func:`rocknroller.analysis.slow.prediction.critical_regions`, paper
+The regions and crossings are the package's own (:func:`rocknroller.analysis.slow.prediction_result.critical_regions`, paper
 §criticality and §Recession; the counts per 1000 time units :func:`rocknroller.analysis.slow.atlas.reversal_counts`,
 as in the recession atlas), applied to the θ-maxima of either method alike.  The map's ensemble runs
 :func:`rocknroller.analysis.slow.prediction.predict_slow_motion` per member (:func:`map_ensemble`), the direct ODE's

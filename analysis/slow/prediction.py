@@ -89,16 +89,13 @@ if TYPE_CHECKING:
     from rocknroller.analysis.slow.map.chart import SecondOrderTable
 
 
-#: Defined here; the tables' and the map's public names (``SlowMapTable``, ``build_table``, ``load_or_build_table``,
+#: Defined here (the result, ``SlowPrediction``, and its readers are :mod:`rocknroller.analysis.slow.prediction_result`'s,
+#: importable from here too); the tables' and the map's public names (``SlowMapTable``, ``build_table``, ``load_or_build_table``,
 #: ``iterate_slow_map``, ...) and the limits' (``THETA0_RANGE``, ``AveragingRangeError``, ...) are importable from
 #: here too, and documented in their own modules.
 __all__ = [
     "max_t_end",
-    "SlowPrediction",
     "predict_slow_motion",
-    "line_slope",
-    "critical_regions",
-    "rocks_per_region",
     "releases_on_region_tables",
     "default_order",
 ]

@@ -14,7 +14,7 @@ or that is undefined.
 Order and chaos.  Every prediction reports the map's verdict over a stated span (max(t_end, 1000 rocks), whatever
 t_end is), regular, chaotic or undecided (MEGNO and λ·span must agree: the criterion is printed;
 :mod:`rocknroller.analysis.slow.dynamics.chaos`), MEGNO, the finite-time Lyapunov exponent per unit time and per rock, and the
-predictability horizon (:meth:`rocknroller.analysis.slow.prediction.SlowPrediction.horizon_estimate`: the time at which
+predictability horizon (:meth:`rocknroller.analysis.slow.prediction_result.SlowPrediction.horizon_estimate`: the time at which
 the map − ODE error reaches 10 % of the extents, measured over a short direct probe and extrapolated by its growth law;
 its method is printed).  A t_end past the horizon is labelled
 (``beyond_horizon``; "predictions past t = ... are statistical only"), in the text, the JSON and the CSV (``--csv``:

@@ -5,7 +5,7 @@ the reflection symmetry of the body): a fixed point of the slow map, and of the 
 round-off, so the finite-time indicators, the horizon and the relative errors of its extents would be measured on
 round-off (MEGNO of a perturbation growing from 1e-16, a "horizon" of a few rocks, relative errors against extents of
 0).  Such a start, and any the map returns to itself or to its reflection S x in one step to round-off
-(:func:`rocknroller.analysis.slow.dynamics.periodic_orbits.periodic_start`), is reported instead as that periodic orbit: its
+(:func:`rocknroller.analysis.slow.dynamics.periodic_starts.periodic_start`), is reported instead as that periodic orbit: its
 period, points, multipliers and Greene's residue (stable for 0 < R < 1, unstable for R < 0 or R > 1;
 :mod:`rocknroller.analysis.slow.dynamics.periodic_orbits`), with the extents and Φ of the orbit itself and no indicators,
 horizon, statistics or relative errors.

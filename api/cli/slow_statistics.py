@@ -1,7 +1,7 @@
 """``rocknroller slow --statistics``: the statistical prediction beside the point prediction.
 
 Past the predictability horizon the map's point predictions hold statistically only
-(:meth:`rocknroller.analysis.slow.prediction.SlowPrediction.horizon`).  Beside them ``slow`` then gives the
+(:meth:`rocknroller.analysis.slow.prediction_result.SlowPrediction.horizon`).  Beside them ``slow`` then gives the
 statistical prediction: the map's ensemble over a stated small ball of releases
 (:class:`rocknroller.analysis.slow.ensemble_statistics.StartBall`: ψ0 uniform in ±δ about the release's, seeded;
 :func:`~rocknroller.analysis.slow.ensemble_statistics.map_ensemble` at the point prediction's order and span), the mean, standard deviation (ddof = 1) and standard error of each of

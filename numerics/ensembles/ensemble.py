@@ -132,7 +132,7 @@ class RunSummary:
     """A direct-ODE run reduced to what the slow-map comparison needs: its θ-maxima and its slow diagnostics.
 
     The diagnostics are those of :class:`rocknroller.numerics.trajectory.TurningPointRun` (and of
-    :class:`rocknroller.analysis.slow.prediction.SlowPrediction`), computed where the job ran.  A worker's warnings
+    :class:`rocknroller.analysis.slow.prediction_result.SlowPrediction`), computed where the job ran.  A worker's warnings
     (an :class:`rocknroller.numerics.integrate.AccuracyWarning`) stay on the worker: ``energy_rel_error`` and
     ``n_steps`` let the caller check the accuracy (:func:`rocknroller.numerics.trajectory.energy_error_bound`).
 

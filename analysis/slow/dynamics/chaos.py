@@ -4,7 +4,7 @@ vector, by the package's one formula, :func:`rocknroller.numerics.megno.chaos_in
 verdict: :class:`MapChaos`, :func:`map_verdict`, :func:`indicator_span`), :class:`HorizonProbe` and
 :func:`horizon_from_errors` (the time at which the map − ODE error, measured over a short direct probe and
 extrapolated by its growth law, reaches a stated fraction of the extents: :class:`Horizon`), used by
-:class:`rocknroller.analysis.slow.prediction.SlowPrediction`, and :func:`layer_width`.
+:class:`rocknroller.analysis.slow.prediction_result.SlowPrediction`, and :func:`layer_width`.
 
 The tangent vector.  :func:`rocknroller.analysis.slow.map.compiled_map.iterate_slow_map` with ``tangent=True`` carries a
 tangent vector w of (u, v, Θ) (Q = u e + v n) through the exact derivative of each step as implemented, from

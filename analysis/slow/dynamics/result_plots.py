@@ -1,5 +1,5 @@
 """Quick looks of the slow motion's result types: the ``plot()`` of
-:class:`~rocknroller.analysis.slow.prediction.SlowPrediction`,
+:class:`~rocknroller.analysis.slow.prediction_result.SlowPrediction`,
 :class:`~rocknroller.analysis.slow.ensemble_statistics.EnsembleStatistics`,
 :class:`~rocknroller.analysis.slow.ensemble_statistics.EnsembleComparison`,
 :class:`~rocknroller.analysis.slow.dynamics.periodic_orbits.PeriodicOrbit`,

@@ -133,8 +133,9 @@ def drift_derivatives(table: SlowMapTable, name: str, Q: ArrayLike) -> tuple[NDA
 def second_order_kicks(table: SlowMapTable, Q: ArrayLike, theta_a: ArrayLike) -> NDArray[np.float64]:
     """k₂ at the points Q (M, 2) and the angles Θ_a (M, K), shape (M, K, 5) for the components of ``STEP_NAMES``
     (module docstring), at the table's energy: the M·K exact steps' second derivatives by the second-order
-    variational equations, run in the batch integrator's lanes (:func:`~rocknroller.analysis.slow.map.orbit.
-    second_order_steps`, the M maxima θ_X from one vectorised turning-point solve); the first-order kick, the drifts'
+    variational equations, run in the batch integrator's lanes
+    (:func:`~rocknroller.analysis.slow.map.orbit.second_order_steps`, the M maxima θ_X from one vectorised
+    turning-point solve); the first-order kick, the drifts'
     gradients and Hessians once per point, from the table's derivative series formed once."""
     Q = np.asarray(Q, float).reshape(-1, 2)
     theta_a = np.asarray(theta_a, float).reshape(len(Q), -1)

@@ -1,6 +1,6 @@
 """``rocknroller slow`` from a start on a periodic orbit of the map (pure rocking): reported as that orbit with its
 residue and stability, without indicators, horizon or relative errors against zero extents
-(:mod:`rocknroller.cli.slow_periodic`, :func:`rocknroller.analysis.slow.dynamics.periodic_orbits.periodic_start`)."""
+(:mod:`rocknroller.cli.slow_periodic`, :func:`rocknroller.analysis.slow.dynamics.periodic_starts.periodic_start`)."""
 
 from __future__ import annotations
 
