@@ -365,7 +365,8 @@ class Trajectory(_TurningPointDiagnostics):
     n_steps : int
         Integration steps taken.
     tolerance : float
-        The integrator's relative tolerance (heyoka: the unit round-off of its precision; scipy: rtol).
+        The integrator's relative tolerance (heyoka: its ``tol``, by default the machine epsilon of its precision;
+        scipy: rtol).
 
     Examples
     --------

@@ -13,24 +13,44 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from rocknroller.analysis.slow.dynamics.chaos import CRITERION, HORIZON_FRACTION, PROBE_ROCKS
+from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.slow.map.family import maximum_state
+from rocknroller.numerics.budget import HEYOKA_SECONDS_PER_RADIAN, WORK_BUDGET_SECONDS, check_work
+from rocknroller.numerics.run_limits import rate_bound
 from rocknroller.numerics.megno import MEGNO_CHAOTIC, MIN_SAMPLES
 from rocknroller.papers.output import angle_text, save_figure, write_csv
 from rocknroller.papers.portrait import SlowPortrait, plot_portrait, portrait_values
 
-__all__ = ["orbit_horizons", "orbit_rows", "write_portrait"]
+__all__ = ["horizons_seconds", "orbit_horizons", "orbit_rows", "write_portrait"]
 
 
-def orbit_horizons(portrait: SlowPortrait) -> list[Any]:
+def horizons_seconds(body: Body, theta0: float, n_orbits: int) -> float:
+    """The estimated CPU seconds of :func:`orbit_horizons` for ``n_orbits`` orbits at the energy of a release from rest
+    at θ0 (every orbit of a portrait has it): one direct run of ``PROBE_ROCKS`` T_θ(0) each, at Λ of that energy and
+    :data:`~rocknroller.numerics.budget.HEYOKA_SECONDS_PER_RADIAN`."""
+    from rocknroller.analysis.slow.map.limits import check_map_theta0
+    from rocknroller.analysis.slow.work import rocking_period
+
+    theta0 = check_map_theta0(theta0)
+    window = PROBE_ROCKS * rocking_period(body, theta0)
+    return n_orbits * rate_bound(body, EulerState(theta0).to_body_state()) * window * HEYOKA_SECONDS_PER_RADIAN
+
+
+def orbit_horizons(portrait: SlowPortrait, budget: float | None = WORK_BUDGET_SECONDS) -> list[Any]:
     """Each map orbit's predictability horizon (:class:`rocknroller.analysis.slow.dynamics.chaos.Horizon`), as
     ``predict_slow_motion`` measures it for a release: the map − ODE error over the first ``PROBE_ROCKS`` rocks from
     the orbit's start (the direct ODE from the same maximum, :func:`rocknroller.analysis.slow.map.family.maximum_state`),
     extrapolated by the growth law its verdict gives.  None for an orbit without indicators (fewer than
     ``MIN_SAMPLES`` maxima, or a portrait made with ``chaos=False``) or without extent (a fixed point of the map).
-    Costs one direct run of ``PROBE_ROCKS`` rocks an orbit (~0.02 s)."""
+    Costs one direct run of ``PROBE_ROCKS`` rocks an orbit (~0.02 s; :func:`horizons_seconds`, checked against
+    ``budget`` before any run: a ``WorkBudgetError``, a ValueError, beyond it)."""
     from rocknroller.analysis.slow.dynamics.chaos import HorizonProbe
     from rocknroller.analysis.slow.work import rocking_period
 
+    n = len(portrait.orbits)
+    check_work(horizons_seconds(portrait.body, portrait.theta0, n),
+               f"the horizons of {n} orbits (a direct run of {PROBE_ROCKS} rocks each)", budget)
     sym, eps = portrait.body.symmetric(), portrait.body.epsilon
     window = PROBE_ROCKS * rocking_period(portrait.body, portrait.theta0)
     along = float(portrait.grad_W @ portrait.e)
@@ -46,7 +66,8 @@ def orbit_horizons(portrait: SlowPortrait) -> list[Any]:
     return out
 
 
-def orbit_rows(portrait: SlowPortrait, horizons: bool = True) -> dict[str, list]:
+def orbit_rows(portrait: SlowPortrait, horizons: bool = True,
+               budget: float | None = WORK_BUDGET_SECONDS) -> dict[str, list]:
     """One row per map orbit, as columns: its index and start (Θ0, p0), whether it left the tables before t_end, its
     number of θ-maxima, the span over which its indicators were measured (from its start to its last maximum), its
     verdict over that span (regular, chaotic or undecided, by MEGNO and λ together as for ``predict_slow_motion``,
@@ -54,12 +75,12 @@ def orbit_rows(portrait: SlowPortrait, horizons: bool = True) -> dict[str, list]
     ``MIN_SAMPLES`` maxima or a portrait made with ``chaos=False``), MEGNO and the finite-time Lyapunov exponent per
     unit time and per rock (None where there is no verdict), and with ``horizons`` its predictability horizon and the
     method that found it (:func:`orbit_horizons`; None where there is none, the horizon None also where it is
-    infinite)."""
+    infinite; ``budget`` as for :func:`orbit_horizons`)."""
     keys = ["orbit", "Theta0", "p0", "left_tables", "n_maxima", "span", "verdict", "megno", "lyapunov",
             "lyapunov_per_rock"] + (["horizon", "horizon_method"] if horizons else [])
     cols: dict[str, list] = {k: [] for k in keys}
     left = set(portrait.left)
-    found = orbit_horizons(portrait) if horizons else []
+    found = orbit_horizons(portrait, budget) if horizons else []
     for k, s in enumerate(portrait.orbits):
         c = portrait.chaos[k] if k < len(portrait.chaos) else None
         row = {"orbit": k, "Theta0": float(portrait.Theta0[k]), "p0": float(portrait.p0[k]),

@@ -57,7 +57,6 @@ One run produces at most ``MAX_MAXIMA`` maxima (:func:`max_t_end`).
 
 from __future__ import annotations
 
-import functools
 import math
 import warnings
 from dataclasses import replace
@@ -79,9 +78,9 @@ from rocknroller.analysis.slow.map.limits import (K_PERIOD_DOUBLING, MAX_MAXIMA,
                                                   AveragingRangeError, AveragingValidityWarning, ChartWidthError,
                                                   check_map_theta0, check_release_theta0, check_t_end,
                                                   eps_period_doubling, t_end_limit)
-from rocknroller.analysis.slow.map.orbit import symmetric_data
 from rocknroller.analysis.slow.map.table import (REGION_TABLE_ACCURACY, TableNotCachedError, build_table,  # noqa: F401
                                                  load_or_build_table)
+from rocknroller.analysis.slow.work import pure_rocking_period
 from rocknroller.analysis.slow.prediction_result import (SlowPrediction, critical_regions, line_slope,  # noqa: F401
                                                          rocks_per_region)
 
@@ -107,13 +106,7 @@ def max_t_end(body: Body, theta0: float) -> float:
     the time between maxima of pure rocking (quadrature)."""
     theta0 = check_map_theta0(theta0)
     sym = body.symmetric()
-    return t_end_limit(_rocking_period(sym, rest_energy(sym, theta0)))
-
-
-@functools.lru_cache(maxsize=256)
-def _rocking_period(sym: Body, E: float) -> float:
-    """T_θ(0), the time between maxima of pure rocking at energy E (Q = 0; quadrature, ~10 ms; remembered)."""
-    return float(symmetric_data(sym, E, 0.0, 0.0)[0])
+    return t_end_limit(pure_rocking_period(sym, rest_energy(sym, theta0)))
 
 
 def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | None = None,
@@ -217,7 +210,7 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
     own_table = table is None  # a release table of the caller's is used as given, without the region tables' fallback
     if table is None:
         sym = body.symmetric()
-        check_t_end(t_end, _rocking_period(sym, rest_energy(sym, theta0)))
+        check_t_end(t_end, pure_rocking_period(sym, rest_energy(sym, theta0)))
         table = load_or_build_table(body, theta0, build=build, progress=progress)
     elif abs(table.theta0 - theta0) > 1e-15:
         raise ValueError(f"the table is for theta0={table.theta0!r}, not {theta0!r}")
@@ -379,7 +372,7 @@ def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: S
                     f"{DELTA_MIN_DEFAULT:g}: nearer steady rolling the oscillation of theta is too small to average "
                     "over; run this start by the direct ODE (rocknroller simulate)") from None
             # the map's limit on t_end (checked again on the table), from T_θ at Q = 0 of this energy
-            check_t_end(t_end - fm.t, _rocking_period(body.symmetric(), fm.E))
+            check_t_end(t_end - fm.t, pure_rocking_period(body.symmetric(), fm.E))
             if not build:
                 raise
             table = load_or_build_region_table(body, fm.E, build=True, progress=progress)

@@ -20,21 +20,25 @@ from rocknroller.analysis.slow.map.family import rest_energy
 from rocknroller.analysis.slow.map.orbit import symmetric_data
 from rocknroller.numerics.budget import MAP_ORDER2_SECONDS_PER_MAXIMUM, MAP_SECONDS_PER_MAXIMUM, check_work
 
-__all__ = ["MAX_PERIOD_KNOTS", "rocking_period", "map_maxima", "map_seconds", "check_map_work"]
+__all__ = ["MAX_PERIOD_KNOTS", "pure_rocking_period", "rocking_period", "map_maxima", "map_seconds",
+           "check_map_work"]
 
 #: Most release angles at which T_θ(0) is computed for one estimate; a longer grid uses these as knots (below).
 MAX_PERIOD_KNOTS = 16
 
 
 @functools.lru_cache(maxsize=256)
-def _period(sym: Body, theta0: float) -> float:
-    return float(symmetric_data(sym, rest_energy(sym, theta0), 0.0, 0.0)[0])
+def pure_rocking_period(sym: Body, E: float) -> float:
+    """T_θ(0), the time between θ-maxima of pure rocking (Q = 0) of the symmetric body ``sym`` at energy E
+    (quadrature, ~10 ms; remembered)."""
+    return float(symmetric_data(sym, E, 0.0, 0.0)[0])
 
 
 def rocking_period(body: Body, theta0: float) -> float:
     """T_θ(0), the time between θ-maxima of the pure rocking released from rest at θ0 (0 < θ0 < π), of the body's
-    symmetric member (quadrature; remembered)."""
-    return _period(body.symmetric(), float(theta0))
+    symmetric member (:func:`pure_rocking_period` at the release's energy)."""
+    sym = body.symmetric()
+    return pure_rocking_period(sym, rest_energy(sym, float(theta0)))
 
 
 def map_maxima(body: Body, theta0: ArrayLike, t_end: float) -> NDArray[np.float64]:

@@ -138,9 +138,11 @@ def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller portrait`` with the parsed ``args``; returns the exit status."""
     from rocknroller.numerics.megno import MEGNO_CHAOTIC
     from rocknroller.analysis.slow.prediction import default_order
-    from rocknroller.papers.portrait import slow_portrait, theta0_of_energy
+    from rocknroller.papers.portrait import N_P_DEFAULT, slow_portrait, theta0_of_energy
+    from rocknroller.papers.portrait_limits import MAX_PORTRAIT_ORBITS
     from rocknroller.analysis.slow.dynamics.chaos import CRITERION
-    from rocknroller.papers.portrait_output import orbit_rows, write_portrait
+    from rocknroller.numerics.budget import check_work
+    from rocknroller.papers.portrait_output import horizons_seconds, orbit_rows, write_portrait
 
     body = body_from_args(args)
     if args.E is not None and args.theta0 is not None:
@@ -150,18 +152,21 @@ def run(args: argparse.Namespace) -> int:
     Theta = _grid(args.Theta, "--Theta")
     p = None if args.p is None else _grid(args.p, "--p")
     starts = [_ode_start(s) for s in args.ode_start]
+    n_orbits = Theta.size * (N_P_DEFAULT if p is None else p.size)
     values = None
     if args.values is not None:
-        from rocknroller.papers.portrait import N_P_DEFAULT
-
-        values = read_values(args.values, Theta.size * (N_P_DEFAULT if p is None else p.size))
+        values = read_values(args.values, n_orbits)
+    if n_orbits <= MAX_PORTRAIT_ORBITS:  # (beyond it slow_portrait refuses the grid itself)
+        check_work(horizons_seconds(body, theta0, n_orbits), f"the horizons of the portrait's {n_orbits} orbits",
+                   budget_from_args(args))  # before any work, as the portrait checks its own
     prepare_output_dir(args.out, "--out", args.force, OUTPUTS)
     progress = False if args.quiet else None
     order = default_order(theta0) if args.order is None else args.order
     portrait = slow_portrait(body, theta0, Theta, p, args.t_end, order=order, ode_starts=starts,
                              ode_t_end=args.ode_t_end, build=not args.cached_only, progress=progress,
                              budget=budget_from_args(args))
-    rows = orbit_rows(portrait)  # each orbit's verdict and horizon (a short direct run each), once for CSV and JSON
+    # each orbit's verdict and horizon (a short direct run each; their cost checked above), once for CSV and JSON
+    rows = orbit_rows(portrait, budget=None)
     paths = write_portrait(portrait, args.out, values=values, rows=rows)
     summary: dict[str, Any] = {
         "body": body.describe(), "theta0": portrait.theta0, "E": portrait.E, "K": portrait.K,

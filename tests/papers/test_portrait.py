@@ -219,3 +219,22 @@ def test_each_orbit_lists_its_verdict_and_horizon_as_a_release_would():
         assert rows["verdict"][k] == pred.chaos.verdict
         assert rows["megno"][k] == pred.chaos.megno
         assert rows["horizon"][k] == h.t and rows["horizon_method"][k] == h.method
+
+
+def test_the_orbits_horizons_are_costed_before_any_direct_run(monkeypatch):
+    """Each orbit's horizon costs a direct run of PROBE_ROCKS rocks: the estimate grows with the orbits, and a budget
+    below it refuses before any run (the direct ODE is not called)."""
+    from rocknroller.numerics.budget import WorkBudgetError
+    from rocknroller.papers import portrait_output
+
+    body = Body.paper(5e-3)
+    portrait = slow_portrait(body, 0.93 * math.pi, [0.1, 1.0], [0.0], 300.0, order=1, progress=False)
+    one = portrait_output.horizons_seconds(body, portrait.theta0, 1)
+    assert one > 0.0 and portrait_output.horizons_seconds(body, portrait.theta0, 7) == pytest.approx(7 * one)
+
+    def no_run(*args, **kwargs):
+        raise AssertionError("a direct run started")
+
+    monkeypatch.setattr("rocknroller.numerics.integrate.simulate", no_run)
+    with pytest.raises(WorkBudgetError, match="horizons of 2 orbits"):
+        portrait_output.orbit_rows(portrait, budget=0.5 * 2 * one)

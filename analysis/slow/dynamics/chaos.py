@@ -104,7 +104,11 @@ class MapChaos(ChaosIndicators):
     """
 
     span: float
-    verdict: str
+
+    @property
+    def verdict(self) -> str:
+        """The verdict, "regular", "chaotic" or "undecided": :func:`map_verdict` of MEGNO, λ and the span."""
+        return map_verdict(self.megno, self.lyapunov, self.span)
 
     @property
     def criterion(self) -> str:
@@ -129,8 +133,7 @@ def map_indicators(t: ArrayLike, log_growth: ArrayLike) -> MapChaos | None:
         return None
     c = chaos_indicators(t, log_growth)
     span = float(t[-1])
-    return MapChaos(**{f: getattr(c, f) for f in ChaosIndicators.__dataclass_fields__}, span=span,
-                    verdict=map_verdict(c.megno, c.lyapunov, span))
+    return MapChaos(**{f: getattr(c, f) for f in ChaosIndicators.__dataclass_fields__}, span=span)
 
 
 def indicator_span(t_end: float, rock_time: float) -> float:
