@@ -99,7 +99,6 @@ class MapChaos(ChaosIndicators):
     Attributes
     ----------
     span : the time over which the indicators were measured (from the map's start).
-    verdict : "regular", "chaotic" or "undecided" (:func:`map_verdict`).
     (and those of :class:`~rocknroller.numerics.megno.ChaosIndicators`; its ``regular`` is MEGNO ≤ 3 alone)
     """
 
