@@ -24,7 +24,7 @@ from rocknroller.analysis.slow.map import region as sr
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.routh.turning_points import turning_points
 from rocknroller.analysis.slow.map.family import first_maximum, rest_energy
-from rocknroller.analysis.slow.map.orbit import harmonic_steps
+from rocknroller.analysis.slow.map.harmonic import harmonic_steps
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.papers.averaging_check import loglog_slope, sample_errors, timed_map_and_ode
 

@@ -10,7 +10,7 @@ from typing import Any, Callable
 def integrators() -> list[tuple[str, Callable[[], Any]]]:
     """(what, build) for every compiled integrator of the package: the direct ODE in double and extended precision,
     the ensembles' batch integrator at the default lane count, the chaos indicators' variational integrator and the
-    averaging tables' variational integrators of order 1 and 2.  Each build loads from heyoka's disk cache when it
+    averaging tables' variational integrators of order 1 and 2 and of the three harmonics.  Each build loads from heyoka's disk cache when it
     holds the integrator, and compiles it into that cache otherwise."""
     from rocknroller.analysis.slow.map.orbit import _variational_integrator
     from rocknroller.numerics.ensembles.batch import batch_integrator, batch_width
@@ -22,7 +22,9 @@ def integrators() -> list[tuple[str, Callable[[], Any]]]:
             ("ensembles' batch integrator", lambda: batch_integrator(batch_width())),
             ("chaos indicators' variational integrator", variational_integrator),
             ("averaging tables' variational integrator, order 1", lambda: _variational_integrator(1)),
-            ("averaging tables' variational integrator, order 2", lambda: _variational_integrator(2))]
+            ("averaging tables' variational integrator, order 2", lambda: _variational_integrator(2)),
+            ("averaging tables' variational integrator, three harmonics",
+             lambda: _variational_integrator("harmonic"))]
 
 
 def register(sub: argparse._SubParsersAction) -> None:

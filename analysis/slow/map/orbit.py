@@ -1,9 +1,9 @@
 """The variational orbit: one step maximum → maximum of Routh's sphere with its first- and second-order ε-responses.
-It holds the first-order step (:func:`first_order_step`, and :func:`first_order_steps` for many starts at once),
-the three orbits per Q that give the responses' harmonics in Θ (:func:`harmonic_steps`), the second-order step
-(:func:`second_order_step`), the first-order coefficients of one step at a Q (:func:`step_coefficients`, with
-T_θ, W and Δφ of the symmetric body from the quadratures of paper eqs. thetadotsq, Delta_phi:
-:func:`symmetric_data`), and ∂f/∂ε of the equations of motion (:func:`eps_derivative_rhs`).  The responses are
+It holds the first-order step (:func:`first_order_step`, and :func:`first_order_steps` for many starts at once), the
+integrators of the orbits (with one ε-response, two orders, or three turned responses: :func:`_harmonic_system`,
+which :mod:`rocknroller.analysis.slow.map.harmonic` uses for the harmonics in Θ), the second-order step
+(:func:`second_order_step`), T_θ, W and Δφ of the symmetric body from the quadratures of paper eqs. thetadotsq,
+Delta_phi (:func:`symmetric_data`), and ∂f/∂ε of the equations of motion (:func:`eps_derivative_rhs`).  The responses are
 those of Q_R, Q_J (paper eq. JelletandRouth_Qtys), Θ = 2ψ, the time and φ at the next maximum; this is the orbit
 stage of the averaged slow map (:mod:`rocknroller.analysis.slow.prediction`; docs/averaging.md, "The slow map").
 
@@ -17,7 +17,10 @@ and the shift of the event time (the next zero of dγ3/dt) is included:
 dy_{n+1}/dε = z + f dt₁/dε,  dt₁/dε = −∇h·z / ∇h·f,  h = dγ3/dt.
 
 By the rotational symmetry of Routh's sphere, the first-order response contains only the harmonics 0 and 2
-of ψ_n (0 and 1 of Θ_n = 2ψ_n): three orbits per Q (ψ_n = 0, π/3, 2π/3) determine it.
+of ψ_n (0 and 1 of Θ_n = 2ψ_n): three starts per Q (ψ_n = 0, π/3, 2π/3) determine it.  The same symmetry,
+f(S y) = S f(y) for S a turn about the symmetry axis (:func:`rotate_about_axis`), makes the orbit from ψ_k the turned
+orbit from 0 and its response S_k ẑ_k, where ẑ_k is integrated along the orbit from 0 under the forcing turned back,
+S_kᵀ ∂f/∂ε(S_k y): one orbit carries all three responses (:func:`_harmonic_system`).
 
 To second order (:func:`second_order_step`; :func:`second_order_steps` for many starts, in the batch lanes) the state
 also carries w, the second ε-derivative along the start's curve y₀(ε)
@@ -25,7 +28,7 @@ also carries w, the second ε-derivative along the start's curve y₀(ε)
 ẇ = A w + D²f[z, z] + 2 ∂²f/∂y∂ε z + ∂²f/∂ε² (A = ∂f/∂y); the second derivative of the event time follows from
 h = 0 at the next maximum as the first's does.
 
-The orbits run in heyoka's batch mode, one per SIMD lane (:func:`first_order_steps`, :func:`harmonic_steps`): the
+The orbits run in heyoka's batch mode, one per SIMD lane (:func:`first_order_steps`, ``harmonic_steps``): the
 tables' nodes cost ~4× less than one orbit at a time (``validation/region_table.py``); the lanes differ from a
 one-lane run by the rounding of the vector kernels only (~1e-14 of each response).
 """
@@ -36,7 +39,7 @@ import copy
 import functools
 import math
 import threading
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, Callable, Mapping
 
 import numpy as np
@@ -57,20 +60,21 @@ from rocknroller.numerics.integrate import check_diskcache
 
 __all__ = [
     "HARMONIC_PSI", "FIRST_ORDER_NAMES", "eps_derivative_rhs", "FirstOrderStep", "first_order_step",
-    "first_order_steps", "harmonic_steps", "second_order_step", "second_order_steps", "StepCoefficients",
-    "step_coefficients", "symmetric_data"
+    "first_order_steps", "second_order_step", "second_order_steps", "symmetric_data", "rotate_about_axis", "turn"
 ]
 
 #: Spin angles ψ_n of the three orbits that determine the harmonics 0 and 2 of ψ_n.
 HARMONIC_PSI = (0.0, math.pi / 3.0, 2.0 * math.pi / 3.0)
 #: First-order responses per step: ε-derivatives of Q_R, Q_J, Θ = 2ψ, the event time and φ.
 FIRST_ORDER_NAMES = ("QR", "QJ", "Theta", "t", "phi")
+#: heyoka's names of the 11 components of form (i).
+_STATE_NAMES = ("g1", "g2", "g3", "w1", "w2", "w3", "x1", "x2", "x3", "X", "Y")
 #: The compiled integrators of this process (templates), each thread's copies, and the lock that guards the templates.
 _INTEGRATOR: dict[str, Any] = {}
 _PER_THREAD = threading.local()
 _INTEGRATOR_LOCK = threading.Lock()
 #: CPU seconds a compilation of :func:`_variational_integrator` of each order usually takes (measured, one core).
-_COMPILE_SECONDS = {1: 1.0, 2: 1.0}
+_COMPILE_SECONDS: dict[int | str, float] = {1: 1.0, 2: 1.0, "harmonic": 1.0}
 
 
 def eps_derivative_rhs(y: ArrayLike, body: Body) -> NDArray[np.float64]:
@@ -104,7 +108,7 @@ def _variational_system(order: int) -> list[tuple[Any, Any]]:
     right-hand side differentiated along (z, w, ε)); parameters (a, I1, I3, g, ε) with I2 = (1 + ε) I1."""
     import heyoka as hy
 
-    names = ["g1", "g2", "g3", "w1", "w2", "w3", "x1", "x2", "x3", "X", "Y"]
+    names = _STATE_NAMES
     y = hy.make_vars(*names)
     z = hy.make_vars(*("d" + n for n in names))
     w = hy.make_vars(*("dd" + n for n in names))
@@ -130,8 +134,55 @@ def _variational_system(order: int) -> list[tuple[Any, Any]]:
     return eqs
 
 
-def _variational_integrator(order: int = 1, lanes: int | None = None) -> Any:
-    """heyoka batch integrator of :func:`_variational_system` (``order`` 1 or 2), by default in lanes of heyoka's
+def rotate_about_axis(y: Any, psi: float) -> list[Any]:
+    """S(ψ) y: the state of the symmetric body turned by ψ about its symmetry axis (the start at spin angle ψ_n + ψ
+    from the start at ψ_n, ``_max_state``): γ, ω and the space X axis, in body components, turn by −ψ about e3; the
+    contact point (X, Y) stays.  Works on numpy arrays (11,) or (11, N) and on heyoka expressions; S(0) is the
+    identity, exactly.  :func:`turn` with (cos ψ, sin ψ)."""
+    return list(y) if psi == 0.0 else turn(y, math.cos(psi), math.sin(psi))
+
+
+def turn(y: Any, c: Any, s: Any) -> list[Any]:
+    """S y for the turn with cosine c and sine s (:func:`rotate_about_axis`), in any arithmetic (exact rationals in
+    the tests: Routh's sphere's f(S y) = S f(y) holds as an identity)."""
+    out = []
+    for i in (0, 3, 6):
+        out += [c * y[i] + s * y[i + 1], -s * y[i] + c * y[i + 1], y[i + 2]]
+    return out + [y[9], y[10]]
+
+
+def _harmonic_system() -> list[tuple[Any, Any]]:
+    """Form (i) with three first-order variational systems in ε along one orbit: state (y, ẑ_0, ẑ_1, ẑ_2), 44
+    components, ẑ_k' = A ẑ_k + S_kᵀ ∂f/∂ε(S_k y) with S_k = ``rotate_about_axis``(·, ``HARMONIC_PSI[k]``).  By the
+    symmetry f(S y) = S f(y) of Routh's sphere, the orbit from ψ_n = ψ_k is S_k y(t) and its response z_k = S_k ẑ_k
+    (module docstring); parameters as :func:`_variational_system`'s."""
+    import heyoka as hy
+
+    y = hy.make_vars(*_STATE_NAMES)
+    a, I1, I3, g, eps = (hy.par[i] for i in range(5))
+    pars = (a, I1, I1 * (1.0 + eps), I3, g)
+    f = body_frame_rhs(y, pars)
+    jac = [[hy.diff(e, yj) for yj in y] for e in f]
+    eqs = list(zip(y, f))
+    for k, psi in enumerate(HARMONIC_PSI):
+        z = hy.make_vars(*(f"d{k}{n}" for n in _STATE_NAMES))
+        forcing = rotate_about_axis(body_frame_rhs(rotate_about_axis(y, psi), pars), -psi)
+        for i, zi in enumerate(z):
+            acc = hy.diff(forcing[i], eps)
+            for j, zj in enumerate(z):
+                acc = acc + jac[i][j] * zj
+            eqs.append((zi, acc))
+    return eqs
+
+
+def _system(order: int | str) -> list[tuple[Any, Any]]:
+    """The equations of :func:`_variational_system` (``order`` 1 or 2) or of :func:`_harmonic_system` ("harmonic")."""
+    return _harmonic_system() if order == "harmonic" else _variational_system(int(order))
+
+
+def _variational_integrator(order: int | str = 1, lanes: int | None = None) -> Any:
+    """heyoka batch integrator of :func:`_variational_system` (``order`` 1 or 2) or of :func:`_harmonic_system`
+    (``order`` "harmonic"), by default in lanes of heyoka's
     recommended SIMD width: one orbit per lane, each with its own steps (the lanes do not interact), so a batch runs
     several orbits for about the price of one (docs/slow_validation.md, "Cost"; ``lanes=1``: one orbit at a time).
     Compiled once per process, one copy per thread (threads may build tables side by side)."""
@@ -144,11 +195,12 @@ def _variational_integrator(order: int = 1, lanes: int | None = None) -> Any:
         return mine[key]
     with _INTEGRATOR_LOCK:
         if key not in _INTEGRATOR:
-            eqs = _variational_system(order)
+            eqs = _system(order)
             y = hy.make_vars("g1", "g2", "g3", "w1", "w2", "w3")
             ev = hy.t_event_batch(turning_point_function(y), callback=_NextMaximum())
             check_diskcache()
-            with compiling(f"the averaging tables' variational integrator (order {order}, {lanes} lanes)",
+            what = "three harmonics" if order == "harmonic" else f"order {order}"
+            with compiling(f"the averaging tables' variational integrator ({what}, {lanes} lanes)",
                            _COMPILE_SECONDS[order]):
                 _INTEGRATOR[key] = hy.taylor_adaptive_batch(eqs, np.zeros((len(eqs), lanes)),
                                                             pars=np.zeros((5, lanes)), compact_mode=True, t_events=[ev])
@@ -200,6 +252,38 @@ def _max_state(sym: Body, theta: ArrayLike, QR: ArrayLike, QJ: ArrayLike, psi: A
     return state_from_euler(theta, 0.0, psi, 0.0, st.phi_dot, st.psi_dot)
 
 
+def _start(sym: Body, theta_X: NDArray[np.float64], QR: NDArray[np.float64], QJ: NDArray[np.float64],
+           psi: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """The maxima y₀ (11, N) at spin angles ψ, ∂y₀/∂θ_X there and ∂U/∂θ at θ_X (central differences)."""
+    hth = 1e-4 * np.minimum(theta_X, math.pi - theta_X)
+    dU = _central_difference(lambda th: effective_potential(th, QR, QJ, sym), theta_X, hth)
+    dy_dth = _central_difference(lambda th: _max_state(sym, th, QR, QJ, psi), theta_X, hth)
+    return _max_state(sym, theta_X, QR, QJ, psi), dy_dth, dU
+
+
+def _theta_shift(sym: Body, y0: NDArray[np.float64], dU: NDArray[np.float64]) -> NDArray[np.float64]:
+    """∂θ_X/∂ε of the maxima y₀ at fixed (E, Q, ψ): −(∂E/∂ε)/(∂U/∂θ), E being linear in I2 = (1 + ε) I1; the
+    start's ε-derivative is z(0) = ∂y₀/∂θ_X ∂θ_X/∂ε."""
+    e_half = 0.5 * (sym.I3 / sym.I1 - 1.0)
+    dE_deps = (energy(sym.with_epsilon(e_half), y0[0:3], y0[3:6]) - energy(sym, y0[0:3], y0[3:6])) / e_half
+    return -dE_deps / dU
+
+
+def _responses(sym: Body, Y: NDArray[np.float64], Z: NDArray[np.float64]) -> dict[str, NDArray[np.float64]]:
+    """The first-order responses (keys of ``FIRST_ORDER_NAMES``) from the states Y (11, N) at the next maxima and
+    their ε-derivatives Z there, the event time's shift included (module docstring)."""
+    fY = np.array(body_frame_rhs(Y, sym.params))
+    dt1 = -directional_derivative(turning_point_function, Y, Z) / directional_derivative(turning_point_function, Y, fY)
+    dY = Z + fY * dt1
+    return {
+        "QR": directional_derivative(_QR_of(sym), Y, dY),
+        "QJ": directional_derivative(_QJ_of(sym), Y, dY),
+        "Theta": 2.0 * directional_derivative(_psi_of, Y, dY, angle=True),
+        "t": dt1,
+        "phi": directional_derivative(_phi_of, Y, dY, angle=True),
+    }
+
+
 def first_order_steps(body: Body, E: float, QR: ArrayLike, QJ: ArrayLike, psi: ArrayLike,
                       theta_X: ArrayLike | None = None, *, lanes: int | None = None) -> FirstOrderStep:
     """:func:`first_order_step` for N starts at once (arrays of one shape, or scalars broadcast to it), their orbits
@@ -211,29 +295,11 @@ def first_order_steps(body: Body, E: float, QR: ArrayLike, QJ: ArrayLike, psi: A
     flat = [np.ravel(v) for v in np.broadcast_arrays(*(np.asarray(v, float) for v in given))]
     QR, QJ, psi = flat[:3]
     theta_X = flat[3] if theta_X is not None else np.asarray(turning_points(E, QR, QJ, sym)[1], float)
-    y0 = _max_state(sym, theta_X, QR, QJ, psi)
-    # shift of θ_X at fixed (E, Q, ψ): ∂E/∂ε (E is linear in I2) over ∂U/∂θ
-    e_half = 0.5 * (sym.I3 / sym.I1 - 1.0)
-    dE_deps = (energy(sym.with_epsilon(e_half), y0[0:3], y0[3:6]) - energy(sym, y0[0:3], y0[3:6])) / e_half
-    hth = 1e-4 * np.minimum(theta_X, math.pi - theta_X)
-    dU = _central_difference(lambda th: effective_potential(th, QR, QJ, sym), theta_X, hth)
-    dy_dth = _central_difference(lambda th: _max_state(sym, th, QR, QJ, psi), theta_X, hth)
-    z0 = dy_dth * (-dE_deps / dU)
-
-    t1, out = _to_next_maxima(1, sym, np.concatenate([y0, z0]), lanes)
-    Y, Z = out[:11], out[11:]
-    fY = np.array(body_frame_rhs(Y, sym.params))
-    dt1 = -directional_derivative(turning_point_function, Y, Z) / directional_derivative(turning_point_function, Y, fY)
-    dY = Z + fY * dt1
-    d = {
-        "QR": directional_derivative(_QR_of(sym), Y, dY),
-        "QJ": directional_derivative(_QJ_of(sym), Y, dY),
-        "Theta": 2.0 * directional_derivative(_psi_of, Y, dY, angle=True),
-        "t": dt1,
-        "phi": directional_derivative(_phi_of, Y, dY, angle=True),
-    }
+    y0, dy_dth, dU = _start(sym, theta_X, QR, QJ, psi)
+    t1, out = _to_next_maxima(1, sym, np.concatenate([y0, dy_dth * _theta_shift(sym, y0, dU)]), lanes)
+    Y = out[:11]
     return FirstOrderStep(QR=QR, QJ=QJ, psi=psi, theta_X=theta_X, T=t1, dpsi=wrap_angle(_psi_of(Y) - psi, math.pi),
-                          dphi=wrap_angle(_phi_of(Y) - _phi_of(y0), math.pi), d=d)
+                          dphi=wrap_angle(_phi_of(Y) - _phi_of(y0), math.pi), d=_responses(sym, Y, out[11:]))
 
 
 def first_order_step(body: Body, E: float, QR: float, QJ: float, psi: float, *,
@@ -279,7 +345,7 @@ class _NextMaximum:
 _MAX_STEPS_TO_MAXIMUM = 100_000
 
 
-def _to_next_maxima(order: int, sym: Body, x0: NDArray[np.float64],
+def _to_next_maxima(order: int | str, sym: Body, x0: NDArray[np.float64],
                     lanes: int | None = None) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Integrate the variational system of ``order`` (form (i) in its first 11 components, variational ones after)
     from the maxima x0[:11, k] at t = 0 with ε = 0 to the next maximum of θ, ``x0`` of shape (components, N), in
@@ -387,71 +453,6 @@ def _second_derivatives(sym: Body, out: NDArray[np.float64]) -> dict[str, float]
             "t": t1pp, "phi": second(_phi_of, angle=True)}
 
 
-# ----------------------------------------------------------------------------- coefficients at one Q
-@dataclass(frozen=True)
-class StepCoefficients:
-    """First-order one-step coefficients at a given Q (paper-body units).
-
-    Attributes
-    ----------
-    QR, QJ : float
-    T : float
-        T_θ(Q), time between maxima of the symmetric body (quadrature).
-    W : float
-        2(Δψ − π) wrapped to (−π, π] (quadrature, per T_θ).
-    dphi : float
-        Δφ per T_θ mod π in (−π/2, π/2] (quadrature).
-    harmonics : dict
-        For each name of ``FIRST_ORDER_NAMES``, (c0, c1, s1) with
-        ε-response(Θ_n) = c0 + c1 cos Θ_n + s1 sin Θ_n, Θ_n = 2ψ_n.
-    steps : tuple of FirstOrderStep
-        The three orbits (ψ_n in ``HARMONIC_PSI``).
-    """
-
-    QR: float
-    QJ: float
-    T: float
-    W: float
-    dphi: float
-    harmonics: dict[str, tuple[float, float, float]]
-    steps: tuple[FirstOrderStep, ...] = field(repr=False)
-
-    def response(self, name: str, psi: ArrayLike) -> NDArray[np.float64]:
-        """ε-response ``name`` at spin angle(s) ψ_n."""
-        c0, c1, s1 = self.harmonics[name]
-        Th = 2.0 * np.asarray(psi, float)
-        return c0 + c1 * np.cos(Th) + s1 * np.sin(Th)
-
-
-def _harmonics(values: ArrayLike) -> NDArray[np.float64]:
-    """(c0, c1, s1) from values at Θ = 0, 2π/3, 4π/3 (last axis)."""
-    v = np.asarray(values, float)
-    Th = 2.0 * np.asarray(HARMONIC_PSI)
-    return np.stack([v.mean(axis=-1), (2.0 / 3.0) * (v * np.cos(Th)).sum(axis=-1),
-                     (2.0 / 3.0) * (v * np.sin(Th)).sum(axis=-1)], axis=-1)
-
-
-def harmonic_steps(body: Body, E: float, QR: ArrayLike, QJ: ArrayLike, theta_X: ArrayLike | None = None, *,
-                   lanes: int | None = None) -> tuple[FirstOrderStep, NDArray[np.float64]]:
-    """The three orbits (ψ_n in ``HARMONIC_PSI``) at each of N points Q, run together in the batch integrator
-    (``lanes``: :func:`_variational_integrator`), and the harmonics (c0, c1, s1) of their ε-responses, shape
-    (len(FIRST_ORDER_NAMES), N, 3); the steps' fields are arrays (N, 3).  θ_X as in :func:`first_order_steps`."""
-    given = [v for v in (QR, QJ, theta_X) if v is not None]
-    cols = [np.ravel(v)[:, None] for v in np.broadcast_arrays(*(np.asarray(v, float) for v in given))]
-    QR_col, QJ_col = cols[0], cols[1]
-    theta_col = cols[2] if theta_X is not None else None
-    psi = np.asarray(HARMONIC_PSI)[None, :]
-    st = first_order_steps(body, E, QR_col, QJ_col, psi, theta_col, lanes=lanes)
-    shape = (QR_col.shape[0], len(HARMONIC_PSI))
-
-    def grid(v: float | NDArray[np.float64]) -> NDArray[np.float64]:
-        return np.reshape(v, shape)
-
-    st = FirstOrderStep(QR=grid(st.QR), QJ=grid(st.QJ), psi=grid(st.psi), theta_X=grid(st.theta_X), T=grid(st.T),
-                        dpsi=grid(st.dpsi), dphi=grid(st.dphi), d={k: grid(v) for k, v in st.d.items()})
-    return st, np.stack([_harmonics(st.d[name]) for name in FIRST_ORDER_NAMES])
-
-
 def symmetric_data(sym: Body, E: float, QR: ArrayLike, QJ: ArrayLike) -> tuple[NDArray, NDArray, NDArray, NDArray]:
     """(T_θ, W, Δφ mod π, θ_X) at energy E from the quadratures, vectorised."""
     pr = precession(E, QR, QJ, sym, rtol=1e-12)  # W errors are amplified by the twist: full precision
@@ -460,15 +461,3 @@ def symmetric_data(sym: Body, E: float, QR: ArrayLike, QJ: ArrayLike) -> tuple[N
         raise ValueError(f"the symmetric quadrature failed at some Q (status {pr.status_text()[bad][:3]})")
     return (np.asarray(pr.T_theta, float), np.asarray(wrap_angle(2.0 * np.asarray(pr.delta_psi) - 2.0 * math.pi)),
             np.asarray(pr.visible_half_phi, float), np.asarray(pr.theta_X, float))
-
-
-def step_coefficients(body: Body, E: float, QR: float, QJ: float) -> StepCoefficients:
-    """The first-order one-step coefficients at energy E and Q = (Q_R, Q_J) (three variational orbits)."""
-    sym = body.symmetric()
-    T, W, dphi, theta_X = (float(x) for x in symmetric_data(sym, E, QR, QJ))
-    st, resp = harmonic_steps(sym, E, QR, QJ, theta_X)
-    steps = tuple(st.at(0, k) for k in range(len(HARMONIC_PSI)))
-    harm = {name: (float(c0), float(c1), float(s1)) for name, (c0, c1, s1) in zip(FIRST_ORDER_NAMES, resp[:, 0])}
-    return StepCoefficients(QR=float(QR), QJ=float(QJ), T=T, W=W, dphi=dphi, harmonics=harm, steps=steps)
-
-

@@ -26,7 +26,7 @@ stretch across (β from |∂W/∂v(0)|) then sits on the layer all along it.  It
 the spindle's tips.  ``region_axis`` picks it from the energy of a release at ``BAND_FROM_THETA0`` up.
 
 Data.  T_θ, W = 2(Δψ − π) mod 2π and Δφ mod π come from the same variational orbits as the ε-responses
-(:func:`rocknroller.analysis.slow.map.orbit.harmonic_steps`), not from the quadratures: those lose their
+(:func:`rocknroller.analysis.slow.map.harmonic.harmonic_steps`), not from the quadratures: those lose their
 double-precision accuracy near steady rolling and at small amplitude, where these tables reach.
 :func:`rocknroller.analysis.slow.map.table.fit_table` lifts W and Δφ to continuous branches and builds the
 drift–kick–drift form.
@@ -47,7 +47,7 @@ from rocknroller.analysis.slow.map.chart import CHART_TERMS, TABLE_FUNCTIONS, Sl
 from rocknroller.analysis.slow.map.limits import AveragingRangeError
 from rocknroller.analysis.slow.map.orbit import symmetric_data
 from rocknroller.analysis.slow.map.table import (REGION_TABLE_ACCURACY, cached_table, check_grid, fit_and_check, is_cached,
-                                             kick_at_rest, orbit_data)
+                                             kick_at_rest, mirrored, orbit_data)
 from rocknroller.numerics.parallel import check_processes
 
 __all__ = [
@@ -66,9 +66,12 @@ TIP_FRACTION_RANGE = (0.1, 0.95)
 #: Nodes of the fit of the level set's sides, and the degree of the chart's c(x) and w(x).
 _PROFILE_NODES = CHART_TERMS
 _CHART_DEGREE = 8
-#: Doublings that bracket the region's edge on a ray, and bisections that then resolve it (2^-60 of the bracket).
+#: Doublings that bracket the region's edge on a ray, and the most steps that then resolve it (:func:`_edge`; as
+#: many bisections would resolve 2^-60 of the bracket).
 _BRACKET_DOUBLINGS = 64
-_BISECTIONS = 60
+_EDGE_STEPS = 60
+#: Relative rounding of min U (a few units in the last place): an edge whose bracket's g differ by less is resolved.
+_EDGE_ROUNDING = 8.0 * np.finfo(float).eps
 
 
 def _check_energy(E: float) -> float:
@@ -174,6 +177,55 @@ def _layer_centres(sym: Body, E: float, points: NDArray[np.float64], n: NDArray[
     return 0.5 * (fine[rows, m] + fine[rows, m + 1]) + h * shift
 
 
+def _edge(sym: Body, E: float, level: float, origins: NDArray[np.float64],
+          directions: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Distances r from each origin (inside) along each direction to the level set min U = level.
+
+    g(r) = min U − level increases along each ray (min U grows away from Q = 0, and the chart's rays start on the
+    line through it, at right angles to it or along it, so |Q|² is |origin|² + r²).  The root is bracketed by
+    doubling from √E, then resolved to four units in the last place of r, or until g at the bracket's ends differs
+    by no more than min U's rounding (``_EDGE_ROUNDING``), by the Illinois variant of regula falsi
+    (the end kept twice in a row has its g halved: superlinear convergence on both ends) with secants in r², in
+    which g is nearly linear; a secant that falls outside the bracket is replaced by its midpoint, and one that
+    lands on g = 0, or within the last place of the inside end, closes it.  Returns the bracket's inside end
+    (g ≤ 0)."""
+    def excess(r: NDArray[np.float64]) -> NDArray[np.float64]:
+        Q = origins + r[:, None] * directions
+        return min_potential(Q[:, 0], Q[:, 1], sym) - level
+
+    lo, hi = np.zeros(len(origins)), np.full(len(origins), math.sqrt(E))
+    g_lo, g_hi = excess(lo), excess(hi)
+    for _ in range(_BRACKET_DOUBLINGS):
+        out = g_hi > 0.0
+        if out.all():
+            break
+        lo, g_lo = np.where(out, lo, hi), np.where(out, g_lo, g_hi)
+        hi = np.where(out, hi, 2.0 * hi)
+        g_hi = np.where(out, g_hi, excess(hi))
+    else:  # pragma: no cover - min U grows like |Q|²: the set is bounded
+        raise RuntimeError("the region of oscillation is unbounded")
+    kept = np.zeros(len(origins), int)  # +1: lo moved last, −1: hi moved last
+    for _ in range(_EDGE_STEPS):
+        active = (hi - lo > 4.0 * np.spacing(hi)) & (g_hi - g_lo > _EDGE_ROUNDING * abs(level))
+        if not active.any():
+            return lo
+        with np.errstate(divide="ignore", invalid="ignore"):  # the secant in r², in which g is nearly linear,
+            t = g_lo / (g_lo - g_hi)  # as a step from lo that keeps its digits near the edge
+            r = lo + t * (hi - lo) * (hi + lo) / (np.sqrt(lo * lo + t * (hi - lo) * (hi + lo)) + lo)
+        closed = active & (r <= lo)  # a step from lo below its last place: lo is the edge
+        hi, active = np.where(closed, lo, hi), active & ~closed
+        r = np.where((r > lo) & (r < hi), r, 0.5 * (lo + hi))
+        g = excess(r)
+        inside = active & (g <= 0.0)
+        outside = active & ~inside
+        g_hi = np.where(inside & (kept == 1), 0.5 * g_hi, g_hi)  # Illinois: the stale end's g halved
+        g_lo = np.where(outside & (kept == -1), 0.5 * g_lo, g_lo)
+        lo, g_lo = np.where(inside, r, lo), np.where(inside, g, g_lo)
+        hi, g_hi = np.where(outside | (g == 0.0), r, hi), np.where(outside, g, g_hi)  # g = 0: the edge itself
+        kept = np.where(inside, 1, np.where(outside, -1, kept))
+    raise RuntimeError(f"the region's edge was not resolved in {_EDGE_STEPS} steps")  # pragma: no cover
+
+
 def region_frame(body: Body, E: float, *, axis: str = "auto", nu: int | None = None, nv: int | None = None,
                  delta_min: float = DELTA_MIN_DEFAULT, tip_fraction: float = 0.8) -> SlowMapTable:
     """The chart of the region tables of (body, E) (module docstring), as a SlowMapTable without coefficients.
@@ -195,38 +247,17 @@ def region_frame(body: Body, E: float, *, axis: str = "auto", nu: int | None = N
     n = np.array([-e[1], e[0]])
     level = E * (1.0 - delta_min)
 
-    def edge(origins: NDArray[np.float64], directions: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Distances r from each origin (inside) along each direction to the level set min U = level:
-        bracketed by doubling, then bisected to the resolution of r (min U increases along each ray from Q = 0,
-        and the chart's rays start on the line through it)."""
-        def inside(r: NDArray[np.float64]) -> NDArray[np.bool_]:
-            Q = origins + r[:, None] * directions
-            return min_potential(Q[:, 0], Q[:, 1], sym) <= level
-
-        lo, hi = np.zeros(len(origins)), np.full(len(origins), math.sqrt(E))
-        for _ in range(_BRACKET_DOUBLINGS):
-            out = ~inside(hi)
-            if out.all():
-                break
-            lo, hi = np.where(out, lo, hi), np.where(out, hi, 2.0 * hi)
-        else:  # pragma: no cover - min U grows like |Q|²: the set is bounded
-            raise RuntimeError("the region of oscillation is unbounded")
-        for _ in range(_BISECTIONS):
-            mid = 0.5 * (lo + hi)
-            ok = inside(mid)
-            lo, hi = np.where(ok, mid, lo), np.where(ok, hi, mid)
-        return lo
-
     # near Q = 0, W ≈ ∇W(0)·Q turns by O(1) over 1/|∂W/∂u| along e and 1/|∂W/∂v| across
     hq = 1e-7
     W = symmetric_data(sym, E, hq * np.array([e[0], -e[0], n[0], -n[0]]), hq * np.array([e[1], -e[1], n[1], -n[1]]))[1]
     dW_du, dW_dv = abs(W[0] - W[1]) / (2.0 * hq), abs(W[2] - W[3]) / (2.0 * hq)
-    tip = float(edge(np.zeros((1, 2)), e[None, :])[0])
+    tip = float(_edge(sym, E, level, np.zeros((1, 2)), e[None, :])[0])
     U = tip_fraction * tip
     xs = _cheb_nodes(_PROFILE_NODES)
     on_line = xs[:, None] * U * e[None, :]
-    up = edge(on_line, np.tile(n, (len(xs), 1)))
-    lo = -edge(on_line, np.tile(-n, (len(xs), 1)))
+    sides = _edge(sym, E, level, np.concatenate([on_line, on_line]),
+                  np.concatenate([np.tile(n, (len(xs), 1)), np.tile(-n, (len(xs), 1))]))
+    up, lo = sides[:len(xs)], -sides[len(xs):]
     cheb = np.polynomial.chebyshev
     c_coef, w_coef = np.zeros(CHART_TERMS), np.zeros(CHART_TERMS)
     if axis == "spindle":
@@ -257,12 +288,15 @@ def region_frame(body: Body, E: float, *, axis: str = "auto", nu: int | None = N
 
 
 def _orbit_data(sym: Body, E: float, QR: NDArray, QJ: NDArray, progress: bool | None = False, workers: int = 1):
-    """T, W mod 2π, Δφ mod π and the harmonics of the ε-responses at each Q, from three variational orbits
-    per node (:func:`rocknroller.analysis.slow.map.table.orbit_data`)."""
-    tp = solve_turning_points(E, QR, QJ, sym)
+    """T, W mod 2π, Δφ mod π and the harmonics of the ε-responses at each Q, from one variational orbit with three
+    ε-responses per node, half the nodes of a mirrored grid (:func:`rocknroller.analysis.slow.map.table.orbit_data`)."""
+    n = np.size(QR) // 2 if mirrored(QR, QJ) else np.size(QR)  # θ_X is even in Q: a mirrored grid's half suffices
+    tp = solve_turning_points(E, np.ravel(QR)[:n], np.ravel(QJ)[:n], sym)
     if np.any(np.asarray(tp.status) != 0):
         raise AveragingRangeError(f"some nodes of the region tables of E={E!r} have no oscillation of theta")
-    return orbit_data(sym, E, QR, QJ, tp.theta_X, progress=progress, workers=workers,
+    theta_X = np.asarray(tp.theta_X, float)
+    theta_X = np.concatenate([theta_X, theta_X[::-1]]) if 2 * n == np.size(QR) else theta_X
+    return orbit_data(sym, E, QR, QJ, theta_X.reshape(np.shape(QR)), progress=progress, workers=workers,
                       desc=f"region tables, E={E:.6g}")
 
 

@@ -9,8 +9,9 @@ The coefficient functions of one step of the first-order map (:mod:`rocknroller.
 Δφ and the harmonics 0 and 1 in Θ of the kicks) are tabulated once per (body, θ0) or (body, energy) at the
 Chebyshev nodes of a chart of the (Q_R, Q_J) plane (:mod:`rocknroller.analysis.slow.map.chart`); they depend on
 neither ε nor ψ0.  Release tables (:func:`build_table`) cover a strip along the kick direction at Q = 0, with T_θ,
-W and Δφ from the quadratures (:func:`rocknroller.analysis.slow.map.orbit.symmetric_data`) and the kicks from three
-variational orbits per node (:func:`rocknroller.analysis.slow.map.orbit.harmonic_steps`); region tables
+W and Δφ from the quadratures (:func:`rocknroller.analysis.slow.map.orbit.symmetric_data`) and the kicks from one
+variational orbit with three ε-responses per node (:func:`rocknroller.analysis.slow.map.harmonic.harmonic_steps`), on
+half the nodes: the other half, the mirror images −Q, follow by the symmetry of ``_MIRROR_SIGNS``; region tables
 (:mod:`rocknroller.analysis.slow.map.region`) cover the whole region of an energy, and second-order tables
 (:mod:`rocknroller.analysis.slow.map.second_order`) hold k₂ on the chart of a first-order table.
 
@@ -44,19 +45,21 @@ from rocknroller.analysis.slow.map.chart import (_EVEN, _ODD, CHART_TERMS, TABLE
 from rocknroller.analysis.slow.map.family import rest_energy
 from rocknroller.analysis.slow.map.limits import (K_PERIOD_DOUBLING, AveragingRangeError, AveragingValidityWarning,
                                               check_map_theta0)
-from rocknroller.analysis.slow.map.orbit import FIRST_ORDER_NAMES, harmonic_steps, step_coefficients, symmetric_data
+from rocknroller.analysis.slow.map.harmonic import harmonic_steps, step_coefficients
+from rocknroller.analysis.slow.map.orbit import FIRST_ORDER_NAMES, symmetric_data
 from rocknroller.numerics.cache import CacheWarning, MemoryCache, cache_dir, load_arrays, save_arrays, warn_unwritable
 from rocknroller.numerics.parallel import check_processes, map_blocks
 
 __all__ = [
     "REGION_TABLE_ACCURACY", "build_table", "check_grid", "kick_at_rest", "fit_table", "fit_and_check",
     "load_or_build_table", "cached_table", "TableNotCachedError", "orbit_data", "is_cached", "node_blocks",
-    "assemble_nodes", "node_block", "release_frame", "fit_release_table", "store_table"
+    "assemble_nodes", "node_block", "release_frame", "fit_release_table", "store_table", "mirrored", "nodes_done"
 ]
 
 #: Bump when the table construction or its file format changes (part of the cache key).
-_TABLE_VERSION = "8"  # 6: numpy's Chebyshev nodes (exactly antisymmetric); 7: maxima by batch terminal events;
-# 8: the second-order orbits in batch lanes, the chart's derivative series formed once per table (k₂ within ~1e-8)
+_TABLE_VERSION = "9"  # 6: numpy's Chebyshev nodes (exactly antisymmetric); 7: maxima by batch terminal events;
+# 8: the second-order orbits in batch lanes, the chart's derivative series formed once per table (k₂ within ~1e-8);
+# 9: one orbit with three ε-responses per node, half the nodes of a mirrored grid, the region's edge by regula falsi
 
 
 class TableNotCachedError(ValueError):
@@ -104,19 +107,49 @@ def node_block(sym: Body, E: float, nodes: list[tuple[float, float, float]]) -> 
 #: Nodes per task of a table build (a step of its progress bar; a task of its processes).
 _BLOCK_NODES = 64
 
+#: Signs of a node's row (T, W, Δφ, then the harmonics (c0, c1, s1) of each response of ``FIRST_ORDER_NAMES``) at −Q
+#: relative to those at Q.  Routh's sphere is symmetric under a reflection in a vertical plane, which takes
+#: (Q, ψ, φ) to (−Q, −ψ, −φ) and keeps θ and t: T_θ and the time response are even, W, Δφ and the responses of
+#: Q_R, Q_J, Θ and φ odd under (Q, Θ) → (−Q, −Θ), so c0 and c1 take the response's sign and s1 the opposite one.
+#: (tests/analysis/slow/map/test_mirror_nodes.py checks it against orbits run from −Q.)
+_MIRROR_SIGNS = np.array([1.0, -1.0, -1.0] + [p * h for name in FIRST_ORDER_NAMES for p in [1.0 if name == "t" else -1.0]
+                                             for h in (1.0, 1.0, -1.0)])
+
+
+def mirrored(QR: NDArray, QJ: NDArray) -> bool:
+    """Whether the nodes come in pairs Q, −Q to the bit, the second of each pair at the reversed place in C order:
+    every chart's grid of Chebyshev points (even in number, exactly antisymmetric) is, so only the first half of its
+    nodes needs orbits (``_MIRROR_SIGNS``)."""
+    q, j = np.ravel(QR), np.ravel(QJ)
+    return q.size % 2 == 0 and bool(np.array_equal(q[::-1], -q) and np.array_equal(j[::-1], -j))
+
 
 def node_blocks(sym: Body, E: float, QR: NDArray, QJ: NDArray,
                 theta_X: NDArray) -> list[tuple[Body, float, list[tuple[float, float, float]]]]:
     """The arguments of :func:`node_block` for the nodes (Q_R, Q_J) with their θ_X, in blocks of ``_BLOCK_NODES``
-    in node order (C order of ``QR``'s shape)."""
+    in node order (C order of ``QR``'s shape): the first half of the nodes if they are :func:`mirrored`, all of them
+    otherwise."""
     nodes = list(zip(np.ravel(QR).tolist(), np.ravel(QJ).tolist(), np.ravel(theta_X).tolist()))
+    if mirrored(QR, QJ):
+        nodes = nodes[:len(nodes) // 2]
     return [(sym, E, nodes[i:i + _BLOCK_NODES]) for i in range(0, len(nodes), _BLOCK_NODES)]
+
+
+def nodes_done(blocks: list[tuple[Body, float, list[tuple[float, float, float]]]], size: int) -> list[int]:
+    """The nodes of the table that each of :func:`node_blocks`' blocks (for a table of ``size`` nodes) provides:
+    twice its own on a mirrored grid (the progress bars count the table's nodes)."""
+    per = size // sum(len(b[2]) for b in blocks)
+    return [per * len(b[2]) for b in blocks]
 
 
 def assemble_nodes(rows: list[NDArray], shape: tuple[int, ...]) -> tuple[NDArray, NDArray, NDArray, NDArray]:
     """T, W mod 2π, Δφ mod π (each of ``shape``) and the harmonics of the ε-responses (shape
-    ``(len(FIRST_ORDER_NAMES), *shape, 3)``) from the rows of :func:`node_block` of :func:`node_blocks`' blocks."""
-    data = np.concatenate(rows).reshape(shape + (-1,))
+    ``(len(FIRST_ORDER_NAMES), *shape, 3)``) from the rows of :func:`node_block` of :func:`node_blocks`' blocks; rows
+    for half the nodes (a :func:`mirrored` grid) are completed by the mirror symmetry (``_MIRROR_SIGNS``)."""
+    data = np.concatenate(rows)
+    if 2 * len(data) == math.prod(shape):
+        data = np.concatenate([data, data[::-1] * _MIRROR_SIGNS])
+    data = data.reshape(shape + (-1,))
     resp = np.moveaxis(data[..., 3:].reshape(shape + (len(FIRST_ORDER_NAMES), 3)), -2, 0)
     return data[..., 0], data[..., 1], data[..., 2], resp
 
@@ -129,7 +162,7 @@ def orbit_data(sym: Body, E: float, QR: NDArray, QJ: NDArray, theta_X: NDArray, 
     stderr is a terminal).  Each node's numbers depend on neither the blocks nor the processes (the batch
     integrator's lanes are independent)."""
     blocks = node_blocks(sym, E, QR, QJ, theta_X)
-    rows = map_blocks(node_block, blocks, [len(b[2]) for b in blocks], processes=workers, desc=desc, unit="node",
+    rows = map_blocks(node_block, blocks, nodes_done(blocks, np.size(QR)), processes=workers, desc=desc, unit="node",
                       progress=progress)
     return assemble_nodes(rows, np.shape(QR))
 

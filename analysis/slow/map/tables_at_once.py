@@ -30,7 +30,7 @@ from rocknroller.analysis.slow.map.second_order import (build_second_order_table
                                                         k2_blocks, k2_spec, load_or_build_second_order_table)
 from rocknroller.analysis.slow.map.table import (TableNotCachedError, assemble_nodes, build_table, check_grid,
                                                  fit_release_table, load_or_build_table, node_block, node_blocks,
-                                                 release_frame, store_table)
+                                                 nodes_done, release_frame, store_table)
 from rocknroller.numerics.budget import RELEASE_TABLE_SECONDS, WORK_BUDGET_SECONDS, check_work
 from rocknroller.numerics.ensembles.blocks import run_blocks
 from rocknroller.numerics.ensembles.ensemble import check_cluster
@@ -108,13 +108,14 @@ def build_release_tables(body: Body, theta0: ArrayLike, *, scheduler: str | None
     check_work(len(todo) * RELEASE_TABLE_SECONDS * nodes / _DEFAULT_NODES,
                f"{len(todo)} release table{'s' if len(todo) != 1 else ''} to build ({nodes} nodes each)", budget)
     frames = [release_frame(body, t, **grid) for t in todo]
-    blocks, owner = [], []
-    for k, (frame, _, _, _, thX) in enumerate(frames):
+    blocks, owner, done = [], [], []
+    for k, (frame, T, _, _, thX) in enumerate(frames):
         mine = node_blocks(frame.body, frame.E0, *frame.nodes(), thX)
         blocks += mine
         owner += [k] * len(mine)
+        done += nodes_done(mine, T.size)
     names = ", ".join(f"{t / math.pi:.6g}pi" for t in todo)
-    rows = run_blocks(node_block, blocks, [len(b[2]) for b in blocks], scheduler=scheduler, workers=workers,
+    rows = run_blocks(node_block, blocks, done, scheduler=scheduler, workers=workers,
                       threads=threads, processes=processes, desc=f"release tables, theta0 in ({names})", unit="node",
                       progress=progress)
     for k, (t, (frame, T, W, dphi, thX)) in enumerate(zip(todo, frames)):

@@ -23,6 +23,7 @@ from rocknroller.analysis.routh.quadrature import precession
 from rocknroller.analysis.routh.quadrature_mp import precession_mp
 from rocknroller.analysis.slow.map import compiled_map as slow_map
 from rocknroller.analysis.slow.map import family as fam
+from rocknroller.analysis.slow.map import harmonic
 from rocknroller.analysis.slow.map import orbit as so
 from rocknroller.analysis.slow.dynamics import pendulum as slow_pendulum
 from rocknroller.analysis.slow import prediction as av
@@ -169,7 +170,7 @@ def test_symmetric_step_equals_quadrature():
 
 def test_response_has_only_harmonics_0_and_2():
     """Three orbits determine the response at any ψ_n (rotational symmetry of Routh's sphere)."""
-    sc = so.step_coefficients(SYM, E0, 3.0e-3, 5.0e-5)
+    sc = harmonic.step_coefficients(SYM, E0, 3.0e-3, 5.0e-5)
     for psi in (0.4, 2.0):
         direct = so.first_order_step(SYM, E0, 3.0e-3, 5.0e-5, psi)
         for name in so.FIRST_ORDER_NAMES:
@@ -178,7 +179,7 @@ def test_response_has_only_harmonics_0_and_2():
 
 def test_pure_rocking_is_exact_and_kick_is_sin_theta():
     """At Q = 0: no response at ψ = 0 or π/2 (rocking about a principal axis is exact), ΔQ = C0 sin Θ."""
-    sc = so.step_coefficients(SYM, E0, 0.0, 0.0)
+    sc = harmonic.step_coefficients(SYM, E0, 0.0, 0.0)
     for name in ("QR", "QJ"):
         c0, c1, s1 = sc.harmonics[name]
         assert abs(c0) < 1e-10 * abs(s1) and abs(c1) < 1e-10 * abs(s1)
@@ -190,7 +191,7 @@ def test_table_interpolates_the_coefficients(table):
     rng = np.random.default_rng(7)
     for _ in range(3):
         Q = np.array(table.chart(rng.uniform(-1, 1), rng.uniform(-1, 1)))
-        sc = so.step_coefficients(SYM, E0, *Q)
+        sc = harmonic.step_coefficients(SYM, E0, *Q)
         vals = dict(zip(av.TABLE_FUNCTIONS, table.evaluate(Q)))
         assert vals["T"] == pytest.approx(sc.T, rel=1e-11)
         assert float(wrap_angle(vals["W"] - sc.W)) == pytest.approx(0.0, abs=1e-9)
@@ -208,7 +209,7 @@ def test_raw_data_are_reversible(table):
     """The unsymmetrised first-order data already have the parities of a reversible map."""
     for u in (0.3, -0.7):
         Q = u * table.U * table.e
-        a, b = so.step_coefficients(SYM, E0, *Q), so.step_coefficients(SYM, E0, *(-Q))
+        a, b = harmonic.step_coefficients(SYM, E0, *Q), harmonic.step_coefficients(SYM, E0, *(-Q))
         # exact: T_θ depends on Q through squares, the product Q_R Q_J and u → −u only (rocknroller.analysis.routh.reduction, the
         # double-double u_ends included), the same operations on negated inputs, and rounding to nearest is
         # symmetric under negation

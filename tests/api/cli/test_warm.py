@@ -30,10 +30,12 @@ def test_warm_builds_every_integrator_once_and_reports_each(monkeypatch, capsys)
 
 
 def test_warm_lists_the_integrators_of_every_compile_site():
-    """One entry per compiled integrator: direct (2 precisions), ensembles, chaos, tables of order 1 and 2."""
+    """One entry per compiled integrator: direct (2 precisions), ensembles, chaos, tables of order 1 and 2 and of the
+    three harmonics."""
     names = [what for what, _ in warm.integrators()]
-    assert len(names) == len(set(names)) == 6
+    assert len(names) == len(set(names)) == 7
     assert any("order 2" in n for n in names) and any("chaos" in n for n in names)
+    assert any("harmonics" in n for n in names)
 
 
 def test_a_compilation_is_announced_once_on_stderr(monkeypatch, capsys):

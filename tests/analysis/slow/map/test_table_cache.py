@@ -172,9 +172,9 @@ def _plant(kind: str, path, fresh_path) -> None:
         path.write_bytes(raw[: len(raw) // 2])
     elif kind == "empty":
         path.write_bytes(b"")
-    elif kind == "wrong_checksum":  # one coefficient changed, checksum kept
+    elif kind == "wrong_checksum":  # one coefficient changed (the largest: many vanish by parity), checksum kept
         coef = good["coef"].copy()
-        coef[3, 2, 1] *= 1.0 + 1e-12
+        coef[np.unravel_index(np.argmax(np.abs(coef)), coef.shape)] *= 1.0 + 1e-12
         np.savez(path, **{**good, "coef": coef})
     elif kind == "wrong_key":  # consistent file for another table
         np.savez(path, **_resigned(good, KEY.replace(repr(THETA0), repr(0.8 * math.pi))))

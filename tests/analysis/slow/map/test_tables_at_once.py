@@ -99,7 +99,7 @@ def test_cached_tables_are_not_rebuilt(one_process, empty_cache, monkeypatch):
     monkeypatch.setattr(tables_at_once, "run_blocks", record)
     tables = _quiet(build_release_tables, BODY, THETA0, progress=False, **GRID)
     assert {b[1] for b in handed} == {one_process[0.9 * math.pi].E0}  # only the new angle's nodes ran
-    assert len(handed) == 2 and sum(len(b[2]) for b in handed) == GRID["nu"] * GRID["nv"]
+    assert sum(len(b[2]) for b in handed) == GRID["nu"] * GRID["nv"] // 2  # a mirrored grid: half its nodes run
     for t, table in zip(THETA0, tables):
         assert_bit_identical(table, one_process[t])
 
