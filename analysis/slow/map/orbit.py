@@ -269,7 +269,8 @@ def _theta_shift(sym: Body, y0: NDArray[np.float64], dU: NDArray[np.float64]) ->
     return -dE_deps / dU
 
 
-def _responses(sym: Body, Y: NDArray[np.float64], Z: NDArray[np.float64]) -> dict[str, NDArray[np.float64]]:
+def _responses(sym: Body, Y: NDArray[np.float64],
+               Z: NDArray[np.float64]) -> dict[str, float | NDArray[np.float64]]:
     """The first-order responses (keys of ``FIRST_ORDER_NAMES``) from the states Y (11, N) at the next maxima and
     their ε-derivatives Z there, the event time's shift included (module docstring)."""
     fY = np.array(body_frame_rhs(Y, sym.params))

@@ -267,8 +267,11 @@ def region_frame(body: Body, E: float, *, axis: str = "auto", nu: int | None = N
         c, w, degree = 0.5 * (up + lo), 0.5 * (up - lo), _CHART_DEGREE
     else:
         # c: the centre of the layer in which W turns by 2π across Q_J,π^crit (it bends off the line), w: the
-        # largest half-width about it inside the level set; the stretch across then follows the layer everywhere
-        c = _layer_centres(sym, E, on_line, n, lo, up, 2.0 / max(dW_dv, 1e-300))
+        # largest half-width about it inside the level set; the stretch across then follows the layer everywhere.
+        # W is odd in Q and the profile's nodes are antisymmetric, so c is odd: the first half's centres give the rest
+        half = len(xs) // 2
+        c = _layer_centres(sym, E, on_line[:half], n, lo[:half], up[:half], 2.0 / max(dW_dv, 1e-300))
+        c = np.concatenate([c, -c[::-1]])
         w, degree = np.minimum(up - c, c - lo), _BAND_DEGREE
     c_coef[:degree + 1] = cheb.chebfit(xs, 0.5 * (c - c[::-1]), degree)
     w_coef[:degree + 1] = cheb.chebfit(xs, 0.5 * (w + w[::-1]), degree)
