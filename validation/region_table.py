@@ -36,7 +36,8 @@ EPS = (1e-2, 1e-3, 1e-4)
 
 
 def batch_against_one_at_a_time(th: float = 0.95, nodes: int = 256) -> None:
-    """The first ``nodes`` nodes of the default region table of a release's energy, three orbits each."""
+    """The first ``nodes`` nodes of the default region table of a release's energy, one orbit with three ε-responses
+    each."""
     import heyoka as hy
 
     sym = Body.paper(0.0)
@@ -49,9 +50,9 @@ def batch_against_one_at_a_time(th: float = 0.95, nodes: int = 256) -> None:
         resp[lanes] = harmonic_steps(sym, E, QR, QJ, thX, lanes=lanes)[1]
         times[lanes] = time.perf_counter() - t0
     scale = np.abs(resp[1]).max(axis=(1, 2), keepdims=True)
-    print(f"\ntable orbits at the energy of a release from {th:g}π, {3 * nodes} orbits: one at a time "
-          f"{times[1] / (3 * nodes) * 1e3:.2f} ms an orbit, batch mode ({hy.recommended_simd_size()} lanes) "
-          f"{times[None] / (3 * nodes) * 1e3:.2f} ms, ratio {times[1] / times[None]:.1f}x; largest difference of the "
+    print(f"\ntable orbits at the energy of a release from {th:g}π, {nodes} orbits (three ε-responses each): one at "
+          f"a time {times[1] / nodes * 1e3:.2f} ms an orbit, batch mode ({hy.recommended_simd_size()} lanes) "
+          f"{times[None] / nodes * 1e3:.2f} ms, ratio {times[1] / times[None]:.1f}x; largest difference of the "
           f"responses {float(np.max(np.abs(resp[None] - resp[1]) / scale)):.1e} of each one's largest")
 
 
