@@ -112,8 +112,9 @@ _BLOCK_NODES = 64
 #: (Q, ψ, φ) to (−Q, −ψ, −φ) and keeps θ and t: T_θ and the time response are even, W, Δφ and the responses of
 #: Q_R, Q_J, Θ and φ odd under (Q, Θ) → (−Q, −Θ), so c0 and c1 take the response's sign and s1 the opposite one.
 #: (tests/analysis/slow/map/test_mirror_nodes.py checks it against orbits run from −Q.)
-_MIRROR_SIGNS = np.array([1.0, -1.0, -1.0] + [p * h for name in FIRST_ORDER_NAMES for p in [1.0 if name == "t" else -1.0]
-                                             for h in (1.0, 1.0, -1.0)])
+_RESPONSE_PARITY = {"QR": -1.0, "QJ": -1.0, "Theta": -1.0, "t": 1.0, "phi": -1.0}
+_MIRROR_SIGNS = np.concatenate([[1.0, -1.0, -1.0],
+                                *(_RESPONSE_PARITY[name] * np.array([1.0, 1.0, -1.0]) for name in FIRST_ORDER_NAMES)])
 
 
 def mirrored(QR: NDArray, QJ: NDArray) -> bool:
