@@ -173,6 +173,7 @@ def run_batch(runs: Sequence[tuple[Body, EulerState, float]], width: int | None 
                 raise RuntimeError(f"heyoka stopped early at t={float(ta.time[j])!r} in lane {j}: {outcome}")
             lanes[j].n_steps += int(n)
         _stretch_samples(lanes, moving, c_out, t_b, log.events)
+        del c_out  # freed before the next stretch's is allocated, so that its memory is reused (CHUNK_RADIANS)
         for j in moving:
             lanes[j].record.end_stretch()
             lanes[j].t_a = float(t_b[j])
