@@ -43,12 +43,16 @@ __all__ = ["batch_width", "batch_integrator", "run_batch", "MIN_LANES", "MAX_LAN
 #: Fewest lanes of a batch integrator (module docstring).
 MIN_LANES = 2
 #: Most lanes of a batch integrator (its stretches hold width × ``BATCH_CHUNK_RADIANS`` steps of dense output,
-#: ≈ 1.8 kB per step and lane: 18 MB at 16 lanes).
+#: ≈ 1.8 kB per step and lane: 36 MB at 16 lanes).
 MAX_LANES = 16
-#: Radians of Λ integrated per stretch of each lane (an eighth of the scalar path's ``CHUNK_RADIANS``, so that the
-#: dense output of a stretch of 8 lanes, ≈ 9 MB, is the scalar one's and is reused from the heap likewise).  Fixed,
-#: not divided by the width: a lane's stretches, and so its steps, are the same at every width.
-BATCH_CHUNK_RADIANS = CHUNK_RADIANS / 8
+#: Radians of Λ integrated per stretch of each lane: a quarter of the scalar path's ``CHUNK_RADIANS``, so that the
+#: dense output of a stretch of 8 lanes (the widest heyoka recommends), ≈ 18 MB and at most 1.5 × that, stays below
+#: glibc's largest mmap threshold (32 MB) and is reused from the heap (``CHUNK_RADIANS``).  Measured on
+#: benchmarks/bench_ensemble.py's 64 jobs (1000 time units, 8 lanes): 1.3× faster per trajectory than an eighth
+#: (twice the stretches, each with its fixed cost of heyoka's dense output and of the bookkeeping), 1.2× faster than
+#: a half (mapped fresh).  Fixed, not divided by the width: a lane's stretches, and so its steps, are the same at
+#: every width.
+BATCH_CHUNK_RADIANS = CHUNK_RADIANS / 4
 _TEMPLATES: dict[tuple[int, float], Any] = {}
 _TEMPLATE_LOCK = threading.Lock()
 _PER_THREAD = threading.local()
