@@ -129,6 +129,9 @@ def lane_states(dense: LaneDense, t: NDArray[np.float64], lane: NDArray[np.intp]
     lane = np.asarray(lane, np.intp)
     if lane.size == 0:
         return np.empty((0, 11))
+    points = getattr(dense, "points", None)
+    if points is not None:  # an output that evaluates (time, lane) pairs itself (numerics/ensembles/batch.py)
+        return np.asarray(points(t, np.asarray(columns, np.intp)[lane]))
     order = np.argsort(lane, kind="stable")  # row of each time: its rank among its lane's
     rank = np.empty_like(order)
     rank[order] = np.arange(order.size) - np.searchsorted(lane[order], lane[order], "left")
@@ -265,11 +268,9 @@ class _Samples:
             t_all.append(ta)
             inverse.append(inv)
             sizes.append((parts[0].size, parts[1].size))
-        grid = np.repeat(np.asarray(fill, float)[None, :], max(ta.size for ta in t_all), axis=0)
-        for j, ta in enumerate(t_all):
-            grid[:ta.size, columns[j]] = ta
-        states = np.asarray(dense(grid))
-        y = [states[:ta.size, :, columns[j]] for j, ta in enumerate(t_all)]
+        states = lane_states(dense, np.concatenate(t_all), np.repeat(np.arange(len(t_all)), [ta.size for ta in t_all]),
+                             columns, fill)
+        y = np.split(states, np.cumsum([ta.size for ta in t_all])[:-1])
         out = []
         for ta, inv, (n_grid, n_max), (yj, angles) in zip(t_all, inverse, sizes,
                                                           _unwrapped_angles(t_all, y, dense, columns, fill, starts, fine)):

@@ -32,6 +32,7 @@ from numpy.typing import NDArray
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import STATE_SIZE, EulerState, body_frame_rhs, turning_point_function
 from rocknroller.numerics.cache import compiling
+from rocknroller.numerics.ensembles import _dense
 from rocknroller.numerics.events import _turning_points_lanes, start_turning_point
 from rocknroller.numerics.integrate import (CHUNK_RADIANS, DT_RADIANS, _grid_pieces, _RunRecord, _stretch_end,
                                             check_diskcache, check_run, finish_run)
@@ -170,7 +171,7 @@ def run_batch(runs: Sequence[tuple[Body, EulerState, float]], width: int | None 
         for j in moving:
             t_b[j] = _stretch_end(lanes[j].t_a, lanes[j].t_end, lanes[j].stretch)
         log.events.clear()
-        c_out = ta.propagate_until(t_b, c_output=True)[0]
+        c_out = _LaneOutput(ta.propagate_until(t_b, c_output=True)[0])
         for j in moving:
             outcome, _, _, n = ta.propagate_res[j]
             if outcome.name != "time_limit":
@@ -186,7 +187,28 @@ def run_batch(runs: Sequence[tuple[Body, EulerState, float]], width: int | None 
                        tol=tol) for lane in lanes]
 
 
-def _stretch_samples(lanes: list[_Lane], moving: list[int], c_out: Any, t_b: NDArray[np.float64],
+class _LaneOutput:
+    """A stretch's batch dense output (heyoka's ``continuous_output_batch``), evaluated at the (time, lane) pairs
+    asked and only those (:meth:`points`, C source ``_dense.c``), or on a grid (rows, width) as heyoka's."""
+
+    def __init__(self, c_out: Any) -> None:
+        self._c_out = c_out  # owns the arrays below
+        self.tcs, self.times = c_out.tcs, c_out.times
+
+    def points(self, t: NDArray[np.float64], col: NDArray[np.intp]) -> NDArray[np.float64]:
+        """The states (m, 11) at times ``t`` (m,) of lanes ``col`` (m,)."""
+        out = np.empty((np.size(t), STATE_SIZE))
+        _dense.states(self.tcs, self.times, np.ascontiguousarray(t, float), np.ascontiguousarray(col, np.int64), out)
+        return out
+
+    def __call__(self, grid: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The states (rows, 11, width) at the times ``grid`` (rows, width), lane j in column j."""
+        rows, width = grid.shape
+        return self.points(grid.ravel(), np.tile(np.arange(width), rows)).reshape(rows, width, STATE_SIZE) \
+            .transpose(0, 2, 1)
+
+
+def _stretch_samples(lanes: list[_Lane], moving: list[int], c_out: _LaneOutput, t_b: NDArray[np.float64],
                      raw: list[tuple[float, int, int]]) -> None:
     """Locate the turning points of each moving lane's stretch and sample its unwrapping grid, all lanes evaluated
     together on the batch dense output."""
