@@ -169,11 +169,11 @@ def _turning_points(raw: list[tuple[float, int]], t_a: float, t_b: float, dense:
                                  np.array([t_b]), [params], [start])[0]
 
 
-def _turning_points_lanes(raws: list[list[tuple[float, int]]], t_a: list[float], t_b: list[float], dense: LaneDense,
+def _turning_points_lanes(raws: list[ArrayLike], t_a: list[float], t_b: list[float], dense: LaneDense,
                           columns: list[int], fill: NDArray[np.float64], params: list[tuple[float, ...]],
                           starts: list[StartRoot | None]) -> list[list[tuple[float, int]]]:
     """The turning points of θ in (t_a[j], t_b[j]] of each lane j as (time, direction), from the integrator's events
-    ``raws[j]`` checked and located on the dense output (lane j in column ``columns[j]`` of ``dense``, the other
+    ``raws[j]`` (pairs (time, direction), in any order) checked and located on the dense output (lane j in column ``columns[j]`` of ``dense``, the other
     columns at their ``fill`` times; every lane's evaluations together).
 
     The integrator finds the roots of dγ3/dt on the Taylor polynomial of the event function, truncated at the
@@ -191,14 +191,14 @@ def _turning_points_lanes(raws: list[list[tuple[float, int]]], t_a: list[float],
     checks = []
     for j in lanes:
         start = starts[j]
-
-        def own(t: float, d: int) -> bool:
-            return t <= t_a[j] or (start is not None and t <= t_a[j] + start.window and d == start.kind)
-
-        events = sorted((t, d) for t, d in raws[j] if not own(t, d))
+        raw = np.asarray(raws[j], float).reshape(-1, 2)
+        t_ev, d_ev = raw[:, 0], raw[:, 1].astype(int)
+        own = t_ev <= t_a[j]
+        if start is not None:
+            own |= (t_ev <= t_a[j] + start.window) & (d_ev == start.kind)
+        order = np.lexsort((d_ev[~own], t_ev[~own]))  # by time, then direction
+        times, dirs = t_ev[~own][order], d_ev[~own][order]
         lo_edge = t_a[j] + start.window if start is not None else t_a[j]
-        times = np.array([t for t, _ in events], float)
-        dirs = np.array([d for _, d in events], int)
         checks.append((times, dirs, np.concatenate([[lo_edge], 0.5 * (times[1:] + times[:-1]), [t_b[j]]])))
     at_ends = lane_states(dense, np.concatenate([c[2] for c in checks]),
                           np.concatenate([np.full(c[2].size, j) for j, c in zip(lanes, checks)]), columns, fill)

@@ -191,30 +191,36 @@ def _unwrapped_angles(t: list[NDArray[np.float64]], y: list[NDArray[np.float64]]
         ang = np.concatenate([ang] + [a[3] for a in added], axis=1)[:, order]
         keep = np.concatenate([keep, np.zeros(yy.shape[0] - keep.size, bool)])[order]
     ends = np.searchsorted(lane_of, np.arange(len(t) + 1))
-    out = []
-    for j in range(len(t)):
-        mine = slice(ends[j], ends[j + 1])
-        kj = keep[mine]
-        out.append((yy[mine][kj], _branch(ang[:, mine], starts[j])[:, kj]))
-    return out
+    unwrapped = _branches(ang, ends, starts)[:, keep]
+    ends = np.concatenate([[0], np.cumsum(keep)])[ends]  # the lanes' ends among the kept samples
+    yy = yy[keep]
+    return [(yy[ends[j]:ends[j + 1]], unwrapped[:, ends[j]:ends[j + 1]]) for j in range(len(t))]
 
 
-def _branch(ang: NDArray[np.float64], start: NDArray[np.float64] | None) -> NDArray[np.float64]:
-    """(θ, φ, ψ) samples ``ang`` fine enough that no step of φ or ψ is ambiguous, unwrapped (φ, ψ continuous), on
-    the branch of ``start`` (see :func:`_unwrapped_angles`)."""
-    steps = wrap_angle(np.diff(ang[1:], axis=1))
+def _branches(ang: NDArray[np.float64], ends: NDArray[np.intp],
+              starts: list[NDArray[np.float64] | None]) -> NDArray[np.float64]:
+    """(θ, φ, ψ) samples ``ang`` of several lanes, lane j in columns ends[j]:ends[j + 1], each fine enough that no
+    step of φ or ψ is ambiguous, unwrapped (φ, ψ continuous) lane by lane, lane j on the branch of ``starts[j]`` (see
+    :func:`_unwrapped_angles`); all lanes at once, each lane's result its own."""
+    raw = np.diff(ang[1:], axis=1)
+    steps = wrap_angle(raw)
     through_pole = np.flatnonzero(np.any(np.abs(steps) > _UNWRAP_LIMIT, axis=0))
     steps[1, through_pole] = wrap_angle(steps[0, through_pole] + steps[1, through_pole]) - steps[0, through_pole]
     # every chosen step is the raw difference plus a whole number of turns: keep the angles as
     # ang + 2π·(turns), exact integers, so no round-off accumulates along the series
-    turns = np.rint((steps - np.diff(ang[1:], axis=1)) / _TWO_PI)
-    first = np.zeros((2, 1))
-    if start is not None:  # the branch of ``start``: start + wrap(ang0 − start) = ang0 + 2π·first
-        s0, a0 = np.reshape(start, (2, 1)), ang[1:, :1]
-        first = np.rint((s0 + wrap_angle(a0 - s0) - a0) / _TWO_PI)
-    counts = np.concatenate([first, first + np.cumsum(turns, axis=1)], axis=1)
+    turns = np.concatenate([np.zeros((2, 1)), np.rint((steps - raw) / _TWO_PI)], axis=1)
+    lane_start = ends[:-1][ends[:-1] < ends[1:]]  # the first sample of each lane with samples
+    turns[:, lane_start] = 0.0  # no step from one lane into the next
+    first = np.zeros((2, lane_start.size))
+    for k, j in enumerate(np.flatnonzero(ends[:-1] < ends[1:])):
+        start = starts[j]
+        if start is not None:  # the branch of ``start``: start + wrap(ang0 − start) = ang0 + 2π·first
+            s0, a0 = np.reshape(start, (2, 1)), ang[1:, ends[j]:ends[j] + 1]
+            first[:, k:k + 1] = np.rint((s0 + wrap_angle(a0 - s0) - a0) / _TWO_PI)
+    total = np.cumsum(turns, axis=1)  # whole numbers: exact
+    lane = np.repeat(np.arange(lane_start.size), np.diff(np.append(lane_start, ang.shape[1])))
     unwrapped = ang.copy()
-    unwrapped[1:] = ang[1:] + _TWO_PI * counts
+    unwrapped[1:] = ang[1:] + _TWO_PI * (first[:, lane] + (total - total[:, lane_start][:, lane]))
     return unwrapped
 
 

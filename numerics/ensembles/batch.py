@@ -212,7 +212,10 @@ def _stretch_samples(lanes: list[_Lane], moving: list[int], c_out: _LaneOutput, 
                      raw: list[tuple[float, int, int]]) -> None:
     """Locate the turning points of each moving lane's stretch and sample its unwrapping grid, all lanes evaluated
     together on the batch dense output."""
-    found = _turning_points_lanes([[(t, d) for t, d, k in raw if k == j] for j in moving],
+    logged = np.array(raw, float).reshape(-1, 3)  # (time, direction, lane)
+    logged = logged[np.argsort(logged[:, 2], kind="stable")]
+    ends = np.searchsorted(logged[:, 2], moving, "left"), np.searchsorted(logged[:, 2], moving, "right")
+    found = _turning_points_lanes([logged[a:b, :2] for a, b in zip(*ends)],
                                   [lanes[j].t_a for j in moving], [float(t_b[j]) for j in moving], c_out, moving,
                                   t_b, [lanes[j].body.params for j in moving],
                                   [lanes[j].start if lanes[j].t_a == 0.0 else None for j in moving])
