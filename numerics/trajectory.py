@@ -166,14 +166,14 @@ def _unwrapped_angles(t: list[NDArray[np.float64]], y: list[NDArray[np.float64]]
     lane, cols = lane_of[bad], np.asarray(columns)
     lo: tuple[NDArray, ...] = (tt[bad], ang[:, bad], rate[bad])
     hi: tuple[NDArray, ...] = (tt[bad + 1], ang[:, bad + 1], rate[bad + 1])
-    added: list[tuple[NDArray, NDArray, NDArray, NDArray]] = []
+    added: list[tuple[NDArray, NDArray, NDArray]] = []
     for _ in range(_MAX_BISECTIONS):
         if lane.size == 0:
             break
         t_mid = 0.5 * (lo[0] + hi[0])
         y_mid = lane_states(dense, t_mid, lane, cols, fill)  # only the new points: the states elsewhere are kept
         mid = (t_mid, angles_from_frame(y_mid[:, 0:3].T, y_mid[:, 6:9].T), _angle_rates(y_mid))
-        added.append((lane, t_mid, y_mid, mid[1]))
+        added.append((lane, t_mid, mid[1]))
         left = _unresolved(lo[0], mid[0], lo[1], mid[1], lo[2], mid[2], fine[lane])
         right = _unresolved(mid[0], hi[0], mid[1], hi[1], mid[2], hi[2], fine[lane])
         lo = tuple(np.concatenate([a[..., left], b[..., right]], axis=-1) for a, b in zip(lo, mid))
@@ -183,18 +183,15 @@ def _unwrapped_angles(t: list[NDArray[np.float64]], y: list[NDArray[np.float64]]
         if lane.size:
             raise RuntimeError("could not resolve the branch of phi/psi after repeated bisection")
     keep = np.ones(tt.size, bool)
-    if added:  # the added points among the lanes' own, each lane in time order
+    if added:  # the added points among the lanes' own, each lane in time order (the states of the own suffice)
         lane_of = np.concatenate([lane_of] + [a[0] for a in added])
         order = np.lexsort((np.concatenate([tt] + [a[1] for a in added]), lane_of))
         lane_of = lane_of[order]
-        yy = np.concatenate([yy] + [a[2] for a in added])[order]
-        ang = np.concatenate([ang] + [a[3] for a in added], axis=1)[:, order]
-        keep = np.concatenate([keep, np.zeros(yy.shape[0] - keep.size, bool)])[order]
-    ends = np.searchsorted(lane_of, np.arange(len(t) + 1))
-    unwrapped = _branches(ang, ends, starts)[:, keep]
-    ends = np.concatenate([[0], np.cumsum(keep)])[ends]  # the lanes' ends among the kept samples
-    yy = yy[keep]
-    return [(yy[ends[j]:ends[j + 1]], unwrapped[:, ends[j]:ends[j + 1]]) for j in range(len(t))]
+        ang = np.concatenate([ang] + [a[2] for a in added], axis=1)[:, order]
+        keep = np.concatenate([keep, np.zeros(lane_of.size - keep.size, bool)])[order]
+    unwrapped = _branches(ang, np.searchsorted(lane_of, np.arange(len(t) + 1)), starts)[:, keep]
+    own = np.cumsum([0] + [tj.size for tj in t])  # each lane's own samples, in time order
+    return [(y[j], unwrapped[:, own[j]:own[j + 1]]) for j in range(len(t))]
 
 
 def _branches(ang: NDArray[np.float64], ends: NDArray[np.intp],
