@@ -88,36 +88,67 @@ static PyObject *states(PyObject *self, PyObject *args)
     for (Py_ssize_t k = 0; bad == NULL && k < m; k++)
         if (col[k] < 0 || col[k] >= W)
             bad = "col: a lane out of range";
+    /* The points in rounds, one point of each lane per round (each lane's in the order given): the lanes'
+     * coefficients of a step share cache lines, so a lane's points one after the other would fetch the whole output
+     * once per lane, while lanes at the same place in their (time-ordered) points fetch it about once. */
+    Py_ssize_t *count = NULL, *order = NULL;
+    int no_memory = 0;
     if (bad == NULL) {
-        for (Py_ssize_t k = 0; k < m; k++) {
-            const Py_ssize_t j = (Py_ssize_t)col[k];
-            const double tk = t[k];
-            Py_ssize_t lo = 0, hi = S - 1; /* the first step i in [0, S - 1] that ends at or after tk (else S - 1) */
-            while (lo < hi) {
-                const Py_ssize_t mid = (lo + hi) / 2;
-                if (times[(mid + 1) * W + j] >= tk)
-                    hi = mid;
-                else
-                    lo = mid + 1;
-            }
-            const double h = tk - times[lo * W + j];
-            const double *c = tcs + lo * V * P * W + j;
-            for (Py_ssize_t v = 0; v < V; v++) {
-                const double *cv = c + v * P * W;
-                double acc = cv[(P - 1) * W];
-                for (Py_ssize_t p = P - 2; p >= 0; p--)
-                    acc = acc * h + cv[p * W];
-                out[k * V + v] = acc;
+        count = PyMem_Calloc((size_t)W + 1, sizeof(Py_ssize_t));
+        order = PyMem_Malloc((size_t)(m > 0 ? m : 1) * sizeof(Py_ssize_t));
+        no_memory = count == NULL || order == NULL;
+        if (no_memory)
+            bad = "";
+    }
+    if (bad == NULL) {
+        Py_ssize_t rounds = 0;
+        for (Py_ssize_t k = 0; k < m; k++)
+            count[col[k] + 1]++;
+        for (Py_ssize_t j = 0; j < W; j++) {
+            rounds = count[j + 1] > rounds ? count[j + 1] : rounds;
+            count[j + 1] += count[j]; /* count[j]: the first of lane j's points in order */
+        }
+        for (Py_ssize_t k = 0; k < m; k++)
+            order[count[col[k]]++] = k; /* now count[j]: the end of lane j's */
+        for (Py_ssize_t r = 0; r < rounds; r++) {
+            for (Py_ssize_t j = 0; j < W; j++) {
+                const Py_ssize_t first = j == 0 ? 0 : count[j - 1];
+                if (first + r >= count[j])
+                    continue;
+                const Py_ssize_t k = order[first + r];
+                const double tk = t[k];
+                Py_ssize_t lo = 0, hi = S - 1; /* the first step i in [0, S - 1] that ends at or after tk (else S - 1) */
+                while (lo < hi) {
+                    const Py_ssize_t mid = (lo + hi) / 2;
+                    if (times[(mid + 1) * W + j] >= tk)
+                        hi = mid;
+                    else
+                        lo = mid + 1;
+                }
+                const double h = tk - times[lo * W + j];
+                const double *c = tcs + lo * V * P * W + j;
+                for (Py_ssize_t v = 0; v < V; v++) {
+                    const double *cv = c + v * P * W;
+                    double acc = cv[(P - 1) * W];
+                    for (Py_ssize_t p = P - 2; p >= 0; p--)
+                        acc = acc * h + cv[p * W];
+                    out[k * V + v] = acc;
+                }
             }
         }
     }
+    PyMem_Free(count);
+    PyMem_Free(order);
     PyBuffer_Release(&b_tcs);
     PyBuffer_Release(&b_times);
     PyBuffer_Release(&b_t);
     PyBuffer_Release(&b_col);
     PyBuffer_Release(&b_out);
     if (bad != NULL) {
-        PyErr_SetString(PyExc_ValueError, bad);
+        if (no_memory)
+            PyErr_NoMemory();
+        else
+            PyErr_SetString(PyExc_ValueError, bad);
         return NULL;
     }
     Py_RETURN_NONE;
