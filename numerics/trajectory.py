@@ -141,11 +141,11 @@ def lane_states(dense: LaneDense, t: NDArray[np.float64], lane: NDArray[np.intp]
     return np.asarray(dense(grid))[rank, :, cols]
 
 
-def _unwrapped_angles(t: list[NDArray[np.float64]], y: list[NDArray[np.float64]], dense: LaneDense,
+def _unwrapped_angles(tt: NDArray[np.float64], yy: NDArray[np.float64], lane_of: NDArray[np.intp], dense: LaneDense,
                       columns: list[int], fill: NDArray[np.float64], starts: list[NDArray[np.float64] | None],
-                      fine: ArrayLike) -> list[tuple[NDArray, NDArray]]:
-    """States and unwrapped (θ, φ, ψ) at the times ``t[j]`` of each lane j (states ``y[j]`` there), refining the
-    grids where needed.
+                      fine: ArrayLike) -> NDArray[np.float64]:
+    """Unwrapped (θ, φ, ψ), shape (3, m), at the times ``tt`` (m,) of lanes ``lane_of`` (m,: each lane's times
+    together and in time order, the lanes in order; states ``yy`` (m, 11) there), refining the grids where needed.
 
     Each interval to refine (:func:`_unresolved`) is bisected on its own, its halves checked again, down to
     ``_MAX_BISECTIONS`` levels, the midpoints of every lane evaluated together (lane j in column ``columns[j]`` of
@@ -156,8 +156,7 @@ def _unwrapped_angles(t: list[NDArray[np.float64]], y: list[NDArray[np.float64]]
     at t[j][0] (a previous piece's last unwrapped values); ``fine[j]`` the width below which lane j's rate test stops
     (:func:`_unresolved`).  A lane's result depends only on its own times and states.
     """
-    lane_of = np.concatenate([np.full(tj.size, j) for j, tj in enumerate(t)])
-    tt, yy = np.concatenate(t), np.concatenate(y)
+    n_lanes = len(starts)
     ang, rate = angles_from_frame(yy[:, 0:3].T, yy[:, 6:9].T), _angle_rates(yy)
     inside = lane_of[:-1] == lane_of[1:]
     fine = np.asarray(fine, float)
@@ -189,9 +188,7 @@ def _unwrapped_angles(t: list[NDArray[np.float64]], y: list[NDArray[np.float64]]
         lane_of = lane_of[order]
         ang = np.concatenate([ang] + [a[2] for a in added], axis=1)[:, order]
         keep = np.concatenate([keep, np.zeros(lane_of.size - keep.size, bool)])[order]
-    unwrapped = _branches(ang, np.searchsorted(lane_of, np.arange(len(t) + 1)), starts)[:, keep]
-    own = np.cumsum([0] + [tj.size for tj in t])  # each lane's own samples, in time order
-    return [(y[j], unwrapped[:, own[j]:own[j + 1]]) for j in range(len(t))]
+    return _branches(ang, np.searchsorted(lane_of, np.arange(n_lanes + 1)), starts)[:, keep]
 
 
 def _branches(ang: NDArray[np.float64], ends: NDArray[np.intp],
@@ -271,14 +268,12 @@ class _Samples:
             t_all.append(ta)
             inverse.append(inv)
             sizes.append((parts[0].size, parts[1].size))
-        states = lane_states(dense, np.concatenate(t_all), np.repeat(np.arange(len(t_all)), [ta.size for ta in t_all]),
-                             columns, fill)
-        y = np.split(states, np.cumsum([ta.size for ta in t_all])[:-1])
-        out = []
-        for ta, inv, (n_grid, n_max), (yj, angles) in zip(t_all, inverse, sizes,
-                                                          _unwrapped_angles(t_all, y, dense, columns, fill, starts, fine)):
-            out.append(cls(ta, yj, angles, inv[n_grid:n_grid + n_max], inv[n_grid + n_max:]))
-        return out
+        tt, lane_of = np.concatenate(t_all), np.repeat(np.arange(len(t_all)), [ta.size for ta in t_all])
+        yy = lane_states(dense, tt, lane_of, columns, fill)
+        angles = _unwrapped_angles(tt, yy, lane_of, dense, columns, fill, starts, fine)
+        ends = np.cumsum([0] + [ta.size for ta in t_all])
+        return [cls(ta, yy[a:b], angles[:, a:b], inv[n_grid:n_grid + n_max], inv[n_grid + n_max:])
+                for ta, inv, (n_grid, n_max), a, b in zip(t_all, inverse, sizes, ends[:-1], ends[1:])]
 
     def turning(self, body: Body, idx: NDArray[np.intp]) -> TurningPoints:
         ys = self.y[idx]
