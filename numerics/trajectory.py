@@ -76,10 +76,12 @@ class TurningPoints:
 
     @classmethod
     def concatenate(cls, parts: list["TurningPoints"]) -> "TurningPoints":
-        """The samples of consecutive stretches, in time order (an empty list gives no samples)."""
+        """The samples of consecutive stretches, in time order (an empty list gives no samples, one part itself)."""
         names = [f.name for f in dataclasses.fields(cls)]
         if not parts:
             return cls(**{n: np.empty((0, 11) if n == "states" else 0) for n in names})
+        if len(parts) == 1:
+            return parts[0]
         return cls(**{n: np.concatenate([getattr(p, n) for p in parts]) for n in names})
 
 

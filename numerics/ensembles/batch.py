@@ -73,8 +73,8 @@ class _BatchLog:
     def __init__(self) -> None:
         self.events: list[tuple[float, int, int]] = []
 
-    def __call__(self, ta: Any, time: Any, d_sgn: Any, lane: Any) -> None:
-        self.events.append((float(time), int(d_sgn), int(lane)))
+    def __call__(self, ta: Any, time: float, d_sgn: int, lane: int) -> None:
+        self.events.append((time, d_sgn, lane))  # heyoka passes a float and two ints
 
 
 def _check_width(width: Any) -> int:
