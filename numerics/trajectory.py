@@ -204,19 +204,20 @@ def _branches(ang: NDArray[np.float64], ends: NDArray[np.intp],
     steps[1, through_pole] = wrap_angle(steps[0, through_pole] + steps[1, through_pole]) - steps[0, through_pole]
     # every chosen step is the raw difference plus a whole number of turns: keep the angles as
     # ang + 2π·(turns), exact integers, so no round-off accumulates along the series
-    turns = np.concatenate([np.zeros((2, 1)), np.rint((steps - raw) / _TWO_PI)], axis=1)
-    lane_start = ends[:-1][ends[:-1] < ends[1:]]  # the first sample of each lane with samples
-    turns[:, lane_start] = 0.0  # no step from one lane into the next
-    first = np.zeros((2, lane_start.size))
-    for k, j in enumerate(np.flatnonzero(ends[:-1] < ends[1:])):
+    turns = np.rint((steps - raw) / _TWO_PI)
+    lanes = np.flatnonzero(ends[:-1] < ends[1:])  # the lanes with samples
+    turns[:, ends[lanes[1:]] - 1] = 0.0  # no step from one lane into the next
+    total = np.zeros_like(ang[1:])
+    np.cumsum(turns, axis=1, out=total[:, 1:])  # whole numbers: exact
+    offset = -total[:, ends[lanes]]  # each lane's count from its first sample on, plus its first's
+    for k, j in enumerate(lanes):
         start = starts[j]
         if start is not None:  # the branch of ``start``: start + wrap(ang0 − start) = ang0 + 2π·first
             s0, a0 = np.reshape(start, (2, 1)), ang[1:, ends[j]:ends[j] + 1]
-            first[:, k:k + 1] = np.rint((s0 + wrap_angle(a0 - s0) - a0) / _TWO_PI)
-    total = np.cumsum(turns, axis=1)  # whole numbers: exact
-    lane = np.repeat(np.arange(lane_start.size), np.diff(np.append(lane_start, ang.shape[1])))
-    unwrapped = ang.copy()
-    unwrapped[1:] = ang[1:] + _TWO_PI * (first[:, lane] + (total - total[:, lane_start][:, lane]))
+            offset[:, k:k + 1] += np.rint((s0 + wrap_angle(a0 - s0) - a0) / _TWO_PI)
+    unwrapped = np.empty_like(ang)
+    unwrapped[0] = ang[0]
+    unwrapped[1:] = ang[1:] + _TWO_PI * (total + np.repeat(offset, np.diff(ends)[lanes], axis=1))
     return unwrapped
 
 
