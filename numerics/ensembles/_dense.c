@@ -101,6 +101,7 @@ static PyObject *states(PyObject *self, PyObject *args)
             bad = "";
     }
     if (bad == NULL) {
+        Py_BEGIN_ALLOW_THREADS /* the buffers are held: other threads may run */
         Py_ssize_t rounds = 0;
         for (Py_ssize_t k = 0; k < m; k++)
             count[col[k] + 1]++;
@@ -136,6 +137,7 @@ static PyObject *states(PyObject *self, PyObject *args)
                 }
             }
         }
+        Py_END_ALLOW_THREADS
     }
     PyMem_Free(count);
     PyMem_Free(order);
