@@ -8,7 +8,10 @@ dense output (:mod:`rocknroller.numerics.events`), the same unwrapping grid and 
 (``integrate._grid_pieces``, ``integrate._RunRecord``).  What differs is the integrator: heyoka's batch integrator
 takes the steps of each lane by the scalar integrator's rule, but in SIMD registers, so a lane's results differ from
 the scalar integrator's in the last bits, which the motion then amplifies (the bound is derived in
-``tests/numerics/ensembles/test_batch.py``).  A lane's results do not depend on the other lanes (each lane has its own time,
+``tests/numerics/ensembles/test_batch.py``); and its dense output is evaluated at the (time, lane) pairs asked, in C
+(``_dense.c``), at times within half an ulp of heyoka's own evaluation's (``tests/numerics/ensembles/test_dense.py``).
+Every lane's events, turning points and unwrapping are worked on together, one numpy pass per stretch for all lanes
+(``BATCH_CHUNK_RADIANS``).  A lane's results do not depend on the other lanes (each lane has its own time,
 step size, events and stretches, and its stretches are set by its own rate bound, not by the width): the same job
 gives the same results bit for bit in any lane, any batch and at any width from 2 to ``MAX_LANES`` (tested at
 2, 4, 8 and 16).  Width 1 is not a batch: heyoka compiles it as scalar code, whose results differ in the last bits,
