@@ -194,8 +194,9 @@ def _turning_points_lanes(raws: list[ArrayLike], t_a: list[float], t_b: list[flo
     d_ev = d_ev.astype(int)
     lo_edge, kind = np.array(t_a, float), np.zeros(n_lanes, int)
     has_start = np.array([start is not None for start in starts], bool)
-    for j in np.flatnonzero(has_start):
-        lo_edge[j], kind[j] = t_a[j] + starts[j].window, starts[j].kind
+    for j, start in enumerate(starts):
+        if start is not None:
+            lo_edge[j], kind[j] = t_a[j] + start.window, start.kind
     own = (t_ev <= np.asarray(t_a, float)[ev_lane]) | ((t_ev <= lo_edge[ev_lane]) & (d_ev == kind[ev_lane])
                                                        & has_start[ev_lane])
     order = np.lexsort((d_ev[~own], t_ev[~own], ev_lane[~own]))  # by lane, time, then direction
