@@ -173,8 +173,8 @@ def _turning_points_lanes(raws: list[ArrayLike], t_a: list[float], t_b: list[flo
                           columns: list[int], fill: NDArray[np.float64], params: list[tuple[float, ...]],
                           starts: list[StartRoot | None]) -> list[list[tuple[float, int]]]:
     """The turning points of θ in (t_a[j], t_b[j]] of each lane j as (time, direction), from the integrator's events
-    ``raws[j]`` (pairs (time, direction), in any order) checked and located on the dense output (lane j in column ``columns[j]`` of ``dense``, the other
-    columns at their ``fill`` times; every lane's evaluations together).
+    ``raws[j]`` (pairs (time, direction), in any order) checked and located on the dense output (lane j in column
+    ``columns[j]`` of ``dense``, the other columns at their ``fill`` times; every lane's evaluations together).
 
     The integrator finds the roots of dγ3/dt on the Taylor polynomial of the event function, truncated at the
     integrator's order.  dγ3/dt ≈ −θ θ̇ is a product of two series of the motion's frequency, so near the pole

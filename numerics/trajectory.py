@@ -14,7 +14,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Callable
+from typing import TYPE_CHECKING, Any, Callable, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -120,8 +120,16 @@ def _unresolved(t_lo: NDArray, t_hi: NDArray, ang_lo: NDArray, ang_hi: NDArray, 
     return (jumps | fast) & (width > 64.0 * np.finfo(float).eps * np.maximum(1.0, np.abs(t_hi)))
 
 
-#: Dense output of several lanes at once: times (rows, W), one column per lane, to states (rows, 11, W).
-LaneDense = Callable[[NDArray[np.float64]], NDArray[np.float64]]
+@runtime_checkable
+class PointDense(Protocol):
+    """A dense output of several lanes that evaluates (time, lane) pairs itself (numerics/ensembles/batch.py)."""
+
+    def points(self, t: NDArray[np.float64], col: NDArray[np.intp]) -> NDArray[np.float64]:
+        """The states (m, 11) at times ``t`` (m,) of lanes ``col`` (m,)."""
+
+
+#: Dense output of lanes: times (rows, W), one column per lane, to states (rows, 11, W); or a :class:`PointDense`.
+LaneDense = Callable[[NDArray[np.float64]], NDArray[np.float64]] | PointDense
 
 
 def lane_states(dense: LaneDense, t: NDArray[np.float64], lane: NDArray[np.intp], columns: ArrayLike,
@@ -131,9 +139,8 @@ def lane_states(dense: LaneDense, t: NDArray[np.float64], lane: NDArray[np.intp]
     lane = np.asarray(lane, np.intp)
     if lane.size == 0:
         return np.empty((0, 11))
-    points = getattr(dense, "points", None)
-    if points is not None:  # an output that evaluates (time, lane) pairs itself (numerics/ensembles/batch.py)
-        return np.asarray(points(t, np.asarray(columns, np.intp)[lane]))
+    if isinstance(dense, PointDense):
+        return dense.points(t, np.asarray(columns, np.intp)[lane])
     order = np.argsort(lane, kind="stable")  # row of each time: its rank among its lane's
     rank = np.empty_like(order)
     rank[order] = np.arange(order.size) - np.searchsorted(lane[order], lane[order], "left")

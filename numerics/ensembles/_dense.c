@@ -1,16 +1,17 @@
 /*
  * The dense output of heyoka's batch integrator evaluated point by point (numerics/ensembles/batch.py).
  *
- * heyoka's continuous output of a batch evaluates a grid of times (rows, lanes) row by row, every lane of every row,
- * at ~0.3 us per lane and point; the lanes' bookkeeping asks for a few thousand points of each lane per stretch,
- * and for a few points of a few lanes at a time (the turning points' Newton iterations, the unwrapping's
- * bisections).  This evaluates each (time, lane) pair asked, and only those, from the output's Taylor
- * coefficients: the step of the lane that holds t (the first that ends at or after t, the last step after them,
- * as heyoka extrapolates; so a time at the end of a lane's stretch is its last step's, not one of the empty steps
- * that follow while longer lanes finish theirs, and a lane's states do not depend on its lane mates), then the step's Taylor polynomial of each variable at h = t - t_step by Horner's
- * rule, as heyoka evaluates it.  heyoka keeps the start of a step as a double-length number and this takes its
- * leading double: the polynomial is evaluated at a time shifted by at most half an ulp of t (the state moved along
- * the trajectory by as much: no error in the invariants; tests/numerics/ensembles/test_dense.py).
+ * heyoka's continuous output of a batch evaluates a grid of times (rows, lanes) row by row, every lane of every row;
+ * the lanes' bookkeeping asks for a few thousand points of each lane per stretch, and for a few points of a few lanes
+ * at a time (the turning points' Newton iterations, the unwrapping's bisections), which as rows would evaluate every
+ * lane.  This evaluates each (time, lane) pair asked, and only those, from the output's Taylor coefficients: the
+ * step of the lane that holds t (the first that ends at or after t, the last step after them, as heyoka
+ * extrapolates; so a time at the end of a lane's stretch is its last step's, not one of the empty steps that follow
+ * while longer lanes finish theirs, and a lane's states do not depend on its lane mates), then the step's Taylor
+ * polynomial of each variable at h = t - t_step by Horner's rule, as heyoka evaluates it.  heyoka keeps the start
+ * of a step as a double-length number and this takes its leading double: the polynomial is evaluated at a time
+ * shifted by at most half an ulp of t (the state moved along the trajectory by as much: no error in the invariants;
+ * tests/numerics/ensembles/test_dense.py).
  *
  * states(tcs, times, t, col, out)
  *     tcs    C-contiguous float64 buffer (S, V, P, W): the Taylor coefficients of S steps, V variables, order P - 1,

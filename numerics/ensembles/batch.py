@@ -192,7 +192,8 @@ def run_batch(runs: Sequence[tuple[Body, EulerState, float]], width: int | None 
 
 class _LaneOutput:
     """A stretch's batch dense output (heyoka's ``continuous_output_batch``), evaluated at the (time, lane) pairs
-    asked and only those (:meth:`points`, C source ``_dense.c``), or on a grid (rows, width) as heyoka's."""
+    asked and only those (:meth:`points`, C source ``_dense.c``; a
+    :class:`~rocknroller.numerics.trajectory.PointDense`)."""
 
     def __init__(self, c_out: Any) -> None:
         self._c_out = c_out  # owns the arrays below
@@ -203,12 +204,6 @@ class _LaneOutput:
         out = np.empty((np.size(t), STATE_SIZE))
         _dense.states(self.tcs, self.times, np.ascontiguousarray(t, float), np.ascontiguousarray(col, np.int64), out)
         return out
-
-    def __call__(self, grid: NDArray[np.float64]) -> NDArray[np.float64]:
-        """The states (rows, 11, width) at the times ``grid`` (rows, width), lane j in column j."""
-        rows, width = grid.shape
-        return self.points(grid.ravel(), np.tile(np.arange(width), rows)).reshape(rows, width, STATE_SIZE) \
-            .transpose(0, 2, 1)
 
 
 def _stretch_samples(lanes: list[_Lane], moving: list[int], c_out: _LaneOutput, t_b: NDArray[np.float64],
