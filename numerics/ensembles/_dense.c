@@ -43,6 +43,29 @@ static int get_buffer(PyObject *obj, Py_buffer *view, int writable, const char *
     return 0;
 }
 
+/* The first step i in [0, S - 1] of lane j that ends at or after tk (else S - 1), looked for from the lane's last
+ * one: a lane's points mostly come in time order, a step or two apart (then a few steps forward), else by bisection
+ * (the same step either way). */
+static Py_ssize_t step_of(const double *times, Py_ssize_t S, Py_ssize_t W, Py_ssize_t j, double tk, Py_ssize_t last)
+{
+    Py_ssize_t lo = 0, hi = S - 1;
+    if (times[last * W + j] < tk) { /* the answer is at or after last */
+        lo = last;
+        for (int walk = 0; walk < 8 && lo < hi && times[(lo + 1) * W + j] < tk; walk++)
+            lo++;
+        if (lo == hi || times[(lo + 1) * W + j] >= tk)
+            return lo;
+    }
+    while (lo < hi) {
+        const Py_ssize_t mid = (lo + hi) / 2;
+        if (times[(mid + 1) * W + j] >= tk)
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    return lo;
+}
+
 static PyObject *states(PyObject *self, PyObject *args)
 {
     PyObject *o_tcs, *o_times, *o_t, *o_col, *o_out;
@@ -95,7 +118,7 @@ static PyObject *states(PyObject *self, PyObject *args)
     Py_ssize_t *count = NULL, *order = NULL;
     int no_memory = 0;
     if (bad == NULL) {
-        count = PyMem_Calloc((size_t)W + 1, sizeof(Py_ssize_t));
+        count = PyMem_Calloc(2 * (size_t)W + 1, sizeof(Py_ssize_t)); /* then each lane's last step */
         order = PyMem_Malloc((size_t)(m > 0 ? m : 1) * sizeof(Py_ssize_t));
         no_memory = count == NULL || order == NULL;
         if (no_memory)
@@ -103,7 +126,7 @@ static PyObject *states(PyObject *self, PyObject *args)
     }
     if (bad == NULL) {
         Py_BEGIN_ALLOW_THREADS /* the buffers are held: other threads may run */
-        Py_ssize_t rounds = 0;
+        Py_ssize_t rounds = 0, *last = count + W + 1;
         for (Py_ssize_t k = 0; k < m; k++)
             count[col[k] + 1]++;
         for (Py_ssize_t j = 0; j < W; j++) {
@@ -119,14 +142,8 @@ static PyObject *states(PyObject *self, PyObject *args)
                     continue;
                 const Py_ssize_t k = order[first + r];
                 const double tk = t[k];
-                Py_ssize_t lo = 0, hi = S - 1; /* the first step i in [0, S - 1] that ends at or after tk (else S - 1) */
-                while (lo < hi) {
-                    const Py_ssize_t mid = (lo + hi) / 2;
-                    if (times[(mid + 1) * W + j] >= tk)
-                        hi = mid;
-                    else
-                        lo = mid + 1;
-                }
+                const Py_ssize_t lo = step_of(times, S, W, j, tk, last[j]);
+                last[j] = lo;
                 const double h = tk - times[lo * W + j];
                 const double *c = tcs + lo * V * P * W + j;
                 for (Py_ssize_t v = 0; v < V; v++) {
