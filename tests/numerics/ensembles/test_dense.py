@@ -59,6 +59,19 @@ def test_a_lanes_states_do_not_depend_on_its_lane_mates():
     assert np.array_equal(alone.points(t, zero), among.points(t, zero))
 
 
+def test_a_points_state_does_not_depend_on_the_order_asked():
+    """Each lane's step is looked for from its last one (a few steps forward, else by bisection): times asked in
+    time order, shuffled, and far apart give the same bits."""
+    out, _, _ = _stretch(4, 0.0, [200.0, 220.0, 240.0, 260.0], float(np.finfo(float).eps))
+    rng = np.random.default_rng(2)
+    t = np.sort(rng.uniform(0.0, 200.0, 3000))
+    col = rng.integers(0, 4, t.size)
+    shuffle = rng.permutation(t.size)
+    in_order = out.points(t, col)
+    assert np.array_equal(out.points(t[shuffle], col[shuffle]), in_order[shuffle])
+    assert np.array_equal(out.points(t[::-1], col[::-1]), in_order[::-1])
+
+
 def test_bad_buffers_are_refused():
     out, _, _ = _stretch(2, 0.0, [1.0, 1.0], float(np.finfo(float).eps))
     with pytest.raises(ValueError, match="col: a lane out of range"):
