@@ -169,12 +169,12 @@ def _turning_points(raw: list[tuple[float, int]], t_a: float, t_b: float, dense:
                                  np.array([t_b]), [params], [start])[0]
 
 
-def _turning_points_lanes(raws: list[list[tuple[float, int]]], t_a: list[float], t_b: list[float], dense: LaneDense,
+def _turning_points_lanes(raws: list[ArrayLike], t_a: list[float], t_b: list[float], dense: LaneDense,
                           columns: list[int], fill: NDArray[np.float64], params: list[tuple[float, ...]],
                           starts: list[StartRoot | None]) -> list[list[tuple[float, int]]]:
     """The turning points of θ in (t_a[j], t_b[j]] of each lane j as (time, direction), from the integrator's events
-    ``raws[j]`` checked and located on the dense output (lane j in column ``columns[j]`` of ``dense``, the other
-    columns at their ``fill`` times; every lane's evaluations together).
+    ``raws[j]`` (pairs (time, direction), in any order) checked and located on the dense output (lane j in column
+    ``columns[j]`` of ``dense``, the other columns at their ``fill`` times; every lane's evaluations together).
 
     The integrator finds the roots of dγ3/dt on the Taylor polynomial of the event function, truncated at the
     integrator's order.  dγ3/dt ≈ −θ θ̇ is a product of two series of the motion's frequency, so near the pole
@@ -187,50 +187,54 @@ def _turning_points_lanes(raws: list[list[tuple[float, int]]], t_a: list[float],
     interval where the check fails is scanned on the dense output for its sign changes.  A root at t_a belongs to
     the previous stretch; at the start of the run, the start's own root (``start``) to no one.
     """
-    lanes = range(len(raws))
-    checks = []
-    for j in lanes:
-        start = starts[j]
-
-        def own(t: float, d: int) -> bool:
-            return t <= t_a[j] or (start is not None and t <= t_a[j] + start.window and d == start.kind)
-
-        events = sorted((t, d) for t, d in raws[j] if not own(t, d))
-        lo_edge = t_a[j] + start.window if start is not None else t_a[j]
-        times = np.array([t for t, _ in events], float)
-        dirs = np.array([d for _, d in events], int)
-        checks.append((times, dirs, np.concatenate([[lo_edge], 0.5 * (times[1:] + times[:-1]), [t_b[j]]])))
-    at_ends = lane_states(dense, np.concatenate([c[2] for c in checks]),
-                          np.concatenate([np.full(c[2].size, j) for j, c in zip(lanes, checks)]), columns, fill)
-    split = np.cumsum([c[2].size for c in checks])[:-1]
+    n_lanes = len(raws)
+    raw = [np.asarray(r, float).reshape(-1, 2) for r in raws]
+    ev_lane = np.repeat(np.arange(n_lanes), [r.shape[0] for r in raw])
+    t_ev, d_ev = (np.concatenate([r[:, i] for r in raw]) for i in (0, 1))
+    d_ev = d_ev.astype(int)
+    lo_edge, kind = np.array(t_a, float), np.zeros(n_lanes, int)
+    has_start = np.array([start is not None for start in starts], bool)
+    for j, start in enumerate(starts):
+        if start is not None:
+            lo_edge[j], kind[j] = t_a[j] + start.window, start.kind
+    own = (t_ev <= np.asarray(t_a, float)[ev_lane]) | ((t_ev <= lo_edge[ev_lane]) & (d_ev == kind[ev_lane])
+                                                       & has_start[ev_lane])
+    order = np.lexsort((d_ev[~own], t_ev[~own], ev_lane[~own]))  # by lane, time, then direction
+    times, dirs, ev_lane = t_ev[~own][order], d_ev[~own][order], ev_lane[~own][order]
+    # each lane's checks: its start (after the start's own root), half way between its events, its end; lane j's
+    # come after those of the lanes before it, max(n_j, 1) + 1 of them, and its i-th event lies between its checks
+    # i and i + 1
+    n_ev = np.bincount(ev_lane, minlength=n_lanes)
+    first_check = np.concatenate([[0], np.cumsum(np.maximum(n_ev, 1) + 1)])
+    left = first_check[ev_lane] + np.arange(times.size) - np.concatenate([[0], np.cumsum(n_ev)])[ev_lane]
+    checks = np.empty(first_check[-1])
+    checks[first_check[:-1]] = lo_edge
+    checks[first_check[1:] - 1] = t_b
+    inner = np.flatnonzero(ev_lane[1:] == ev_lane[:-1]) + 1  # events after another of their lane
+    checks[left[inner]] = 0.5 * (times[inner] + times[inner - 1])
+    check_lane = np.repeat(np.arange(n_lanes), np.diff(first_check))
+    signs = _resolved_sign(lane_states(dense, checks, check_lane, columns, fill).T)
+    signs[first_check[:-1][has_start]] = kind[has_start]  # dγ3/dt at a start is round-off: after its root, the kind
+    ok = (signs[left] == -dirs) & (signs[left + 1] == dirs)
     # brackets (lo, hi, direction, first guess, lane): the checked events', then those of each run of neighbouring
     # failed checks, scanned as one interval (without events: the whole stretch, if dγ3/dt changes sign over it)
-    parts = []
-    for j, (times, dirs, ends), y_ends in zip(lanes, checks, np.split(at_ends, split)):
-        signs = _resolved_sign(y_ends.T)
-        start = starts[j]
-        if start is not None:  # dγ3/dt at the start is round-off: its sign after the start's own root is the kind
-            signs[0] = start.kind
-        if times.size == 0:
-            bad = np.array([signs[0] != signs[-1]])
-            parts.append((times, times, dirs, times, np.full(0, j)))
-        else:
-            ok = (signs[:-1] == -dirs) & (signs[1:] == dirs)
-            bad = ~ok
-            parts.append((ends[:-1][ok], ends[1:][ok], dirs[ok], times[ok], np.full(int(ok.sum()), j)))
-        first = np.flatnonzero(bad & ~np.concatenate([[False], bad[:-1]]))
-        last = np.flatnonzero(bad & ~np.concatenate([bad[1:], [False]]))
-        for i, k in zip(first, last):
-            def lane_dense(t: NDArray[np.float64], j: int = j) -> NDArray[np.float64]:
-                return lane_states(dense, t, np.full(np.size(t), j), columns, fill)
+    parts = [(checks[left][ok], checks[left + 1][ok], dirs[ok], times[ok], ev_lane[ok])]
+    bad = np.zeros(checks.size - 1, bool)  # interval (checks[i], checks[i + 1]) to scan (never across lanes)
+    bad[left[~ok]] = True
+    empty = np.flatnonzero(n_ev == 0)
+    bad[first_check[empty]] = signs[first_check[empty]] != signs[first_check[empty] + 1]
+    runs = np.flatnonzero(np.diff(np.concatenate([[0], bad.astype(np.int8), [0]])))
+    for i, k in zip(runs[::2], runs[1::2]):
+        j = int(check_lane[i])
 
-            s_lo, s_hi, s_d = _scan(ends[i], ends[k + 1], lane_dense)
-            parts.append((s_lo, s_hi, s_d, 0.5 * (s_lo + s_hi), np.full(s_lo.size, j)))
+        def lane_dense(t: NDArray[np.float64], j: int = j) -> NDArray[np.float64]:
+            return lane_states(dense, t, np.full(np.size(t), j), columns, fill)
+
+        s_lo, s_hi, s_d = _scan(checks[i], checks[k], lane_dense)
+        parts.append((s_lo, s_hi, s_d, 0.5 * (s_lo + s_hi), np.full(s_lo.size, j)))
     lo, hi, d, guess, lane = (np.concatenate(column) for column in zip(*parts))
     roots = _locate(lo, hi, d, guess, lane.astype(np.intp), dense, columns, fill, np.asarray(params, float))
-    out = []
-    for j in lanes:
-        mine = np.flatnonzero(lane == j)
-        order = mine[np.argsort(roots[mine], kind="stable")]
-        out.append([(float(roots[k]), int(d[k])) for k in order])
-    return out
+    order = np.lexsort((roots, lane))  # stable: each lane's roots in time order
+    ends = np.searchsorted(lane[order], np.arange(n_lanes + 1))
+    pairs = list(zip(roots[order].tolist(), d[order].astype(int).tolist()))
+    return [pairs[a:b] for a, b in zip(ends[:-1], ends[1:])]

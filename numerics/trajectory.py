@@ -14,7 +14,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Callable
+from typing import TYPE_CHECKING, Any, Callable, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -76,10 +76,12 @@ class TurningPoints:
 
     @classmethod
     def concatenate(cls, parts: list["TurningPoints"]) -> "TurningPoints":
-        """The samples of consecutive stretches, in time order (an empty list gives no samples)."""
+        """The samples of consecutive stretches, in time order (an empty list gives no samples, one part itself)."""
         names = [f.name for f in dataclasses.fields(cls)]
         if not parts:
             return cls(**{n: np.empty((0, 11) if n == "states" else 0) for n in names})
+        if len(parts) == 1:
+            return parts[0]
         return cls(**{n: np.concatenate([getattr(p, n) for p in parts]) for n in names})
 
 
@@ -118,8 +120,16 @@ def _unresolved(t_lo: NDArray, t_hi: NDArray, ang_lo: NDArray, ang_hi: NDArray, 
     return (jumps | fast) & (width > 64.0 * np.finfo(float).eps * np.maximum(1.0, np.abs(t_hi)))
 
 
-#: Dense output of several lanes at once: times (rows, W), one column per lane, to states (rows, 11, W).
-LaneDense = Callable[[NDArray[np.float64]], NDArray[np.float64]]
+@runtime_checkable
+class PointDense(Protocol):
+    """A dense output of several lanes that evaluates (time, lane) pairs itself (numerics/ensembles/batch.py)."""
+
+    def points(self, t: NDArray[np.float64], col: NDArray[np.intp]) -> NDArray[np.float64]:
+        """The states (m, 11) at times ``t`` (m,) of lanes ``col`` (m,)."""
+
+
+#: Dense output of lanes: times (rows, W), one column per lane, to states (rows, 11, W); or a :class:`PointDense`.
+LaneDense = Callable[[NDArray[np.float64]], NDArray[np.float64]] | PointDense
 
 
 def lane_states(dense: LaneDense, t: NDArray[np.float64], lane: NDArray[np.intp], columns: ArrayLike,
@@ -129,6 +139,8 @@ def lane_states(dense: LaneDense, t: NDArray[np.float64], lane: NDArray[np.intp]
     lane = np.asarray(lane, np.intp)
     if lane.size == 0:
         return np.empty((0, 11))
+    if isinstance(dense, PointDense):
+        return dense.points(t, np.asarray(columns, np.intp)[lane])
     order = np.argsort(lane, kind="stable")  # row of each time: its rank among its lane's
     rank = np.empty_like(order)
     rank[order] = np.arange(order.size) - np.searchsorted(lane[order], lane[order], "left")
@@ -138,11 +150,11 @@ def lane_states(dense: LaneDense, t: NDArray[np.float64], lane: NDArray[np.intp]
     return np.asarray(dense(grid))[rank, :, cols]
 
 
-def _unwrapped_angles(t: list[NDArray[np.float64]], y: list[NDArray[np.float64]], dense: LaneDense,
+def _unwrapped_angles(tt: NDArray[np.float64], yy: NDArray[np.float64], lane_of: NDArray[np.intp], dense: LaneDense,
                       columns: list[int], fill: NDArray[np.float64], starts: list[NDArray[np.float64] | None],
-                      fine: ArrayLike) -> list[tuple[NDArray, NDArray]]:
-    """States and unwrapped (θ, φ, ψ) at the times ``t[j]`` of each lane j (states ``y[j]`` there), refining the
-    grids where needed.
+                      fine: ArrayLike) -> NDArray[np.float64]:
+    """Unwrapped (θ, φ, ψ), shape (3, m), at the times ``tt`` (m,) of lanes ``lane_of`` (m,: each lane's times
+    together and in time order, the lanes in order; states ``yy`` (m, 11) there), refining the grids where needed.
 
     Each interval to refine (:func:`_unresolved`) is bisected on its own, its halves checked again, down to
     ``_MAX_BISECTIONS`` levels, the midpoints of every lane evaluated together (lane j in column ``columns[j]`` of
@@ -153,8 +165,7 @@ def _unwrapped_angles(t: list[NDArray[np.float64]], y: list[NDArray[np.float64]]
     at t[j][0] (a previous piece's last unwrapped values); ``fine[j]`` the width below which lane j's rate test stops
     (:func:`_unresolved`).  A lane's result depends only on its own times and states.
     """
-    lane_of = np.concatenate([np.full(tj.size, j) for j, tj in enumerate(t)])
-    tt, yy = np.concatenate(t), np.concatenate(y)
+    n_lanes = len(starts)
     ang, rate = angles_from_frame(yy[:, 0:3].T, yy[:, 6:9].T), _angle_rates(yy)
     inside = lane_of[:-1] == lane_of[1:]
     fine = np.asarray(fine, float)
@@ -163,14 +174,14 @@ def _unwrapped_angles(t: list[NDArray[np.float64]], y: list[NDArray[np.float64]]
     lane, cols = lane_of[bad], np.asarray(columns)
     lo: tuple[NDArray, ...] = (tt[bad], ang[:, bad], rate[bad])
     hi: tuple[NDArray, ...] = (tt[bad + 1], ang[:, bad + 1], rate[bad + 1])
-    added: list[tuple[NDArray, NDArray, NDArray, NDArray]] = []
+    added: list[tuple[NDArray, NDArray, NDArray]] = []
     for _ in range(_MAX_BISECTIONS):
         if lane.size == 0:
             break
         t_mid = 0.5 * (lo[0] + hi[0])
         y_mid = lane_states(dense, t_mid, lane, cols, fill)  # only the new points: the states elsewhere are kept
         mid = (t_mid, angles_from_frame(y_mid[:, 0:3].T, y_mid[:, 6:9].T), _angle_rates(y_mid))
-        added.append((lane, t_mid, y_mid, mid[1]))
+        added.append((lane, t_mid, mid[1]))
         left = _unresolved(lo[0], mid[0], lo[1], mid[1], lo[2], mid[2], fine[lane])
         right = _unresolved(mid[0], hi[0], mid[1], hi[1], mid[2], hi[2], fine[lane])
         lo = tuple(np.concatenate([a[..., left], b[..., right]], axis=-1) for a, b in zip(lo, mid))
@@ -180,38 +191,40 @@ def _unwrapped_angles(t: list[NDArray[np.float64]], y: list[NDArray[np.float64]]
         if lane.size:
             raise RuntimeError("could not resolve the branch of phi/psi after repeated bisection")
     keep = np.ones(tt.size, bool)
-    if added:  # the added points among the lanes' own, each lane in time order
+    if added:  # the added points among the lanes' own, each lane in time order (the states of the own suffice)
         lane_of = np.concatenate([lane_of] + [a[0] for a in added])
         order = np.lexsort((np.concatenate([tt] + [a[1] for a in added]), lane_of))
         lane_of = lane_of[order]
-        yy = np.concatenate([yy] + [a[2] for a in added])[order]
-        ang = np.concatenate([ang] + [a[3] for a in added], axis=1)[:, order]
-        keep = np.concatenate([keep, np.zeros(yy.shape[0] - keep.size, bool)])[order]
-    ends = np.searchsorted(lane_of, np.arange(len(t) + 1))
-    out = []
-    for j in range(len(t)):
-        mine = slice(ends[j], ends[j + 1])
-        kj = keep[mine]
-        out.append((yy[mine][kj], _branch(ang[:, mine], starts[j])[:, kj]))
-    return out
+        ang = np.concatenate([ang] + [a[2] for a in added], axis=1)[:, order]
+        keep = np.concatenate([keep, np.zeros(lane_of.size - keep.size, bool)])[order]
+    return _branches(ang, np.searchsorted(lane_of, np.arange(n_lanes + 1)), starts)[:, keep]
 
 
-def _branch(ang: NDArray[np.float64], start: NDArray[np.float64] | None) -> NDArray[np.float64]:
-    """(θ, φ, ψ) samples ``ang`` fine enough that no step of φ or ψ is ambiguous, unwrapped (φ, ψ continuous), on
-    the branch of ``start`` (see :func:`_unwrapped_angles`)."""
-    steps = wrap_angle(np.diff(ang[1:], axis=1))
+def _branches(ang: NDArray[np.float64], ends: NDArray[np.intp],
+              starts: list[NDArray[np.float64] | None]) -> NDArray[np.float64]:
+    """(θ, φ, ψ) samples ``ang`` of several lanes, lane j in columns ends[j]:ends[j + 1], each fine enough that no
+    step of φ or ψ is ambiguous, unwrapped (φ, ψ continuous) lane by lane, lane j on the branch of ``starts[j]`` (see
+    :func:`_unwrapped_angles`); all lanes at once, each lane's result its own."""
+    raw = np.diff(ang[1:], axis=1)
+    steps = wrap_angle(raw)
     through_pole = np.flatnonzero(np.any(np.abs(steps) > _UNWRAP_LIMIT, axis=0))
     steps[1, through_pole] = wrap_angle(steps[0, through_pole] + steps[1, through_pole]) - steps[0, through_pole]
     # every chosen step is the raw difference plus a whole number of turns: keep the angles as
     # ang + 2π·(turns), exact integers, so no round-off accumulates along the series
-    turns = np.rint((steps - np.diff(ang[1:], axis=1)) / _TWO_PI)
-    first = np.zeros((2, 1))
-    if start is not None:  # the branch of ``start``: start + wrap(ang0 − start) = ang0 + 2π·first
-        s0, a0 = np.reshape(start, (2, 1)), ang[1:, :1]
-        first = np.rint((s0 + wrap_angle(a0 - s0) - a0) / _TWO_PI)
-    counts = np.concatenate([first, first + np.cumsum(turns, axis=1)], axis=1)
-    unwrapped = ang.copy()
-    unwrapped[1:] = ang[1:] + _TWO_PI * counts
+    turns = np.rint((steps - raw) / _TWO_PI)
+    lanes = np.flatnonzero(ends[:-1] < ends[1:])  # the lanes with samples
+    turns[:, ends[lanes[1:]] - 1] = 0.0  # no step from one lane into the next
+    total = np.zeros_like(ang[1:])
+    np.cumsum(turns, axis=1, out=total[:, 1:])  # whole numbers: exact
+    offset = -total[:, ends[lanes]]  # each lane's count from its first sample on, plus its first's
+    for k, j in enumerate(lanes):
+        start = starts[j]
+        if start is not None:  # the branch of ``start``: start + wrap(ang0 − start) = ang0 + 2π·first
+            s0, a0 = np.reshape(start, (2, 1)), ang[1:, ends[j]:ends[j] + 1]
+            offset[:, k:k + 1] += np.rint((s0 + wrap_angle(a0 - s0) - a0) / _TWO_PI)
+    unwrapped = np.empty_like(ang)
+    unwrapped[0] = ang[0]
+    unwrapped[1:] = ang[1:] + _TWO_PI * (total + np.repeat(offset, np.diff(ends)[lanes], axis=1))
     return unwrapped
 
 
@@ -265,16 +278,12 @@ class _Samples:
             t_all.append(ta)
             inverse.append(inv)
             sizes.append((parts[0].size, parts[1].size))
-        grid = np.repeat(np.asarray(fill, float)[None, :], max(ta.size for ta in t_all), axis=0)
-        for j, ta in enumerate(t_all):
-            grid[:ta.size, columns[j]] = ta
-        states = np.asarray(dense(grid))
-        y = [states[:ta.size, :, columns[j]] for j, ta in enumerate(t_all)]
-        out = []
-        for ta, inv, (n_grid, n_max), (yj, angles) in zip(t_all, inverse, sizes,
-                                                          _unwrapped_angles(t_all, y, dense, columns, fill, starts, fine)):
-            out.append(cls(ta, yj, angles, inv[n_grid:n_grid + n_max], inv[n_grid + n_max:]))
-        return out
+        tt, lane_of = np.concatenate(t_all), np.repeat(np.arange(len(t_all)), [ta.size for ta in t_all])
+        yy = lane_states(dense, tt, lane_of, columns, fill)
+        angles = _unwrapped_angles(tt, yy, lane_of, dense, columns, fill, starts, fine)
+        ends = np.cumsum([0] + [ta.size for ta in t_all])
+        return [cls(ta, yy[a:b], angles[:, a:b], inv[n_grid:n_grid + n_max], inv[n_grid + n_max:])
+                for ta, inv, (n_grid, n_max), a, b in zip(t_all, inverse, sizes, ends[:-1], ends[1:])]
 
     def turning(self, body: Body, idx: NDArray[np.intp]) -> TurningPoints:
         ys = self.y[idx]

@@ -8,7 +8,10 @@ dense output (:mod:`rocknroller.numerics.events`), the same unwrapping grid and 
 (``integrate._grid_pieces``, ``integrate._RunRecord``).  What differs is the integrator: heyoka's batch integrator
 takes the steps of each lane by the scalar integrator's rule, but in SIMD registers, so a lane's results differ from
 the scalar integrator's in the last bits, which the motion then amplifies (the bound is derived in
-``tests/numerics/ensembles/test_batch.py``).  A lane's results do not depend on the other lanes (each lane has its own time,
+``tests/numerics/ensembles/test_batch.py``); and its dense output is evaluated at the (time, lane) pairs asked, in C
+(``_dense.c``), at times within half an ulp of heyoka's own evaluation's (``tests/numerics/ensembles/test_dense.py``).
+Every lane's events, turning points and unwrapping are worked on together, one numpy pass per stretch for all lanes
+(``BATCH_CHUNK_RADIANS``).  A lane's results do not depend on the other lanes (each lane has its own time,
 step size, events and stretches, and its stretches are set by its own rate bound, not by the width): the same job
 gives the same results bit for bit in any lane, any batch and at any width from 2 to ``MAX_LANES`` (tested at
 2, 4, 8 and 16).  Width 1 is not a batch: heyoka compiles it as scalar code, whose results differ in the last bits,
@@ -32,6 +35,7 @@ from numpy.typing import NDArray
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import STATE_SIZE, EulerState, body_frame_rhs, turning_point_function
 from rocknroller.numerics.cache import compiling
+from rocknroller.numerics.ensembles import _dense
 from rocknroller.numerics.events import _turning_points_lanes, start_turning_point
 from rocknroller.numerics.integrate import (CHUNK_RADIANS, DT_RADIANS, _grid_pieces, _RunRecord, _stretch_end,
                                             check_diskcache, check_run, finish_run)
@@ -43,12 +47,16 @@ __all__ = ["batch_width", "batch_integrator", "run_batch", "MIN_LANES", "MAX_LAN
 #: Fewest lanes of a batch integrator (module docstring).
 MIN_LANES = 2
 #: Most lanes of a batch integrator (its stretches hold width × ``BATCH_CHUNK_RADIANS`` steps of dense output,
-#: ≈ 1.8 kB per step and lane: 18 MB at 16 lanes).
+#: ≈ 1.8 kB per step and lane: 36 MB at 16 lanes).
 MAX_LANES = 16
-#: Radians of Λ integrated per stretch of each lane (an eighth of the scalar path's ``CHUNK_RADIANS``, so that the
-#: dense output of a stretch of 8 lanes, ≈ 9 MB, is the scalar one's and is reused from the heap likewise).  Fixed,
-#: not divided by the width: a lane's stretches, and so its steps, are the same at every width.
-BATCH_CHUNK_RADIANS = CHUNK_RADIANS / 8
+#: Radians of Λ integrated per stretch of each lane: a quarter of the scalar path's ``CHUNK_RADIANS``, so that the
+#: dense output of a stretch of 8 lanes (the widest heyoka recommends), ≈ 18 MB and at most 1.5 × that, stays below
+#: glibc's largest mmap threshold (32 MB) and is reused from the heap (``CHUNK_RADIANS``).  Measured on
+#: benchmarks/bench_ensemble.py's 64 jobs (1000 time units, 8 lanes): 1.3× faster per trajectory than an eighth
+#: (twice the stretches, each with its fixed cost of heyoka's dense output and of the bookkeeping), 1.2× faster than
+#: a half (mapped fresh).  Fixed, not divided by the width: a lane's stretches, and so its steps, are the same at
+#: every width.
+BATCH_CHUNK_RADIANS = CHUNK_RADIANS / 4
 _TEMPLATES: dict[tuple[int, float], Any] = {}
 _TEMPLATE_LOCK = threading.Lock()
 _PER_THREAD = threading.local()
@@ -68,8 +76,8 @@ class _BatchLog:
     def __init__(self) -> None:
         self.events: list[tuple[float, int, int]] = []
 
-    def __call__(self, ta: Any, time: Any, d_sgn: Any, lane: Any) -> None:
-        self.events.append((float(time), int(d_sgn), int(lane)))
+    def __call__(self, ta: Any, time: float, d_sgn: int, lane: int) -> None:
+        self.events.append((time, d_sgn, lane))  # heyoka passes a float and two ints
 
 
 def _check_width(width: Any) -> int:
@@ -166,13 +174,14 @@ def run_batch(runs: Sequence[tuple[Body, EulerState, float]], width: int | None 
         for j in moving:
             t_b[j] = _stretch_end(lanes[j].t_a, lanes[j].t_end, lanes[j].stretch)
         log.events.clear()
-        c_out = ta.propagate_until(t_b, c_output=True)[0]
+        c_out = _LaneOutput(ta.propagate_until(t_b, c_output=True)[0])
         for j in moving:
             outcome, _, _, n = ta.propagate_res[j]
             if outcome.name != "time_limit":
                 raise RuntimeError(f"heyoka stopped early at t={float(ta.time[j])!r} in lane {j}: {outcome}")
             lanes[j].n_steps += int(n)
         _stretch_samples(lanes, moving, c_out, t_b, log.events)
+        del c_out  # freed before the next stretch's is allocated, so that its memory is reused (CHUNK_RADIANS)
         for j in moving:
             lanes[j].record.end_stretch()
             lanes[j].t_a = float(t_b[j])
@@ -181,11 +190,30 @@ def run_batch(runs: Sequence[tuple[Body, EulerState, float]], width: int | None 
                        tol=tol) for lane in lanes]
 
 
-def _stretch_samples(lanes: list[_Lane], moving: list[int], c_out: Any, t_b: NDArray[np.float64],
+class _LaneOutput:
+    """A stretch's batch dense output (heyoka's ``continuous_output_batch``), evaluated at the (time, lane) pairs
+    asked and only those (:meth:`points`, C source ``_dense.c``; a
+    :class:`~rocknroller.numerics.trajectory.PointDense`)."""
+
+    def __init__(self, c_out: Any) -> None:
+        self._c_out = c_out  # owns the arrays below
+        self.tcs, self.times = c_out.tcs, c_out.times
+
+    def points(self, t: NDArray[np.float64], col: NDArray[np.intp]) -> NDArray[np.float64]:
+        """The states (m, 11) at times ``t`` (m,) of lanes ``col`` (m,)."""
+        out = np.empty((np.size(t), STATE_SIZE))
+        _dense.states(self.tcs, self.times, np.ascontiguousarray(t, float), np.ascontiguousarray(col, np.int64), out)
+        return out
+
+
+def _stretch_samples(lanes: list[_Lane], moving: list[int], c_out: _LaneOutput, t_b: NDArray[np.float64],
                      raw: list[tuple[float, int, int]]) -> None:
     """Locate the turning points of each moving lane's stretch and sample its unwrapping grid, all lanes evaluated
     together on the batch dense output."""
-    found = _turning_points_lanes([[(t, d) for t, d, k in raw if k == j] for j in moving],
+    logged = np.array(raw, float).reshape(-1, 3)  # (time, direction, lane)
+    logged = logged[np.argsort(logged[:, 2], kind="stable")]
+    ends = np.searchsorted(logged[:, 2], moving, "left"), np.searchsorted(logged[:, 2], moving, "right")
+    found = _turning_points_lanes([logged[a:b, :2] for a, b in zip(*ends)],
                                   [lanes[j].t_a for j in moving], [float(t_b[j]) for j in moving], c_out, moving,
                                   t_b, [lanes[j].body.params for j in moving],
                                   [lanes[j].start if lanes[j].t_a == 0.0 else None for j in moving])
