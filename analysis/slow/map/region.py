@@ -371,7 +371,8 @@ def build_region_table(body: Body, E: float, *, axis: str = "auto", nu: int | No
 
 
 #: Release angle below which the default spindle grid interpolates worse than ``REGION_TABLE_ACCURACY`` (paper body,
-#: measured: 1.8e-7 at 0.007π, 2.7e-6 at 0.005π, 7.8e-6 at 0.003π; docs/averaging.md, "Starts with velocity").
+#: measured: 2.3e-7 at 0.007π, 3.6e-7 at 0.006π, 2.5e-6 at 0.005π, 4.5e-6 at 0.004π; docs/averaging.md, "Starts with
+#: velocity").
 SMALL_AMPLITUDE_THETA0 = 0.006 * math.pi
 
 
