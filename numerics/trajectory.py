@@ -121,15 +121,15 @@ def _unresolved(t_lo: NDArray, t_hi: NDArray, ang_lo: NDArray, ang_hi: NDArray, 
 
 
 @runtime_checkable
-class PointDense(Protocol):
+class _PointDense(Protocol):
     """A dense output of several lanes that evaluates (time, lane) pairs itself (numerics/ensembles/batch.py)."""
 
     def points(self, t: NDArray[np.float64], col: NDArray[np.intp]) -> NDArray[np.float64]:
         """The states (m, 11) at times ``t`` (m,) of lanes ``col`` (m,)."""
 
 
-#: Dense output of lanes: times (rows, W), one column per lane, to states (rows, 11, W); or a :class:`PointDense`.
-LaneDense = Callable[[NDArray[np.float64]], NDArray[np.float64]] | PointDense
+#: Dense output of lanes: times (rows, W), one column per lane, to states (rows, 11, W); or a ``_PointDense``.
+LaneDense = Callable[[NDArray[np.float64]], NDArray[np.float64]] | _PointDense
 
 
 def lane_states(dense: LaneDense, t: NDArray[np.float64], lane: NDArray[np.intp], columns: ArrayLike,
@@ -139,7 +139,7 @@ def lane_states(dense: LaneDense, t: NDArray[np.float64], lane: NDArray[np.intp]
     lane = np.asarray(lane, np.intp)
     if lane.size == 0:
         return np.empty((0, 11))
-    if isinstance(dense, PointDense):
+    if isinstance(dense, _PointDense):
         return dense.points(t, np.asarray(columns, np.intp)[lane])
     order = np.argsort(lane, kind="stable")  # row of each time: its rank among its lane's
     rank = np.empty_like(order)

@@ -193,7 +193,7 @@ def run_batch(runs: Sequence[tuple[Body, EulerState, float]], width: int | None 
 class _LaneOutput:
     """A stretch's batch dense output (heyoka's ``continuous_output_batch``), evaluated at the (time, lane) pairs
     asked and only those (:meth:`points`, C source ``_dense.c``; a
-    :class:`~rocknroller.numerics.trajectory.PointDense`)."""
+    ``trajectory._PointDense``)."""
 
     def __init__(self, c_out: Any) -> None:
         self._c_out = c_out  # owns the arrays below
