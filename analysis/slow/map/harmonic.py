@@ -8,7 +8,8 @@ the symmetry f(S y) = S f(y), S a turn about the axis (:func:`rocknroller.analys
 makes the orbit from ψ_k the turned orbit from 0, and its ε-response S_k ẑ_k with ẑ_k integrated along the orbit from
 0 under the turned-back forcing S_kᵀ ∂f/∂ε(S_k y); its start, S_kᵀ z_k(0) = ∂y₀/∂θ_X ∂θ_X/∂ε, differs only in
 ∂θ_X/∂ε, which depends on ψ_k through ∂E/∂ε.  One orbit with three tangent systems (44 components,
-``orbit._harmonic_system``) then replaces three orbits of 22: about 1.6× less work per node, and the responses,
+``orbit._harmonic_system``) then replaces three orbits of 22, sharing the orbit and its Jacobian (the cost: the
+performance page, ``benchmarks/bench_tables.py``), and the responses,
 invariant under S, are read off the one orbit.  :func:`rocknroller.analysis.slow.map.orbit.first_order_steps` from the
 three spin angles is the second formulation it is checked against (tests/analysis/slow/map/test_harmonic_orbit.py).
 """
