@@ -36,6 +36,8 @@ DenseOutput = Callable[[NDArray[np.float64]], NDArray[np.float64]]
 _UNWRAP_LIMIT = 2.0 * math.pi / 3.0
 _TWO_PI = 2.0 * math.pi
 _MAX_BISECTIONS = 80
+#: An interval no longer than this times max(1, |t|) is not split.
+_SHORTEST = 64.0 * np.finfo(float).eps
 
 
 @dataclass(frozen=True)
@@ -117,7 +119,7 @@ def _unresolved(t_lo: NDArray, t_hi: NDArray, ang_lo: NDArray, ang_hi: NDArray, 
     jumps = np.any(np.abs(wrap_angle(ang_hi[1:] - ang_lo[1:])) > _UNWRAP_LIMIT, axis=0)
     width = t_hi - t_lo
     fast = (np.maximum(rate_lo, rate_hi) * width > _UNWRAP_LIMIT) & (width > fine)
-    return (jumps | fast) & (width > 64.0 * np.finfo(float).eps * np.maximum(1.0, np.abs(t_hi)))
+    return (jumps | fast) & (width > _SHORTEST * np.maximum(1.0, np.abs(t_hi)))
 
 
 @runtime_checkable
@@ -126,6 +128,14 @@ class _PointDense(Protocol):
 
     def points(self, t: NDArray[np.float64], col: NDArray[np.intp]) -> NDArray[np.float64]:
         """The states (m, 11) at times ``t`` (m,) of lanes ``col`` (m,)."""
+
+    def turns(self, t: NDArray[np.float64], col: NDArray[np.intp], y: NDArray[np.float64], fine: NDArray[np.float64],
+              limit: float, max_bisections: int, shortest: float) -> NDArray[np.float64]:
+        """The whole turns (2, m) of φ and ψ since each lane's first point, from its states ``y`` (m, 11) at times
+        ``t`` (m,) of lanes ``col`` (m,), each lane's points together and in time order, the intervals refined as
+        :func:`_unwrapped_angles` refines them (``fine`` (m,) of each point's lane; ``limit``, ``max_bisections`` and
+        ``shortest``: ``_UNWRAP_LIMIT``, ``_MAX_BISECTIONS``, ``_SHORTEST``) and the steps counted as :func:`_turns`
+        counts them."""
 
 
 #: Dense output of lanes: times (rows, W), one column per lane, to states (rows, 11, W); or a ``_PointDense``.
@@ -197,14 +207,15 @@ def _unwrapped_angles(tt: NDArray[np.float64], yy: NDArray[np.float64], lane_of:
         lane_of = lane_of[order]
         ang = np.concatenate([ang] + [a[2] for a in added], axis=1)[:, order]
         keep = np.concatenate([keep, np.zeros(lane_of.size - keep.size, bool)])[order]
-    return _branches(ang, np.searchsorted(lane_of, np.arange(n_lanes + 1)), starts)[:, keep]
+    ends = np.searchsorted(lane_of, np.arange(n_lanes + 1))
+    return _branches(ang, _turns(ang, ends), ends, starts)[:, keep]
 
 
-def _branches(ang: NDArray[np.float64], ends: NDArray[np.intp],
-              starts: list[NDArray[np.float64] | None]) -> NDArray[np.float64]:
-    """(θ, φ, ψ) samples ``ang`` of several lanes, lane j in columns ends[j]:ends[j + 1], each fine enough that no
-    step of φ or ψ is ambiguous, unwrapped (φ, ψ continuous) lane by lane, lane j on the branch of ``starts[j]`` (see
-    :func:`_unwrapped_angles`); all lanes at once, each lane's result its own."""
+def _turns(ang: NDArray[np.float64], ends: NDArray[np.intp]) -> NDArray[np.float64]:
+    """The whole turns (2, m) that φ and ψ have taken since each lane's first sample, from (θ, φ, ψ) samples ``ang``
+    of several lanes (lane j in columns ends[j]:ends[j + 1]), each fine enough that no step of φ or ψ is ambiguous
+    (see :func:`_unwrapped_angles`); all lanes at once, each lane's result its own.  ``_dense.c``'s ``turns``
+    computes the same for the batch lanes."""
     raw = np.diff(ang[1:], axis=1)
     steps = wrap_angle(raw)
     through_pole = np.flatnonzero(np.any(np.abs(steps) > _UNWRAP_LIMIT, axis=0))
@@ -216,12 +227,20 @@ def _branches(ang: NDArray[np.float64], ends: NDArray[np.intp],
     turns[:, ends[lanes[1:]] - 1] = 0.0  # no step from one lane into the next
     total = np.zeros_like(ang[1:])
     np.cumsum(turns, axis=1, out=total[:, 1:])  # whole numbers: exact
-    offset = -total[:, ends[lanes]]  # each lane's count from its first sample on, plus its first's
+    return total - np.repeat(total[:, ends[lanes]], np.diff(ends)[lanes], axis=1)
+
+
+def _branches(ang: NDArray[np.float64], total: NDArray[np.float64], ends: NDArray[np.intp],
+              starts: list[NDArray[np.float64] | None]) -> NDArray[np.float64]:
+    """(θ, φ, ψ) samples ``ang`` of several lanes (lane j in columns ends[j]:ends[j + 1]) unwrapped: φ and ψ moved by
+    ``total`` whole turns (:func:`_turns`), lane j's on the branch of ``starts[j]`` (see :func:`_unwrapped_angles`)."""
+    lanes = np.flatnonzero(ends[:-1] < ends[1:])  # the lanes with samples
+    offset = np.zeros((2, lanes.size))
     for k, j in enumerate(lanes):
         start = starts[j]
         if start is not None:  # the branch of ``start``: start + wrap(ang0 − start) = ang0 + 2π·first
             s0, a0 = np.reshape(start, (2, 1)), ang[1:, ends[j]:ends[j] + 1]
-            offset[:, k:k + 1] += np.rint((s0 + wrap_angle(a0 - s0) - a0) / _TWO_PI)
+            offset[:, k:k + 1] = np.rint((s0 + wrap_angle(a0 - s0) - a0) / _TWO_PI)
     unwrapped = np.empty_like(ang)
     unwrapped[0] = ang[0]
     unwrapped[1:] = ang[1:] + _TWO_PI * (total + np.repeat(offset, np.diff(ends)[lanes], axis=1))
@@ -270,7 +289,8 @@ class _Samples:
                    fine: ArrayLike) -> list["_Samples"]:
         """Sample several lanes' dense output (``dense``, lane j in column ``columns[j]``, the others at their
         ``fill`` times) on each lane's grid and at its turning points, ``pieces[j]`` = (grid, maxima, minima), the
-        lanes evaluated together; ``starts`` and ``fine`` as :func:`_unwrapped_angles`'s."""
+        lanes evaluated together; ``starts`` and ``fine`` as :func:`_unwrapped_angles`'s (a ``_PointDense`` refines
+        and counts the turns itself, as :func:`_unwrapped_angles` and :func:`_turns` do)."""
         t_all, inverse, sizes = [], [], []
         for t_grid, t_max, t_min in pieces:
             parts = [np.asarray(t_grid, float), np.asarray(t_max, float), np.asarray(t_min, float)]
@@ -279,9 +299,16 @@ class _Samples:
             inverse.append(inv)
             sizes.append((parts[0].size, parts[1].size))
         tt, lane_of = np.concatenate(t_all), np.repeat(np.arange(len(t_all)), [ta.size for ta in t_all])
-        yy = lane_states(dense, tt, lane_of, columns, fill)
-        angles = _unwrapped_angles(tt, yy, lane_of, dense, columns, fill, starts, fine)
         ends = np.cumsum([0] + [ta.size for ta in t_all])
+        if isinstance(dense, _PointDense):  # the refinement and the turns in C, each lane's points in one pass
+            col = np.asarray(columns, np.intp)[lane_of]
+            yy = dense.points(tt, col)
+            total = dense.turns(tt, col, yy, np.asarray(fine, float)[lane_of], _UNWRAP_LIMIT, _MAX_BISECTIONS,
+                                _SHORTEST)
+            angles = _branches(angles_from_frame(yy[:, 0:3].T, yy[:, 6:9].T), total, ends, starts)
+        else:
+            yy = lane_states(dense, tt, lane_of, columns, fill)
+            angles = _unwrapped_angles(tt, yy, lane_of, dense, columns, fill, starts, fine)
         return [cls(ta, yy[a:b], angles[:, a:b], inv[n_grid:n_grid + n_max], inv[n_grid + n_max:])
                 for ta, inv, (n_grid, n_max), a, b in zip(t_all, inverse, sizes, ends[:-1], ends[1:])]
 

@@ -10,8 +10,9 @@ takes the steps of each lane by the scalar integrator's rule, but in SIMD regist
 the scalar integrator's in the last bits, which the motion then amplifies (the bound is derived in
 ``tests/numerics/ensembles/test_batch.py``); and its dense output is evaluated at the (time, lane) pairs asked, in C
 (``_dense.c``), at times within half an ulp of heyoka's own evaluation's (``tests/numerics/ensembles/test_dense.py``).
-Every lane's events, turning points and unwrapping are worked on together, one numpy pass per stretch for all lanes
-(``BATCH_CHUNK_RADIANS``).  A lane's results do not depend on the other lanes (each lane has its own time,
+Every lane's events and turning points are worked on together, one numpy pass per stretch for all lanes
+(``BATCH_CHUNK_RADIANS``); the unwrapping's refinement and turns in C too, each lane's points in one pass, the same
+turns as the numpy unwrapping's bit for bit (``_dense.c``, ``tests/numerics/ensembles/test_turns.py``).  A lane's results do not depend on the other lanes (each lane has its own time,
 step size, events and stretches, and its stretches are set by its own rate bound, not by the width): the same job
 gives the same results bit for bit in any lane, any batch and at any width from 2 to ``MAX_LANES`` (tested at
 2, 4, 8 and 16).  Width 1 is not a batch: heyoka compiles it as scalar code, whose results differ in the last bits,
@@ -203,6 +204,15 @@ class _LaneOutput:
         """The states (m, 11) at times ``t`` (m,) of lanes ``col`` (m,)."""
         out = np.empty((np.size(t), STATE_SIZE))
         _dense.states(self.tcs, self.times, np.ascontiguousarray(t, float), np.ascontiguousarray(col, np.int64), out)
+        return out
+
+    def turns(self, t: NDArray[np.float64], col: NDArray[np.intp], y: NDArray[np.float64], fine: NDArray[np.float64],
+              limit: float, max_bisections: int, shortest: float) -> NDArray[np.float64]:
+        """The whole turns (2, m) of φ and ψ since each lane's first point (``trajectory._PointDense.turns``)."""
+        out = np.empty((2, np.size(t)))
+        _dense.turns(self.tcs, self.times, np.ascontiguousarray(t, float), np.ascontiguousarray(col, np.int64),
+                     np.ascontiguousarray(y, float), np.ascontiguousarray(fine, float), float(limit),
+                     int(max_bisections), float(shortest), out)
         return out
 
 
