@@ -8,12 +8,12 @@ Imports only :mod:`rocknroller.analysis.model`.  In the order data flows through
     The on-disk cache of plain arrays (key and checksum, never pickle) and the bounded in-memory caches.
 ``parallel``
     Blocks of independent work on "spawn" processes, with progress (table builds, atlases).
-``trajectory``
-    :class:`~rocknroller.numerics.trajectory.Trajectory` and the turning points of a run, with their diagnostics;
-    ``trajectory_plots`` its quick-look plots.
 ``events``
     The turning points of a stretch: the start's own root, the integrator's events checked and located on the
-    dense output.
+    dense output (of one run, or of several lanes evaluated together).
+``trajectory``
+    :class:`~rocknroller.numerics.trajectory.Trajectory` and the turning points of a run, with their diagnostics,
+    φ and ψ unwrapped on the dense output; ``trajectory_plots`` its quick-look plots.
 ``run_limits``
     The limits of one run, checked before any work (:func:`~rocknroller.numerics.run_limits.check_run`), and the
     accuracy knob ``tol`` of the direct runs: its range, and what scales with it (the energy check, the smallest tilt

@@ -26,7 +26,7 @@ from rocknroller.analysis.model.equations import STATE_SIZE, body_frame_rhs, tur
 from rocknroller.numerics.cache import compiling, probe_writable, warn_unwritable
 from rocknroller.numerics.events import _turning_points, start_turning_point
 from rocknroller.numerics.run_limits import MAX_DENSE_STEPS
-from rocknroller.numerics.trajectory import DenseOutput
+from rocknroller.numerics.events import DenseOutput
 
 __all__ = ["heyoka_integrator", "check_diskcache"]
 

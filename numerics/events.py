@@ -4,21 +4,62 @@ A start with θ̇0 = 0 to its rounding is a turning point of its own, not report
 integrator's events (heyoka locates them on the Taylor polynomial of dγ3/dt, scipy on its dense output) are checked
 against the sign of dγ3/dt halfway to their neighbours on the stretch's dense output, where the check fails that
 interval is rescanned, and every root is located by a safeguarded Newton iteration (:func:`_turning_points`); a sign
-within the event function's rounding counts as 0.  Used by :func:`rocknroller.numerics.integrate.simulate`.
+within the event function's rounding counts as 0.  Used by :func:`rocknroller.numerics.integrate.simulate`.  The dense
+output of several lanes is evaluated together (:func:`lane_states`), here and by the unwrapping of φ and ψ
+(:mod:`rocknroller.numerics.trajectory`).
 """
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import Callable, NamedTuple, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import body_frame_rhs, turning_point_function
-from rocknroller.numerics.trajectory import DenseOutput, LaneDense, lane_states
 
-__all__ = ["START_ROOT_ULPS", "StartRoot", "start_turning_point", "H_ROUND_ULPS", "THETA_MIN"]
+__all__ = ["START_ROOT_ULPS", "StartRoot", "start_turning_point", "H_ROUND_ULPS", "THETA_MIN", "lane_states"]
+
+#: Dense output of one run: times (m,) to states (m, 11).
+DenseOutput = Callable[[NDArray[np.float64]], NDArray[np.float64]]
+
+
+@runtime_checkable
+class _PointDense(Protocol):
+    """A dense output of several lanes that evaluates (time, lane) pairs and unwraps φ and ψ itself
+    (numerics/ensembles/batch.py)."""
+
+    def points(self, t: NDArray[np.float64], col: NDArray[np.intp]) -> NDArray[np.float64]:
+        """The states (m, 11) at times ``t`` (m,) of lanes ``col`` (m,)."""
+
+    def unwrap(self, t: NDArray[np.float64], col: NDArray[np.intp], fine: NDArray[np.float64], limit: float,
+               max_bisections: int, shortest: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The states (m, 11) at times ``t`` (m,) of lanes ``col`` (m,), each lane's together and in time order, and
+        the whole turns (2, m) of φ and ψ since each lane's first, refined and counted as
+        ``trajectory._unwrapped_angles`` does with these arguments (``_dense.c``'s ``turns``)."""
+
+
+#: Dense output of lanes: times (rows, W), one column per lane, to states (rows, 11, W); or a ``_PointDense``.
+LaneDense = Callable[[NDArray[np.float64]], NDArray[np.float64]] | _PointDense
+
+
+def lane_states(dense: LaneDense, t: NDArray[np.float64], lane: NDArray[np.intp], columns: ArrayLike,
+                fill: ArrayLike) -> NDArray[np.float64]:
+    """The states (m, 11) at times ``t`` (m,) of lanes ``lane`` (m,), evaluated together: lane j is column
+    ``columns[j]`` of ``dense``, the other columns at their ``fill`` times; the k-th time of a lane goes in row k."""
+    lane = np.asarray(lane, np.intp)
+    if lane.size == 0:
+        return np.empty((0, 11))
+    if isinstance(dense, _PointDense):
+        return dense.points(t, np.asarray(columns, np.intp)[lane])
+    order = np.argsort(lane, kind="stable")  # row of each time: its rank among its lane's
+    rank = np.empty_like(order)
+    rank[order] = np.arange(order.size) - np.searchsorted(lane[order], lane[order], "left")
+    cols = np.asarray(columns, np.intp)[lane]
+    grid = np.repeat(np.asarray(fill, float)[None, :], int(rank.max()) + 1, axis=0)
+    grid[rank, cols] = t
+    return np.asarray(dense(grid))[rank, :, cols]
 
 #: Unit round-off of double precision, u = 2⁻⁵³.
 _U = float(np.finfo(float).eps) / 2.0

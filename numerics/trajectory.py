@@ -14,7 +14,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Callable, Protocol, runtime_checkable
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -23,14 +23,12 @@ from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.diagnostics import azimuth_span, slow_period, span, wrap_angle
 from rocknroller.analysis.model.invariants import energy, jellett, routh
 from rocknroller.analysis.model.kinematics import angles_from_frame
+from rocknroller.numerics.events import DenseOutput, LaneDense, _PointDense, lane_states
 
 if TYPE_CHECKING:
     import pandas
 
-__all__ = ["TurningPoints", "Trajectory", "TurningPointRun", "energy_scale", "energy_error_bound", "ENERGY_SLACK",
-           "lane_states"]
-
-DenseOutput = Callable[[NDArray[np.float64]], NDArray[np.float64]]
+__all__ = ["TurningPoints", "Trajectory", "TurningPointRun", "energy_scale", "energy_error_bound", "ENERGY_SLACK"]
 
 #: An interval whose wrapped angle increment exceeds this is bisected before unwrapping.
 _UNWRAP_LIMIT = 2.0 * math.pi / 3.0
@@ -122,44 +120,6 @@ def _unresolved(t_lo: NDArray, t_hi: NDArray, ang_lo: NDArray, ang_hi: NDArray, 
     return (jumps | fast) & (width > _SHORTEST * np.maximum(1.0, np.abs(t_hi)))
 
 
-@runtime_checkable
-class _PointDense(Protocol):
-    """A dense output of several lanes that evaluates (time, lane) pairs itself (numerics/ensembles/batch.py)."""
-
-    def points(self, t: NDArray[np.float64], col: NDArray[np.intp]) -> NDArray[np.float64]:
-        """The states (m, 11) at times ``t`` (m,) of lanes ``col`` (m,)."""
-
-    def turns(self, t: NDArray[np.float64], col: NDArray[np.intp], y: NDArray[np.float64], fine: NDArray[np.float64],
-              limit: float, max_bisections: int, shortest: float) -> NDArray[np.float64]:
-        """The whole turns (2, m) of φ and ψ since each lane's first point, from its states ``y`` (m, 11) at times
-        ``t`` (m,) of lanes ``col`` (m,), each lane's points together and in time order, the intervals refined as
-        :func:`_unwrapped_angles` refines them (``fine`` (m,) of each point's lane; ``limit``, ``max_bisections`` and
-        ``shortest``: ``_UNWRAP_LIMIT``, ``_MAX_BISECTIONS``, ``_SHORTEST``) and the steps counted as :func:`_turns`
-        counts them."""
-
-
-#: Dense output of lanes: times (rows, W), one column per lane, to states (rows, 11, W); or a ``_PointDense``.
-LaneDense = Callable[[NDArray[np.float64]], NDArray[np.float64]] | _PointDense
-
-
-def lane_states(dense: LaneDense, t: NDArray[np.float64], lane: NDArray[np.intp], columns: ArrayLike,
-                fill: ArrayLike) -> NDArray[np.float64]:
-    """The states (m, 11) at times ``t`` (m,) of lanes ``lane`` (m,), evaluated together: lane j is column
-    ``columns[j]`` of ``dense``, the other columns at their ``fill`` times; the k-th time of a lane goes in row k."""
-    lane = np.asarray(lane, np.intp)
-    if lane.size == 0:
-        return np.empty((0, 11))
-    if isinstance(dense, _PointDense):
-        return dense.points(t, np.asarray(columns, np.intp)[lane])
-    order = np.argsort(lane, kind="stable")  # row of each time: its rank among its lane's
-    rank = np.empty_like(order)
-    rank[order] = np.arange(order.size) - np.searchsorted(lane[order], lane[order], "left")
-    cols = np.asarray(columns, np.intp)[lane]
-    grid = np.repeat(np.asarray(fill, float)[None, :], int(rank.max()) + 1, axis=0)
-    grid[rank, cols] = t
-    return np.asarray(dense(grid))[rank, :, cols]
-
-
 def _unwrapped_angles(tt: NDArray[np.float64], yy: NDArray[np.float64], lane_of: NDArray[np.intp], dense: LaneDense,
                       columns: list[int], fill: NDArray[np.float64], starts: list[NDArray[np.float64] | None],
                       fine: ArrayLike) -> NDArray[np.float64]:
@@ -212,10 +172,9 @@ def _unwrapped_angles(tt: NDArray[np.float64], yy: NDArray[np.float64], lane_of:
 
 
 def _turns(ang: NDArray[np.float64], ends: NDArray[np.intp]) -> NDArray[np.float64]:
-    """The whole turns (2, m) that φ and ψ have taken since each lane's first sample, from (θ, φ, ψ) samples ``ang``
-    of several lanes (lane j in columns ends[j]:ends[j + 1]), each fine enough that no step of φ or ψ is ambiguous
-    (see :func:`_unwrapped_angles`); all lanes at once, each lane's result its own.  ``_dense.c``'s ``turns``
-    computes the same for the batch lanes."""
+    """The whole turns (2, m) of φ and ψ since each lane's first sample, from (θ, φ, ψ) samples ``ang`` of several
+    lanes (lane j in columns ends[j]:ends[j + 1]), each fine enough that no step of φ or ψ is ambiguous (see
+    :func:`_unwrapped_angles`); each lane's result its own (``_dense.c``'s ``turns`` for the batch lanes)."""
     raw = np.diff(ang[1:], axis=1)
     steps = wrap_angle(raw)
     through_pole = np.flatnonzero(np.any(np.abs(steps) > _UNWRAP_LIMIT, axis=0))
@@ -289,8 +248,7 @@ class _Samples:
                    fine: ArrayLike) -> list["_Samples"]:
         """Sample several lanes' dense output (``dense``, lane j in column ``columns[j]``, the others at their
         ``fill`` times) on each lane's grid and at its turning points, ``pieces[j]`` = (grid, maxima, minima), the
-        lanes evaluated together; ``starts`` and ``fine`` as :func:`_unwrapped_angles`'s (a ``_PointDense`` refines
-        and counts the turns itself, as :func:`_unwrapped_angles` and :func:`_turns` do)."""
+        lanes evaluated together; ``starts`` and ``fine`` as :func:`_unwrapped_angles`'s."""
         t_all, inverse, sizes = [], [], []
         for t_grid, t_max, t_min in pieces:
             parts = [np.asarray(t_grid, float), np.asarray(t_max, float), np.asarray(t_min, float)]
@@ -301,10 +259,8 @@ class _Samples:
         tt, lane_of = np.concatenate(t_all), np.repeat(np.arange(len(t_all)), [ta.size for ta in t_all])
         ends = np.cumsum([0] + [ta.size for ta in t_all])
         if isinstance(dense, _PointDense):  # the refinement and the turns in C, each lane's points in one pass
-            col = np.asarray(columns, np.intp)[lane_of]
-            yy = dense.points(tt, col)
-            total = dense.turns(tt, col, yy, np.asarray(fine, float)[lane_of], _UNWRAP_LIMIT, _MAX_BISECTIONS,
-                                _SHORTEST)
+            yy, total = dense.unwrap(tt, np.asarray(columns, np.intp)[lane_of], np.asarray(fine, float)[lane_of],
+                                     _UNWRAP_LIMIT, _MAX_BISECTIONS, _SHORTEST)
             angles = _branches(angles_from_frame(yy[:, 0:3].T, yy[:, 6:9].T), total, ends, starts)
         else:
             yy = lane_states(dense, tt, lane_of, columns, fill)

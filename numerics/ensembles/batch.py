@@ -194,7 +194,7 @@ def run_batch(runs: Sequence[tuple[Body, EulerState, float]], width: int | None 
 class _LaneOutput:
     """A stretch's batch dense output (heyoka's ``continuous_output_batch``), evaluated at the (time, lane) pairs
     asked and only those (:meth:`points`, C source ``_dense.c``; a
-    ``trajectory._PointDense``)."""
+    ``events._PointDense``)."""
 
     def __init__(self, c_out: Any) -> None:
         self._c_out = c_out  # owns the arrays below
@@ -206,14 +206,15 @@ class _LaneOutput:
         _dense.states(self.tcs, self.times, np.ascontiguousarray(t, float), np.ascontiguousarray(col, np.int64), out)
         return out
 
-    def turns(self, t: NDArray[np.float64], col: NDArray[np.intp], y: NDArray[np.float64], fine: NDArray[np.float64],
-              limit: float, max_bisections: int, shortest: float) -> NDArray[np.float64]:
-        """The whole turns (2, m) of φ and ψ since each lane's first point (``trajectory._PointDense.turns``)."""
-        out = np.empty((2, np.size(t)))
-        _dense.turns(self.tcs, self.times, np.ascontiguousarray(t, float), np.ascontiguousarray(col, np.int64),
-                     np.ascontiguousarray(y, float), np.ascontiguousarray(fine, float), float(limit),
+    def unwrap(self, t: NDArray[np.float64], col: NDArray[np.intp], fine: NDArray[np.float64], limit: float,
+               max_bisections: int, shortest: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The states (m, 11) at times ``t`` (m,) of lanes ``col`` (m,) and the whole turns (2, m) of φ and ψ since
+        each lane's first point (``events._PointDense.unwrap``)."""
+        t, col = np.ascontiguousarray(t, float), np.ascontiguousarray(col, np.int64)
+        y, out = self.points(t, col), np.empty((2, t.size))
+        _dense.turns(self.tcs, self.times, t, col, y, np.ascontiguousarray(fine, float), float(limit),
                      int(max_bisections), float(shortest), out)
-        return out
+        return y, out
 
 
 def _stretch_samples(lanes: list[_Lane], moving: list[int], c_out: _LaneOutput, t_b: NDArray[np.float64],

@@ -1,4 +1,4 @@
-"""The unwrapping of the batch lanes in C (``_dense.c``'s ``turns``, ``batch._LaneOutput.turns``) against the numpy
+"""The unwrapping of the batch lanes in C (``_dense.c``'s ``turns``, ``batch._LaneOutput.unwrap``) against the numpy
 one (``trajectory._unwrapped_angles``) on the same dense output: the same unwrapped angles and states, bit for bit,
 on coarse grids that need refining, through the pole itself, from given branches; an unresolvable interval and bad
 buffers refused."""
@@ -107,17 +107,17 @@ def test_c_unwraps_as_numpy_through_the_pole_and_where_refinement_matters():
 def test_an_unresolvable_interval_and_bad_buffers_are_refused():
     out, rate = _stretch(rr.Body.paper(1e-3), [rr.EulerState(0.95 * math.pi, psi=0.1 * k) for k in range(WIDTH)])
     t = np.linspace(0.0, T_END, 5)  # 15 time units apart: φ and ψ turn by far more than 2π/3
-    col = np.zeros(t.size, np.intp)
-    y, fine = out.points(t, col), np.full(t.size, math.inf)
+    col, fine = np.zeros(t.size, np.intp), np.full(t.size, math.inf)
     with pytest.raises(RuntimeError, match="could not resolve"):
-        out.turns(t, col, y, fine, _UNWRAP_LIMIT, 0, _SHORTEST)
-    assert np.all(np.isfinite(out.turns(t, col, y, fine, _UNWRAP_LIMIT, _MAX_BISECTIONS, _SHORTEST)))
+        out.unwrap(t, col, fine, _UNWRAP_LIMIT, 0, _SHORTEST)
+    y, turns = out.unwrap(t, col, fine, _UNWRAP_LIMIT, _MAX_BISECTIONS, _SHORTEST)
+    assert np.array_equal(y, out.points(t, col)) and np.all(np.isfinite(turns))
     with pytest.raises(ValueError, match="col: a lane out of range"):
-        out.turns(t, col + WIDTH, y, fine, _UNWRAP_LIMIT, _MAX_BISECTIONS, _SHORTEST)
+        out.unwrap(t, col + WIDTH, fine, _UNWRAP_LIMIT, _MAX_BISECTIONS, _SHORTEST)
     with pytest.raises(ValueError, match="fine"):
-        out.turns(t, col, y, fine[:-1], _UNWRAP_LIMIT, _MAX_BISECTIONS, _SHORTEST)
+        out.unwrap(t, col, fine[:-1], _UNWRAP_LIMIT, _MAX_BISECTIONS, _SHORTEST)
     with pytest.raises(ValueError, match="max_bisections"):
-        out.turns(t, col, y, fine, _UNWRAP_LIMIT, -1, _SHORTEST)
+        out.unwrap(t, col, fine, _UNWRAP_LIMIT, -1, _SHORTEST)
     with pytest.raises(ValueError, match="out"):
         _dense.turns(out.tcs, out.times, t, col.astype(np.int64), y, fine, _UNWRAP_LIMIT, 4, _SHORTEST,
                      np.empty((2, t.size), np.float32))
