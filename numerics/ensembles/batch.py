@@ -53,9 +53,9 @@ MAX_LANES = 16
 #: Radians of Λ integrated per stretch of each lane: a quarter of the scalar path's ``CHUNK_RADIANS``, so that the
 #: dense output of a stretch of 8 lanes (the widest heyoka recommends), ≈ 18 MB and at most 1.5 × that, stays below
 #: glibc's largest mmap threshold (32 MB) and is reused from the heap (``CHUNK_RADIANS``).  Measured on
-#: benchmarks/bench_ensemble.py's 64 jobs (1000 time units, 8 lanes): 1.3× faster per trajectory than an eighth
-#: (twice the stretches, each with its fixed cost of heyoka's dense output and of the bookkeeping), 1.2× faster than
-#: a half (mapped fresh).  Fixed, not divided by the width: a lane's stretches, and so its steps, are the same at
+#: benchmarks/bench_ensemble.py's 64 jobs (1000 time units, 8 lanes), with the unwrapping in C: 1.2× faster per
+#: trajectory than an eighth (twice the stretches, each with its fixed cost of heyoka's dense output and of the
+#: bookkeeping), 1.3× faster than a half (mapped fresh).  Fixed, not divided by the width: a lane's stretches, and so its steps, are the same at
 #: every width.
 BATCH_CHUNK_RADIANS = CHUNK_RADIANS / 4
 _TEMPLATES: dict[tuple[int, float], Any] = {}
