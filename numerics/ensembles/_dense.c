@@ -313,7 +313,7 @@ static PyObject *turns(PyObject *self, PyObject *args)
             Py_BEGIN_ALLOW_THREADS
             Py_ssize_t last = 0;
             double sum[2] = {0.0, 0.0};
-            Point lo = point_of(m > 0 ? t[0] : 0.0, y);
+            Point lo = {0.0, 0.0, 0.0, 0.0, 0}; /* set at each lane's first point */
             for (Py_ssize_t k = 0; k < m && !unresolvable; k++) {
                 if (k == 0 || col[k] != col[k - 1]) { /* a lane's first point: its count starts at 0 */
                     sum[0] = sum[1] = 0.0;

@@ -112,6 +112,8 @@ def test_an_unresolvable_interval_and_bad_buffers_are_refused():
         out.unwrap(t, col, fine, _UNWRAP_LIMIT, 0, _SHORTEST)
     y, turns = out.unwrap(t, col, fine, _UNWRAP_LIMIT, _MAX_BISECTIONS, _SHORTEST)
     assert np.array_equal(y, out.points(t, col)) and np.all(np.isfinite(turns))
+    y0, turns0 = out.unwrap(t[:0], col[:0], fine[:0], _UNWRAP_LIMIT, _MAX_BISECTIONS, _SHORTEST)
+    assert y0.shape == (0, 11) and turns0.shape == (2, 0)  # no points: nothing read, nothing written
     with pytest.raises(ValueError, match="col: a lane out of range"):
         out.unwrap(t, col + WIDTH, fine, _UNWRAP_LIMIT, _MAX_BISECTIONS, _SHORTEST)
     with pytest.raises(ValueError, match="fine"):
