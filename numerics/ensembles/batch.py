@@ -12,8 +12,9 @@ the scalar integrator's in the last bits, which the motion then amplifies (the b
 (``_dense.c``), at times within half an ulp of heyoka's own evaluation's (``tests/numerics/ensembles/test_dense.py``).
 Every lane's events and turning points are worked on together, one numpy pass per stretch for all lanes
 (``BATCH_CHUNK_RADIANS``); the unwrapping's refinement and turns in C too, each lane's points in one pass, the same
-turns as the numpy unwrapping's bit for bit (``_dense.c``, ``tests/numerics/ensembles/test_turns.py``).  A lane's results do not depend on the other lanes (each lane has its own time,
-step size, events and stretches, and its stretches are set by its own rate bound, not by the width): the same job
+turns as the numpy unwrapping's bit for bit (``_dense.c``, ``tests/numerics/ensembles/test_turns.py``).  A lane's
+results do not depend on the other lanes (each lane has its own time, step size, events and stretches, and its
+stretches are set by its own rate bound, not by the width): the same job
 gives the same results bit for bit in any lane, any batch and at any width from 2 to ``MAX_LANES`` (tested at
 2, 4, 8 and 16).  Width 1 is not a batch: heyoka compiles it as scalar code, whose results differ in the last bits,
 so a batch has at least ``MIN_LANES`` = 2 lanes.
@@ -59,8 +60,8 @@ MAX_LANES = 16
 #: glibc's largest mmap threshold (32 MB) and is reused from the heap (``CHUNK_RADIANS``).  Measured on
 #: benchmarks/bench_ensemble.py's 64 jobs (1000 time units, 8 lanes), with the unwrapping in C: 1.2× faster per
 #: trajectory than an eighth (twice the stretches, each with its fixed cost of heyoka's dense output and of the
-#: bookkeeping), 1.3× faster than a half (mapped fresh).  Fixed, not divided by the width: a lane's stretches, and so its steps, are the same at
-#: every width.
+#: bookkeeping), 1.3× faster than a half (mapped fresh).  Fixed, not divided by the width: a lane's stretches, and so
+#: its steps, are the same at every width.
 BATCH_CHUNK_RADIANS = CHUNK_RADIANS / 4
 #: glibc's malloc thresholds fixed at the first batch run of a process (:func:`_steady_malloc`): allocations below
 #: 32 MiB come from the heap (glibc's largest dynamic mmap threshold on 64 bits, DEFAULT_MMAP_THRESHOLD_MAX), and
