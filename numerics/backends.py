@@ -24,9 +24,8 @@ from numpy.typing import NDArray
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import STATE_SIZE, body_frame_rhs, turning_point_function
 from rocknroller.numerics.cache import compiling, probe_writable, warn_unwritable
-from rocknroller.numerics.events import _turning_points, start_turning_point
+from rocknroller.numerics.events import DenseOutput, _turning_points, start_turning_point
 from rocknroller.numerics.run_limits import MAX_DENSE_STEPS
-from rocknroller.numerics.events import DenseOutput
 
 __all__ = ["heyoka_integrator", "check_diskcache"]
 

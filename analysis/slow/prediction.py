@@ -19,8 +19,8 @@ One step (maximum n → maximum n+1), to first order in ε at fixed Q_n:
 with T_θ, W = 2(Δψ − π) and Δφ those of the symmetric body (from the quadratures,
 ``rocknroller.analysis.routh.quadrature``, for the release tables; from the variational orbits themselves for the
 region tables) and the first-order terms from the symmetric orbit integrated together with its first-order
-variational equations in ε (:mod:`rocknroller.analysis.slow.map.orbit`; three orbits per Q give the harmonics 0 and 1
-of Θ_n).
+variational equations in ε (:mod:`rocknroller.analysis.slow.map.orbit`; one orbit per Q with three ε-responses, from
+three spin angles, gives the harmonics 0 and 1 of Θ_n).
 
 Reversible form.  The exact map is reversible under (Q, Θ) → (−Q, Θ) (time reversal).  The same
 first-order data are written as drift–kick–drift: a half twist Θ += W(Q)/2, a kick

@@ -70,6 +70,7 @@ BATCH_CHUNK_RADIANS = CHUNK_RADIANS / 4
 MALLOC_MMAP_THRESHOLD = 32 * 2**20
 MALLOC_TRIM_THRESHOLD = 128 * 2**20
 _MALLOPT = {"M_TRIM_THRESHOLD": -1, "M_MMAP_THRESHOLD": -3}  # glibc's malloc.h
+_MALLOC_ENVIRONMENT = ("MALLOC_MMAP_THRESHOLD_", "MALLOC_TRIM_THRESHOLD_")
 _MALLOC_DONE = threading.Event()
 _TEMPLATES: dict[tuple[int, float], Any] = {}
 _TEMPLATE_LOCK = threading.Lock()
@@ -86,8 +87,8 @@ def batch_width() -> int:
 
 def _steady_malloc() -> None:
     """Fix glibc's malloc thresholds at ``MALLOC_MMAP_THRESHOLD`` and ``MALLOC_TRIM_THRESHOLD``, once per process,
-    unless the environment sets them (``MALLOC_MMAP_THRESHOLD_``, ``MALLOC_TRIM_THRESHOLD_``) or the C library is not
-    glibc.
+    unless the environment sets them (``MALLOC_MMAP_THRESHOLD_``, ``MALLOC_TRIM_THRESHOLD_``, or ``GLIBC_TUNABLES``'s
+    ``glibc.malloc.mmap_threshold``, ``glibc.malloc.trim_threshold``) or the C library is not glibc.
 
     A stretch's dense output is heyoka's: a vector grown by doubling to ≈ 30 MB at 8 lanes (``BATCH_CHUNK_RADIANS``),
     freed when the stretch is done.  With glibc's dynamic thresholds the heap's top is returned to the system when
@@ -100,8 +101,9 @@ def _steady_malloc() -> None:
     if _MALLOC_DONE.is_set():
         return
     _MALLOC_DONE.set()
-    if platform.libc_ver()[0] != "glibc" or "MALLOC_MMAP_THRESHOLD_" in os.environ or \
-            "MALLOC_TRIM_THRESHOLD_" in os.environ:
+    tunables = os.environ.get("GLIBC_TUNABLES", "")
+    if platform.libc_ver()[0] != "glibc" or any(name in os.environ for name in _MALLOC_ENVIRONMENT) or \
+            any(f"glibc.malloc.{name}=" in tunables for name in ("mmap_threshold", "trim_threshold")):
         return
     mallopt = ctypes.CDLL(None).mallopt
     mallopt(_MALLOPT["M_TRIM_THRESHOLD"], MALLOC_TRIM_THRESHOLD)

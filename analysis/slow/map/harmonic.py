@@ -49,7 +49,8 @@ class StepCoefficients:
         For each name of ``FIRST_ORDER_NAMES``, (c0, c1, s1) with
         ε-response(Θ_n) = c0 + c1 cos Θ_n + s1 sin Θ_n, Θ_n = 2ψ_n.
     steps : tuple of FirstOrderStep
-        The three orbits (ψ_n in ``HARMONIC_PSI``).
+        The steps from the three spin angles ψ_n in ``HARMONIC_PSI``: one orbit turned (the same T, Δψ, Δφ and θ_X),
+        each with its own ε-responses.
     """
 
     QR: float
@@ -77,8 +78,9 @@ def _harmonics(values: ArrayLike) -> NDArray[np.float64]:
 
 def harmonic_steps(body: Body, E: float, QR: ArrayLike, QJ: ArrayLike, theta_X: ArrayLike | None = None, *,
                    lanes: int | None = None) -> tuple[FirstOrderStep, NDArray[np.float64]]:
-    """The three orbits (ψ_n in ``HARMONIC_PSI``) at each of N points Q and the harmonics (c0, c1, s1) of their
-    ε-responses, shape (len(FIRST_ORDER_NAMES), N, 3); the steps' fields are arrays (N, 3).  θ_X as in
+    """The steps from the three spin angles (ψ_n in ``HARMONIC_PSI``) at each of N points Q and the harmonics
+    (c0, c1, s1) of their ε-responses, shape (len(FIRST_ORDER_NAMES), N, 3); the steps' fields are arrays (N, 3), in
+    which T, Δψ, Δφ and θ_X repeat across the three (one orbit, turned).  θ_X as in
     :func:`~rocknroller.analysis.slow.map.orbit.first_order_steps`.
 
     One orbit per Q carries the three: by Routh's sphere's symmetry the orbit from ψ_k is S_k y(t), y(t) the one
@@ -110,7 +112,7 @@ def harmonic_steps(body: Body, E: float, QR: ArrayLike, QJ: ArrayLike, theta_X: 
 
 
 def step_coefficients(body: Body, E: float, QR: float, QJ: float) -> StepCoefficients:
-    """The first-order one-step coefficients at energy E and Q = (Q_R, Q_J) (three variational orbits)."""
+    """The first-order one-step coefficients at energy E and Q = (Q_R, Q_J) (:func:`harmonic_steps`)."""
     sym = body.symmetric()
     T, W, dphi, theta_X = (float(x) for x in symmetric_data(sym, E, QR, QJ))
     st, resp = harmonic_steps(sym, E, QR, QJ, theta_X)

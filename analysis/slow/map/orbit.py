@@ -29,8 +29,9 @@ also carries w, the second ε-derivative along the start's curve y₀(ε)
 h = 0 at the next maximum as the first's does.
 
 The orbits run in heyoka's batch mode, one per SIMD lane (:func:`first_order_steps`, ``harmonic_steps``): the
-tables' nodes cost ~4× less than one orbit at a time (``validation/region_table.py``); the lanes differ from a
-one-lane run by the rounding of the vector kernels only (~1e-14 of each response).
+tables' nodes cost ~5× less than one orbit at a time (``validation/region_table.py``, docs/slow_validation.md); the
+lanes differ from a one-lane run by the rounding of the vector kernels only (up to ~1e-11 of each response's largest
+harmonic: the responses are central differences, which amplify it).
 """
 
 from __future__ import annotations
@@ -73,7 +74,8 @@ _STATE_NAMES = ("g1", "g2", "g3", "w1", "w2", "w3", "x1", "x2", "x3", "X", "Y")
 _INTEGRATOR: dict[str, Any] = {}
 _PER_THREAD = threading.local()
 _INTEGRATOR_LOCK = threading.Lock()
-#: CPU seconds a compilation of :func:`_variational_integrator` of each order usually takes (measured, one core).
+#: CPU seconds a compilation of :func:`_variational_integrator` of each order usually takes (measured, one core,
+#: rounded up: 0.5 s for order 1, 0.8 s for the harmonic system).
 _COMPILE_SECONDS: dict[int | str, float] = {1: 1.0, 2: 1.0, "harmonic": 1.0}
 
 

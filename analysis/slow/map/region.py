@@ -71,6 +71,8 @@ _CHART_DEGREE = 8
 _BRACKET_DOUBLINGS = 64
 _EDGE_STEPS = 60
 #: Relative rounding of min U (a few units in the last place): an edge whose bracket's g differ by less is resolved.
+#: Measured: along rays through the edge (band and spindle charts, releases at 0.3π and 0.95π) min U scatters about a
+#: smooth fit by at most 3.2 ε of the level, with numpy's AVX-512 kernels and without them: 8 ε covers it 2.5 times.
 _EDGE_ROUNDING = 8.0 * np.finfo(float).eps
 
 
@@ -269,7 +271,7 @@ def region_frame(body: Body, E: float, *, axis: str = "auto", nu: int | None = N
         # c: the centre of the layer in which W turns by 2π across Q_J,π^crit (it bends off the line), w: the
         # largest half-width about it inside the level set; the stretch across then follows the layer everywhere.
         # W is odd in Q and the profile's nodes are antisymmetric, so c is odd: the first half's centres give the rest
-        half = len(xs) // 2
+        half = len(xs) // 2  # _PROFILE_NODES is even: the profile's nodes come in pairs x, −x
         c = _layer_centres(sym, E, on_line[:half], n, lo[:half], up[:half], 2.0 / max(dW_dv, 1e-300))
         c = np.concatenate([c, -c[::-1]])
         w, degree = np.minimum(up - c, c - lo), _BAND_DEGREE
@@ -349,7 +351,7 @@ def build_region_table(body: Body, E: float, *, axis: str = "auto", nu: int | No
     tip_fraction : float
         Part of the spindle's half-length covered along the critical line, in ``TIP_FRACTION_RANGE``.
     progress : bool or None
-        A tqdm bar on stderr over the nodes (3 variational orbits each), naming the table and showing the time
+        A tqdm bar on stderr over the nodes (one variational orbit each), naming the table and showing the time
         left; None: only if stderr is a terminal.
     workers : int
         Processes that share the nodes, 1 ≤ workers ≤ ``parallel.MAX_PROCESSES``; the table does not depend on it.  More

@@ -57,9 +57,10 @@ __all__ = [
 ]
 
 #: Bump when the table construction or its file format changes (part of the cache key).
-_TABLE_VERSION = "9"  # 6: numpy's Chebyshev nodes (exactly antisymmetric); 7: maxima by batch terminal events;
+_TABLE_VERSION = "10"  # 6: numpy's Chebyshev nodes (exactly antisymmetric); 7: maxima by batch terminal events;
 # 8: the second-order orbits in batch lanes, the chart's derivative series formed once per table (k₂ within ~1e-8);
-# 9: one orbit with three ε-responses per node, half the nodes of a mirrored grid, the region's edge by regula falsi
+# 9: one orbit with three ε-responses per node, half the nodes of a mirrored grid, the region's edge by regula falsi;
+# 10: a node's T from its one orbit (it was the mean of three copies of it, rounded)
 
 
 class TableNotCachedError(ValueError):
@@ -91,15 +92,16 @@ def _table_spec(nu: int, nv: int) -> dict[str, tuple[int, ...]]:
 
 
 def node_block(sym: Body, E: float, nodes: list[tuple[float, float, float]]) -> NDArray[np.float64]:
-    """Rows (T, W mod 2π, Δφ mod π, the harmonics of the ε-responses) at nodes (Q_R, Q_J, θ_X): three orbits
-    each, all run through the batch integrator's lanes."""
+    """Rows (T, W mod 2π, Δφ mod π, the harmonics of the ε-responses) at nodes (Q_R, Q_J, θ_X): one orbit with
+    three ε-responses each (:func:`~rocknroller.analysis.slow.map.harmonic.harmonic_steps`), all run through the
+    batch integrator's lanes."""
     QR, QJ, thX = np.array(nodes, float).T
     steps, resp = harmonic_steps(sym, E, QR, QJ, thX)
     out = np.empty((len(nodes), 3 + 3 * len(FIRST_ORDER_NAMES)))
-    T, dpsi, dphi = (np.asarray(v) for v in (steps.T, steps.dpsi, steps.dphi))  # a batch's fields: arrays (N, 3)
-    out[:, 0] = T.mean(axis=1)
-    out[:, 1] = wrap_angle(2.0 * dpsi[:, 0])
-    out[:, 2] = dphi[:, 0]
+    # a batch's fields: arrays (N, 3), the one orbit's T, Δψ, Δφ in each column
+    out[:, 0] = np.asarray(steps.T)[:, 0]
+    out[:, 1] = wrap_angle(2.0 * np.asarray(steps.dpsi)[:, 0])
+    out[:, 2] = np.asarray(steps.dphi)[:, 0]
     out[:, 3:] = np.moveaxis(resp, 0, 1).reshape(len(nodes), -1)
     return out
 
@@ -158,7 +160,8 @@ def assemble_nodes(rows: list[NDArray], shape: tuple[int, ...]) -> tuple[NDArray
 def orbit_data(sym: Body, E: float, QR: NDArray, QJ: NDArray, theta_X: NDArray, *, progress: bool | None = None,
                workers: int = 1, desc: str = "tables") -> tuple[NDArray, NDArray, NDArray, NDArray]:
     """T, W mod 2π, Δφ mod π (each shaped like QR) and the harmonics of the ε-responses (shape
-    ``(len(FIRST_ORDER_NAMES), *QR.shape, 3)``) at nodes (Q_R, Q_J) with their θ_X: three variational orbits per node, in blocks of
+    ``(len(FIRST_ORDER_NAMES), *QR.shape, 3)``) at nodes (Q_R, Q_J) with their θ_X: one variational orbit with three ε-responses
+    per node, for the first half of the nodes of a :func:`mirrored` grid (the rest by the symmetry), in blocks of
     ``_BLOCK_NODES`` shared by ``workers`` processes, under a tqdm bar named ``desc`` (``progress`` None: only if
     stderr is a terminal).  Each node's numbers depend on neither the blocks nor the processes (the batch
     integrator's lanes are independent)."""
@@ -185,7 +188,7 @@ def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_fact
     v_ratio : float
         V = v_ratio · U.
     progress : bool or None
-        A tqdm bar on stderr over the nodes (3 variational orbits each), naming the table and showing the time
+        A tqdm bar on stderr over the nodes (one variational orbit each), naming the table and showing the time
         left; None: only if stderr is a terminal.
     workers : int
         Processes that share the nodes, 1 ≤ workers ≤ ``parallel.MAX_PROCESSES``; the table does not depend on it.
@@ -254,7 +257,7 @@ def check_grid(nu: int, nv: int) -> None:
 
 
 def kick_at_rest(sym: Body, E: float) -> NDArray[np.float64]:
-    """C0 with ΔQ(0, Θ) = C0 sin Θ: the kick at Q = 0 from the three variational orbits at energy E."""
+    """C0 with ΔQ(0, Θ) = C0 sin Θ: the kick at Q = 0 from the variational orbit with three ε-responses at energy E."""
     resp = harmonic_steps(sym, E, 0.0, 0.0)[1]
     return np.array([resp[FIRST_ORDER_NAMES.index(k), 0, 2] for k in ("QR", "QJ")])
 

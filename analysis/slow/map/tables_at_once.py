@@ -3,7 +3,7 @@
 A scan over the release angle θ0 (an atlas's rows, a bifurcation diagram, portraits at several energies) needs one
 release table per θ0 (:func:`rocknroller.analysis.slow.map.table.build_table`).  :func:`build_release_tables` builds
 those not yet cached together: each table's chart and its symmetric orbits (quadratures, cheap) in this process, then
-the node blocks of all of them (three variational orbits per node, the cost) on one scheduler of
+the node blocks of all of them (one variational orbit per node, the cost) on one scheduler of
 :func:`rocknroller.numerics.ensembles.blocks.run_blocks`: threads of this process, spawned processes, a local
 dask.distributed cluster or the workers of a dask scheduler at an address, the schedulers of
 :func:`rocknroller.numerics.ensembles.ensemble.run_ensemble`.  Each table is then fitted and checked here from its own

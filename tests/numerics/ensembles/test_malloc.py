@@ -30,7 +30,7 @@ def fake_libc(monkeypatch):
     monkeypatch.setattr(batch.ctypes, "CDLL", lambda name: libc)
     monkeypatch.setattr(batch.platform, "libc_ver", lambda: ("glibc", "2.36"))
     monkeypatch.setattr(batch, "_MALLOC_DONE", batch.threading.Event())
-    for name in ("MALLOC_MMAP_THRESHOLD_", "MALLOC_TRIM_THRESHOLD_"):
+    for name in ("MALLOC_MMAP_THRESHOLD_", "MALLOC_TRIM_THRESHOLD_", "GLIBC_TUNABLES"):
         monkeypatch.delenv(name, raising=False)
     return libc
 
@@ -43,11 +43,19 @@ def test_the_thresholds_are_glibcs_dynamic_maxima_set_once(fake_libc):
     assert fake_libc.calls == [(-1, 4 * 4 * 2**20 * 8), (-3, 4 * 2**20 * 8)]
 
 
-@pytest.mark.parametrize("name", ["MALLOC_MMAP_THRESHOLD_", "MALLOC_TRIM_THRESHOLD_"])
-def test_the_environments_thresholds_are_kept(fake_libc, monkeypatch, name):
-    monkeypatch.setenv(name, "1048576")
+@pytest.mark.parametrize("name, value", [("MALLOC_MMAP_THRESHOLD_", "1048576"), ("MALLOC_TRIM_THRESHOLD_", "1048576"),
+                                         ("GLIBC_TUNABLES", "glibc.malloc.trim_threshold=1048576"),
+                                         ("GLIBC_TUNABLES", "glibc.elision.enable=1:glibc.malloc.mmap_threshold=65536")])
+def test_the_environments_thresholds_are_kept(fake_libc, monkeypatch, name, value):
+    monkeypatch.setenv(name, value)
     batch._steady_malloc()
     assert fake_libc.calls == []
+
+
+def test_other_tunables_do_not_keep_glibcs_dynamic_thresholds(fake_libc, monkeypatch):
+    monkeypatch.setenv("GLIBC_TUNABLES", "glibc.malloc.arena_max=2")
+    batch._steady_malloc()
+    assert len(fake_libc.calls) == 2
 
 
 def test_another_c_library_is_left_alone(fake_libc, monkeypatch):

@@ -79,7 +79,7 @@ _start = st.builds(lambda theta, psi, rates: rr.EulerState(theta, 0.0, psi, *rat
        st.sampled_from([0.15, 1.0, math.inf]))
 def test_c_unwraps_as_numpy_on_random_lanes(starts, radians, fine_radians):
     """Random starts (tilts down to 0.05 rad, fast spins), grids of 1-6 radians of Λ (coarser than the 2π/3 limit:
-    refined), the rate test stopping at 0.15 or 1 radian or never; lanes taken out of order and from branches 2π·k
+    refined), the rate test applied down to 0.15 or 1 radian or not at all; lanes taken out of order and from branches 2π·k
     away: the same bits."""
     out, rate = _stretch(rr.Body.paper(1e-3), starts)
     columns = [5, 0, 3, 7, 1]

@@ -27,6 +27,13 @@ EPS = np.finfo(float).eps
 #: that is small beside the state; the tables need the responses to ``REGION_TABLE_ACCURACY``, so the two must agree
 #: to a hundredth of that, relative to the largest harmonic of each response at each node.
 AGREE = 1e-2 * REGION_TABLE_ACCURACY
+#: Two runs of one orbit by different systems (here turned, in test_mirror_nodes.py mirrored): each keeps its local
+#: error per step within ε of max(1, ‖y‖∞) (≲ 6 on these orbits) over ≲ 100 steps to the next maximum (31 for the
+#: motion alone at these energies; the tangent components can only shorten the steps), ≲ 1.3e-13 each, 2.7e-13
+#: between the two; the time and the angles read off at the maximum carry that over rates of order one.  1e-12 bounds
+#: them with a margin of ~4, and 1e-13 bounds T (≈ 11) relative to itself (measured: 2e-15 relative in T, 8e-15 in
+#: Δψ and Δφ).
+ORBITS_AGREE = 1e-12
 
 
 def _nodes(kind: str, count: int, seed: int) -> tuple[float, np.ndarray, np.ndarray]:
@@ -52,9 +59,9 @@ def test_one_orbit_gives_the_responses_of_three(kind):
     scale = np.abs(ref).max(axis=-1, keepdims=True)
     assert np.all(np.abs(resp - ref) <= AGREE * scale)
     # the one orbit's own data: the same orbit up to the turn, to its integration's accuracy
-    assert np.allclose(steps.T, np.reshape(three.T, shape), rtol=1e-12, atol=0.0)
-    assert np.allclose(steps.dpsi, np.reshape(three.dpsi, shape), rtol=0.0, atol=1e-12)
-    assert np.allclose(steps.dphi, np.reshape(three.dphi, shape), rtol=0.0, atol=1e-12)
+    assert np.allclose(steps.T, np.reshape(three.T, shape), rtol=0.1 * ORBITS_AGREE, atol=0.0)
+    assert np.allclose(steps.dpsi, np.reshape(three.dpsi, shape), rtol=0.0, atol=ORBITS_AGREE)
+    assert np.allclose(steps.dphi, np.reshape(three.dphi, shape), rtol=0.0, atol=ORBITS_AGREE)
 
 
 def test_the_response_values_follow_from_the_harmonics_at_other_spin_angles():

@@ -23,6 +23,8 @@ EPS = np.finfo(float).eps
 #: Agreement of node data computed two ways, relative to each response's largest harmonic at the node (as in
 #: test_harmonic_orbit.py: a hundredth of the tables' accuracy, far above the responses' rounding).
 AGREE = 1e-2 * table.REGION_TABLE_ACCURACY
+#: Two runs of one orbit, the second mirrored (test_harmonic_orbit.py derives the bound).
+ORBITS_AGREE = 1e-12
 
 
 def _band(nu: int = 16, nv: int = 16):
@@ -36,9 +38,9 @@ def test_node_data_at_minus_Q_follow_the_mirror_signs():
     here = table.node_block(SYM, frame.E0, list(zip(QR, QJ, thX)))
     there = table.node_block(SYM, frame.E0, list(zip(-QR, -QJ, thX)))
     mirrored = here * table._MIRROR_SIGNS
-    assert np.allclose(there[:, 0], mirrored[:, 0], rtol=1e-13, atol=0.0)  # T_θ
-    assert np.all(np.abs(wrap_angle(there[:, 1] - mirrored[:, 1])) <= 1e-12)  # W mod 2π
-    assert np.all(np.abs(wrap_angle(there[:, 2] - mirrored[:, 2], math.pi)) <= 1e-12)  # Δφ mod π
+    assert np.allclose(there[:, 0], mirrored[:, 0], rtol=0.1 * ORBITS_AGREE, atol=0.0)  # T_θ
+    assert np.all(np.abs(wrap_angle(there[:, 1] - mirrored[:, 1])) <= ORBITS_AGREE)  # W mod 2π
+    assert np.all(np.abs(wrap_angle(there[:, 2] - mirrored[:, 2], math.pi)) <= ORBITS_AGREE)  # Δφ mod π
     for j in range(len(FIRST_ORDER_NAMES)):
         cols = slice(3 + 3 * j, 6 + 3 * j)
         scale = np.abs(here[:, cols]).max(axis=1, keepdims=True)
@@ -55,7 +57,10 @@ def test_every_chart_grid_is_mirrored_and_the_check_points_are_not():
     x, y = np.array(region._CHECK_POINTS).T
     assert not table.mirrored(*_band().chart(x, y))
     blocks = table.node_blocks(SYM, E, *_band(8, 12).nodes(), np.ones((8, 12)))
-    assert sum(len(b[2]) for b in blocks) == 48 and sum(table.nodes_done(blocks, 96)) == 96
+    assert [len(b[2]) for b in blocks] == [48] and table.nodes_done(blocks, 96) == [96]  # each counts for two
+    QR, QJ = _band().chart(x, y)
+    blocks = table.node_blocks(SYM, E, QR, QJ, np.ones(QR.shape))
+    assert [len(b[2]) for b in blocks] == [len(x)] and table.nodes_done(blocks, len(x)) == [len(x)]  # for one
 
 
 def _every_node(frame, theta_X):

@@ -330,8 +330,9 @@ def test_accuracy_warning_names_the_chart_and_the_cause(theta0, chart, small):
 
 @pytest.mark.slow
 def test_accuracy_warning_at_small_amplitude_on_the_default_grid():
-    """A release from rest at 0.004pi (issue 25's case was 0.005pi, whose tables of this energy now interpolate to
-    2.1e-7) runs on the default spindle tables of its energy, which interpolate to ~5e-6 (> 1e-6): the prediction's
+    """A release from rest at 0.004pi (issue 25's case was the start below at 0.005pi: the tables of its first
+    maximum's energy now interpolate to 2.1e-7, though those of a release from rest at 0.005pi give 2.5e-6, the
+    check's error moving by ~10× with small changes of energy at small amplitude) runs on the default spindle tables of its energy, which interpolate to ~5e-6 (> 1e-6): the prediction's
     warning names the spindle's tips at small amplitude."""
     start = EulerState(0.004 * math.pi, 0.0, 0.5)
     body = Body.paper(1e-2)
