@@ -14,9 +14,10 @@ keyword-only::
 from rocknroller.analysis.criticality.lines import QJ_crit, QJ_crit_0, QJ_crit_pi, region, region_fractions
 from rocknroller.analysis.criticality.reversals import reversal_analysis
 from rocknroller.analysis.criticality.starts import CriticalStart, critical_start
+from rocknroller.analysis.hierarchy.table import hierarchy_table
 from rocknroller.analysis.criticality.theta_z import (cos_theta_z, delta_bound_coefficients, delta_of, theta_e, theta_z,
                                                       theta_z_expansion)
-from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.body import Body, LoadedSphere
 from rocknroller.analysis.model.diagnostics import azimuth_span
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.model.invariants import V_phi, V_psi
@@ -44,7 +45,7 @@ from rocknroller.papers.citation import cite
 __all__ = [
     "__version__", "cite",
     # the body and the direct ODE
-    "Body", "EulerState", "simulate", "Trajectory", "TurningPointRun", "TurningPoints", "AccuracyError",
+    "Body", "LoadedSphere", "hierarchy_table", "EulerState", "simulate", "Trajectory", "TurningPointRun", "TurningPoints", "AccuracyError",
     "AccuracyWarning", "direct_chaos_indicators", "DirectChaos",
     # many direct runs: in this process or on a dask.distributed cluster
     "Job", "RunSummary", "run_ensemble",

@@ -47,7 +47,8 @@ from rocknroller.numerics.ensembles.ensemble import Job, RunSummary, run_ensembl
 from rocknroller.analysis.model.invariants import energy
 from rocknroller.numerics.integrate import DT_RADIANS, _stretch_end, default_dt, heyoka_integrator, rate_bound, simulate
 from rocknroller.numerics.run_limits import DEFAULT_TOL
-from rocknroller.numerics.trajectory import TurningPoints, energy_scale
+from rocknroller.numerics.run_limits import energy_scale
+from rocknroller.numerics.trajectory import TurningPoints
 
 #: heyoka's tolerance at CyRK's best energy error (the Taylor order 14 level: ≈ 2e-13 on these runs and on the figure-5
 #: run, where DOP853 at its smallest rtol reaches 3-4e-13; benchmarks/bench_integrate.py scans both).

@@ -53,7 +53,7 @@ from rocknroller.analysis.model.invariants import energy
 from rocknroller.analysis.model.equations import STATE_SIZE, body_frame_rhs, turning_point_function
 from rocknroller.numerics.backends import _build_heyoka, _EventLog
 from rocknroller.numerics.integrate import heyoka_integrator, simulate
-from rocknroller.numerics.trajectory import energy_scale
+from rocknroller.numerics.run_limits import energy_scale
 from rocknroller.analysis.model.equations import fig5_start
 
 T_END = 1500.0

@@ -21,17 +21,17 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.body import Body, LoadedSphere
 from rocknroller.analysis.model.equations import STATE_SIZE, body_frame_rhs, turning_point_function
 from rocknroller.numerics.cache import compiling, probe_writable, warn_unwritable
 from rocknroller.numerics.events import DenseOutput, _turning_points, start_turning_point
 from rocknroller.numerics.run_limits import MAX_DENSE_STEPS
 
-__all__ = ["heyoka_integrator", "check_diskcache"]
+__all__ = ["heyoka_integrator", "check_diskcache", "check_params", "PARAM_COUNTS"]
 
 _PRECISIONS = ("double", "extended")
 #: The integrator compiled once per process, per precision and tolerance; never propagated itself, only copied.
-_TEMPLATES: dict[tuple[str, float], Any] = {}
+_TEMPLATES: dict[tuple[str, float, int], Any] = {}
 _TEMPLATE_LOCK = threading.Lock()
 #: Each thread's own copies of the templates (a heyoka integrator must not be propagated by two threads at once).
 _PER_THREAD = threading.local()
@@ -47,23 +47,37 @@ class _EventLog:
         self.events.append((float(time), int(d_sgn)))
 
 
-def _build_heyoka(fp_type: Any, tol: float) -> Any:
+def _build_heyoka(fp_type: Any, tol: float, n_par: int) -> Any:
     import heyoka as hy
 
     names = ["g1", "g2", "g3", "w1", "w2", "w3", "x1", "x2", "x3", "X", "Y"]
     y = hy.make_vars(*names)
-    pars = [hy.par[i] for i in range(5)]
+    pars = [hy.par[i] for i in range(n_par)]
     rhs = body_frame_rhs(y, pars)
     kwargs = {} if fp_type is float else {"fp_type": fp_type}
     ev = hy.nt_event(turning_point_function(y), _EventLog(), **kwargs)
     return hy.taylor_adaptive(list(zip(y, rhs)), np.zeros(STATE_SIZE, dtype=fp_type),
-                              pars=np.zeros(5, dtype=fp_type), nt_events=[ev], tol=fp_type(tol), **kwargs)
+                              pars=np.zeros(n_par, dtype=fp_type), nt_events=[ev], tol=fp_type(tol), **kwargs)
 
 
-def heyoka_integrator(precision: str = "double", tol: float | None = None) -> Any:
+def check_params(n_par: int) -> int:
+    """The number of runtime parameters of form (i): 5 for a :class:`~rocknroller.analysis.model.body.Body` (the mass
+    centre on the third axis, (a, I1, I2, I3, g)), 7 for a :class:`~rocknroller.analysis.model.body.LoadedSphere`
+    ((c1, c2, c3, I1, I2, I3, g)); each has its own compiled integrator."""
+    if n_par not in PARAM_COUNTS:
+        raise ValueError(f"n_par must be one of {PARAM_COUNTS} (the on-axis body, the general loaded sphere), "
+                         f"got {n_par!r}")
+    return n_par
+
+
+#: The runtime parameter counts of form (i): the on-axis Body, the general LoadedSphere.
+PARAM_COUNTS = (5, 7)
+
+
+def heyoka_integrator(precision: str = "double", tol: float | None = None, n_par: int = 5) -> Any:
     """The compiled heyoka integrator of form (i) at tolerance ``tol`` (None: heyoka's default, the machine epsilon
-    of ``precision``; checked by the caller, :func:`rocknroller.numerics.run_limits.check_tol`): compiled once per
-    process, one copy per thread.
+    of ``precision``; checked by the caller, :func:`rocknroller.numerics.run_limits.check_tol`) for ``n_par``
+    runtime parameters (:func:`check_params`): compiled once per process, one copy per thread.
 
     Every thread that calls this gets its own copy (made in about a millisecond), so
     :func:`~rocknroller.numerics.integrate.simulate` may run in several threads at once; a copy runs the same machine
@@ -75,7 +89,8 @@ def heyoka_integrator(precision: str = "double", tol: float | None = None) -> An
     if precision not in _PRECISIONS:
         raise ValueError(f"precision must be one of {_PRECISIONS}, got {precision!r}")
     mine = _PER_THREAD.__dict__.setdefault("integrators", {})
-    key = (precision, float(np.finfo(float if precision == "double" else np.longdouble).eps) if tol is None else tol)
+    key = (precision, float(np.finfo(float if precision == "double" else np.longdouble).eps) if tol is None else tol,
+           check_params(n_par))
     if key not in mine:
         with _TEMPLATE_LOCK:  # one compilation per process; copies are made from a template no thread propagates
             if key not in _TEMPLATES:
@@ -84,14 +99,16 @@ def heyoka_integrator(precision: str = "double", tol: float | None = None) -> An
     return mine[key]
 
 
-def _compile(precision: str, tol: float) -> Any:
+def _compile(precision: str, tol: float, n_par: int) -> Any:
     """Build the integrator of ``precision`` at ``tol`` (from heyoka's disk cache when it holds it), after checking
     that the cache can be used (:func:`check_diskcache`); a build that takes long says so on stderr
     (:func:`~rocknroller.numerics.cache.compiling`)."""
     check_diskcache()
     what, seconds = _COMPILE_NOTES[precision]
+    if n_par != PARAM_COUNTS[0]:
+        what = what.replace("direct integrator", "direct integrator of the general loaded sphere")
     with compiling(what, seconds):
-        return _build_heyoka(float if precision == "double" else np.longdouble, tol)
+        return _build_heyoka(float if precision == "double" else np.longdouble, tol, n_par)
 
 
 #: What :func:`_compile` compiles at each precision and the CPU seconds it usually takes (measured, one core).
@@ -129,10 +146,10 @@ def check_diskcache() -> None:
 class _HeyokaRun:
     """heyoka integrator advanced stretch by stretch, with the dense output of each stretch."""
 
-    def __init__(self, body: Body, y0: NDArray[np.float64], precision: str, bar: Any, max_steps: int | None,
-                 tol: float | None = None):
+    def __init__(self, body: Body | LoadedSphere, y0: NDArray[np.float64], precision: str, bar: Any,
+                 max_steps: int | None, tol: float | None = None):
         self.fp = float if precision == "double" else np.longdouble
-        self.ta = ta = heyoka_integrator(precision, tol)
+        self.ta = ta = heyoka_integrator(precision, tol, len(body.params))
         ta.time = self.fp(0.0)
         ta.state[:] = np.asarray(y0, dtype=self.fp)
         ta.pars[:] = np.asarray(body.params, dtype=self.fp)
@@ -181,7 +198,7 @@ class _HeyokaRun:
 class _ScipyRun:
     """scipy DOP853 advanced stretch by stretch (numpy right-hand side), with the dense output of each stretch."""
 
-    def __init__(self, body: Body, y0: NDArray[np.float64], rtol: float, atol: float, bar: Any):
+    def __init__(self, body: Body | LoadedSphere, y0: NDArray[np.float64], rtol: float, atol: float, bar: Any):
         self.body, self.y, self.t = body, np.asarray(y0, float), 0.0
         self.rtol, self.atol, self.bar, self.n_steps, self.tolerance = rtol, atol, bar, 0, rtol
         self.start = start_turning_point(body, y0)

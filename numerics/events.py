@@ -16,7 +16,7 @@ from typing import Callable, NamedTuple, Protocol, runtime_checkable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.body import Body, LoadedSphere
 from rocknroller.analysis.model.equations import body_frame_rhs, turning_point_function
 
 __all__ = ["START_ROOT_ULPS", "StartRoot", "start_turning_point", "H_ROUND_ULPS", "THETA_MIN", "lane_states"]
@@ -99,7 +99,7 @@ def _h_and_rate(y: NDArray[np.float64], params: tuple[float, ...]) -> tuple[NDAr
     return turning_point_function(y), f[0] * y[4] + y[0] * f[4] - f[1] * y[3] - y[1] * f[3]
 
 
-def start_turning_point(body: Body, y0: ArrayLike) -> StartRoot | None:
+def start_turning_point(body: Body | LoadedSphere, y0: ArrayLike) -> StartRoot | None:
     """Whether a start is itself a turning point of θ (θ̇0 = 0 to its rounding, ``START_ROOT_ULPS``), and of which kind.
 
     Such a start is not reported as a turning point (:func:`simulate`): the root of dγ3/dt that its rounding puts

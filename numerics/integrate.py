@@ -56,7 +56,7 @@ Accuracy ranges (dimensionless, unit mass and radius; outside them the run is re
 * the amplitude of θ at least ``THETA_MIN`` (see "Turning points").
 
 Every run's energy error is checked against the tolerance asked for
-(:func:`rocknroller.numerics.trajectory.energy_error_bound`): a run that misses it warns
+(:func:`rocknroller.numerics.run_limits.energy_error_bound`): a run that misses it warns
 (:class:`AccuracyWarning`), or raises :class:`AccuracyError` with ``strict=True``.
 """
 
@@ -70,7 +70,7 @@ from typing import Callable, Literal, TypeVar, overload
 import numpy as np
 from numpy.typing import NDArray
 
-from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.body import Body, LoadedSphere
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.model.invariants import energy
 from rocknroller.numerics.backends import _PRECISIONS, _HeyokaRun, _ScipyRun, check_diskcache, heyoka_integrator
@@ -83,8 +83,8 @@ from rocknroller.numerics.run_limits import (DEFAULT_TOL, DT_RADIANS, ENERGY_RAN
                                              MAX_GRID_POINTS, MAX_RADIANS, MAX_SAMPLES, MOMENT_RANGE, UNWRAP_RADIANS,
                                              RunPlan, _theta_min_name, check_run, check_tol, default_dt, rate_bound,
                                              theta_min)
-from rocknroller.numerics.trajectory import (Trajectory, TurningPointRun, TurningPoints, _Samples, energy_error_bound,
-                                             energy_scale)
+from rocknroller.numerics.run_limits import energy_error_bound, energy_scale
+from rocknroller.numerics.trajectory import Trajectory, TurningPointRun, TurningPoints, _Samples
 
 __all__ = [
     "simulate", "check_run", "finish_run", "check_energy_error", "check_theta_resolved", "check_diskcache", "RunPlan", "heyoka_integrator", "default_dt", "cache_dir", "rate_bound", "AccuracyWarning",
@@ -186,26 +186,26 @@ _TurningPointsCallback = Callable[[TurningPoints, TurningPoints], None]
 
 # The result's type follows ``samples`` (a Trajectory with samples, a TurningPointRun without), for type checkers.
 @overload
-def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = ..., dt: float | None = ...,
+def simulate(body: Body | LoadedSphere, initial: EulerState, t_end: float, *, method: str = ..., dt: float | None = ...,
              precision: str = ..., tol: float | None = ..., rtol: float = ..., atol: float = ...,
              progress: bool | None = ...,
              samples: Literal[True] = ..., on_turning_points: _TurningPointsCallback | None = ...,
              strict: bool = ...) -> Trajectory: ...
 @overload
-def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = ..., dt: float | None = ...,
+def simulate(body: Body | LoadedSphere, initial: EulerState, t_end: float, *, method: str = ..., dt: float | None = ...,
              precision: str = ..., tol: float | None = ..., rtol: float = ..., atol: float = ...,
              progress: bool | None = ...,
              samples: Literal[False], on_turning_points: _TurningPointsCallback | None = ...,
              strict: bool = ...) -> TurningPointRun: ...
 @overload
-def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = ..., dt: float | None = ...,
+def simulate(body: Body | LoadedSphere, initial: EulerState, t_end: float, *, method: str = ..., dt: float | None = ...,
              precision: str = ..., tol: float | None = ..., rtol: float = ..., atol: float = ...,
              progress: bool | None = ...,
              samples: bool = ..., on_turning_points: _TurningPointsCallback | None = ...,
              strict: bool = ...) -> Trajectory | TurningPointRun: ...
 
 
-def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "heyoka", dt: float | None = None,
+def simulate(body: Body | LoadedSphere, initial: EulerState, t_end: float, *, method: str = "heyoka", dt: float | None = None,
              precision: str = "double", tol: float | None = None, rtol: float = 3e-14, atol: float = 1e-15,
              progress: bool | None = False, samples: bool = True,
              on_turning_points: Callable[[TurningPoints, TurningPoints], None] | None = None,
@@ -245,7 +245,7 @@ def simulate(body: Body, initial: EulerState, t_end: float, *, method: str = "he
         With ``samples=False``: called with (maxima, minima) of each stretch as it is finished (to stream them).
     strict : bool
         Raise :class:`AccuracyError` instead of warning when the energy error exceeds
-        :func:`rocknroller.numerics.trajectory.energy_error_bound`.
+        :func:`rocknroller.numerics.run_limits.energy_error_bound`.
     budget : float or None
         CPU seconds the run may take (:mod:`rocknroller.numerics.budget`; None: no limit), estimated before it starts
         from Λ·t_end and the method's measured cost per radian: heyoka's longest run (``MAX_RADIANS``) stays within
@@ -353,7 +353,7 @@ class _RunRecord:
     """The turning points and the largest energy error of a run with ``samples=False``, taken piece by piece of its
     unwrapping grid (:func:`_grid_pieces`), the angles unwrapped from one piece into the next."""
 
-    def __init__(self, body: Body, y0: NDArray[np.float64]) -> None:
+    def __init__(self, body: Body | LoadedSphere, y0: NDArray[np.float64]) -> None:
         self.body, self.E0 = body, float(energy(body, y0[0:3], y0[3:6]))
         self.worst = 0.0
         self.start: NDArray[np.float64] | None = None  # (φ, ψ) at the end of the last piece: its branch continues
@@ -371,7 +371,7 @@ class _RunRecord:
 
     def end_stretch(self) -> tuple[TurningPoints, TurningPoints]:
         """The maxima and minima of the pieces added since the last call."""
-        mx, mn = (TurningPoints.concatenate(parts) for parts in self._parts)
+        mx, mn = (TurningPoints.concatenate(parts, self.body) for parts in self._parts)
         self._parts = ([], [])
         self.maxima.append(mx)
         self.minima.append(mn)
@@ -379,13 +379,13 @@ class _RunRecord:
 
     def result(self, method: str, t_end: float, n_steps: int, tolerance: float) -> TurningPointRun:
         return TurningPointRun(body=self.body, method=method, t_end=t_end,
-                               maxima=TurningPoints.concatenate(self.maxima),
-                               minima=TurningPoints.concatenate(self.minima),
+                               maxima=TurningPoints.concatenate(self.maxima, self.body),
+                               minima=TurningPoints.concatenate(self.minima, self.body),
                                energy_rel_error=self.worst / energy_scale(self.body, self.E0), n_steps=n_steps,
                                tolerance=tolerance)
 
 
-def _turning_points_only(body: Body, method: str, run: _HeyokaRun | _ScipyRun, y0: NDArray[np.float64],
+def _turning_points_only(body: Body | LoadedSphere, method: str, run: _HeyokaRun | _ScipyRun, y0: NDArray[np.float64],
                          t_end: float, dt: float, rate: float,
                          on_turning_points: Callable[[TurningPoints, TurningPoints], None] | None) -> TurningPointRun:
     """Integrate stretch by stretch (``CHUNK_RADIANS`` of Λ each), keep the turning points, drop the rest.

@@ -17,7 +17,7 @@ levels, one per order, rather than in proportion to ``tol``.
 
 What scales with ``tol``
 ------------------------
-* The energy check (:func:`rocknroller.numerics.trajectory.energy_error_bound`): ``ENERGY_SLACK`` × (tol · n_steps + u).
+* The energy check (:func:`rocknroller.numerics.run_limits.energy_error_bound`): ``ENERGY_SLACK`` × (tol · n_steps + u).
   Its derivation holds at any tolerance: each step errs by at most tol of max(1, ‖y‖∞) (the unit vectors γ and e_X
   make ‖y‖∞ ≥ 1), the errors add at most linearly over n steps, and the energy, evaluated in double precision from
   the states, adds a few u relative to its scale.
@@ -55,14 +55,15 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.body import Body, LoadedSphere
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.model.invariants import energy
 from rocknroller.numerics.events import _U, THETA_MIN
 
 __all__ = ["check_run", "RunPlan", "rate_bound", "default_dt", "MAX_SAMPLES", "MAX_DENSE_RADIANS", "MAX_DENSE_STEPS",
            "MAX_RADIANS", "MAX_GRID_POINTS", "MOMENT_RANGE", "G_RANGE", "MAX_ENERGY_OVER_G",
-           "ENERGY_RANGE_NO_GRAVITY", "DT_RADIANS", "UNWRAP_RADIANS", "DEFAULT_TOL", "TOL_MAX", "check_tol", "theta_min"]
+           "ENERGY_RANGE_NO_GRAVITY", "DT_RADIANS", "UNWRAP_RADIANS", "DEFAULT_TOL", "TOL_MAX", "check_tol", "theta_min",
+           "energy_scale", "energy_error_bound", "ENERGY_SLACK"]
 
 MAX_SAMPLES = 2_000_000
 MAX_DENSE_RADIANS = 3.0e5
@@ -130,11 +131,12 @@ def _theta_min_name(lowest: float) -> str:
     """How the error messages name the smallest tilt resolved: ``THETA_MIN``, or ``theta_min(tol)`` above it."""
     return "THETA_MIN" if lowest == THETA_MIN else "theta_min(tol)"
 
-def rate_bound(body: Body, y0: NDArray[np.float64]) -> float:
+def rate_bound(body: Body | LoadedSphere, y0: NDArray[np.float64]) -> float:
     """Λ = √(2(E + g a)/I_min): a bound on |ω(t)| for all t (½ I_min |ω|² ≤ T ≤ E) that also covers the
-    rocking rate √(g a/I) of motions near rest.  Work and memory of a run scale with Λ·t_end."""
+    rocking rate √(g a/I) of motions near rest (a = |c| for a LoadedSphere).  Work and memory of a run scale with
+    Λ·t_end."""
     E = float(energy(body, y0[0:3], y0[3:6]))
-    return math.sqrt(2.0 * (E + body.g * body.a) / min(body.I1, body.I2, body.I3))
+    return math.sqrt(2.0 * (E + body.g * body.offset_norm) / min(body.I1, body.I2, body.I3))
 
 
 def default_dt(t_end: float, rate: float, samples: bool = True) -> float:
@@ -145,10 +147,10 @@ def default_dt(t_end: float, rate: float, samples: bool = True) -> float:
     return min((DT_RADIANS if samples else UNWRAP_RADIANS) / rate, t_end / 200.0) or t_end
 
 
-def _validate(body: Body, initial: EulerState, t_end: float,
+def _validate(body: Body | LoadedSphere, initial: EulerState, t_end: float,
               tol: float = DEFAULT_TOL) -> tuple[NDArray[np.float64], float]:
-    if not isinstance(body, Body):
-        raise ValueError(f"body must be a rocknroller.analysis.model.body.Body, got {type(body).__name__}")
+    if not isinstance(body, (Body, LoadedSphere)):
+        raise ValueError(f"body must be a rocknroller Body or LoadedSphere, got {type(body).__name__}")
     if not isinstance(initial, EulerState):
         raise ValueError(f"initial must be a rocknroller.analysis.model.equations.EulerState, got {type(initial).__name__}")
     if not math.isfinite(t_end) or t_end <= 0.0:
@@ -171,21 +173,35 @@ def _validate(body: Body, initial: EulerState, t_end: float,
     if body.g == 0.0 and np.any(y0[3:6]) and not lo_E <= E <= hi_E:
         raise ValueError(f"without gravity (g = 0) the energy sets the unit of time and must lie in [{lo_E:g}, "
                          f"{hi_E:g}], got E = {E:.3g}; scale the rates (theta_dot, phi_dot, psi_dot or omega)")
-    if not np.any(y0[3:6]) and (body.a == 0.0 or body.g == 0.0 or initial.theta in (0.0, math.pi)
-                                or not np.any(y0[0:2])):
+    if not np.any(y0[3:6]) and _at_equilibrium(body, initial, y0):
         raise ValueError(
             "the initial state has no motion: the body is at rest in an equilibrium (theta0 = 0 or pi, or any "
-            "theta0 when a = 0 or g = 0); give theta0 in (0, pi) with a > 0 and g > 0, or a non-zero rate")
-    if not E + body.g * body.a > 0.0:
+            "theta0 when a = 0 or g = 0; for a LoadedSphere, the vertical along its offset c, or c = 0 or g = 0); "
+            "give a tilted start with a > 0 and g > 0, or a non-zero rate")
+    if not E + body.g * body.offset_norm > 0.0:
         # Λ = 0: T = ½ ωᵀKω ≥ ½ I_min |ω|² (K ≥ I_min) underflows to 0 when ½ I_min |ω|² is below half the smallest
         # subnormal number, i.e. |ω| < √(2⁻¹⁰⁷⁴/I_min); with g a = 0 nothing else moves the body
         w_min = math.sqrt(math.ulp(0.0) / min(body.I1, body.I2, body.I3))
         raise ValueError(
             f"the initial state has no motion to resolve: {initial} has the kinetic energy E = {E!r} in double "
             f"precision (its rates, max |omega_i| = {float(np.max(np.abs(y0[3:6]))):.3g}, are below about {w_min:.2g}, "
-            f"where (1/2) I_min |omega|^2 underflows) and g a = {body.g * body.a!r}; give a > 0 or larger rates")
-    _check_tilt_resolved(body, initial, y0, E, theta_min(tol))
+            f"where (1/2) I_min |omega|^2 underflows) and g a = {body.g * body.offset_norm!r}; give a > 0 or larger "
+            "rates")
+    if isinstance(body, Body):  # the tilt bound below is the on-axis potential's g a (1 - cos θ)
+        _check_tilt_resolved(body, initial, y0, E, theta_min(tol))
     return y0, rate_bound(body, y0)
+
+
+def _at_equilibrium(body: Body | LoadedSphere, initial: EulerState, y0: NDArray[np.float64]) -> bool:
+    """Whether a start at rest is an equilibrium: no gravity or no offset, or the vertical along the offset (for a
+    Body, θ0 = 0 or π, as γ1 = γ2 = 0).  For a LoadedSphere, to the rounding of γ0: |γ0 × c| ≤ 4 u |c| (γ0's
+    components carry a rounding of a few u each, from the Euler angles' sines and cosines)."""
+    if isinstance(body, Body):
+        return body.a == 0.0 or body.g == 0.0 or initial.theta in (0.0, math.pi) or not np.any(y0[0:2])
+    c1, c2, c3 = body.offset
+    g1, g2, g3 = y0[0:3]
+    torque = math.hypot(g2 * c3 - g3 * c2, g3 * c1 - g1 * c3, g1 * c2 - g2 * c1)
+    return body.g == 0.0 or body.offset_norm == 0.0 or torque <= 4.0 * _U * body.offset_norm
 
 
 def _check_tilt_resolved(body: Body, initial: EulerState, y0: NDArray[np.float64], E: float,
@@ -227,7 +243,7 @@ class RunPlan(NamedTuple):
     """The rate bound Λ (:func:`rate_bound`)."""
 
 
-def check_run(body: Body, initial: EulerState, t_end: float, *, dt: float | None = None,
+def check_run(body: Body | LoadedSphere, initial: EulerState, t_end: float, *, dt: float | None = None,
               samples: bool = True, tol: float = DEFAULT_TOL) -> RunPlan:
     """Check a run of :func:`~rocknroller.numerics.integrate.simulate` against its limits before any work: every
     check ``simulate`` makes on the body, the initial state, ``t_end`` and ``dt``.
@@ -272,3 +288,32 @@ def check_run(body: Body, initial: EulerState, t_end: float, *, dt: float | None
                 f"MAX_GRID_POINTS = {MAX_GRID_POINTS:g} (≈ 1 µs each); give a larger dt")
         raise ValueError(f"dt={dt!r} gives {n_grid:.3g} samples over t_end={t_end!r}, over the limit {what}")
     return RunPlan(t_end, dt, int(n_grid), y0, rate)
+
+
+def energy_scale(body: Body | LoadedSphere, E0: float) -> float:
+    """Scale of the energy error: E(0) + g a (g|c| for a LoadedSphere, whose 0 ≤ V ≤ 2 g|c| likewise).
+
+    Every term of E = T + V is bounded by it within a factor 3 (T ≤ E, 0 ≤ V = g a (1 − cos θ) ≤ 2 g a),
+    so the round-off of one evaluation of E is a few units of u·(E + g a), and the scale never vanishes:
+    g a > 0 for a > 0, and for a = 0 a state with motion has E = T > 0 (rest is refused by ``simulate``).
+    Relative to E alone the error of a body released from rest at θ0 → 0 would be measured against
+    E ≈ g a θ0²/2 → 0, which the round-off of g a (1 − cos θ) does not follow.
+    """
+    return abs(float(E0)) + body.g * body.offset_norm
+
+
+def energy_error_bound(tolerance: float, n_steps: int) -> float:
+    """The relative energy error a run may reach: ``ENERGY_SLACK`` × (tolerance × steps + u).
+
+    Each step of an integrator run at relative tolerance ``tolerance`` commits a local error of at most
+    about ``tolerance`` of the state, and in the worst case these add up linearly in the number of steps;
+    the energy is evaluated in double precision from states rounded to double, which adds a few units of
+    u = 2⁻⁵³·2 (``np.finfo(float).eps``) relative to :func:`energy_scale` whatever the integrator's precision.
+    A run whose energy error exceeds this bound has missed the asked tolerance by far (the paper's runs
+    stay 10²–10⁴ below it).
+    """
+    return ENERGY_SLACK * (float(tolerance) * max(int(n_steps), 1) + float(np.finfo(float).eps))
+
+
+#: Factor of :func:`energy_error_bound` over the linear accumulation of the per-step tolerance.
+ENERGY_SLACK = 10.0

@@ -12,6 +12,7 @@ turning by more than 4π/3 between two samples, which the first test would mista
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Callable
@@ -19,16 +20,17 @@ from typing import TYPE_CHECKING, Any, Callable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.body import Body, LoadedSphere
 from rocknroller.analysis.model.diagnostics import azimuth_span, slow_period, span, wrap_angle
 from rocknroller.analysis.model.invariants import energy, jellett, routh
 from rocknroller.analysis.model.kinematics import angles_from_frame
 from rocknroller.numerics.events import DenseOutput, LaneDense, _PointDense, lane_states
+from rocknroller.numerics.run_limits import energy_error_bound, energy_scale
 
 if TYPE_CHECKING:
     import pandas
 
-__all__ = ["TurningPoints", "Trajectory", "TurningPointRun", "energy_scale", "energy_error_bound", "ENERGY_SLACK"]
+__all__ = ["TurningPoints", "MaximaExtents", "Trajectory", "TurningPointRun"]
 
 #: An interval whose wrapped angle increment exceeds this is bisected before unwrapping.
 _UNWRAP_LIMIT = 2.0 * math.pi / 3.0
@@ -61,40 +63,40 @@ class TurningPoints:
     theta: NDArray[np.float64]
     phi: NDArray[np.float64]
     psi: NDArray[np.float64]
-    QR: NDArray[np.float64]
-    QJ: NDArray[np.float64]
     states: NDArray[np.float64]
+    body: Body | LoadedSphere = dataclasses.field(repr=False)
 
     def __len__(self) -> int:
         return int(self.t.size)
 
+    @functools.cached_property
+    def QR(self) -> NDArray[np.float64]:
+        """Routh's Q_R at each turning point (paper eq. routh); a ValueError for a LoadedSphere, where the paper's
+        Q_R is not defined."""
+        return routh(self.body, self.states[:, 0:3].T, self.states[:, 3:6].T)
+
+    @functools.cached_property
+    def QJ(self) -> NDArray[np.float64]:
+        """Jellett's Q_J at each turning point (paper eq. jellett); a ValueError for a LoadedSphere."""
+        return jellett(self.body, self.states[:, 0:3].T, self.states[:, 3:6].T)
+
     def to_dataframe(self) -> "pandas.DataFrame":
-        """One row per turning point: t, θ, φ, ψ, Q_R, Q_J (needs pandas)."""
+        """One row per turning point: t, θ, φ, ψ, and Q_R, Q_J for a :class:`Body` (needs pandas)."""
         from rocknroller.analysis.model.frames import dataframe
 
-        return dataframe({n: getattr(self, n) for n in ("t", "theta", "phi", "psi", "QR", "QJ")})
+        names = ("t", "theta", "phi", "psi") + (("QR", "QJ") if isinstance(self.body, Body) else ())
+        return dataframe({n: getattr(self, n) for n in names})
 
     @classmethod
-    def concatenate(cls, parts: list["TurningPoints"]) -> "TurningPoints":
-        """The samples of consecutive stretches, in time order (an empty list gives no samples, one part itself)."""
-        names = [f.name for f in dataclasses.fields(cls)]
+    def concatenate(cls, parts: list["TurningPoints"], body: Body | LoadedSphere) -> "TurningPoints":
+        """The samples of consecutive stretches of a run of ``body``, in time order (an empty list gives no samples,
+        one part itself)."""
+        names = [f.name for f in dataclasses.fields(cls) if f.name != "body"]
         if not parts:
-            return cls(**{n: np.empty((0, 11) if n == "states" else 0) for n in names})
+            return cls(**{n: np.empty((0, 11) if n == "states" else 0) for n in names}, body=body)
         if len(parts) == 1:
             return parts[0]
-        return cls(**{n: np.concatenate([getattr(p, n) for p in parts]) for n in names})
-
-
-def energy_scale(body: Body, E0: float) -> float:
-    """Scale of the energy error: E(0) + g a.
-
-    Every term of E = T + V is bounded by it within a factor 3 (T ≤ E, 0 ≤ V = g a (1 − cos θ) ≤ 2 g a),
-    so the round-off of one evaluation of E is a few units of u·(E + g a), and the scale never vanishes:
-    g a > 0 for a > 0, and for a = 0 a state with motion has E = T > 0 (rest is refused by ``simulate``).
-    Relative to E alone the error of a body released from rest at θ0 → 0 would be measured against
-    E ≈ g a θ0²/2 → 0, which the round-off of g a (1 − cos θ) does not follow.
-    """
-    return abs(float(E0)) + body.g * body.a
+        return cls(**{n: np.concatenate([getattr(p, n) for p in parts]) for n in names}, body=body)
 
 
 def _angle_rates(y: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -206,23 +208,6 @@ def _branches(ang: NDArray[np.float64], total: NDArray[np.float64], ends: NDArra
     return unwrapped
 
 
-def energy_error_bound(tolerance: float, n_steps: int) -> float:
-    """The relative energy error a run may reach: ``ENERGY_SLACK`` × (tolerance × steps + u).
-
-    Each step of an integrator run at relative tolerance ``tolerance`` commits a local error of at most
-    about ``tolerance`` of the state, and in the worst case these add up linearly in the number of steps;
-    the energy is evaluated in double precision from states rounded to double, which adds a few units of
-    u = 2⁻⁵³·2 (``np.finfo(float).eps``) relative to :func:`energy_scale` whatever the integrator's precision.
-    A run whose energy error exceeds this bound has missed the asked tolerance by far (the paper's runs
-    stay 10²–10⁴ below it).
-    """
-    return ENERGY_SLACK * (float(tolerance) * max(int(n_steps), 1) + float(np.finfo(float).eps))
-
-
-#: Factor of :func:`energy_error_bound` over the linear accumulation of the per-step tolerance.
-ENERGY_SLACK = 10.0
-
-
 @dataclass(frozen=True)
 class _Samples:
     """One stretch of the dense output sampled on a grid that contains its turning points."""
@@ -268,21 +253,45 @@ class _Samples:
         return [cls(ta, yy[a:b], angles[:, a:b], inv[n_grid:n_grid + n_max], inv[n_grid + n_max:])
                 for ta, inv, (n_grid, n_max), a, b in zip(t_all, inverse, sizes, ends[:-1], ends[1:])]
 
-    def turning(self, body: Body, idx: NDArray[np.intp]) -> TurningPoints:
-        ys = self.y[idx]
+    def turning(self, body: Body | LoadedSphere, idx: NDArray[np.intp]) -> TurningPoints:
         theta, phi, psi = self.angles[:, idx]
-        return TurningPoints(t=self.t[idx], theta=theta, phi=phi, psi=psi,
-                             QR=routh(body, ys[:, 0:3].T, ys[:, 3:6].T),
-                             QJ=jellett(body, ys[:, 0:3].T, ys[:, 3:6].T), states=ys)
+        return TurningPoints(t=self.t[idx], theta=theta, phi=phi, psi=psi, states=self.y[idx], body=body)
 
 
-class _TurningPointDiagnostics:
+class MaximaExtents:
+    """The extents of Q_R and Q_J over a run's θ-maxima (the samples of the averaged map), for the classes that hold
+    the maxima (:class:`Trajectory`, :class:`TurningPointRun`, ``RunSummary``); a ValueError for a LoadedSphere."""
+
+    maxima: TurningPoints
+
+    @property
+    def QR_extent(self) -> float:
+        """max − min of Q_R over the θ-maxima."""
+        return span(self.maxima.QR)
+
+    @property
+    def QJ_extent(self) -> float:
+        """max − min of Q_J over the θ-maxima."""
+        return span(self.maxima.QJ)
+
+
+class _TurningPointDiagnostics(MaximaExtents):
     """Slow diagnostics from the turning-point samples (shared by Trajectory and TurningPointRun)."""
 
     maxima: TurningPoints
     minima: TurningPoints
     tolerance: float
     n_steps: int
+    body: Body | LoadedSphere
+
+    @property
+    def paper_body(self) -> Body:
+        """The run's body as the paper's :class:`Body` (the mass centre on the third axis), for what is built on Q_J
+        and Q_R (critical lines, regions); a ValueError for a LoadedSphere."""
+        if not isinstance(self.body, Body):
+            raise ValueError(f"this run's body is a {self.body.kind} (c = {self.body.offset!r}); the paper's Q_J, "
+                             "Q_R and what is built on them need a Body, the mass centre on the third axis")
+        return self.body
 
     @property
     def Phi(self) -> float:
@@ -301,16 +310,6 @@ class _TurningPointDiagnostics:
         (for rocking through θ = 0, half the rocking period).  None with fewer than two maxima."""
         t = self.maxima.t
         return float((t[-1] - t[0]) / (t.size - 1)) if t.size >= 2 else None
-
-    @property
-    def QR_extent(self) -> float:
-        """max − min of Q_R over the θ-maxima (the samples of the averaged map)."""
-        return span(self.maxima.QR)
-
-    @property
-    def QJ_extent(self) -> float:
-        """max − min of Q_J over the θ-maxima (the samples of the averaged map)."""
-        return span(self.maxima.QJ)
 
     def turning_points_dataframe(self) -> "pandas.DataFrame":
         """Every turning point in time order, with ``kind`` "max" or "min" (needs pandas)."""
@@ -334,7 +333,7 @@ class _TurningPointDiagnostics:
 
     @property
     def energy_tolerance(self) -> float:
-        """The largest energy error consistent with the integrator's tolerance (:func:`energy_error_bound`)."""
+        """The largest energy error consistent with the integrator's tolerance (:func:`~rocknroller.numerics.run_limits.energy_error_bound`)."""
         return energy_error_bound(self.tolerance, self.n_steps)
 
 
@@ -373,7 +372,7 @@ class Trajectory(_TurningPointDiagnostics):
     True
     """
 
-    body: Body
+    body: Body | LoadedSphere
     method: str
     t: NDArray[np.float64]
     states: NDArray[np.float64]
@@ -387,7 +386,7 @@ class Trajectory(_TurningPointDiagnostics):
     tolerance: float = float(np.finfo(float).eps)
 
     @classmethod
-    def from_dense(cls, body: Body, method: str, dense: DenseOutput, t_grid: ArrayLike,
+    def from_dense(cls, body: Body | LoadedSphere, method: str, dense: DenseOutput, t_grid: ArrayLike,
                    t_maxima: ArrayLike, t_minima: ArrayLike, *, n_steps: int = 0,
                    tolerance: float = float(np.finfo(float).eps)) -> "Trajectory":
         """Assemble a trajectory from a dense output and the event times."""
@@ -437,7 +436,7 @@ class Trajectory(_TurningPointDiagnostics):
     @property
     def energy_rel_error(self) -> float:
         """max |E(t) − E(0)| / (E(0) + g a) over the samples (every turning point included); see
-        :func:`energy_scale` for why the scale is E + g a and not E."""
+        :func:`~rocknroller.numerics.run_limits.energy_scale` for why the scale is E + g a and not E."""
         E = self.E
         return float(np.max(np.abs(E - E[0])) / energy_scale(self.body, E[0]))
 
@@ -446,7 +445,8 @@ class Trajectory(_TurningPointDiagnostics):
         points alone: :meth:`turning_points_dataframe`)."""
         from rocknroller.analysis.model.frames import dataframe
 
-        return dataframe({n: getattr(self, n) for n in ("t", "theta", "phi", "psi", "X", "Y", "E", "QR", "QJ")})
+        names = ("t", "theta", "phi", "psi", "X", "Y", "E") + (("QR", "QJ") if isinstance(self.body, Body) else ())
+        return dataframe({n: getattr(self, n) for n in names})
 
     def state_at(self, t: ArrayLike) -> NDArray[np.float64]:
         """Body-frame state(s) at time(s) ``t`` from the integrator's dense output, shape (..., 11)."""
@@ -482,7 +482,7 @@ class TurningPointRun(_TurningPointDiagnostics):
     TurningPointRun 4 True
     """
 
-    body: Body
+    body: Body | LoadedSphere
     method: str
     t_end: float
     maxima: TurningPoints

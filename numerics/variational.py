@@ -67,15 +67,16 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.body import Body, LoadedSphere
 from rocknroller.analysis.model.equations import EulerState, body_frame_rhs, turning_point_function
 from rocknroller.analysis.model.invariants import energy
 from rocknroller.numerics.budget import WORK_BUDGET_SECONDS, check_work
+from rocknroller.numerics.backends import check_params
 from rocknroller.numerics.cache import compiling
 from rocknroller.numerics.events import start_turning_point
 from rocknroller.numerics.integrate import check_energy_error, check_run, check_theta_resolved, heyoka_integrator
 from rocknroller.numerics.megno import ChaosIndicators, chaos_indicators
-from rocknroller.numerics.trajectory import energy_scale
+from rocknroller.numerics.run_limits import energy_scale
 
 if TYPE_CHECKING:
     import pandas
@@ -97,35 +98,38 @@ _STEPS_PER_STRETCH = int(20 * CHUNK_RADIANS)
 
 _NAMES = ("g1", "g2", "g3", "w1", "w2", "w3", "x1", "x2", "x3", "X", "Y")
 _N = 6  # the (γ, ω) system
-_TEMPLATE: dict[str, Any] = {}
+_TEMPLATE: dict[int, Any] = {}
 _LOCK = threading.Lock()
 _PER_THREAD = threading.local()
 
 
-def _build() -> Any:
+def _build(n_par: int) -> Any:
     import heyoka as hy
 
     y = hy.make_vars(*_NAMES)
-    pars = [hy.par[i] for i in range(5)]
+    pars = [hy.par[i] for i in range(n_par)]
     rhs = body_frame_rhs(y, pars)[:_N]  # (γ̇, ω̇) involve only γ, ω and the parameters
     vsys = hy.var_ode_sys(list(zip(y[:_N], rhs)), [y[0]], order=1)
     maxima = hy.t_event(turning_point_function(y), direction=hy.event_direction.positive)
-    with compiling("the chaos indicators' variational integrator", 24.0):
-        return hy.taylor_adaptive(vsys, np.zeros(_N), pars=np.zeros(5), t_events=[maxima])
+    what = "the chaos indicators' variational integrator" + ("" if n_par == 5 else " (general loaded sphere)")
+    with compiling(what, 24.0):
+        return hy.taylor_adaptive(vsys, np.zeros(_N), pars=np.zeros(n_par), t_events=[maxima])
 
 
-def variational_integrator() -> Any:
+def variational_integrator(n_par: int = 5) -> Any:
     """heyoka's integrator of the (γ, ω) system and one tangent vector (state: 6 + 6 components), with the θ-maxima
-    as its one terminal event: compiled once per process (from heyoka's disk cache when it holds it), one copy per
-    thread (module docstring)."""
-    mine = _PER_THREAD.__dict__
-    if "ta" not in mine:
+    as its one terminal event, for ``n_par`` runtime parameters (5 for a Body, 7 for a LoadedSphere,
+    :func:`~rocknroller.numerics.backends.check_params`): compiled once per process (from heyoka's disk cache when it
+    holds it), one copy per thread (module docstring)."""
+    mine = _PER_THREAD.__dict__.setdefault("integrators", {})
+    key = check_params(n_par)
+    if key not in mine:
         with _LOCK:
-            if "double" not in _TEMPLATE:
+            if key not in _TEMPLATE:
                 heyoka_integrator("double")  # its check of heyoka's disk cache (switched off if unusable), first
-                _TEMPLATE["double"] = _build()
-            mine["ta"] = copy.deepcopy(_TEMPLATE["double"])
-    return mine["ta"]
+                _TEMPLATE[key] = _build(key)
+            mine[key] = copy.deepcopy(_TEMPLATE[key])
+    return mine[key]
 
 
 def tangent_norm(w: ArrayLike, rate: float) -> NDArray[np.float64]:
@@ -142,7 +146,7 @@ def initial_tangent(y0: ArrayLike, rate: float) -> NDArray[np.float64]:
     return w / float(tangent_norm(w, rate))
 
 
-def _start(ta: Any, body: Body, y0: NDArray[np.float64], w0: NDArray[np.float64]) -> None:
+def _start(ta: Any, body: Body | LoadedSphere, y0: NDArray[np.float64], w0: NDArray[np.float64]) -> None:
     ta.time = 0.0
     ta.state[:_N] = y0[:_N]
     ta.state[_N:] = w0
@@ -150,7 +154,7 @@ def _start(ta: Any, body: Body, y0: NDArray[np.float64], w0: NDArray[np.float64]
     ta.reset_cooldowns()
 
 
-def tangent_flow(body: Body, initial: EulerState, times: ArrayLike,
+def tangent_flow(body: Body | LoadedSphere, initial: EulerState, times: ArrayLike,
                  w0: ArrayLike | None = None) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The (γ, ω) state and the tangent vector, not renormalised, at ``times`` (a check of the variational system).
 
@@ -172,7 +176,7 @@ def tangent_flow(body: Body, initial: EulerState, times: ArrayLike,
     w = initial_tangent(plan.y0, plan.rate) if w0 is None else np.asarray(w0, float)
     if w.shape != (_N,) or not np.all(np.isfinite(w)):
         raise ValueError(f"w0 must be 6 finite numbers (dgamma, domega), got {w0!r}")
-    ta = variational_integrator()
+    ta = variational_integrator(len(body.params))
     _start(ta, body, plan.y0, w)
     out = np.empty((times.size, 2 * _N))
     stretch = CHUNK_RADIANS / plan.rate
@@ -184,7 +188,7 @@ def tangent_flow(body: Body, initial: EulerState, times: ArrayLike,
     return out[:, :_N], out[:, _N:]
 
 
-def tangent_to_maximum(body: Body, y0: ArrayLike, w0: ArrayLike, t_after: float,
+def tangent_to_maximum(body: Body | LoadedSphere, y0: ArrayLike, w0: ArrayLike, t_after: float,
                        t_before: float) -> tuple[float, NDArray[np.float64], NDArray[np.float64]]:
     """The first θ-maximum of the run from the (γ, ω) state ``y0`` after the time ``t_after`` (the integrator's
     terminal event, located by heyoka on its Taylor polynomial): its time t₁, the state there and the tangent vector
@@ -204,7 +208,7 @@ def tangent_to_maximum(body: Body, y0: ArrayLike, w0: ArrayLike, t_after: float,
         raise ValueError(f"y0 and w0 must be 6 finite numbers (gamma, omega) and (dgamma, domega), got {y0!r}, {w0!r}")
     if not (math.isfinite(t_before) and 0.0 <= t_after < t_before):
         raise ValueError(f"need 0 <= t_after < t_before (finite), got t_after={t_after!r}, t_before={t_before!r}")
-    ta = variational_integrator()
+    ta = variational_integrator(len(body.params))
     _start(ta, body, y0, w0)
     while float(ta.time) < t_after:  # through the maxima before t_after (heyoka's cooldown: each stops it once)
         _check_outcome(ta, ta.propagate_until(t_after, max_steps=_STEPS_PER_STRETCH)[0])
@@ -277,7 +281,7 @@ class DirectChaos:
         return plot_megno(self.indicators, ax=ax)
 
 
-def direct_chaos_indicators(body: Body, initial: EulerState, t_end: float, *,
+def direct_chaos_indicators(body: Body | LoadedSphere, initial: EulerState, t_end: float, *,
                             budget: float | None = WORK_BUDGET_SECONDS, strict: bool = False) -> DirectChaos:
     """MEGNO and the finite-time maximal Lyapunov exponent of the direct motion from ``initial`` over [0, t_end].
 
@@ -293,7 +297,7 @@ def direct_chaos_indicators(body: Body, initial: EulerState, t_end: float, *,
         ``VARIATIONAL_SECONDS_PER_RADIAN``.
     strict : raise :class:`~rocknroller.numerics.integrate.AccuracyError` instead of warning
         (:class:`~rocknroller.numerics.integrate.AccuracyWarning`) when the energy error at the maxima exceeds
-        :func:`~rocknroller.numerics.trajectory.energy_error_bound`.
+        :func:`~rocknroller.numerics.run_limits.energy_error_bound`.
 
     Returns
     -------
@@ -319,7 +323,7 @@ def direct_chaos_indicators(body: Body, initial: EulerState, t_end: float, *,
     check_work(rate * t_end * VARIATIONAL_SECONDS_PER_RADIAN,
                f"the variational run (Λ t_end = {rate * t_end:.3g} radians)", budget)
     w0 = initial_tangent(y0, rate)
-    ta = variational_integrator()
+    ta = variational_integrator(len(body.params))
     _start(ta, body, y0, w0)
     own = start_turning_point(body, y0)
     window = own.window if own is not None and own.kind > 0 else -1.0

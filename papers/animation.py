@@ -97,7 +97,7 @@ def frame_geometry(traj: Trajectory, t: float) -> FrameGeometry:
                  centre[:, None] + R @ np.array([np.zeros_like(c), c, s]))
     upto = traj.t <= t
     track = np.array([np.append(traj.X[upto], X), np.append(traj.Y[upto], Y)])
-    return FrameGeometry(t=float(t), theta=th, centre=centre, pole=centre + k, mass_centre=centre - traj.body.a * k,
+    return FrameGeometry(t=float(t), theta=th, centre=centre, pole=centre + k, mass_centre=centre - traj.paper_body.a * k,
                          k=k, band=band, meridians=meridians, track=track)
 
 
@@ -146,7 +146,7 @@ def animate(traj: Trajectory, path: str | Path, *, fps: int = 15, duration: floa
     pad = 0.15 * max(hi - lo, 1e-12)
     axq.plot(traj.maxima.QR, traj.maxima.QJ, ".", color="0.6", ms=3, label="at the maxima of theta")
     ylim = axq.get_ylim()
-    draw_critical_lines(axq, traj.body, lo - pad, hi + pad)
+    draw_critical_lines(axq, traj.paper_body, lo - pad, hi + pad)
     axq.set(ylim=ylim, xlabel="$Q_R$", ylabel="$Q_J$")
     axq.ticklabel_format(style="sci", scilimits=(-2, 2))
     point, = axq.plot([], [], "o", color="tab:red", ms=6)

@@ -298,16 +298,50 @@ _CHIRIKOV = """@article{Chirikov1979,
   doi     = {10.1016/0370-1573(79)90023-1}
 }"""
 
+_CHAPLYGIN = """@article{Chaplygin1903,
+  author  = {Chaplygin, Sergey A.},
+  title   = {On a ball's rolling on a horizontal plane},
+  journal = {Regular and Chaotic Dynamics},
+  volume  = {7},
+  number  = {2},
+  pages   = {131--148},
+  year    = {2002},
+  note    = {English translation of Mat. Sbornik 24 (1903), 139--168}
+}"""
+
+_BORISOV_MAMAEV = """@article{BorisovMamaev2002,
+  author  = {Borisov, Alexey V. and Mamaev, Ivan S.},
+  title   = {The rolling motion of a rigid body on a plane and a sphere. Hierarchy of dynamics},
+  journal = {Regular and Chaotic Dynamics},
+  volume  = {7},
+  number  = {2},
+  pages   = {177--200},
+  year    = {2002},
+  doi     = {10.1070/RD2002v007n02ABEH000204}
+}"""
+
+_BORISOV_KAZAKOV_SATAEV = """@article{BorisovKazakovSataev2014,
+  author  = {Borisov, Alexey V. and Kazakov, Alexey O. and Sataev, Igor R.},
+  title   = {The reversal and chaotic attractor in the nonholonomic model of {Chaplygin's} top},
+  journal = {Regular and Chaotic Dynamics},
+  volume  = {19},
+  number  = {6},
+  pages   = {718--733},
+  year    = {2014}
+}"""
+
 
 #: The codes and methods each subcommand uses besides the package and the paper (which every run cites):
 #: heyoka for the direct ODE and the averaging tables' variational orbits, scipy for the DOP853 check and the
 #: quadrature nodes, mpmath for the high-precision references; MEGNO where a command reports order or chaos, the
 #: standard map where it reads the slow map as one (K = eps kappa, its period doubling at K = 4, its (Theta, p)
-#: plane), Greene's residue where it gives the stability of periodic orbits.  Every command of ``rocknroller`` has
+#: plane), Greene's residue where it gives the stability of periodic orbits; Chaplygin, Borisov and Mamaev, and
+#: Borisov, Kazakov and Sataev where a command works with the family of loaded spheres (its integrals, measures and
+#: Chaplygin's top).  Every command of ``rocknroller`` has
 #: an entry (``cite`` itself excepted), which the tests check against the dispatcher's list.
 USES: dict[str, tuple[str, ...]] = {
     "reproduce": ("heyoka", "scipy", "mpmath"),
-    "simulate": ("heyoka", "scipy", "megno"),
+    "simulate": ("heyoka", "scipy", "megno", "hierarchy", "chaplygin_top"),
     "animate": ("heyoka",),
     "table": ("scipy", "mpmath"),
     "diagram": ("heyoka",),
@@ -317,6 +351,7 @@ USES: dict[str, tuple[str, ...]] = {
     "portrait": ("heyoka", "megno", "standard_map"),
     "verify": ("heyoka", "scipy", "mpmath"),
     "warm": ("heyoka",),
+    "hierarchy": ("heyoka", "chaplygin", "hierarchy"),
 }
 
 
@@ -331,8 +366,11 @@ def bibtex_entries(command: str | None = None) -> list[str]:
     if missing:
         raise ValueError(f"CITATION.cff: the references lack {', '.join(missing)} (found {', '.join(refs) or 'none'})")
     entries = {"heyoka": refs[HEYOKA_KEY], "scipy": _SCIPY, "mpmath": _MPMATH, "megno": _MEGNO, "residue": _GREENE,
-               "standard_map": _CHIRIKOV}
-    codes = sorted({c for uses in USES.values() for c in uses}) if command is None else USES[command]
+               "standard_map": _CHIRIKOV, "chaplygin": _CHAPLYGIN, "hierarchy": _BORISOV_MAMAEV,
+               "chaplygin_top": _BORISOV_KAZAKOV_SATAEV}
+    # heyoka (the integrator of every command) first, then the methods and the literature in name order
+    codes = sorted({c for uses in USES.values() for c in uses}, key=lambda c: (c != "heyoka", c)) if command is None \
+        else USES[command]
     return [_package(cff), refs[PAPER_KEY], *(entries[c] for c in codes)]
 
 

@@ -250,7 +250,7 @@ def relative_condition(fun: Callable[[NDArray[np.float64]], ArrayLike], Y: Array
 
 def energy_condition(body) -> float:
     """c with Σᵢ |yᵢ ∂E/∂yᵢ| ≤ c (E + g a) for every state of ``body``: the amplification of componentwise relative
-    errors of the state (γ, ω) into E, relative to the energy scale E + g a (``rocknroller.numerics.trajectory.energy_scale``).
+    errors of the state (γ, ω) into E, relative to the energy scale E + g a (``rocknroller.numerics.run_limits.energy_scale``).
 
     E = ½ ωᵀK ω + g a (1 − γ3), K = diag(I) + |r|² − r rᵀ, r = γ − a e3, λ_min(K) ≥ min I, λ_max(K) ≤ max I + (1 + a)².
     Σ|ωᵢ (Kω)ᵢ| ≤ |ω| |Kω| ≤ λ_max |ω|²; |∂T/∂r| = ||ω|² r − (ω·r) ω| ≤ 2 |ω|² |r|, |r| ≤ 1 + a, so

@@ -22,6 +22,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("rocknroller.numerics.ensembles",),                      # many runs at once: batch lanes, threads, clusters
     ("rocknroller.analysis.routh",),                          # the integrable sphere
     ("rocknroller.analysis.criticality",),                    # critical lines, regions, critical starts
+    ("rocknroller.analysis.hierarchy",),                      # the loaded-sphere family: integrals, measures
     ("rocknroller.analysis.slow.map",),                       # the eps-averaged slow map and its tables
     ("rocknroller.analysis.slow.dynamics",),                  # what the map's orbits do: chaos, periodic orbits
     ("rocknroller.analysis.slow",),                           # the slow motion's answers: prediction, atlas, statistics
@@ -34,7 +35,8 @@ RANK = {pkg: i for i, layer in enumerate(LAYERS) for pkg in layer}
 #: Packages whose ``__init__`` is a map of its folder only.
 MAP_ONLY = {"rocknroller.analysis", "rocknroller.numerics", "rocknroller.numerics.ensembles", "rocknroller.papers",
             "rocknroller.analysis.model",
-            "rocknroller.analysis.routh", "rocknroller.analysis.criticality", "rocknroller.analysis.slow",
+            "rocknroller.analysis.routh", "rocknroller.analysis.criticality", "rocknroller.analysis.hierarchy",
+            "rocknroller.analysis.slow",
             "rocknroller.analysis.slow.map", "rocknroller.analysis.slow.dynamics"}
 #: A folder past this many modules (its ``__init__`` not counted) is split by stage into subpackages.
 MAX_FOLDER_MODULES = 12

@@ -91,7 +91,7 @@ def reversal_analysis(traj: "Trajectory", tol: float = 0.0) -> ReversalAnalysis:
     >>> print(rev.count("0"), rev.count("pi"))  # no crossing of either line within four rocks
     0 0
     """
-    body = traj.body
+    body = traj.paper_body
     parts = []
     for label, tp in (("max", traj.maxima), ("min", traj.minima)):
         omega = tp.states[:, 3:6].T

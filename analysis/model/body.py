@@ -12,7 +12,7 @@ import sys
 from dataclasses import dataclass, replace
 
 __all__ = [
-    "Body", "paper_I1", "as_float", "float_or_nan", "require_finite", "polar_cap_offset_as_printed", "PAPER_A", "PAPER_I3", "PAPER_G",
+    "Body", "LoadedSphere", "MEMBERS", "paper_I1", "as_float", "float_or_nan", "require_finite", "polar_cap_offset_as_printed", "PAPER_A", "PAPER_I3", "PAPER_G",
     "polar_cap_volume"
 ]
 
@@ -243,6 +243,57 @@ class Body:
         """(a, I1, I2, I3, g), the order used for runtime parameters of the integrators."""
         return (self.a, self.I1, self.I2, self.I3, self.g)
 
+    @property
+    def offset(self) -> tuple[float, float, float]:
+        """The mass centre relative to the geometric centre in the principal frame, c = (0, 0, −a) (paper fig. 1)."""
+        return (0.0, 0.0, -self.a)
+
+    @property
+    def offset_norm(self) -> float:
+        """|c| = a, the distance from the geometric centre to the mass centre (the potential's half-range is g|c|)."""
+        return self.a
+
+    @property
+    def kind(self) -> str:
+        """The member of the loaded-sphere family (paper fig. 1): Chaplygin's ball (a = 0), Routh's sphere (I1 = I2)
+        or the rock'n'roller."""
+        return MEMBERS[0] if self.a == 0.0 else MEMBERS[2] if self.I1 == self.I2 else MEMBERS[1]
+
+    def as_loaded_sphere(self) -> "LoadedSphere":
+        """The same body as a :class:`LoadedSphere` with offset c = (0, 0, −a), for the family's general equations.
+
+        The general equations give the same motion to round-off, not bit for bit: :func:`~rocknroller.numerics.
+        integrate.simulate` keeps the on-axis form's own arithmetic for a :class:`Body`.
+        """
+        return LoadedSphere(self.I1, self.I2, self.I3, self.offset, self.g)
+
+    @classmethod
+    def chaplygin_top(cls, I1: float, I2: float, I3: float, offset: tuple[float, float, float],
+                      g: float = PAPER_G) -> "LoadedSphere":
+        """Chaplygin's top (paper fig. 1): the mass centre at ``offset`` = c from the geometric centre, anywhere
+        inside the sphere, and three principal moments in any order (see :class:`LoadedSphere`).
+
+        Examples
+        --------
+        >>> import rocknroller as rr
+        >>> top = rr.Body.chaplygin_top(0.35, 0.37, 0.4, offset=(0.03, -0.02, -0.05))
+        >>> print(top.kind, top.params)
+        Chaplygin's top (0.03, -0.02, -0.05, 0.35, 0.37, 0.4, 9.87)
+        """
+        return LoadedSphere(I1, I2, I3, offset, g)
+
+    @classmethod
+    def chaplygin_ball(cls, I1: float, I2: float, I3: float, g: float = PAPER_G) -> "LoadedSphere":
+        """Chaplygin's ball (paper fig. 1): the mass centre at the geometric centre, three moments in any order.
+
+        Examples
+        --------
+        >>> import rocknroller as rr
+        >>> print(rr.Body.chaplygin_ball(0.4, 0.3, 0.35).kind)
+        Chaplygin's ball
+        """
+        return LoadedSphere(I1, I2, I3, (0.0, 0.0, 0.0), g)
+
     def describe(self) -> str:
         """One-line description for CSV headers and reports, exact and without round-off noise: a moment that is
         exactly the formula it was made by is shown as the formula (``I1=(1-5a/2)I3`` for the paper's 0.35000000000000003,
@@ -273,3 +324,153 @@ class Body:
         u = 0.5 * sys.float_info.epsilon
         digits = int(math.floor(-math.log10(u * (1.0 + 2.0 * abs(eps)) / abs(eps))))
         return f"{eps:.{min(max(digits, 1), 17)}g}"
+
+
+#: The members of the loaded-sphere family (paper fig. 1, §2; Borisov & Mamaev 2002), from the most special.
+MEMBERS = ("Chaplygin's ball", "rock'n'roller", "Routh's sphere", "Chaplygin's top")
+
+#: Largest |c| a loaded sphere may have: the mass centre strictly inside the unit sphere.
+_OFFSET_LIMIT = 1.0
+
+#: The :class:`Body` attributes that assume the mass centre on the third principal axis below the geometric centre
+#: (the paper's a, ε, Q_J, Q_R, ...): a :class:`LoadedSphere` refuses each of them with a ValueError.
+_ON_AXIS_ONLY = frozenset({"a", "epsilon", "is_symmetric", "with_epsilon", "symmetric", "require_symmetric",
+                           "epsilon_text"})
+
+
+@dataclass(frozen=True)
+class LoadedSphere:
+    """A loaded sphere of unit mass and unit radius with its mass centre anywhere: the family of the paper's fig. 1.
+
+    Chaplygin's top (the mass centre off every principal axis) is the general member; the rock'n'roller (on a
+    principal axis), Routh's sphere (on the axis of a body of revolution) and Chaplygin's ball (at the geometric
+    centre) are special cases.  :class:`Body` is the on-axis case c = (0, 0, −a) with I1 ≤ I2 < I3, and keeps its
+    own arithmetic (bit for bit); this class carries the general equations
+    (:func:`~rocknroller.analysis.model.equations.body_frame_rhs` with seven parameters).
+
+    The paper's quantities that assume the mass centre on the third axis (a, ε, Q_J, Q_R, the critical lines, the
+    slow motion) refuse a LoadedSphere with a ValueError; :meth:`to_body` gives the :class:`Body` where the mass
+    centre lies there.  θ is the tilt of the body's third axis; :meth:`relabelled` renames the axes so that another
+    principal axis is the third.
+
+    Parameters
+    ----------
+    I1, I2, I3 : float
+        Principal moments about the mass centre, in any order, each > 0 and each at most the sum of the other two
+        (the triangle inequality of a real mass distribution).
+    offset : (c1, c2, c3)
+        The mass centre relative to the geometric centre, in the principal frame; |c| < 1.
+    g : float
+        Gravity, ``g >= 0``.
+
+    Examples
+    --------
+    >>> import rocknroller as rr
+    >>> top = rr.LoadedSphere(0.35, 0.37, 0.4, offset=(0.03, -0.02, -0.05), g=9.87)
+    >>> print(top.kind, f"|c| = {top.offset_norm:.4f}")
+    Chaplygin's top |c| = 0.0616
+    >>> print(rr.Body.paper(1e-3).as_loaded_sphere().to_body() == rr.Body.paper(1e-3))
+    True
+    >>> try:
+    ...     top.a
+    ... except ValueError as err:
+    ...     print(str(err)[:72])
+    a is defined only for a mass centre on the third principal axis below th
+    """
+
+    I1: float
+    I2: float
+    I3: float
+    offset: tuple[float, float, float]
+    g: float
+
+    def __post_init__(self) -> None:
+        for name in ("I1", "I2", "I3", "g"):
+            object.__setattr__(self, name, require_finite(name, getattr(self, name)))
+        try:
+            parts = tuple(self.offset)
+        except TypeError:
+            raise ValueError(f"offset must be three real numbers (c1, c2, c3), got {self.offset!r}") from None
+        if len(parts) != 3:
+            raise ValueError(f"offset must be three real numbers (c1, c2, c3), got {self.offset!r}")
+        c = tuple(require_finite(f"offset c{i + 1}", v) for i, v in enumerate(parts))
+        object.__setattr__(self, "offset", c)
+        moments = (self.I1, self.I2, self.I3)
+        for i, name in enumerate(("I1", "I2", "I3")):
+            if moments[i] <= 0.0:
+                raise ValueError(f"{name} must be > 0, got {name}={moments[i]!r}")
+            others = sum(moments) - moments[i]
+            if moments[i] > others:
+                raise ValueError(f"moments must satisfy the triangle inequality: {name} = {moments[i]!r} exceeds the "
+                                 f"sum of the other two, {others!r}")
+        if not self.offset_norm < _OFFSET_LIMIT:
+            raise ValueError(f"offset must satisfy |c| < 1 (mass centre inside the sphere), got c={c!r}, "
+                             f"|c|={self.offset_norm!r}")
+        if self.g < 0.0:
+            raise ValueError(f"g must be >= 0, got g={self.g!r}")
+
+    def __getattr__(self, name: str) -> None:
+        if name in _ON_AXIS_ONLY:
+            raise ValueError(
+                f"{name} is defined only for a mass centre on the third principal axis below the geometric centre "
+                f"(rr.Body, the paper's setting); this {self.kind} has c = {self.offset!r}, moments "
+                f"({self.I1!r}, {self.I2!r}, {self.I3!r}). Where c = (0, 0, -a) with I1 <= I2 < I3, use "
+                f"body.to_body()")
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+    @property
+    def offset_norm(self) -> float:
+        """|c|, the distance from the geometric centre to the mass centre (the potential's half-range is g|c|)."""
+        return math.hypot(*self.offset)
+
+    @property
+    def params(self) -> tuple[float, float, float, float, float, float, float]:
+        """(c1, c2, c3, I1, I2, I3, g), the order of the general equations' runtime parameters."""
+        return (*self.offset, self.I1, self.I2, self.I3, self.g)
+
+    @property
+    def kind(self) -> str:
+        """The member (paper fig. 1): Chaplygin's ball (c = 0); Routh's sphere (c on a principal axis whose two
+        transverse moments are equal); the rock'n'roller (c on another principal axis); Chaplygin's top (c off every
+        principal axis)."""
+        c = self.offset
+        axes = [i for i in range(3) if c[i] != 0.0]
+        if not axes:
+            return MEMBERS[0]
+        if len(axes) > 1:
+            return MEMBERS[3]
+        moments = (self.I1, self.I2, self.I3)
+        j, k = (i for i in range(3) if i != axes[0])
+        return MEMBERS[2] if moments[j] == moments[k] else MEMBERS[1]
+
+    def relabelled(self, axis: int) -> "LoadedSphere":
+        """The same body with its principal axes renamed cyclically so that ``axis`` (1, 2 or 3) is the third: θ and
+        the turning points then follow the tilt of that axis.  A cyclic renaming keeps the frame right-handed; a
+        state's body components are renamed the same way (component ``axis`` last).
+
+        Examples
+        --------
+        >>> import rocknroller as rr
+        >>> top = rr.Body.chaplygin_top(0.35, 0.37, 0.4, offset=(0.03, -0.02, -0.05))
+        >>> print(top.relabelled(1).params)
+        (-0.02, -0.05, 0.03, 0.37, 0.4, 0.35, 9.87)
+        >>> print(top.relabelled(3) == top)
+        True
+        """
+        if isinstance(axis, bool) or axis not in (1, 2, 3):
+            raise ValueError(f"axis must be 1, 2 or 3 (the principal axis to follow as the third), got axis={axis!r}")
+        order = [(axis + k) % 3 for k in range(3)]  # the old indices of the new axes 1, 2, 3
+        moments = (self.I1, self.I2, self.I3)
+        return LoadedSphere(*(moments[i] for i in order), tuple(self.offset[i] for i in order), self.g)
+
+    def to_body(self) -> Body:
+        """The :class:`Body` of this sphere where c = (0, 0, −a), a >= 0, with I1 <= I2 < I3; else a ValueError."""
+        c1, c2, c3 = self.offset
+        if c1 != 0.0 or c2 != 0.0 or c3 > 0.0:
+            raise ValueError(f"to_body needs the mass centre on the third principal axis below the geometric centre, "
+                             f"c = (0, 0, -a) with a >= 0; got c={self.offset!r}")
+        return Body(a=-c3 + 0.0, I1=self.I1, I2=self.I2, I3=self.I3, g=self.g)
+
+    def describe(self) -> str:
+        """One-line description for CSV headers and reports."""
+        return (f"{self.kind}: c={self.offset!r} I1={self.I1!r} I2={self.I2!r} I3={self.I3!r} g={self.g!r}")

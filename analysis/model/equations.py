@@ -112,27 +112,41 @@ def body_frame_rhs(y: _Components, p: _Components) -> list[Any]:
         (γ1, γ2, γ3, ω1, ω2, ω3, X1, X2, X3, X, Y): vertical, angular velocity and space X axis in
         body components, contact point in space.  Numpy arrays (any common shape) or heyoka expressions.
     p : sequence
-        (a, I1, I2, I3, g), floats or heyoka parameters.
+        (a, I1, I2, I3, g) for a mass centre on the third axis (:class:`~rocknroller.analysis.model.body.Body`), or
+        (c1, c2, c3, I1, I2, I3, g) for a mass centre anywhere
+        (:class:`~rocknroller.analysis.model.loaded_sphere.LoadedSphere`, paper fig. 1); floats or heyoka
+        parameters.  With c the offset of the mass centre from the geometric centre, r = γ + c runs from the contact
+        point to the mass centre and gravity's torque about the contact point is g γ × c; the on-axis form is
+        c = (0, 0, −a), with its own arithmetic (g a e3 × γ), unchanged.
 
     Returns
     -------
     list
         The 11 derivatives, of the same kind as the input.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rocknroller.analysis.model.equations import body_frame_rhs
+    >>> y = np.array([0.3, 0.0, -0.9539392014169456, 0.1, -0.2, 0.5, 1.0, 0.0, 0.0, 0.0, 0.0])
+    >>> on_axis = body_frame_rhs(y, (0.05, 0.35, 0.36, 0.4, 9.87))
+    >>> general = body_frame_rhs(y, (0.0, 0.0, -0.05, 0.35, 0.36, 0.4, 9.87))
+    >>> print(bool(np.allclose(on_axis, general, rtol=1e-14, atol=1e-14)))
+    True
     """
-    g1, g2, g3, w1, w2, w3, x1, x2, x3 = y[:9]
-    a, I1, I2, I3, grav = p
-    gam = (g1, g2, g3)
-    om = (w1, w2, w3)
-    r = (g1, g2, g3 - a)
-    gdot = _cross(gam, om)
-    Iw = (I1 * w1, I2 * w2, I3 * w3)
-    wxr = _cross(om, r)
-    w_gdot, w_wxr = _cross(om, gdot), _cross(om, wxr)
-    inner = (w_gdot[0] + w_wxr[0], w_gdot[1] + w_wxr[1], w_gdot[2] + w_wxr[2])
-    t1 = _cross(om, Iw)
-    t2 = _cross(r, inner)
-    ga = grav * a
-    P = (-t1[0] - t2[0] - ga * g2, -t1[1] - t2[1] + ga * g1, -t1[2] - t2[2])
+    g1, g2, g3 = y[0], y[1], y[2]
+    if len(p) == 7:
+        c1, c2, c3, I1, I2, I3, grav = p
+        r = (g1 + c1, g2 + c2, g3 + c3)
+        P0, rest = _rolling_terms(y, (I1, I2, I3), r)
+        P = (P0[0] + grav * (g2 * c3 - g3 * c2), P0[1] + grav * (g3 * c1 - g1 * c3),
+             P0[2] + grav * (g1 * c2 - g2 * c1))
+    else:
+        a, I1, I2, I3, grav = p
+        r = (g1, g2, g3 - a)
+        P0, rest = _rolling_terms(y, (I1, I2, I3), r)
+        ga = grav * a
+        P = (P0[0] - ga * g2, P0[1] + ga * g1, P0[2])
     rr = _dot(r, r)
     K = (
         (I1 + rr - r[0] * r[0], -r[0] * r[1], -r[0] * r[2]),
@@ -140,10 +154,29 @@ def body_frame_rhs(y: _Components, p: _Components) -> list[Any]:
         (None, None, I3 + rr - r[2] * r[2]),
     )
     wdot = _solve_sym3(K, P)
+    gdot, exdot, Xdot, Ydot = rest
+    return [*gdot, *wdot, *exdot, Xdot, Ydot]
+
+
+def _rolling_terms(y: _Components, inertia: tuple[Any, Any, Any], r: tuple[Any, Any, Any]
+                   ) -> tuple[tuple[Any, Any, Any], tuple[Any, Any, Any, Any]]:
+    """Form (i)'s torque about the contact point without gravity, −ω × Iω − r × (ω × γ̇ + ω × (ω × r)), and the
+    kinematics (γ̇, ė_X, Ẋ, Ẏ), for :func:`body_frame_rhs`."""
+    g1, g2, g3, w1, w2, w3, x1, x2, x3 = y[:9]
+    I1, I2, I3 = inertia
+    gam = (g1, g2, g3)
+    om = (w1, w2, w3)
+    gdot = _cross(gam, om)
+    Iw = (I1 * w1, I2 * w2, I3 * w3)
+    wxr = _cross(om, r)
+    w_gdot, w_wxr = _cross(om, gdot), _cross(om, wxr)
+    inner = (w_gdot[0] + w_wxr[0], w_gdot[1] + w_wxr[1], w_gdot[2] + w_wxr[2])
+    t1 = _cross(om, Iw)
+    t2 = _cross(r, inner)
     ex = (x1, x2, x3)
     exdot = _cross(ex, om)
     ey = _cross(gam, ex)
-    return [*gdot, *wdot, *exdot, _dot(om, ey), -_dot(om, ex)]
+    return (-t1[0] - t2[0], -t1[1] - t2[1], -t1[2] - t2[2]), (gdot, exdot, _dot(om, ey), -_dot(om, ex))
 
 
 #: Largest absolute rate of an initial state (θ̇, φ̇, ψ̇ or a component of ω): the body-frame ω, its square in the

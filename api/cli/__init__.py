@@ -21,7 +21,7 @@ from rocknroller.cli.options import accept_negative_values
 from rocknroller.numerics.provenance import __version__
 
 COMMANDS = ("reproduce", "simulate", "animate", "table", "diagram", "slow", "atlas", "bifurcation", "portrait", "verify",
-            "cite", "warm")
+            "cite", "warm", "hierarchy")
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -14,7 +14,7 @@ import tempfile
 from pathlib import Path
 from typing import Any, Iterable
 
-from rocknroller.analysis.model.body import PAPER_A, PAPER_G, PAPER_I3, Body, float_or_nan, paper_I1
+from rocknroller.analysis.model.body import PAPER_A, PAPER_G, PAPER_I3, Body, LoadedSphere, float_or_nan, paper_I1
 from rocknroller.analysis.model.equations import FIG5_OMEGA0, EulerState
 
 __all__ = [
@@ -115,6 +115,39 @@ def add_body_options(parser: argparse.ArgumentParser, eps_default: float = 0.0, 
                      help="bowling ball with the polar cap above height D=cos(Theta) removed (paper App. A.1); "
                           "exclusive with --a/--I1/--I3")
     parser.set_defaults(eps_default=eps_default)
+
+
+def add_offset_option(parser: argparse.ArgumentParser) -> None:
+    """--offset C1 C2 C3: the mass centre anywhere (Chaplygin's top; the moments then in any order)."""
+    parser.add_argument("--offset", type=float, nargs=3, default=None, metavar=("C1", "C2", "C3"),
+                        help="the mass centre relative to the geometric centre in the principal frame, |c| < 1: "
+                             "a loaded sphere of the paper's fig. 1 (Chaplygin's top off every principal axis, "
+                             "Chaplygin's ball at 0 0 0); the moments --I1 --I2 --I3 (or --eps) then in any order, "
+                             "each at most the sum of the other two; exclusive with --a and --polar-cap. The paper's "
+                             "Q_R, Q_J are then not reported (they assume c = (0, 0, -a))")
+    parser.add_argument("--tilt-axis", type=int, choices=(1, 2, 3), default=3, metavar="K",
+                        help="with --offset: follow the tilt of principal axis K (1, 2 or 3; default 3): the axes are "
+                             "renamed cyclically so that K is the third, and theta, psi and --omega refer to the "
+                             "renamed axes")
+
+
+def sphere_from_args(args: argparse.Namespace) -> Body | LoadedSphere:
+    """The Body of :func:`body_from_args`, or with ``--offset`` (:func:`add_offset_option`) a LoadedSphere with the
+    moments the same options give (I3 = 0.4, I1 = (1 - 5a/2) I3 at the paper's a, I2 = (1 + eps) I1 by default)."""
+    if getattr(args, "offset", None) is None:
+        if getattr(args, "tilt_axis", 3) != 3:
+            raise ValueError("--tilt-axis needs --offset (the paper's body follows its symmetry axis, the third)")
+        return body_from_args(args)
+    if args.a is not None or args.polar_cap is not None:
+        raise ValueError("--offset places the mass centre: do not combine it with --a or --polar-cap")
+    if args.I2 is not None and args.eps is not None:
+        raise ValueError("give either --I2 or --eps, not both")
+    I3 = PAPER_I3 if args.I3 is None else args.I3
+    I1 = paper_I1(PAPER_A, I3) if args.I1 is None else args.I1
+    eps = getattr(args, "eps_default", 0.0) if args.eps is None else args.eps
+    I2 = (1.0 + eps) * I1 if args.I2 is None else args.I2
+    sphere = LoadedSphere(I1, I2, I3, tuple(args.offset), PAPER_G if args.g is None else args.g)
+    return sphere.relabelled(args.tilt_axis)
 
 
 def body_from_args(args: argparse.Namespace) -> Body:

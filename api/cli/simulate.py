@@ -7,9 +7,10 @@ import sys
 import warnings
 from pathlib import Path
 
+from rocknroller.analysis.model.body import Body
 from rocknroller.cli.options import (add_body_options, add_budget_option, add_force_option, add_initial_state_options,
-                                     body_from_args, budget_from_args, initial_state_from_args, prepare_output_dir,
-                                     print_json, start_with_default_rates)
+                                     add_offset_option, budget_from_args, initial_state_from_args, prepare_output_dir,
+                                     print_json, sphere_from_args, start_with_default_rates)
 from rocknroller.papers.lynch_bustamante import fig5_symmetry_breaking as fig5
 
 #: Files written to --out (with samples), and with --turning-points-only.
@@ -18,6 +19,13 @@ OUTPUTS = ("samples.csv", "turning_points.csv", "contact_track.png", "contact_tr
 OUTPUTS_TURNING_POINTS = ("turning_points.csv", "phi_at_maxima.png", "phi_at_maxima.pdf", "QR_QJ_orbit.png",
                           "QR_QJ_orbit.pdf")
 _TP_COLUMNS = ("kind", "t", "theta", "phi", "psi", "Q_R", "Q_J", "X", "Y")
+#: The outputs that hold the paper's Q_R and Q_J, defined for a mass centre on the third axis only (a Body).
+_PAPER_ONLY = ("QR_QJ_orbit.png", "QR_QJ_orbit.pdf", "Q_R", "Q_J")
+
+
+def _for_body(names: tuple[str, ...], body) -> tuple[str, ...]:
+    """``names`` without the paper's Q_R and Q_J outputs unless ``body`` is a Body (the mass centre on the axis)."""
+    return names if isinstance(body, Body) else tuple(n for n in names if n not in _PAPER_ONLY)
 #: Written to --out with --chaos.
 OUTPUT_CHAOS = "chaos.csv"
 
@@ -40,6 +48,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         f"samples, up to Lambda t_end <= {MAX_RADIANS:g} and {MAX_GRID_POINTS:g} points of the --dt grid.",
     )
     add_body_options(p, eps_default=eps)
+    add_offset_option(p)
     add_initial_state_options(p, rates_note="with none of --theta-dot0/--phi-dot0/--psi-dot0/--omega given, "
                               "simulate starts with the figure-5 omega = (0, 0.001, -0.001)")
     p.add_argument("--t-end", type=float, default=1500.0, help="final time (default 1500)")
@@ -77,8 +86,10 @@ def _header(method: str, body, initial) -> list[str]:
 
 def _turning_point_columns(maxima, minima) -> dict[str, list]:
     cols: dict[str, list] = {"kind": ["max"] * len(maxima) + ["min"] * len(minima)}
-    for name, attr in (("t", "t"), ("theta", "theta"), ("phi", "phi"), ("psi", "psi"), ("Q_R", "QR"), ("Q_J", "QJ")):
-        cols[name] = [*getattr(maxima, attr), *getattr(minima, attr)]
+    pairs = (("t", "t"), ("theta", "theta"), ("phi", "phi"), ("psi", "psi"), ("Q_R", "QR"), ("Q_J", "QJ"))
+    for name, attr in pairs:
+        if name in _for_body((name,), maxima.body):
+            cols[name] = [*getattr(maxima, attr), *getattr(minima, attr)]
     cols["X"] = [*maxima.states[:, 9], *minima.states[:, 9]]
     cols["Y"] = [*maxima.states[:, 10], *minima.states[:, 10]]
     return cols
@@ -91,9 +102,11 @@ def _plots(traj, body, out: Path, names: tuple[str, ...]) -> list[Path]:
     written = []
     for name, plot in (("contact_track", plot_contact_track), ("phi_at_maxima", plot_phi_at_maxima),
                        ("QR_QJ_orbit", plot_invariant_orbit)):
-        if f"{name}.png" in names:
+        if f"{name}.png" in _for_body(names, body):
             ax = plot(traj)
-            ax.set_title(f"a={body.a:g}, I1={body.I1:g}, I3={body.I3:g}, eps={body.epsilon:.3g}", fontsize=9)
+            ax.set_title(f"a={body.a:g}, I1={body.I1:g}, I3={body.I3:g}, eps={body.epsilon:.3g}" if isinstance(body, Body)
+                         else f"{body.kind}: c=({', '.join(f'{v:g}' for v in body.offset)}), "
+                              f"I=({body.I1:g}, {body.I2:g}, {body.I3:g})", fontsize=9)
             written += save_figure(ax.figure, out, name)
     return written
 
@@ -103,9 +116,11 @@ def _write_outputs(traj, body, initial, out: Path) -> list[Path]:
 
     header = _header(traj.method, body, initial)
     w1, w2, w3 = traj.omega
-    written = [write_csv(out / "samples.csv", {
-        "t": traj.t, "theta": traj.theta, "phi": traj.phi, "psi": traj.psi, "w1": w1, "w2": w2, "w3": w3,
-        "E": traj.E, "Q_J": traj.QJ, "Q_R": traj.QR, "X": traj.X, "Y": traj.Y}, header)]
+    columns = {"t": traj.t, "theta": traj.theta, "phi": traj.phi, "psi": traj.psi, "w1": w1, "w2": w2, "w3": w3,
+               "E": traj.E}
+    if isinstance(body, Body):
+        columns.update({"Q_J": traj.QJ, "Q_R": traj.QR})
+    written = [write_csv(out / "samples.csv", {**columns, "X": traj.X, "Y": traj.Y}, header)]
     written.append(write_csv(out / "turning_points.csv", _turning_point_columns(traj.maxima, traj.minima), header))
     return written + _plots(traj, body, out, OUTPUTS)
 
@@ -143,19 +158,19 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError(f"--tol is heyoka's tolerance (--method heyoka), got --tol {args.tol!r} with --method "
                          f"{args.method}")
     tol = None if args.tol is None else check_tol(args.tol, "--tol")
-    body = body_from_args(args)
+    body = sphere_from_args(args)
     initial = initial_state_from_args(args)
     initial = start_with_default_rates(args, initial)
     tp_only = args.turning_points_only
     if args.out is not None:
-        names = (OUTPUTS_TURNING_POINTS if tp_only else OUTPUTS) + ((OUTPUT_CHAOS,) if args.chaos else ())
+        names = _for_body(OUTPUTS_TURNING_POINTS if tp_only else OUTPUTS, body) + ((OUTPUT_CHAOS,) if args.chaos else ())
         prepare_output_dir(args.out, "--out", args.force, names)
     kw = dict(method=args.method, tol=tol, dt=args.dt, progress=None if not args.quiet else False, strict=args.strict,
               budget=budget_from_args(args))
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", AccuracyWarning)
         if tp_only and args.out is not None:
-            with CsvStream(args.out / "turning_points.csv", _TP_COLUMNS,
+            with CsvStream(args.out / "turning_points.csv", _for_body(_TP_COLUMNS, body),
                            _header(args.method, body, initial) + ["rows: the turning points of each stretch, "
                                                                   "maxima then minima"]) as stream:
                 traj = simulate(body, initial, args.t_end, samples=False,

@@ -9,7 +9,8 @@ from typing import Any, Callable
 
 def integrators() -> list[tuple[str, Callable[[], Any]]]:
     """(what, build) for every compiled integrator of the package: the direct ODE in double and extended precision,
-    the ensembles' batch integrator at the default lane count, the chaos indicators' variational integrator and the
+    the ensembles' batch integrator at the default lane count, the chaos indicators' variational integrator (each of
+    these three also for the general loaded sphere, Chaplygin's top), and the
     averaging tables' variational integrators of order 1 and 2 and of the three harmonics.  Each build loads from heyoka's disk cache when it
     holds the integrator, and compiles it into that cache otherwise."""
     from rocknroller.analysis.slow.map.orbit import _variational_integrator
@@ -21,6 +22,9 @@ def integrators() -> list[tuple[str, Callable[[], Any]]]:
             ("direct ODE (extended precision)", lambda: heyoka_integrator("extended")),
             ("ensembles' batch integrator", lambda: batch_integrator(batch_width())),
             ("chaos indicators' variational integrator", variational_integrator),
+            ("direct ODE of the general loaded sphere (double precision)", lambda: heyoka_integrator("double", n_par=7)),
+            ("ensembles' batch integrator, general loaded sphere", lambda: batch_integrator(batch_width(), n_par=7)),
+            ("chaos indicators' variational integrator, general loaded sphere", lambda: variational_integrator(7)),
             ("averaging tables' variational integrator, order 1", lambda: _variational_integrator(1)),
             ("averaging tables' variational integrator, order 2", lambda: _variational_integrator(2)),
             ("averaging tables' variational integrator, three harmonics",

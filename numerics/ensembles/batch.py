@@ -37,8 +37,9 @@ from typing import Any, Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.body import Body, LoadedSphere
 from rocknroller.analysis.model.equations import STATE_SIZE, EulerState, body_frame_rhs, turning_point_function
+from rocknroller.numerics.backends import check_params
 from rocknroller.numerics.cache import compiling
 from rocknroller.numerics.ensembles import _dense
 from rocknroller.numerics.events import _turning_points_lanes, start_turning_point
@@ -72,7 +73,7 @@ MALLOC_TRIM_THRESHOLD = 128 * 2**20
 _MALLOPT = {"M_TRIM_THRESHOLD": -1, "M_MMAP_THRESHOLD": -3}  # glibc's malloc.h
 _MALLOC_ENVIRONMENT = ("MALLOC_MMAP_THRESHOLD_", "MALLOC_TRIM_THRESHOLD_")
 _MALLOC_DONE = threading.Event()
-_TEMPLATES: dict[tuple[int, float], Any] = {}
+_TEMPLATES: dict[tuple[int, float, int], Any] = {}
 _TEMPLATE_LOCK = threading.Lock()
 _PER_THREAD = threading.local()
 
@@ -127,11 +128,13 @@ def _check_width(width: Any) -> int:
     return int(width)
 
 
-def batch_integrator(width: int, tol: float = DEFAULT_TOL) -> Any:
+def batch_integrator(width: int, tol: float = DEFAULT_TOL, n_par: int = 5) -> Any:
     """The compiled batch integrator of form (i) with ``width`` lanes at tolerance ``tol``
-    (:func:`rocknroller.numerics.run_limits.check_tol`): compiled once per process, width and tolerance (from heyoka's
-    disk cache when it holds it), one copy per thread (as :func:`rocknroller.numerics.integrate.heyoka_integrator`)."""
-    key = (_check_width(width), check_tol(tol))
+    (:func:`rocknroller.numerics.run_limits.check_tol`) for ``n_par`` runtime parameters (5 for a Body, 7 for a
+    LoadedSphere, :func:`~rocknroller.numerics.backends.check_params`): compiled once per process, width, tolerance
+    and parameter count (from heyoka's disk cache when it holds it), one copy per thread (as
+    :func:`rocknroller.numerics.integrate.heyoka_integrator`)."""
+    key = (_check_width(width), check_tol(tol), check_params(n_par))
     mine = _PER_THREAD.__dict__.setdefault("integrators", {})
     if key not in mine:
         with _TEMPLATE_LOCK:
@@ -141,22 +144,23 @@ def batch_integrator(width: int, tol: float = DEFAULT_TOL) -> Any:
     return mine[key]
 
 
-def _build(width: int, tol: float) -> Any:
+def _build(width: int, tol: float, n_par: int) -> Any:
     import heyoka as hy
 
     check_diskcache()
     y = hy.make_vars("g1", "g2", "g3", "w1", "w2", "w3", "x1", "x2", "x3", "X", "Y")
-    pars = [hy.par[i] for i in range(5)]
+    pars = [hy.par[i] for i in range(n_par)]
     ev = hy.nt_event_batch(turning_point_function(y), _BatchLog())
-    with compiling(f"the ensembles' batch integrator ({width} lanes)", 6.0):
+    general = "" if n_par == 5 else ", general loaded sphere"
+    with compiling(f"the ensembles' batch integrator ({width} lanes{general})", 6.0):
         return hy.taylor_adaptive_batch(list(zip(y, body_frame_rhs(y, pars))), np.zeros((STATE_SIZE, width)),
-                                        pars=np.zeros((5, width)), nt_events=[ev], tol=tol)
+                                        pars=np.zeros((n_par, width)), nt_events=[ev], tol=tol)
 
 
 class _Lane:
     """One run in a lane: its plan, its turning points so far, its own stretch."""
 
-    def __init__(self, body: Body, initial: EulerState, t_end: float, tol: float) -> None:
+    def __init__(self, body: Body | LoadedSphere, initial: EulerState, t_end: float, tol: float) -> None:
         plan = check_run(body, initial, t_end, samples=False, tol=tol)
         self.body, self.initial, self.t_end, self.dt = body, initial, plan.t_end, plan.dt
         self.y0 = plan.y0
@@ -167,7 +171,7 @@ class _Lane:
         self.t_a, self.n_steps = 0.0, 0
 
 
-def run_batch(runs: Sequence[tuple[Body, EulerState, float]], width: int | None = None, *,
+def run_batch(runs: Sequence[tuple[Body | LoadedSphere, EulerState, float]], width: int | None = None, *,
               tol: float = DEFAULT_TOL) -> list[TurningPointRun]:
     """Integrate up to ``width`` runs at once in the lanes of heyoka's batch integrator, turning points only.
 
@@ -200,8 +204,12 @@ def run_batch(runs: Sequence[tuple[Body, EulerState, float]], width: int | None 
     if not 1 <= len(runs) <= width:
         raise ValueError(f"runs: between 1 and width = {width} runs per batch, got {len(runs)}")
     lanes = [_Lane(body, initial, t_end, tol) for body, initial, t_end in runs]
+    n_par = {len(lane.body.params) for lane in lanes}
+    if len(n_par) != 1:
+        raise ValueError("runs: one batch holds bodies of one kind only, all Body (the mass centre on the third axis) "
+                         "or all LoadedSphere (run_ensemble groups them)")
     _steady_malloc()
-    ta = batch_integrator(width, tol)
+    ta = batch_integrator(width, tol, n_par.pop())
     ta.set_time(0.0)
     idle = lanes[0]  # lanes beyond the runs hold a copy of the first and never move
     ta.state[:] = np.stack([(lanes[j] if j < len(lanes) else idle).y0 for j in range(width)], axis=1)

@@ -44,13 +44,13 @@ from typing import TYPE_CHECKING, Any, Callable, Sequence
 
 import numpy as np
 
-from rocknroller.analysis.model.body import Body
+from rocknroller.analysis.model.body import Body, LoadedSphere
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.numerics.ensembles.batch import MAX_LANES, MIN_LANES, batch_integrator, batch_width, run_batch
 from rocknroller.numerics.budget import HEYOKA_SECONDS_PER_RADIAN, WORK_BUDGET_SECONDS, check_work
 from rocknroller.numerics.integrate import check_run, heyoka_integrator, simulate
 from rocknroller.numerics.run_limits import DEFAULT_TOL, check_tol
-from rocknroller.numerics.trajectory import TurningPointRun, TurningPoints
+from rocknroller.numerics.trajectory import MaximaExtents, TurningPointRun, TurningPoints
 
 if TYPE_CHECKING:
     import pandas
@@ -113,7 +113,7 @@ class Job:
     t_end must be a finite number > 0, got t_end=-1.0
     """
 
-    body: Body
+    body: Body | LoadedSphere
     initial: EulerState
     t_end: float
     tol: float = DEFAULT_TOL
@@ -128,13 +128,13 @@ class Job:
 
 
 @dataclass(frozen=True)
-class RunSummary:
+class RunSummary(MaximaExtents):
     """A direct-ODE run reduced to what the slow-map comparison needs: its θ-maxima and its slow diagnostics.
 
     The diagnostics are those of :class:`rocknroller.numerics.trajectory.TurningPointRun` (and of
     :class:`rocknroller.analysis.slow.prediction_result.SlowPrediction`), computed where the job ran.  A worker's warnings
     (an :class:`rocknroller.numerics.integrate.AccuracyWarning`) stay on the worker: ``energy_rel_error`` and
-    ``n_steps`` let the caller check the accuracy (:func:`rocknroller.numerics.trajectory.energy_error_bound`).
+    ``n_steps`` let the caller check the accuracy (:func:`rocknroller.numerics.run_limits.energy_error_bound`).
 
     Attributes
     ----------
@@ -145,7 +145,8 @@ class RunSummary:
     Phi : float
         Azimuth span of φ mod π at the maxima.
     QR_extent, QJ_extent : float
-        max − min of Q_R and Q_J at the maxima.
+        max − min of Q_R and Q_J at the maxima (the paper's quantities: a ValueError for a
+        :class:`~rocknroller.analysis.model.body.LoadedSphere`).
     energy_rel_error : float
         Largest relative energy error of the run.
     n_steps : int
@@ -170,16 +171,14 @@ class RunSummary:
     maxima: TurningPoints
     slow_period: float | None
     Phi: float
-    QR_extent: float
-    QJ_extent: float
     energy_rel_error: float
     n_steps: int
 
     @classmethod
     def from_run(cls, run: TurningPointRun) -> "RunSummary":
         """The summary of a run of ``simulate(..., samples=False)``."""
-        return cls(maxima=run.maxima, slow_period=run.slow_period, Phi=run.Phi, QR_extent=run.QR_extent,
-                   QJ_extent=run.QJ_extent, energy_rel_error=run.energy_rel_error, n_steps=run.n_steps)
+        return cls(maxima=run.maxima, slow_period=run.slow_period, Phi=run.Phi,
+                   energy_rel_error=run.energy_rel_error, n_steps=run.n_steps)
 
     @property
     def n_maxima(self) -> int:
@@ -220,12 +219,13 @@ def run_jobs(jobs: Sequence[Job], lanes: int) -> list[RunSummary]:
 
 
 def _batches(jobs: list[Job], lanes: int) -> list[list[int]]:
-    """The jobs' indices in batches of ``lanes`` of one tolerance each, the longest jobs (in radians Λ·t_end)
+    """The jobs' indices in batches of ``lanes`` of one tolerance and one kind of body (Body, LoadedSphere) each, the longest jobs (in radians Λ·t_end)
     together so that few lanes idle while the others finish.  Which jobs share a batch does not change any job's
     result (:mod:`batch`)."""
     batches = []
-    for tol in sorted({job.tol for job in jobs}):
-        order = sorted((i for i in range(len(jobs)) if jobs[i].tol == tol), key=lambda i: -jobs[i].radians)
+    for kind in sorted({(job.tol, len(job.body.params)) for job in jobs}):  # one tolerance, one kind of body each
+        order = sorted((i for i in range(len(jobs)) if (jobs[i].tol, len(jobs[i].body.params)) == kind),
+                       key=lambda i: -jobs[i].radians)
         batches += [order[k:k + lanes] for k in range(0, len(order), lanes)]
     return batches
 

@@ -34,7 +34,7 @@ def run(out: Path) -> Reproduction:
     QR_all = np.concatenate([r.traj.QR for r in rr])
     QJ_all = np.concatenate([r.traj.QJ for r in rr])
     pad = 0.1 * np.ptp(QR_all)
-    draw_critical_lines(ax, rr[0].traj.body, QR_all.min() - pad, QR_all.max() + pad)
+    draw_critical_lines(ax, rr[0].traj.paper_body, QR_all.min() - pad, QR_all.max() + pad)
     for k, r in enumerate(rr):
         ax.plot(r.traj.QR, r.traj.QJ, lw=0.6, color=f"C{k + 2}", label=r.label)
     ax.set_ylim(QJ_all.min() - 0.1 * np.ptp(QJ_all), QJ_all.max() + 0.1 * np.ptp(QJ_all))

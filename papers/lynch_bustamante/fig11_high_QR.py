@@ -58,11 +58,11 @@ def run(out: Path) -> Reproduction:
     fraction, r = compute()
     traj = r.traj
     t_j, dphi = visible_precession(traj)
-    regions = sorted(set(str(x) for x in region(traj.maxima.QR, traj.maxima.QJ, traj.body)))
+    regions = sorted(set(str(x) for x in region(traj.maxima.QR, traj.maxima.QJ, traj.paper_body)))
     fig = new_figure(figsize=(11, 4.5))
     axes = fig.subplots(1, 2)
     pad = 0.2 * np.ptp(traj.QR)
-    lines = draw_critical_lines(axes[0], traj.body, traj.QR.min() - pad, traj.QR.max() + pad)
+    lines = draw_critical_lines(axes[0], traj.paper_body, traj.QR.min() - pad, traj.QR.max() + pad)
     plot_invariant_orbit(traj, axes[0])
     crit = lines["QJpi"]
     lo, hi = min(traj.QJ.min(), crit.min()), max(traj.QJ.max(), crit.max())
@@ -83,7 +83,7 @@ def run(out: Path) -> Reproduction:
                            [f"paper fig. 11; body: {traj.body.describe()}", f"initial: {r.initial}"]))
     numbers: dict[str, float | str] = {
         "offset fraction of |Q_J,pi crit|": fraction,
-        "Q_J(0) - Q_J,pi crit": float(traj.QJ[0] - QJ_crit_pi(traj.QR[0], traj.body)),
+        "Q_J(0) - Q_J,pi crit": float(traj.QJ[0] - QJ_crit_pi(traj.QR[0], traj.paper_body)),
         "regions at the maxima": " ".join(regions),
         "min visible delta_phi": float(dphi.min()), "max visible delta_phi": float(dphi.max())}
     caption = (f"Q_R = {QR0:g}, started {100 * fraction:.2f} % of |Q_J,π^crit| above the line (zero mean visible "

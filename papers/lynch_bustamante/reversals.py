@@ -61,7 +61,7 @@ def three_panels(r: ReversalRun, out: Path, name: str, title: str) -> list[Path]
     axes = fig.subplots(3, 1)
     ax = axes[0]
     pad = 0.15 * max(np.ptp(traj.QR), 1e-12)
-    draw_critical_lines(ax, traj.body, traj.QR.min() - pad, traj.QR.max() + pad)
+    draw_critical_lines(ax, traj.paper_body, traj.QR.min() - pad, traj.QR.max() + pad)
     plot_invariant_orbit(traj, ax)
     qj_pad = 0.15 * np.ptp(traj.QJ)
     ax.set_ylim(traj.QJ.min() - qj_pad, traj.QJ.max() + qj_pad)

@@ -47,7 +47,7 @@ def test_cite_is_bibtex_for_what_the_command_uses(command, capsys):
 @pytest.mark.parametrize("command, methods", [
     ("slow", {"CincottaSimo2000", "Chirikov1979"}), ("portrait", {"CincottaSimo2000", "Chirikov1979"}),
     ("bifurcation", {"Greene1979", "Chirikov1979"}), ("atlas", {"CincottaSimo2000"}),
-    ("simulate", {"CincottaSimo2000"}), ("table", set())])
+    ("simulate", {"CincottaSimo2000"}), ("table", set()), ("hierarchy", set())])
 def test_cite_names_the_methods_a_command_uses(command, methods, capsys):
     """MEGNO (Cincotta & Simó 2000), Greene's residue (1979) and the standard map (Chirikov 1979) were cited by no
     command, though slow, portrait, atlas and simulate --chaos report MEGNO and bifurcation Greene's residues."""
@@ -242,3 +242,13 @@ def test_installed_version_tells_a_development_build():
     head = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "HEAD"], capture_output=True, text=True, check=True)
     if head.stdout.strip() != commit:
         assert rr.__version__ != release and ".dev" in rr.__version__ and "+" in rr.__version__, rr.__version__
+
+
+@pytest.mark.parametrize("command, keys", [
+    ("hierarchy", {"Chaplygin1903", "BorisovMamaev2002"}),
+    ("simulate", {"BorisovMamaev2002", "BorisovKazakovSataev2014"}), ("slow", set())])
+def test_cite_names_the_literature_of_the_loaded_spheres(command, keys):
+    """Chaplygin (1903), Borisov and Mamaev (2002) and Borisov, Kazakov and Sataev (2014) where a command works with
+    the family of loaded spheres: `hierarchy` its integrals and measures, `simulate --offset` Chaplygin's top."""
+    found = set(re.findall(r"^@\w+\{(\w+),", rr.cite(command), flags=re.M))
+    assert found & {"Chaplygin1903", "BorisovMamaev2002", "BorisovKazakovSataev2014"} == keys

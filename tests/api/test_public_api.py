@@ -87,6 +87,8 @@ PUBLIC_NAMES = [
     "period_doubling", "precession", "precession_from_turning_point", "precession_mp", "predict_slow_motion", "region",
     "reversal_analysis", "run_ensemble", "simulate", "solve_turning_points", "state_from_turning_point", "theta_e",
     "theta_z", "theta_z_expansion", "turning_points",
+    # the family of loaded spheres: a body with its mass centre anywhere, and Borisov and Mamaev's table
+    "LoadedSphere", "hierarchy_table",
     # issue 23, item 4: periodic orbits near the period doubling and their diagram
     "Branch", "PeriodicOrbit", "bifurcation_diagram", "continue_orbit", "periodic_orbit",
     # issue 23: statistics where the slow motion is chaotic, and the phase portrait

@@ -15,7 +15,7 @@ from rocknroller.analysis.model.invariants import energy, jellett, routh
 from rocknroller.analysis.model.kinematics import angles_from_frame
 from rocknroller.analysis.routh.rocking import small_amplitude_frequency, small_amplitude_frequency_as_printed
 from rocknroller.numerics.integrate import simulate
-from rocknroller.numerics.trajectory import energy_scale
+from rocknroller.numerics.run_limits import energy_scale
 
 #: Safety margin of the integration bounds below: they take each step's error at the integrator's tolerance
 #: and add the steps up linearly (worst cases already); the margin covers the first-order propagation and

@@ -23,7 +23,8 @@ from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState, turning_point_function
 from rocknroller.analysis.model.invariants import energy
 from rocknroller.numerics.integrate import AccuracyError, AccuracyWarning, simulate
-from rocknroller.numerics.trajectory import TurningPointRun, energy_scale
+from rocknroller.numerics.run_limits import energy_scale
+from rocknroller.numerics.trajectory import TurningPointRun
 
 BODY = Body.paper(1e-3)
 U = np.finfo(float).eps
@@ -148,7 +149,7 @@ def test_energy_check_warns_or_fails(fig5_initial, monkeypatch):
     The bound is made impossibly tight here to exercise the check; the real runs stay far below it."""
     traj = simulate(BODY, fig5_initial, 50.0)
     assert traj.energy_rel_error <= traj.energy_tolerance / 100
-    monkeypatch.setattr("rocknroller.numerics.trajectory.ENERGY_SLACK", 1e-30)
+    monkeypatch.setattr("rocknroller.numerics.run_limits.ENERGY_SLACK", 1e-30)
     with pytest.warns(AccuracyWarning, match="energy error"):
         simulate(BODY, fig5_initial, 50.0)
     with pytest.raises(AccuracyError, match="energy error"):

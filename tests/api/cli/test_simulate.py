@@ -213,7 +213,7 @@ def test_extreme_input_is_refused_quickly(argv, fragment, capsys):
 def test_strict_energy_check(capsys, monkeypatch):
     """Without --strict a run that misses its energy tolerance warns (exit 0, listed in the JSON); with it, exit 1.
     The bound is made impossibly tight to exercise the check."""
-    monkeypatch.setattr("rocknroller.numerics.trajectory.ENERGY_SLACK", 1e-30)
+    monkeypatch.setattr("rocknroller.numerics.run_limits.ENERGY_SLACK", 1e-30)
     assert main(["simulate", "--t-end", "20", "--quiet", "--json"]) == 0
     captured = capsys.readouterr()
     assert "energy error" in captured.err and json.loads(captured.out)["warnings"]
@@ -282,3 +282,28 @@ def test_chaos_option_has_help(capsys):
         main(["simulate", "--help"])
     text = " ".join(capsys.readouterr().out.split())
     assert "--chaos" in text and "MEGNO" in text and "Lyapunov exponent per unit time and per rock" in text
+
+
+def test_offset_runs_a_chaplygin_top_and_leaves_out_the_papers_quantities(tmp_path, capsys):
+    out = tmp_path / "top"
+    assert main(["simulate", "--offset", "0.03", "-0.02", "-0.05", "--I1", "0.37", "--I2", "0.35", "--theta0", "0.9pi",
+                 "--omega", "0", "0", "0", "--t-end", "30", "--out", str(out), "--json", "--quiet"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["n_maxima"] >= 3 and summary["energy_rel_error"] < 1e-13
+    names = {p.name for p in out.iterdir()}
+    assert "QR_QJ_orbit.png" not in names and {"samples.csv", "turning_points.csv", "contact_track.png"} <= names
+    header = [line for line in (out / "samples.csv").read_text().splitlines() if not line.startswith("#")][0]
+    assert header.split(",") == ["t", "theta", "phi", "psi", "w1", "w2", "w3", "E", "X", "Y"]
+    assert "Chaplygin's top: c=(0.03, -0.02, -0.05)" in (out / "turning_points.csv").read_text()
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--offset", "0", "0", "0", "--a", "0.1"], "--offset places the mass centre: do not combine it with --a"),
+    (["--offset", "0.9", "0.9", "0"], "offset must satisfy |c| < 1"),
+    (["--offset", "0", "0", "-0.05", "--I1", "0.1", "--I2", "0.1"], "triangle inequality"),
+    (["--tilt-axis", "2"], "--tilt-axis needs --offset"),
+])
+def test_bad_offsets_are_refused_in_one_line(argv, message, capsys):
+    assert main(["simulate", "--t-end", "1", "--quiet", *argv]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err

@@ -30,10 +30,11 @@ def test_warm_builds_every_integrator_once_and_reports_each(monkeypatch, capsys)
 
 
 def test_warm_lists_the_integrators_of_every_compile_site():
-    """One entry per compiled integrator: direct (2 precisions), ensembles, chaos, tables of order 1 and 2 and of the
-    three harmonics."""
+    """One entry per compiled integrator: direct (2 precisions), ensembles, chaos, the same three for the general
+    loaded sphere, tables of order 1 and 2 and of the three harmonics."""
     names = [what for what, _ in warm.integrators()]
-    assert len(names) == len(set(names)) == 7
+    assert len(names) == len(set(names)) == 10
+    assert sum("general loaded sphere" in n for n in names) == 3
     assert any("order 2" in n for n in names) and any("chaos" in n for n in names)
     assert any("harmonics" in n for n in names)
 

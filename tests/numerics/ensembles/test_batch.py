@@ -16,7 +16,7 @@ import rocknroller as rr
 from rocknroller.analysis.model.diagnostics import wrap_angle
 from rocknroller.numerics.ensembles.batch import MAX_LANES, MIN_LANES, batch_width, run_batch
 from rocknroller.numerics.ensembles.ensemble import Job, run_ensemble
-from rocknroller.numerics.trajectory import energy_error_bound
+from rocknroller.numerics.run_limits import energy_error_bound
 
 #: Unit round-off of double precision.
 U = float(np.finfo(float).eps) / 2.0
