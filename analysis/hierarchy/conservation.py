@@ -10,7 +10,7 @@ with P as in :func:`~rocknroller.analysis.model.equations.body_frame_rhs` (seven
 The flow is the package's own: that function is evaluated over sympy's field of rational functions in γ, ω and the
 member's free parameters, so the proofs are about the equations the integrators use.
 
-The quantities (``QUANTITIES``, by name; M = K ω is the angular momentum about the contact point, T = ½ ω·K ω):
+The quantities (``QUANTITIES``, by name; M = K ω is the angular momentum about the contact point, T = ½ ω·K ω)::
 
     energy              E     T + g c·γ (the constant g|c| of the package's V = g(|c| + c·γ) does not matter)
     jellett             M·r   Jellett's; I1(γ1ω1 + γ2ω2) + I3(γ3 − a)ω3, the paper's Q_J, where I1 = I2, c = (0, 0, −a)

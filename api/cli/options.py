@@ -24,6 +24,8 @@ __all__ = [
     "accept_negative_values",
     "add_body_options",
     "body_from_args",
+    "add_offset_option",
+    "sphere_from_args",
     "add_initial_state_options",
     "initial_state_from_args",
     "rates_given",
