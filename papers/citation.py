@@ -345,7 +345,7 @@ USES: dict[str, tuple[str, ...]] = {
     "animate": ("heyoka",),
     "table": ("scipy", "mpmath"),
     "diagram": ("heyoka",),
-    "slow": ("heyoka", "megno", "standard_map"),
+    "slow": ("heyoka", "megno", "standard_map", "residue"),  # its periodic orbits carry Greene's residue
     "atlas": ("heyoka", "megno"),
     "bifurcation": ("heyoka", "scipy", "standard_map", "residue"),
     "portrait": ("heyoka", "megno", "standard_map"),

@@ -45,7 +45,7 @@ def test_cite_is_bibtex_for_what_the_command_uses(command, capsys):
 
 
 @pytest.mark.parametrize("command, methods", [
-    ("slow", {"CincottaSimo2000", "Chirikov1979"}), ("portrait", {"CincottaSimo2000", "Chirikov1979"}),
+    ("slow", {"CincottaSimo2000", "Chirikov1979", "Greene1979"}), ("portrait", {"CincottaSimo2000", "Chirikov1979"}),
     ("bifurcation", {"Greene1979", "Chirikov1979"}), ("atlas", {"CincottaSimo2000"}),
     ("simulate", {"CincottaSimo2000"}), ("table", set()), ("hierarchy", set())])
 def test_cite_names_the_methods_a_command_uses(command, methods, capsys):
