@@ -115,7 +115,7 @@ def check_tol(tol: Any, name: str = "tol", lowest: float = DEFAULT_TOL) -> float
     except (TypeError, ValueError, OverflowError):
         value = math.nan
     if not lowest <= value <= TOL_MAX:  # False for NaN
-        raise ValueError(f"{name} must be a number in [{lowest:.6g}, {TOL_MAX:g}] (from the machine epsilon of the "
+        raise ValueError(f"{name} must be a number in [{lowest!r}, {TOL_MAX:g}] (from the machine epsilon of the "
                          f"precision to {TOL_MAX:g}), got {name}={tol!r}")
     return value
 

@@ -54,8 +54,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--t-end", type=float, default=1500.0, help="final time (default 1500)")
     p.add_argument("--method", choices=("heyoka", "scipy"), default="heyoka", help="integrator (default heyoka)")
     p.add_argument("--tol", type=float, default=None,
-                   help=f"heyoka's tolerance, in [{DEFAULT_TOL:.4g}, {TOL_MAX:g}] (default: the machine epsilon, "
-                        f"{DEFAULT_TOL:.4g}); 1e-11 gives DOP853's best energy error at a lower Taylor order "
+                   help=f"heyoka's tolerance, in [{DEFAULT_TOL!r}, {TOL_MAX:g}] (default: the machine epsilon, "
+                        f"{DEFAULT_TOL!r}); 1e-11 gives DOP853's best energy error at a lower Taylor order "
                         "(--chaos keeps the default)")
     p.add_argument("--dt", type=float, default=None,
                    help="output spacing (default 0.15/Lambda, about 0.05 for the paper's runs; Lambda bounds |omega|)")

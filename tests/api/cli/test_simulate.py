@@ -77,7 +77,7 @@ def test_outputs_written(tmp_path, capsys):
         (["--t-end", "-1"], "--t-end must be"),
         (["--theta0", "nan"], "angle"),
         (["--theta0", "0"], "0 < theta0 < pi when no rates are given (the start then takes the figure-5 omega"),
-        (["--tol", "1e-3"], "--tol must be a number in [2.22045e-16, 1e-06]"),
+        (["--tol", "1e-3"], "--tol must be a number in [2.220446049250313e-16, 1e-06]"),
         (["--tol", "nan"], "--tol must be a number in"),
         (["--tol", "1e-11", "--method", "scipy"], "--tol is heyoka's tolerance (--method heyoka)"),
     ],
@@ -307,3 +307,14 @@ def test_bad_offsets_are_refused_in_one_line(argv, message, capsys):
     assert main(["simulate", "--t-end", "1", "--quiet", *argv]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and message in err
+
+
+def test_the_tolerance_bound_help_shows_is_accepted(capsys):
+    """--help showed the machine epsilon as 2.22e-16, below it, so the bound as shown was refused: it is shown to all
+    its digits, and that text is accepted."""
+    from cli_help import help_texts
+
+    text = " ".join(help_texts()["simulate"].split())
+    shown = text.split("heyoka's tolerance, in [", 1)[1].split(",", 1)[0]
+    assert main(["simulate", "--tol", shown, "--t-end", "5", "--quiet", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["n_maxima"] >= 0
