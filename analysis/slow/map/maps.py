@@ -135,6 +135,14 @@ class _MapMixin(ABC):
         return out
 
 
+
+def _check_body(body: object) -> None:
+    """A ValueError unless ``body`` is a :class:`Body` (the slow maps are the paper's: the mass centre on the third
+    axis), naming what was given."""
+    if not isinstance(body, Body):
+        raise ValueError(f"body must be a rocknroller Body (the mass centre on the third principal axis), got "
+                         f"{getattr(body, 'kind', None) or type(body).__name__}")
+
 @dataclass(frozen=True)
 class SlowMap(_MapMixin):
     """The averaged slow map of ``order`` (1, or 2 with the second-order kick) of the member I2 = (1 + ε) I1 of
@@ -180,6 +188,7 @@ class SlowMap(_MapMixin):
     def __post_init__(self, build: bool, workers: int) -> None:
         from rocknroller.analysis.slow.map.table import load_or_build_table
 
+        _check_body(self.body)
         if self.order not in (1, 2) or isinstance(self.order, bool):
             raise ValueError(f"order must be 1 or 2, got order={self.order!r}")
         theta0 = check_map_theta0(self.theta0)
@@ -302,6 +311,7 @@ class ExactMap(_MapMixin):
     max_steps: ClassVar[tuple[int, str]] = (EXACT_MAX_STEPS, "EXACT_MAX_STEPS")
 
     def __post_init__(self) -> None:
+        _check_body(self.body)
         theta0 = check_release_theta0(self.theta0)
         sym = self.body.symmetric()
         eps = _check_eps(self.eps, sym)

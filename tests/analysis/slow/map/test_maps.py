@@ -258,3 +258,13 @@ def test_tangent_to_maximum_bad_input():
         tangent_to_maximum(BODY, y0[:5], np.ones(6), 0.0, 1.0)
     with pytest.raises(ValueError, match="t_after"):
         tangent_to_maximum(BODY, y0, np.ones(6), 2.0, 1.0)
+
+
+@pytest.mark.parametrize("body", ["body", None, 3.0, Body.chaplygin_ball(0.3, 0.35, 0.4),
+                                  Body.paper(1e-3).as_loaded_sphere()])
+@pytest.mark.parametrize("cls", [SlowMap, ExactMap])
+def test_a_map_refuses_what_is_not_a_body_in_one_clear_error(cls, body):
+    """rr.SlowMap('body', ...) gave an AttributeError traceback; a LoadedSphere would have been read as the paper's
+    body (its `a` refused deep inside): both are ValueErrors naming what was given."""
+    with pytest.raises(ValueError, match="body must be a rocknroller Body"):
+        cls(body, 0.95 * math.pi, 1e-3)
