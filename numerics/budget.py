@@ -68,7 +68,7 @@ def check_budget(budget: float | None) -> float:
     """``budget`` as seconds (None: no limit, +inf), or a ValueError naming it unless it is a number > 0."""
     if budget is None:
         return math.inf
-    value = float_or_nan(budget)
+    value = math.nan if isinstance(budget, (str, bytes, bool)) else float_or_nan(budget)  # '10' is text, not seconds
     if not value > 0.0:  # also NaN
         raise ValueError(f"budget must be a number of seconds > 0 (or None: no limit), got budget={budget!r}")
     return value

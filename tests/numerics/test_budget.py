@@ -92,3 +92,12 @@ def test_the_commands_take_a_budget(tmp_path, capsys):
     capsys.readouterr()
     assert main(["simulate", "--t-end", "5", "--budget", "-3"]) == 2
     assert "--budget must be a number of seconds > 0 or 'inf', got '-3'" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("budget", ["10", b"10", True, 0.0, -1.0, math.nan])
+def test_a_budget_is_a_number_of_seconds(budget):
+    """budget='10' was accepted as ten seconds: text is not a number of seconds."""
+    from rocknroller.numerics.budget import check_budget
+
+    with pytest.raises(ValueError, match="budget must be a number of seconds > 0"):
+        check_budget(budget)

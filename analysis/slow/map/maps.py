@@ -80,8 +80,9 @@ def _continued(theta: float, raw: float) -> float:
 
 
 def _check_x(x: ArrayLike) -> NDArray[np.float64]:
-    try:
-        a = np.asarray(x, dtype=float) if not isinstance(x, str) else np.array(np.nan)
+    try:  # a complex x is refused, not cast with a ComplexWarning (its imaginary part silently dropped)
+        real = not isinstance(x, str) and not np.iscomplexobj(x)
+        a = np.asarray(x, dtype=float) if real else np.array(np.nan)
     except (TypeError, ValueError):
         a = np.array(np.nan)
     if a.shape != (3,) or not np.all(np.isfinite(a)):

@@ -268,3 +268,10 @@ def test_a_map_refuses_what_is_not_a_body_in_one_clear_error(cls, body):
     body (its `a` refused deep inside): both are ValueErrors naming what was given."""
     with pytest.raises(ValueError, match="body must be a rocknroller Body"):
         cls(body, 0.95 * math.pi, 1e-3)
+
+
+def test_a_complex_point_is_refused_not_cast():
+    """A complex x was cast to its real part with only a ComplexWarning."""
+    m = SlowMap(Body.paper(1e-3), 0.95 * math.pi, 1e-3, order=1)
+    with pytest.raises(ValueError, match="x must be three finite numbers"):
+        m(np.array([1e-3, 0.0, 0.3 + 1e-3j]))
