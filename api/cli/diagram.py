@@ -85,7 +85,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"Q_J,0^crit = {float(crit.QJ_crit_0(1.0, body)):.12g} Q_R,  "
               f"Q_J,pi^crit = {float(crit.QJ_crit_pi(1.0, body)):.12g} Q_R")
         if traj is not None:
-            print(f"start (Q_R, Q_J) = ({summary['QR0']:.6g}, {summary['QJ0']:.6g}) in {summary['region0']}; "
+            where = summary["region0"] if summary["region0"].startswith("on ") else f"in {summary['region0']}"
+            print(f"start (Q_R, Q_J) = ({summary['QR0']:.6g}, {summary['QJ0']:.6g}) {where}; "
                   f"crossings of Q_J,0^crit: {summary['crossings_QJ0crit']}, of Q_J,pi^crit: "
                   f"{summary['crossings_QJpicrit']} (t_end={args.t_end:g})")
         for p in paths:

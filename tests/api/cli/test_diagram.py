@@ -132,3 +132,10 @@ def test_cli_bad_input(argv, message, tmp_path, capsys):
     assert main(argv + ["--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err
     assert message in err and "Traceback" not in err
+
+
+def test_a_start_on_a_critical_line_is_said_to_be_on_it(tmp_path, capsys):
+    """The start placed on Q_J,pi^crit printed "in on QJpicrit"."""
+    assert main(["diagram", "--simulate", "--critical-line", "pi", "--psi-dot0", "0.002", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert " on QJpicrit;" in out and "in on" not in out
