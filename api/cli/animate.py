@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 from rocknroller.cli.options import (add_body_options, add_critical_line_options, add_force_option,
-                                     add_initial_state_options, body_from_args, critical_line_state,
+                                     add_initial_state_options, body_from_args, critical_line_state, output_path,
                                      prepare_output_file, start_with_default_rates)
 from rocknroller.papers.lynch_bustamante import fig5_symmetry_breaking as fig5
 
@@ -34,7 +34,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--t-end", type=float, default=200.0, help="time span shown (default 200)")
     p.add_argument("--fps", type=int, default=15, help="frames per second (default 15)")
     p.add_argument("--duration", type=float, default=10.0, help="length of the animation in seconds (default 10)")
-    p.add_argument("--out", type=Path, default=Path("rocknroller.gif"), metavar="FILE",
+    p.add_argument("--out", type=output_path, default=Path("rocknroller.gif"), metavar="FILE",
                    help="the .gif or .mp4 to write (default rocknroller.gif; not overwritten without --force)")
     add_force_option(p)
     p.add_argument("--quiet", action="store_true", help="no progress bar")

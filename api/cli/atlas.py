@@ -11,8 +11,8 @@ from typing import Any
 import numpy as np
 
 from rocknroller.cli.options import (accept_negative_values, add_body_options, add_budget_option, add_cluster_options,
-                                     add_force_option, body_from_args, budget_from_args, cluster_from_args, parse_angle,
-                                     prepare_output_dir, print_json)
+                                     add_force_option, body_from_args, budget_from_args, cluster_from_args, output_path,
+                                     parse_angle, prepare_output_dir, print_json)
 
 #: Files written to --out.
 OUTPUTS = ("atlas.csv", "atlas.png", "atlas.pdf", "atlas_check.png", "atlas_check.pdf")
@@ -74,7 +74,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "process (default 2; the numbers do not depend on it). --workers is another thing: dask's "
                         "worker processes, for the map's tables or the direct runs")
     add_cluster_options(p)
-    p.add_argument("--out", type=Path, default=Path("atlas"), metavar="DIR",
+    p.add_argument("--out", type=output_path, default=Path("atlas"), metavar="DIR",
                    help="write atlas.csv and the figures to DIR (default ./atlas; created if missing; existing files "
                         "are not overwritten without --force)")
     add_force_option(p)

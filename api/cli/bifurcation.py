@@ -8,7 +8,7 @@ from pathlib import Path
 
 from rocknroller.analysis.slow.dynamics.periodic_orbits import MAX_BRANCH_POINTS
 from rocknroller.cli.options import (add_body_options, add_budget_option, add_force_option, body_from_args,
-                                     budget_from_args, parse_angle, prepare_output_dir, print_json)
+                                     budget_from_args, output_path, parse_angle, prepare_output_dir, print_json)
 from rocknroller.papers.bifurcation import EXACT_FRACTIONS
 
 
@@ -39,7 +39,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--order", type=int, choices=(1, 2), default=None,
                    help="order of the slow map (default 2, as rocknroller slow's for a release in the release tables' "
                         "range: the second-order tables are built once per body and theta0, then cached)")
-    p.add_argument("--out", type=Path, default=Path("."), metavar="DIR",
+    p.add_argument("--out", type=output_path, default=Path("."), metavar="DIR",
                    help="write bifurcation.png, .pdf and .csv to DIR (default: current directory; existing files are "
                         "not overwritten without --force)")
     add_force_option(p)

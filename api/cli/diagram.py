@@ -6,8 +6,8 @@ import argparse
 from pathlib import Path
 
 from rocknroller.cli.options import (add_body_options, add_critical_line_options, add_force_option,
-                                     add_initial_state_options, body_from_args, critical_line_state, prepare_output_dir,
-                                     print_json)
+                                     add_initial_state_options, body_from_args, critical_line_state, output_path,
+                                     prepare_output_dir, print_json)
 
 #: Defaults of the paper's critical-line runs (§numerics "Recession and Criticality"): ε = 1e-3, θ0 = 0.95π, ψ0 = π/4, 200 time units.
 SIM_EPS, SIM_PSI0, SIM_T_END = 1e-3, "pi/4", 200.0
@@ -27,7 +27,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_body_options(p, eps_default=0.0)
     p.add_argument("--QR-max", type=float, default=1.0, metavar="Q",
                    help="half-width of the Q_R axis without --simulate (default 1)")
-    p.add_argument("--out", type=Path, default=Path("."), metavar="DIR",
+    p.add_argument("--out", type=output_path, default=Path("."), metavar="DIR",
                    help="write regions[_orbit].png and .pdf to DIR (default: current directory; existing files "
                         "are not overwritten without --force)")
     add_force_option(p)

@@ -7,7 +7,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from rocknroller.cli.options import add_force_option, prepare_output_dir, print_json
+from rocknroller.cli.options import add_force_option, output_path, prepare_output_dir, print_json
 
 #: Files written to --out.
 OUTPUTS = ("hierarchy.csv", "hierarchy.png", "hierarchy.pdf")
@@ -30,7 +30,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--t-end", type=float, default=DRIFT_T_END,
                    help=f"length of the direct runs that measure the drifts, in [1, 1e4] (default {DRIFT_T_END:g})")
-    p.add_argument("--out", type=Path, default=None, metavar="DIR",
+    p.add_argument("--out", type=output_path, default=None, metavar="DIR",
                    help="write hierarchy.csv (one row per member and quantity) and hierarchy.png/.pdf to DIR "
                         "(existing files are not overwritten without --force)")
     add_force_option(p)

@@ -25,6 +25,7 @@ __all__ = [
     "add_body_options",
     "body_from_args",
     "add_offset_option",
+    "output_path",
     "sphere_from_args",
     "add_initial_state_options",
     "initial_state_from_args",
@@ -299,6 +300,14 @@ def cluster_from_args(args: argparse.Namespace) -> tuple[str | None, int | None]
 
 
 # ----------------------------------------------------------------------------- outputs
+def output_path(text: str) -> Path:
+    """An argparse type for the options that name where outputs go (--out, --csv, --plot, --values): a Path, with
+    an empty name refused (``--out ""`` wrote into the current folder, which nobody named)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("an empty name names no file or folder (for the current folder give '.')")
+    return Path(text)
+
+
 def add_force_option(parser: argparse.ArgumentParser) -> None:
     """--force: overwrite existing output files (without it, a command refuses before computing)."""
     parser.add_argument("--force", action="store_true",

@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from rocknroller.cli.options import (add_body_options, add_budget_option, add_force_option, body_from_args,
-                                     budget_from_args, parse_angle, prepare_output_dir, print_json)
+                                     budget_from_args, output_path, parse_angle, prepare_output_dir, print_json)
 
 #: Files written to --out.
 OUTPUTS = ("portrait.png", "portrait.pdf", "portrait.csv", "portrait_orbits.csv")
@@ -64,11 +64,11 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="overlay the direct ODE's maxima from this start (Theta, p), e.g. 0.2,0 for the release from "
                         "rest at psi0 = 0.1; repeat for more (default: none)")
     p.add_argument("--ode-t-end", type=float, default=None, help="time span of the direct runs (default --t-end)")
-    p.add_argument("--values", type=Path, default=None, metavar="FILE",
+    p.add_argument("--values", type=output_path, default=None, metavar="FILE",
                    help="colour the orbits by the numbers in FILE, one per orbit in grid order (Theta outer, p inner; "
                         f"numpy.loadtxt; a regular file of at most {MAX_VALUES_BYTES:,} bytes); default: the orbit's "
                         "MEGNO")
-    p.add_argument("--out", type=Path, default=Path("portrait"), metavar="DIR",
+    p.add_argument("--out", type=output_path, default=Path("portrait"), metavar="DIR",
                    help="write portrait.png, .pdf and .csv to DIR (default ./portrait; existing files are not "
                         "overwritten without --force)")
     add_force_option(p)

@@ -9,7 +9,7 @@ import time
 from pathlib import Path
 from typing import Any, Sequence
 
-from rocknroller.cli.options import prepare_output_dir
+from rocknroller.cli.options import output_path, prepare_output_dir
 from rocknroller.papers.output import PRODUCER
 
 
@@ -22,7 +22,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "computed by the library from the paper's stated initial conditions; index.md lists every file "
         "with its caption and the numbers measured.",
     )
-    p.add_argument("--out", type=Path, default=Path("rocknroller-output"), metavar="DIR",
+    p.add_argument("--out", type=output_path, default=Path("rocknroller-output"), metavar="DIR",
                    help="output directory (default ./rocknroller-output); it must be new or empty unless --force")
     p.add_argument("--force", action="store_true",
                    help="write into an existing, non-empty --out, overwriting the files of the same names")

@@ -9,8 +9,8 @@ from pathlib import Path
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.cli.options import (add_body_options, add_budget_option, add_force_option, add_initial_state_options,
-                                     add_offset_option, budget_from_args, initial_state_from_args, prepare_output_dir,
-                                     print_json, sphere_from_args, start_with_default_rates)
+                                     add_offset_option, budget_from_args, initial_state_from_args, output_path,
+                                     prepare_output_dir, print_json, sphere_from_args, start_with_default_rates)
 from rocknroller.papers.lynch_bustamante import fig5_symmetry_breaking as fig5
 
 #: Files written to --out (with samples), and with --turning-points-only.
@@ -70,7 +70,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--strict", action="store_true",
                    help="fail (exit 1) instead of warning when the energy error exceeds what the integrator's "
                         "tolerance allows")
-    p.add_argument("--out", type=Path, default=None, metavar="DIR",
+    p.add_argument("--out", type=output_path, default=None, metavar="DIR",
                    help="write samples.csv, turning_points.csv and PNG+PDF plots to DIR (created if missing; "
                         "existing files are not overwritten without --force)")
     add_force_option(p)
@@ -104,9 +104,10 @@ def _plots(traj, body, out: Path, names: tuple[str, ...]) -> list[Path]:
                        ("QR_QJ_orbit", plot_invariant_orbit)):
         if f"{name}.png" in _for_body(names, body):
             ax = plot(traj)
-            ax.set_title(f"a={body.a:g}, I1={body.I1:g}, I3={body.I3:g}, eps={body.epsilon:.3g}" if isinstance(body, Body)
-                         else f"{body.kind}: c=({', '.join(f'{v:g}' for v in body.offset)}), "
-                              f"I=({body.I1:g}, {body.I2:g}, {body.I3:g})", fontsize=9)
+            title = (f"a={body.a:g}, I1={body.I1:g}, I3={body.I3:g}, eps={body.epsilon:.3g}" if isinstance(body, Body)
+                     else f"{body.kind}: c=({', '.join(f'{v:g}' for v in body.offset)}), "
+                          f"I=({body.I1:g}, {body.I2:g}, {body.I3:g})")
+            ax.set_title(title, fontsize=9)
             written += save_figure(ax.figure, out, name)
     return written
 
@@ -163,7 +164,8 @@ def run(args: argparse.Namespace) -> int:
     initial = start_with_default_rates(args, initial)
     tp_only = args.turning_points_only
     if args.out is not None:
-        names = _for_body(OUTPUTS_TURNING_POINTS if tp_only else OUTPUTS, body) + ((OUTPUT_CHAOS,) if args.chaos else ())
+        names = _for_body(OUTPUTS_TURNING_POINTS if tp_only else OUTPUTS, body)
+        names += (OUTPUT_CHAOS,) if args.chaos else ()
         prepare_output_dir(args.out, "--out", args.force, names)
     kw = dict(method=args.method, tol=tol, dt=args.dt, progress=None if not args.quiet else False, strict=args.strict,
               budget=budget_from_args(args))

@@ -37,7 +37,8 @@ from typing import Any
 from rocknroller.analysis.slow import prediction as av
 from rocknroller.cli.options import (add_body_options, add_critical_line_options, add_force_option,
                                      add_initial_state_options, body_from_args, check_critical_line_options,
-                                     critical_line_state, parse_angle, prepare_output_dir, print_json, rates_given)
+                                     critical_line_state, output_path, parse_angle, prepare_output_dir, print_json,
+                                     rates_given)
 from rocknroller.cli.slow_chaos import chaos_lines, chaos_summary
 from rocknroller.cli.slow_periodic import apply_periodic, periodic_lines, periodic_summary
 from rocknroller.cli.slow_statistics import (STATISTICS_CSV, add_statistics_options, check_statistics_options,
@@ -119,13 +120,13 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="releases from rest: also compute the eps at which rocking about the stable axis "
                         "period-doubles from the exact one-step map (all orders in eps; seconds), beside the first-order "
                         "4/kappa and, with --order 2, the second-order map's")
-    p.add_argument("--csv", type=Path, default=None, metavar="DIR",
+    p.add_argument("--csv", type=output_path, default=None, metavar="DIR",
                    help=f"write the predicted maxima to DIR/{CSV_NAME} (t, Q_R, Q_J, Theta, phi, critical region, the "
                         "tangent vector's log-growth, and beyond_horizon: true past the predictability horizon; the "
                         "header records the parameters, the indicators, the horizon and the statistical prediction), "
                         f"and, when the ensemble ran (--statistics), its statistics to DIR/{STATISTICS_CSV}; DIR is "
                         "created if missing, an existing file is not overwritten without --force")
-    p.add_argument("--plot", type=Path, default=None, metavar="DIR",
+    p.add_argument("--plot", type=output_path, default=None, metavar="DIR",
                    help="draw the predicted slow orbit over the direct ODE's turning points (slow_orbit.png and .pdf "
                         "in DIR, created if missing; existing files are not overwritten without --force)")
     add_statistics_options(p)

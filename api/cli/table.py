@@ -13,7 +13,7 @@ import numpy as np
 
 from rocknroller.analysis.routh.quadrature import DEFAULT_RTOL, RTOL_RANGE, check_rtol
 from rocknroller.cli.options import (add_body_options, add_budget_option, add_force_option, body_from_args,
-                                     budget_from_args, parse_angle, prepare_output_file, print_json)
+                                     budget_from_args, output_path, parse_angle, prepare_output_file, print_json)
 from rocknroller.numerics.budget import check_work, mp_point_seconds
 
 COLUMNS = ("Q_R", "Q_J", "E", "theta_N", "theta_X", "T_theta", "tau", "delta_phi", "delta_psi", "visible_phi",
@@ -104,7 +104,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--rtol", type=float, default=DEFAULT_RTOL,
                    help=f"double backend: tolerance on the change between n/2 and n nodes, in [{RTOL_RANGE[0]:g}, "
                         f"{RTOL_RANGE[1]:g}] (default {DEFAULT_RTOL:g})")
-    p.add_argument("--out", type=Path, default=Path("precession_table.csv"), metavar="FILE",
+    p.add_argument("--out", type=output_path, default=Path("precession_table.csv"), metavar="FILE",
                    help="CSV output (default precession_table.csv; an existing file is not overwritten without --force)")
     add_force_option(p)
     add_budget_option(p, "the table")

@@ -7,6 +7,7 @@ import argparse
 
 import pytest
 
+from rocknroller.cli import main
 from rocknroller.cli.options import accept_negative_values
 
 
@@ -48,3 +49,14 @@ def test_a_missing_hook_is_an_error_not_silence(monkeypatch):
     del p._negative_number_matcher
     with pytest.raises(RuntimeError, match="--phi0=-0.5pi"):
         accept_negative_values(p)
+
+
+@pytest.mark.parametrize("argv", [["simulate", "--out", ""], ["diagram", "--out", " "], ["slow", "--csv", ""],
+                                  ["table", "--out", ""], ["hierarchy", "--out", ""]])
+def test_an_empty_output_name_is_refused(argv, capsys, tmp_path, monkeypatch):
+    """--out "" wrote into the current folder, which nobody named."""
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(SystemExit) as stop:
+        main([*argv, "--t-end", "1"] if argv[0] in ("simulate", "hierarchy") else argv)
+    assert stop.value.code == 2 and "an empty name names no file or folder" in capsys.readouterr().err
+    assert not any(tmp_path.iterdir())
