@@ -239,7 +239,8 @@ def run(args: argparse.Namespace) -> int:
                         "rocks_per_region": pred.rocks_per_region,
                         "region_runs": [list(r) for r in pred.region_runs or []],
                         "crossings": [list(c) for c in pred.crossings or []], "n_maxima": int(pred.series.t.size),
-                        "eps": body.epsilon, "theta0": start.theta, "psi0": start.psi, "t_end": args.t_end,
+                        "eps": float(body.epsilon_text()), "theta0": start.theta, "psi0": start.psi,
+                        "t_end": args.t_end,
                         "pendulum": None, "periodic_orbit": None, **extra})
         return _finish(args, body, pred, None, start, summary, messages)
     check_critical_line_options(args)  # --QR and --offset place a start on a line; a release reads neither
@@ -295,7 +296,7 @@ def run(args: argparse.Namespace) -> int:
                     "rocks_per_region": pred.rocks_per_region,
                     "region_runs": [list(r) for r in pred.region_runs or []],
                     "crossings": [list(c) for c in pred.crossings or []], "n_maxima": int(pred.series.t.size),
-                    "eps": body.epsilon, "theta0": theta0, "psi0": psi0, "t_end": args.t_end})
+                    "eps": float(body.epsilon_text()), "theta0": theta0, "psi0": psi0, "t_end": args.t_end})
     summary["periodic_orbit"] = periodic_summary(periodic_start(body, theta0, psi0, order=pred.order),
                                                  on_rocking_axis(psi0))
     summary["pendulum"] = None if pend is None else {

@@ -460,3 +460,10 @@ def test_no_statistics_within_the_horizon_unless_asked(fresh_cache, capsys):
 def test_bad_statistics_options_are_refused(extra, named, capsys):
     assert main(["slow", "--cached-only", *extra]) == 2
     assert named in capsys.readouterr().err
+
+
+def test_json_shows_eps_as_given(capsys):
+    """--eps 1e-2 was reported as "eps": 0.010000000000000007, the rounding of (I2 - I1)/I1."""
+    assert main(["slow", "--order", "1", "--eps", "1e-2", "--psi0", "3pi/8", "--t-end", "200", "--json",
+                 "--statistics", "0"]) == 0
+    assert json.loads(capsys.readouterr().out)["eps"] == 0.01
