@@ -34,7 +34,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["CacheWarning", "MemoryCache", "array_bytes", "cache_dir", "atomic_write", "probe_writable", "warn_unwritable", "array_checksum",
-           "save_arrays", "load_arrays", "COMPILE_NOTE_AFTER", "compiling"]
+           "save_arrays", "load_arrays", "COMPILE_NOTE_AFTER", "compiling", "warming"]
 
 #: Names of the two bookkeeping members of an array file (0-d unicode arrays).
 KEY_FIELD, CHECKSUM_FIELD = "__key__", "__sha256__"
@@ -281,14 +281,30 @@ def load_arrays(path: str | os.PathLike, key: str,
 COMPILE_NOTE_AFTER = 2.0
 
 
+#: Whether the compile note points to ``rocknroller warm`` (not while warm itself compiles).
+_WARM_HINT = threading.local()
+
+
+@contextmanager
+def warming() -> Iterator[None]:
+    """Inside this context (``rocknroller warm``), the compile note does not tell the user to run warm."""
+    _WARM_HINT.off = True
+    try:
+        yield
+    finally:
+        _WARM_HINT.off = False
+
+
 @contextmanager
 def compiling(what: str, seconds: float) -> Iterator[None]:
     """Build a compiled integrator inside this context: if the build is still running after ``COMPILE_NOTE_AFTER``
     seconds (a compilation, not a load from heyoka's disk cache), one line on stderr says what is being compiled, how
     long that usually takes (``seconds``, measured on one core) and that it happens once per machine."""
+    hint = "" if getattr(_WARM_HINT, "off", False) else "; 'rocknroller warm' compiles all integrators ahead of time"
+
     def note() -> None:
         print(f"rocknroller: compiling {what} (once per machine, usually ~{seconds:.0f} s CPU; kept in heyoka's disk "
-              "cache; 'rocknroller warm' compiles all integrators ahead of time)", file=sys.stderr, flush=True)
+              f"cache{hint})", file=sys.stderr, flush=True)
 
     timer = threading.Timer(COMPILE_NOTE_AFTER, note)
     timer.daemon = True

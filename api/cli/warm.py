@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import argparse
+import sys
 import time
+import warnings
 from typing import Any, Callable
 
 
@@ -40,15 +42,41 @@ def register(sub: argparse._SubParsersAction) -> None:
         "ensembles' batch integrator, the chaos indicators' and the averaging tables' variational integrators) into "
         "heyoka's disk cache (HEYOKA_CACHE_DIR), so that no later command waits for a compilation: one that is "
         "already there loads in a fraction of a second. Compiling all of them takes about a minute of CPU. "
-        "Prints each integrator with the seconds it took.",
+        "Prints each integrator, whether it was compiled and cached or loaded from the cache, and the seconds it "
+        "took; exits 1, saying why, when heyoka's disk cache cannot be used (nothing is then kept for later "
+        "processes).",
     )
     p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run ``rocknroller warm`` with the parsed ``args``; returns the exit status."""
-    for what, build in integrators():
-        start = time.perf_counter()
-        build()
-        print(f"{what}: ready in {time.perf_counter() - start:.1f} s", flush=True)
+    """Run ``rocknroller warm`` with the parsed ``args``; returns the exit status: 1 when heyoka's disk cache cannot be
+    used, so that the integrators compiled here are not kept for later processes."""
+    import heyoka as hy
+
+    from rocknroller.numerics.backends import check_diskcache
+    from rocknroller.numerics.cache import CacheWarning, warming
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", CacheWarning)
+        check_diskcache()  # an unusable cache is switched off here, with a CacheWarning that says why
+    why = [str(w.message) for w in caught if issubclass(w.category, CacheWarning)]
+    cached = bool(hy.llvm_state.get_diskcache_enabled())
+    with warming():
+        for what, build in integrators():
+            size = hy.llvm_state.get_diskcache_size() if cached else 0
+            start = time.perf_counter()
+            build()
+            seconds = time.perf_counter() - start
+            if not cached:
+                status = "compiled, not cached"
+            elif hy.llvm_state.get_diskcache_size() > size:
+                status = "compiled and cached"
+            else:
+                status = "loaded from heyoka's disk cache"
+            print(f"{what}: {status} in {seconds:.1f} s", flush=True)
+    if not cached:
+        reason = why[0] if why else "heyoka's disk cache is switched off (hy.llvm_state.set_diskcache_enabled)"
+        print(f"rocknroller warm: nothing was cached, so every process compiles again: {reason}", file=sys.stderr)
+        return 1
     return 0

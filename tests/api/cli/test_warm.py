@@ -61,3 +61,62 @@ def test_a_build_from_the_disk_cache_says_nothing(monkeypatch, capsys):
     with cache.compiling("the test integrator", 12.0):
         pass
     assert capsys.readouterr().err == ""
+
+
+class _FakeCache:
+    """heyoka's disk cache as warm sees it: enabled or not, and a size that a compilation grows."""
+
+    def __init__(self, enabled: bool) -> None:
+        self.enabled, self.size = enabled, 100
+
+    def compile(self) -> None:
+        self.size += 10
+
+
+def _fake(monkeypatch, enabled: bool, warn: str | None = None) -> _FakeCache:
+    import warnings
+
+    import heyoka as hy
+
+    from rocknroller.numerics import backends
+
+    disk = _FakeCache(enabled)
+    monkeypatch.setattr(hy.llvm_state, "get_diskcache_enabled", lambda: disk.enabled)
+    monkeypatch.setattr(hy.llvm_state, "get_diskcache_size", lambda: disk.size)
+    monkeypatch.setattr(backends, "check_diskcache",
+                        lambda: warnings.warn(warn, cache.CacheWarning) if warn else None)
+    monkeypatch.setattr(warm, "integrators", lambda: [("new one", disk.compile), ("old one", lambda: None)])
+    return disk
+
+
+def test_warm_says_which_integrators_it_compiled_and_which_it_loaded(monkeypatch, capsys):
+    _fake(monkeypatch, enabled=True)
+    assert main(["warm"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[0].startswith("new one: compiled and cached in ")
+    assert out[1].startswith("old one: loaded from heyoka's disk cache in ")
+
+
+def test_warm_fails_saying_why_when_nothing_can_be_cached(monkeypatch, capsys):
+    """With a read-only or corrupt HEYOKA_CACHE_DIR warm compiled for a minute, printed "ready" and exited 0."""
+    _fake(monkeypatch, enabled=False, warn="the cache directory /x cannot be used (read-only)")
+    assert main(["warm"]) == 1
+    captured = capsys.readouterr()
+    assert all(": compiled, not cached in " in line for line in captured.out.splitlines())
+    assert "nothing was cached" in captured.err and "/x cannot be used (read-only)" in captured.err
+
+
+def test_warm_does_not_tell_the_user_to_run_warm(monkeypatch, capsys):
+    monkeypatch.setattr(cache, "COMPILE_NOTE_AFTER", 0.0)
+    announced = threading.Event()
+    real_print = print
+
+    def spy(*args, **kwargs):
+        real_print(*args, **kwargs)
+        announced.set()
+
+    monkeypatch.setattr("builtins.print", spy)
+    with cache.warming(), cache.compiling("the test integrator", 12.0):
+        assert announced.wait(10.0)
+    err = capsys.readouterr().err
+    assert "compiling the test integrator" in err and "rocknroller warm" not in err
