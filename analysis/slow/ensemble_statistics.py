@@ -54,13 +54,16 @@ from rocknroller.numerics.budget import WORK_BUDGET_SECONDS
 if TYPE_CHECKING:
     import pandas
 
-__all__ = ["STATISTICS", "DISTRIBUTION_STATISTICS", "KS_ALPHA", "N_STANDARD_ERRORS", "MAX_MEMBERS", "StartBall", "member_statistics",
+__all__ = ["STATISTICS", "STATISTIC_UNITS", "DISTRIBUTION_STATISTICS", "KS_ALPHA", "N_STANDARD_ERRORS", "MAX_MEMBERS", "StartBall", "member_statistics",
            "EnsembleStatistics", "map_ensemble", "ode_ensemble", "StatisticComparison", "EnsembleComparison",
            "compare_ensembles"]
 
 #: The statistics of one member, in this order: region fractions, reversals per 1000 time units, extents.
 STATISTICS = tuple(f"fraction_{r}" for r in REGIONS) + ("full_reversals", "visible_reversals", "QR_extent",
                                                        "QJ_extent")
+#: The unit of each statistic that has one (``rocknroller slow`` prints it beside the value); the region fractions are
+#: fractions of the rocks, the extents in the units of Q_R and Q_J.
+STATISTIC_UNITS = {"full_reversals": "per 1000 time units", "visible_reversals": "per 1000 time units"}
 #: The statistics whose distributions the map and the ODE must give consistently (region fractions and reversal
 #: counts); the extents are compared too, and reported beside them.
 DISTRIBUTION_STATISTICS = STATISTICS[:6]

@@ -92,7 +92,8 @@ def statistics_summary(args: argparse.Namespace, body: Any, pred: Any, summary: 
 
     import numpy as np
 
-    from rocknroller.analysis.slow.ensemble_statistics import STATISTICS, StartBall, map_ensemble, member_statistics
+    from rocknroller.analysis.slow.ensemble_statistics import (STATISTIC_UNITS, STATISTICS, StartBall, map_ensemble,
+                                                               member_statistics)
     from rocknroller.analysis.slow.map.limits import AveragingRangeError, AveragingValidityWarning
 
     n = args.statistics
@@ -116,7 +117,8 @@ def statistics_summary(args: argparse.Namespace, body: Any, pred: Any, summary: 
     s = pred.series
     point = member_statistics(body, s.t, s.QR, s.QJ, args.t_end)
     values = {name: {"point": point[name], "mean": ens.mean(name), "std": float(np.std(ens.values[name], ddof=1)),
-                     "standard_error": ens.standard_error(name)} for name in STATISTICS}
+                     "standard_error": ens.standard_error(name), "unit": STATISTIC_UNITS.get(name, "")}
+              for name in STATISTICS}
     label = f"statistical (map ensemble of {n} starts within +-{args.statistics_delta:g} in psi0)"
     return {"statistics": {"label": label, "ball": ball.describe(), "members": n, "delta": args.statistics_delta,
                            "seed": args.statistics_seed, "order": ens.order, "t_end": args.t_end,
@@ -137,7 +139,7 @@ def statistics_lines(s: dict[str, Any]) -> list[str]:
                      f"{st['members'] - st['members_left']}")
     lines.append(f"  {'statistic':<18}  {point:>33}  {'ensemble mean +- std':>26}")
     for name, v in st["values"].items():
-        lines.append(f"  {name:<18}  {v['point']:>33.6g}  {v['mean']:>12.6g} +- {v['std']:<10.3g}")
+        lines.append(f"  {name:<18}  {v['point']:>33.6g}  {v['mean']:>12.6g} +- {v['std']:<10.3g} {v['unit']}".rstrip())
     return lines
 
 
@@ -156,4 +158,5 @@ def write_statistics_csv(path: Path, body: Any, s: dict[str, Any]) -> Path:
               + "; mean, std (ddof 1), standard_error: over the ensemble's members; reversals per 1000 time units"]
     names = list(st["values"])
     return write_csv(path, {"statistic": names, **{k: [st["values"][n][k] for n in names]
-                                                   for k in ("point", "mean", "std", "standard_error")}}, header)
+                                                   for k in ("point", "mean", "std", "standard_error", "unit")}},
+                     header)

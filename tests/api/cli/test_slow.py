@@ -401,7 +401,8 @@ def test_statistics_beside_the_past_horizon_numbers(fresh_cache, tmp_path, capsy
 
     import numpy as np
 
-    from rocknroller.analysis.slow.ensemble_statistics import STATISTICS, StartBall, map_ensemble, member_statistics
+    from rocknroller.analysis.slow.ensemble_statistics import (STATISTIC_UNITS, STATISTICS, StartBall, map_ensemble,
+                                                               member_statistics)
     from rocknroller.cli.slow_statistics import AUTO_MEMBERS
 
     body, argv = Body.paper(1e-2), ["slow", "--order", "1", "--eps", "1e-2", "--psi0", "0.1", "--t-end", "3000"]
@@ -418,7 +419,9 @@ def test_statistics_beside_the_past_horizon_numbers(fresh_cache, tmp_path, capsy
     assert list(st["values"]) == list(STATISTICS)
     for name, v in st["values"].items():
         assert v == {"point": point[name], "mean": ens.mean(name), "std": float(np.std(ens.values[name], ddof=1)),
-                     "standard_error": ens.standard_error(name)}, name
+                     "standard_error": ens.standard_error(name), "unit": STATISTIC_UNITS.get(name, "")}, name
+    # the reversals are counted per 1000 time units, and say so (the text and the JSON did not)
+    assert st["values"]["full_reversals"]["unit"] == "per 1000 time units"
     assert st["values"]["QR_extent"]["std"] > 0.0  # the members differ: the ball is resolved past the horizon
     rows = list(csv.DictReader(ln for ln in (tmp_path / "out" / "slow_statistics.csv").read_text().splitlines()
                                if not ln.startswith("#")))
@@ -426,12 +429,14 @@ def test_statistics_beside_the_past_horizon_numbers(fresh_cache, tmp_path, capsy
     for r in rows:
         assert float(r["mean"]) == st["values"][r["statistic"]]["mean"]
         assert float(r["point"]) == st["values"][r["statistic"]]["point"]
+        assert r["unit"] == STATISTIC_UNITS.get(r["statistic"], "")
     head = [ln for ln in (tmp_path / "out" / "slow_maxima.csv").read_text().splitlines() if ln.startswith("#")]
     assert any(st["label"] in ln for ln in head) and any("fraction_I " in ln for ln in head)
     assert main([*argv, "--statistics", "4", "--statistics-delta", "0.01", "--statistics-seed", "3"]) == 0
     text = capsys.readouterr().out
     assert "statistical (map ensemble of 4 starts within +-0.01 in psi0)" in text and "seed 3" in text
     assert "point prediction (past the horizon)" in text and "ensemble mean +- std" in text
+    assert all(line.endswith("per 1000 time units") for line in text.splitlines() if "_reversals " in line)
     assert main([*argv, "--statistics", "0", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["statistics"] is None and "--statistics 0" in out["statistics_note"]
