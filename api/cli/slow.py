@@ -236,6 +236,7 @@ def run(args: argparse.Namespace) -> int:
                                             else args.order)
         summary: dict[str, Any] = {q: getattr(pred, q) for q in _QUANTITIES}
         summary.update({"K": pred.K, "order": pred.order, "line_slope": pred.line_slope, "pure_rocking": False,
+                        "routh_sphere": body.is_symmetric,
                         "rocks_per_region": pred.rocks_per_region,
                         "region_runs": [list(r) for r in pred.region_runs or []],
                         "crossings": [list(c) for c in pred.crossings or []], "n_maxima": int(pred.series.t.size),
@@ -292,7 +293,10 @@ def run(args: argparse.Namespace) -> int:
     except ValueError as exc:  # psi0 on the separatrix
         messages.append(f"closed form unavailable: {exc}")
     summary = {q: getattr(pred, q) for q in _QUANTITIES}
-    summary.update({"K": K, "order": pred.order, "line_slope": pred.line_slope, "pure_rocking": pred.pure_rocking,
+    # one key per meaning: pure_rocking, the release rocks in a vertical plane (eps = 0, or psi0 on a rocking axis,
+    # where the map's fixed point is the periodic orbit "pure rocking"); routh_sphere, eps = 0 (no slow motion at all)
+    summary.update({"K": K, "order": pred.order, "line_slope": pred.line_slope,
+                    "pure_rocking": pred.pure_rocking or on_rocking_axis(psi0), "routh_sphere": pred.pure_rocking,
                     "rocks_per_region": pred.rocks_per_region,
                     "region_runs": [list(r) for r in pred.region_runs or []],
                     "crossings": [list(c) for c in pred.crossings or []], "n_maxima": int(pred.series.t.size),
@@ -427,7 +431,7 @@ def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: flo
               f"{abs(pd['correction']):.4g} eps)")
     for line in chaos_lines(s) + statistics_lines(s) + periodic_lines(s):
         print(line)
-    if s["pure_rocking"]:
+    if s["routh_sphere"]:
         print(_PURE_ROCKING)
         return
     if s["periodic_orbit"] is not None:

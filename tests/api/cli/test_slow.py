@@ -472,3 +472,14 @@ def test_json_shows_eps_as_given(capsys):
     assert main(["slow", "--order", "1", "--eps", "1e-2", "--psi0", "3pi/8", "--t-end", "200", "--json",
                  "--statistics", "0"]) == 0
     assert json.loads(capsys.readouterr().out)["eps"] == 0.01
+
+
+@pytest.mark.parametrize("psi0, rocking", [("0", True), ("pi/2", True), ("pi", True), ("-0.0", True),
+                                           ("1e-300", True), ("0.3", False)])
+def test_pure_rocking_has_one_meaning(psi0, rocking, capsys):
+    """--psi0 0 gave "pure_rocking": false beside "periodic_orbit": {"kind": "pure rocking"}: the flag meant eps = 0.
+    Now pure_rocking says the release rocks in a vertical plane, and routh_sphere says eps = 0."""
+    assert main(["slow", "--order", "1", "--psi0", psi0, "--t-end", "300", "--json", "--statistics", "0"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["pure_rocking"] is rocking and out["routh_sphere"] is False
+    assert (out["periodic_orbit"] is not None and out["periodic_orbit"]["kind"] == "pure rocking") is rocking
