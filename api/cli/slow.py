@@ -303,6 +303,9 @@ def run(args: argparse.Namespace) -> int:
                     "eps": float(body.epsilon_text()), "theta0": theta0, "psi0": psi0, "t_end": args.t_end})
     summary["periodic_orbit"] = periodic_summary(periodic_start(body, theta0, psi0, order=pred.order),
                                                  on_rocking_axis(psi0))
+    # the release's constants, whether or not the closed form applies to its psi0 (on the separatrix it does not)
+    summary["constants"] = {"kappa": consts.kappa, "eps_period_doubling": consts.eps_period_doubling,
+                            "stable_psi": consts.stable_psi}
     summary["pendulum"] = None if pend is None else {
         **{q: getattr(pend, q) for q in _QUANTITIES}, "kappa": consts.kappa,
         "eps_period_doubling": consts.eps_period_doubling, "T0": consts.T0, "C0": list(consts.C0),
@@ -418,10 +421,14 @@ def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: flo
     widths = [max(len(r[i]) for r in rows + [cols]) for i in range(len(cols))]
     for r in [cols] + rows:
         print("  ".join(x.ljust(w) for x, w in zip(r, widths)))
-    if pend:
-        print(f"kappa = {pend['kappa']:.6g}; period doubling of rocking about the stable axis "
-              f"(psi = {pend['stable_psi']:.4g}) at eps = 4/kappa = {pend['eps_period_doubling']:.6g} to first order "
-              "(K = eps*kappa = 4; --period-doubling: to all orders)")
+    constants = s.get("constants")
+    if constants:
+        print(f"kappa = {constants['kappa']:.6g}; period doubling of rocking about the stable axis "
+              f"(psi = {constants['stable_psi']:.4g}) at eps = 4/kappa = {constants['eps_period_doubling']:.6g} to "
+              "first order (K = eps*kappa = 4; --period-doubling: to all orders)")
+    if s.get("pure_rocking") and pend.get("slow_period") is not None:
+        print("closed form: its slow_period is that of small librations about this pure rocking (starts near it); "
+              "the release itself is the fixed point, with no slow motion (the map's n/a)")
     if "period_doubling" in s:
         pd = s["period_doubling"]
         if pd["eps_second_order"] is not None:

@@ -483,3 +483,18 @@ def test_pure_rocking_has_one_meaning(psi0, rocking, capsys):
     out = json.loads(capsys.readouterr().out)
     assert out["pure_rocking"] is rocking and out["routh_sphere"] is False
     assert (out["periodic_orbit"] is not None and out["periodic_orbit"]["kind"] == "pure rocking") is rocking
+
+
+def test_the_kappa_line_and_the_closed_forms_period_at_the_rocking_axes(capsys):
+    """At --psi0 0 the kappa line was missing (the closed form does not apply on the separatrix, the constants do);
+    at --psi0 pi/2 the closed form's slow period stood beside the map's n/a with no word on what it is."""
+    from rocknroller.analysis.slow.dynamics.pendulum import pendulum_constants
+
+    kappa = f"kappa = {pendulum_constants(Body.paper(1e-3), 0.95 * math.pi).kappa:.6g};"
+    assert main(["slow", "--order", "1", "--psi0", "0", "--t-end", "300", "--statistics", "0"]) == 0
+    assert kappa in capsys.readouterr().out
+    assert main(["slow", "--order", "1", "--psi0", "pi/2", "--t-end", "300", "--statistics", "0"]) == 0
+    text = capsys.readouterr().out
+    assert kappa in text and "small librations about this pure rocking" in text
+    assert main(["slow", "--order", "1", "--psi0", "0.3", "--t-end", "300", "--statistics", "0"]) == 0
+    assert "small librations" not in capsys.readouterr().out
