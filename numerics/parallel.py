@@ -6,12 +6,18 @@ processes import the calling script: guard a script's top level with ``if __name
 
 from __future__ import annotations
 
-from typing import Any, Callable, Sequence
+import sys
+import threading
+import time
+from contextlib import contextmanager
+from typing import Any, Callable, Iterator, Sequence
 
-__all__ = ["MAX_PROCESSES", "check_processes", "map_blocks"]
+__all__ = ["MAX_PROCESSES", "QUIET_NOTE_AFTER", "check_processes", "map_blocks"]
 
 #: Most processes one call may start.
 MAX_PROCESSES = 64
+#: Seconds after which work whose bar is hidden (``progress`` None, stderr not a terminal) says so in one line.
+QUIET_NOTE_AFTER = 2.0
 
 
 def check_processes(value: Any, name: str = "workers") -> int:
@@ -29,6 +35,33 @@ def _advance(bar: Any, n: int) -> Callable[[Any], None]:
     return callback
 
 
+@contextmanager
+def _noted(desc: str, total: int, unit: str, shown: bool) -> Iterator[None]:
+    """Where the bar is hidden because stderr is not a terminal, work still running after ``QUIET_NOTE_AFTER`` seconds
+    says what it is in one line on stderr, and another when it is done (a log otherwise shows nothing for as long as
+    a table build takes)."""
+    if shown or not desc:
+        yield
+        return
+    start = time.perf_counter()
+    said = threading.Event()
+
+    def note() -> None:
+        said.set()
+        print(f"rocknroller: {desc}: {total} {unit}s (no progress bar: stderr is not a terminal) ...", file=sys.stderr,
+              flush=True)
+
+    timer = threading.Timer(QUIET_NOTE_AFTER, note)
+    timer.daemon = True
+    timer.start()
+    try:
+        yield
+    finally:
+        timer.cancel()
+        if said.is_set():
+            print(f"rocknroller: {desc}: done in {time.perf_counter() - start:.1f} s", file=sys.stderr, flush=True)
+
+
 def map_blocks(fn: Callable[..., Any], blocks: Sequence[tuple[Any, ...]], sizes: Sequence[int], *, processes: int = 1,
                desc: str = "", unit: str = "item", progress: bool | None = False) -> list[Any]:
     """``[fn(*b) for b in blocks]``, in this process or in ``processes`` spawned ones; a tqdm bar advances by
@@ -36,7 +69,9 @@ def map_blocks(fn: Callable[..., Any], blocks: Sequence[tuple[Any, ...]], sizes:
     from tqdm.auto import tqdm
 
     processes = check_processes(processes, "processes")
-    with tqdm(total=sum(sizes), desc=desc, unit=unit, disable=None if progress is None else not progress) as bar:
+    shown = progress is not None or sys.stderr.isatty()
+    with _noted(desc, sum(sizes), unit, shown), \
+            tqdm(total=sum(sizes), desc=desc, unit=unit, disable=None if progress is None else not progress) as bar:
         if processes == 1:
             out = []
             for b, n in zip(blocks, sizes):
