@@ -13,7 +13,9 @@ from __future__ import annotations
 import argparse
 import importlib
 import re
+import signal
 import sys
+import threading
 import warnings
 from typing import Any
 
@@ -122,10 +124,16 @@ def main(argv: list[str] | None = None) -> int:
         """Every warning that reaches the user, in one line and one format (not Python's two-line default)."""
         print(f"rocknroller {args.command}: warning: {message}", file=sys.stderr)
 
+    previous = _terminate_by_exception()
     try:
         with np.printoptions(floatmode="unique"), warnings.catch_warnings():  # a number in a message with all digits
             warnings.showwarning = show_warning
             return int(args.run(args) or 0)
+    except (KeyboardInterrupt, Terminated) as exc:  # one line, no traceback; the outputs reserved are released below
+        signal_name = "SIGTERM" if isinstance(exc, Terminated) else "SIGINT"
+        print(f"rocknroller {args.command}: interrupted ({signal_name}); the outputs it had reserved and not yet begun "
+              "are removed", file=sys.stderr)
+        return 143 if isinstance(exc, Terminated) else 130
     except ValueError as exc:
         print(f"rocknroller {args.command}: error: {cli_message(str(exc), args.command, argv)}", file=sys.stderr)
         return 2
@@ -138,3 +146,22 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     finally:
         release_outputs()  # output files reserved and never written, output directories created and left empty
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+class Terminated(BaseException):
+    """Raised in the main thread by SIGTERM while a command runs, so that its cleanup runs (the default action ends
+    the process at once and left the reserved, empty output files behind, which made the next run refuse)."""
+
+
+def _terminate_by_exception() -> Any:
+    """Install a SIGTERM handler that raises :class:`Terminated` (in the main thread only, where Python runs signal
+    handlers); returns the handler it replaced, or None where none was installed."""
+    if threading.current_thread() is not threading.main_thread():
+        return None
+
+    def handler(signum: int, frame: Any) -> None:
+        raise Terminated()
+
+    return signal.signal(signal.SIGTERM, handler)

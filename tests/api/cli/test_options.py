@@ -4,6 +4,10 @@ way to accept in the forms this CLI takes (issue 25, item 16: the private hook i
 from __future__ import annotations
 
 import argparse
+import signal
+import subprocess
+import sys
+import time
 
 import pytest
 
@@ -60,3 +64,23 @@ def test_an_empty_output_name_is_refused(argv, capsys, tmp_path, monkeypatch):
         main([*argv, "--t-end", "1"] if argv[0] in ("simulate", "hierarchy") else argv)
     assert stop.value.code == 2 and "an empty name names no file or folder" in capsys.readouterr().err
     assert not any(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("sig, status, name", [(signal.SIGTERM, 143, "SIGTERM"), (signal.SIGINT, 130, "SIGINT")])
+def test_an_interrupted_run_says_so_in_one_line_and_leaves_no_empty_reservation(sig, status, name, tmp_path):
+    """SIGTERM left the reserved, empty output files (the next run was refused); Ctrl-C printed a 10-line
+    traceback."""
+    out = tmp_path / "run"
+    proc = subprocess.Popen([sys.executable, "-m", "rocknroller", "simulate", "--t-end", "1.3e6",
+                             "--turning-points-only", "--out", str(out), "--quiet"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120.0
+    while not ((out / "turning_points.csv").exists() and (out / "turning_points.csv").stat().st_size > 1000):
+        assert proc.poll() is None and time.monotonic() < deadline, proc.communicate()
+        time.sleep(0.05)
+    proc.send_signal(sig)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == status
+    assert err.strip().splitlines() == [f"rocknroller simulate: interrupted ({name}); the outputs it had reserved and "
+                                        "not yet begun are removed"]
+    assert sorted(p.name for p in out.iterdir()) == ["turning_points.csv"]  # the stream written so far; no empties
