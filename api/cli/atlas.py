@@ -139,7 +139,7 @@ def run(args: argparse.Namespace) -> int:
     from rocknroller.papers.atlas_plots import plot_atlas, plot_atlas_check
     from rocknroller.papers.output import write_csv
 
-    body = body_from_args(args)
+    body = body_from_args(args, gravity=True)
     method, texts = _grids(args)
     grids = {k: angle_grid(v, "--" + k.replace("_", "-")) for k, v in texts.items()}
     scheduler, workers = cluster_from_args(args)

@@ -58,7 +58,7 @@ def run(args: argparse.Namespace) -> int:
     from rocknroller.analysis.slow.prediction import default_order
     from rocknroller.papers.bifurcation import MAX_DIAGRAM_THETA0, MAX_EXACT_FRACTIONS, bifurcation_diagram
 
-    body = body_from_args(args)
+    body = body_from_args(args, gravity=True)
     theta0s = [parse_angle(t, "--theta0") for t in (args.theta0 or ["0.9pi", "0.95pi"])]
     exact_at = [f for f in EXACT_FRACTIONS if f <= args.hi] if args.exact_at is None else args.exact_at
     if len(theta0s) > MAX_DIAGRAM_THETA0:

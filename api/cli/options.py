@@ -16,6 +16,7 @@ from typing import Any, Iterable
 
 from rocknroller.analysis.model.body import PAPER_A, PAPER_G, PAPER_I3, Body, LoadedSphere, float_or_nan, paper_I1
 from rocknroller.analysis.model.equations import FIG5_OMEGA0, EulerState
+from rocknroller.numerics.run_limits import G_RANGE
 
 __all__ = [
     "parse_angle",
@@ -153,12 +154,17 @@ def sphere_from_args(args: argparse.Namespace) -> Body | LoadedSphere:
     return sphere.relabelled(args.tilt_axis)
 
 
-def body_from_args(args: argparse.Namespace) -> Body:
-    """Build the Body from the options of :func:`add_body_options` (ε defaults to ``args.eps_default``)."""
+def body_from_args(args: argparse.Namespace, gravity: bool = False) -> Body:
+    """Build the Body from the options of :func:`add_body_options` (ε defaults to ``args.eps_default``).  With
+    ``gravity`` (the commands of the slow motion, which rocks under gravity) --g must lie in ``G_RANGE``: g sets only
+    the unit of time, and outside that range the rocking period under- or overflows what the tables resolve."""
     if args.I2 is not None and args.eps is not None:
         raise ValueError("give either --I2 or --eps, not both")
     eps = getattr(args, "eps_default", 0.0) if args.eps is None and args.I2 is None else args.eps
     g = PAPER_G if args.g is None else args.g
+    if gravity and not G_RANGE[0] <= float_or_nan(g) <= G_RANGE[1]:
+        raise ValueError(f"--g must lie in [{G_RANGE[0]:g}, {G_RANGE[1]:g}] for the slow motion (it rocks under "
+                         f"gravity; g only sets the unit of time: rescale time to bring it there), got --g {g!r}")
     if args.polar_cap is not None:
         if any(v is not None for v in (args.a, args.I1, args.I3, args.I2)):
             raise ValueError("--polar-cap fixes a, I1 and I3: do not combine it with --a, --I1, --I2 or --I3")

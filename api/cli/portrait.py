@@ -144,7 +144,7 @@ def run(args: argparse.Namespace) -> int:
     from rocknroller.numerics.budget import check_work
     from rocknroller.papers.portrait_output import horizons_seconds, orbit_rows, write_portrait
 
-    body = body_from_args(args)
+    body = body_from_args(args, gravity=True)
     if args.E is not None and args.theta0 is not None:
         raise ValueError("give either --theta0 or --E, not both")
     theta0 = theta0_of_energy(body, args.E) if args.E is not None else parse_angle(args.theta0 or "0.95pi",

@@ -164,7 +164,7 @@ def _body(args: argparse.Namespace, given: str) -> Any:
     if args.I2 is None and not eps_given:
         args.eps = args.eps_default
     try:
-        sym = body_from_args(argparse.Namespace(**{**vars(args), "eps": None, "eps_default": 0.0}))
+        sym = body_from_args(argparse.Namespace(**{**vars(args), "eps": None, "eps_default": 0.0}), gravity=True)
     except ValueError as exc:
         raise ValueError(f"the body options {given} give no valid body: {exc}" if given else str(exc)) from None
     if args.I2 is not None:

@@ -84,3 +84,13 @@ def test_an_interrupted_run_says_so_in_one_line_and_leaves_no_empty_reservation(
     assert err.strip().splitlines() == [f"rocknroller simulate: interrupted ({name}); the outputs it had reserved and "
                                         "not yet begun are removed"]
     assert sorted(p.name for p in out.iterdir()) == ["turning_points.csv"]  # the stream written so far; no empties
+
+
+@pytest.mark.parametrize("command", ["slow", "portrait", "atlas", "bifurcation"])
+@pytest.mark.parametrize("g", ["0", "1e-300", "1e300"])
+def test_the_slow_motions_commands_check_gravity_as_simulate_does(command, g, capsys):
+    """portrait --g 0 reported a 'double root ... at theta=1.4e-65', --g 1e-300 heyoka's error, atlas --g 1e300 a
+    290-digit estimate: each is refused before any work, in one line naming --g and its range."""
+    assert main([command, "--g", g]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--g must lie in [1e-12, 1e+12]" in err
