@@ -328,6 +328,9 @@ def _finish(args: argparse.Namespace, body: Any, pred: Any, pend: Any, start: An
             messages: list[str]) -> int:
     """The direct ODE (--check, --plot), the outputs and the exit status, for either kind of start."""
     theta0, psi0 = summary["theta0"], summary["psi0"]
+    if summary["n_maxima"] == 0:  # no sample: the extents and the span are undefined (null), not 0
+        for part in (summary, summary.get("pendulum") or {}):
+            part.update(QR_extent=None, QJ_extent=None, Phi=None)
     ode = None
     if args.check or args.plot is not None:
         from rocknroller.papers.averaging_check import check_prediction, relative_errors

@@ -102,6 +102,9 @@ def statistics_summary(args: argparse.Namespace, body: Any, pred: Any, summary: 
         why = "t_end lies within the predictability horizon" if summary.get("horizon") else "no horizon"
     else:
         why = "--statistics 0"
+    if n and release and pred.series.t.size == 0:
+        return {"statistics": None, "statistics_note": "no statistical prediction: the run ends before the first "
+                                                       "theta-maximum (no samples to compare; give a longer --t-end)"}
     if n == 0 or not release:
         reason = why if release else off_tables or ("not a release from rest (the ensemble is a ball of release "
                                                     "angles psi0)")

@@ -498,3 +498,13 @@ def test_the_kappa_line_and_the_closed_forms_period_at_the_rocking_axes(capsys):
     assert kappa in text and "small librations about this pure rocking" in text
     assert main(["slow", "--order", "1", "--psi0", "0.3", "--t-end", "300", "--statistics", "0"]) == 0
     assert "small librations" not in capsys.readouterr().out
+
+
+def test_a_run_with_no_maximum_reports_undefined_extents_and_no_statistics(capsys):
+    """slow --t-end 1 --statistics 4 failed with "t, QR, QJ must be 1-d arrays..."; with zero maxima the extents were
+    printed as 0.0 instead of null."""
+    assert main(["slow", "--order", "1", "--t-end", "1", "--statistics", "4", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["n_maxima"] == 0 and out["statistics"] is None and "before the first" in out["statistics_note"]
+    for part in (out, out["pendulum"]):
+        assert part["QR_extent"] is None and part["QJ_extent"] is None and part["Phi"] is None
