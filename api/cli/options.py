@@ -436,6 +436,7 @@ def prepare_output_dir(directory: Path, option: str, force: bool, names: Iterabl
         if clash:
             raise _refuse_existing(option, where, clash)
     _require_writable(directory, option)
+    _refuse_links([directory / n for n in names] if names is not None else [], option)
     if not force:
         if names is None:
             _reserve([directory / WRITING_MARKER], option, where)
@@ -445,6 +446,15 @@ def prepare_output_dir(directory: Path, option: str, force: bool, names: Iterabl
         else:
             _reserve([directory / n for n in dict.fromkeys(names)], option, where)
     return directory
+
+
+def _refuse_links(paths: list[Path], option: str) -> None:
+    """A ValueError naming ``option`` if an output path is a symbolic link: writing through it (--force) would replace
+    the file it points to, outside the folder the user named."""
+    links = [p for p in paths if p.is_symlink()]
+    if links:
+        raise ValueError(f"{option}: {str(links[0])!r} is a symbolic link (to {str(links[0].readlink())!r}); the "
+                         "outputs are written in the folder named, never through a link: remove the link")
 
 
 def prepare_output_file(path: Path, option: str, force: bool) -> Path:

@@ -94,3 +94,14 @@ def test_the_slow_motions_commands_check_gravity_as_simulate_does(command, g, ca
     assert main([command, "--g", g]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--g must lie in [1e-12, 1e+12]" in err
+
+
+def test_force_never_writes_through_a_link_out_of_the_folder(tmp_path, capsys):
+    """--force followed a symlinked output file out of --out and overwrote what it pointed to."""
+    precious = tmp_path / "precious.txt"
+    precious.write_text("precious\n")
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "samples.csv").symlink_to(precious)
+    assert main(["simulate", "--t-end", "5", "--out", str(out), "--force", "--quiet"]) == 2
+    assert "is a symbolic link" in capsys.readouterr().err and precious.read_text() == "precious\n"
