@@ -48,6 +48,7 @@ from numpy.typing import ArrayLike, NDArray
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import RATE_MAX, EulerState
 from rocknroller.analysis.slow import prediction as av
+from rocknroller.analysis.slow.map.limits import ANGLE_MAX
 from rocknroller.analysis.slow.work import check_map_work
 from rocknroller.numerics.budget import REGION_TABLE_SECONDS, RELEASE_TABLE_SECONDS, WORK_BUDGET_SECONDS, check_work
 from rocknroller.numerics.megno import MEGNO_CHAOTIC
@@ -342,7 +343,7 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
     (1, 2) ['2.3971', '1.4716']
     """
     th = _check_grid("theta0", theta0, np.nextafter(0.0, 1.0), av.THETA0_RANGE[1])
-    ps = _check_grid("psi0", psi0, -1e6, 1e6)
+    ps = _check_grid("psi0", psi0, -ANGLE_MAX, ANGLE_MAX)
     if chaos is not None and not isinstance(chaos, bool):
         raise ValueError(f"chaos must be True, False or None, got chaos={chaos!r}")
     if _check_method(method) == "ode":
@@ -417,7 +418,7 @@ def atlas_of_rates(body: Body, theta0: float, psi0: float, phi_dot0: ArrayLike, 
         raise ValueError("method must be 'ode' for a plane of rates: each start has its own energy and the map's "
                          "tables are per (body, energy) (atlas_from_rest maps releases from rest with the map)")
     th = float(_check_grid("theta0", [theta0], np.nextafter(0.0, 1.0), np.nextafter(np.pi, 0.0))[0])
-    ps = float(_check_grid("psi0", [psi0], -1e6, 1e6)[0])
+    ps = float(_check_grid("psi0", [psi0], -ANGLE_MAX, ANGLE_MAX)[0])
     pd = _check_grid("phi_dot0", phi_dot0, -RATE_MAX, RATE_MAX)
     sd = _check_grid("psi_dot0", psi_dot0, -RATE_MAX, RATE_MAX)
     return _ode_atlas(body, "rates", sd, pd, (th, ps), t_end, scheduler, workers, threads, progress, budget)

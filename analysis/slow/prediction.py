@@ -76,7 +76,7 @@ from rocknroller.analysis.slow.map.family import first_maximum, rest_energy
 # reports those this module does not use itself as unused.
 from rocknroller.analysis.slow.map.limits import (K_PERIOD_DOUBLING, MAX_MAXIMA, THETA0_RANGE,  # noqa: F401
                                                   AveragingRangeError, AveragingValidityWarning, ChartWidthError,
-                                                  check_map_theta0, check_release_theta0, check_t_end,
+                                                  check_angle, check_map_theta0, check_release_theta0, check_t_end,
                                                   eps_period_doubling, t_end_limit)
 from rocknroller.analysis.slow.map.table import (REGION_TABLE_ACCURACY, TableNotCachedError, build_table,  # noqa: F401
                                                  load_or_build_table)
@@ -205,8 +205,7 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
                                    span=span)
     theta0 = check_map_theta0(theta0)
     eps, psi0 = body.epsilon, as_float("psi0", psi0)
-    if not math.isfinite(psi0):
-        raise ValueError(f"psi0 must be finite, got psi0={psi0!r}")
+    psi0 = check_angle("psi0", psi0)
     own_table = table is None  # a release table of the caller's is used as given, without the region tables' fallback
     if table is None:
         sym = body.symmetric()

@@ -19,8 +19,22 @@ from rocknroller.analysis.model.body import as_float
 __all__ = [
     "THETA0_RANGE", "MAX_MAXIMA", "K_PERIOD_DOUBLING", "eps_period_doubling", "stable_rocking_psi",
     "AveragingRangeError", "ChartWidthError", "AveragingValidityWarning", "check_map_theta0", "t_end_limit",
-    "check_t_end", "check_release_theta0"
+    "check_t_end", "check_release_theta0", "ANGLE_MAX", "check_angle"
 ]
+
+#: Largest |angle| (ψ0, Θ, in radians) the slow motion takes: an angle is reduced mod 2π in double precision with an
+#: absolute error of about |angle|·u (1.1e-10 rad at 1e6), and past about 1e15 its reduction loses every digit
+#: (ψ0 = 1e15 gave an empty prediction, 1e14 another verdict, Θ = 1e17 came back unchanged).  Larger ones are refused.
+ANGLE_MAX = 1e6
+
+
+def check_angle(name: str, value: float) -> float:
+    """``value`` if it is a finite angle within ±``ANGLE_MAX``, else a ValueError naming ``name`` and the range."""
+    v = float(value)
+    if not abs(v) <= ANGLE_MAX:
+        raise ValueError(f"{name} must be a finite angle within [-{ANGLE_MAX:g}, {ANGLE_MAX:g}] rad (ANGLE_MAX): reduce "
+                         f"it mod 2pi, whose rounding grows as |angle| u, got {name}={v!r}")
+    return v
 
 #: Release angles (θ0_min, θ0_max) for which the tables are built and the map is validated against the direct ODE
 #: (docs/averaging.md, "Releases from rest: the range of θ0").  Below ≈ 0.732π (paper body) the table rectangle, 2.5

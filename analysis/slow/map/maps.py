@@ -48,7 +48,7 @@ from rocknroller.analysis.model.invariants import energy
 from rocknroller.analysis.slow.map.compiled_map import SlowSeries, _fast, chart_step, iterate_slow_map
 from rocknroller.analysis.slow.map.exact_step import exact_step
 from rocknroller.analysis.slow.map.family import directional_derivative, family_member, maximum_state, rest_energy
-from rocknroller.analysis.slow.map.limits import MAX_MAXIMA, check_map_theta0, check_release_theta0
+from rocknroller.analysis.slow.map.limits import MAX_MAXIMA, check_angle, check_map_theta0, check_release_theta0
 from rocknroller.analysis.slow.map.orbit import _psi_of, _QJ_of, _QR_of, symmetric_data
 
 if TYPE_CHECKING:
@@ -87,6 +87,7 @@ def _check_x(x: ArrayLike) -> NDArray[np.float64]:
         a = np.array(np.nan)
     if a.shape != (3,) or not np.all(np.isfinite(a)):
         raise ValueError(f"x must be three finite numbers (Q_R, Q_J, Theta), got x={x!r} (shape {np.shape(x)})")
+    check_angle("Theta", a[2])
     return a.copy()
 
 

@@ -275,3 +275,21 @@ def test_a_complex_point_is_refused_not_cast():
     m = SlowMap(Body.paper(1e-3), 0.95 * math.pi, 1e-3, order=1)
     with pytest.raises(ValueError, match="x must be three finite numbers"):
         m(np.array([1e-3, 0.0, 0.3 + 1e-3j]))
+
+
+def test_huge_angles_are_refused_past_a_stated_bound(capsys):
+    """slow --psi0 1e14 flipped the verdict, 1e15 gave an empty prediction with exit 0, and the maps returned
+    Theta = 1e17 unchanged: past ANGLE_MAX an angle is refused, in the API and on the command line."""
+    from rocknroller.analysis.slow.map.limits import ANGLE_MAX
+    from rocknroller.analysis.slow.prediction import predict_slow_motion
+    from rocknroller.cli import main
+
+    body = Body.paper(1e-3)
+    m = SlowMap(body, 0.95 * math.pi, 1e-3, order=1)
+    with pytest.raises(ValueError, match="Theta must be a finite angle within"):
+        m(np.array([1e-3, 0.0, 1e17]))
+    with pytest.raises(ValueError, match="psi0 must be a finite angle within"):
+        predict_slow_motion(body, 0.95 * math.pi, 2 * ANGLE_MAX, 100.0, order=1)
+    assert predict_slow_motion(body, 0.95 * math.pi, ANGLE_MAX, 100.0, order=1).series.t.size > 0
+    assert main(["slow", "--order", "1", "--psi0", "1e15"]) == 2
+    assert "--psi0 must be a finite angle within [-1e+06, 1e+06]" in capsys.readouterr().err
