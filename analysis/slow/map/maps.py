@@ -110,7 +110,7 @@ def _check_eps(eps: float, body: Body) -> float:
 class _MapMixin(ABC):
     """``inverse`` and ``iterate`` from ``__call__`` (both maps)."""
 
-    max_steps: ClassVar[tuple[int, str]]
+    _max_steps: ClassVar[tuple[int, str]]  # (the largest n of iterate, its name): private, not a field
 
     @abstractmethod
     def __call__(self, x: ArrayLike) -> NDArray[np.float64]:
@@ -129,7 +129,7 @@ class _MapMixin(ABC):
             x not three finite numbers; n not an integer in [0, the map's limit].
         """
         x = _check_x(x)
-        n = _check_n(n, *self.max_steps)
+        n = _check_n(n, *self._max_steps)
         out = np.empty((n + 1, 3))
         out[0] = x
         for k in range(n):
@@ -185,7 +185,7 @@ class SlowMap(_MapMixin):
     workers: InitVar[int] = 1
     table: "SlowMapTable" = field(init=False, repr=False, compare=False)
     second: "SecondOrderTable | None" = field(init=False, repr=False, compare=False)
-    max_steps: ClassVar[tuple[int, str]] = (MAX_MAXIMA, "MAX_MAXIMA")
+    _max_steps: ClassVar[tuple[int, str]] = (MAX_MAXIMA, "MAX_MAXIMA")
 
     def __post_init__(self, build: bool, workers: int) -> None:
         from rocknroller.analysis.slow.map.table import load_or_build_table
@@ -247,10 +247,34 @@ class SlowMap(_MapMixin):
     def run(self, x: ArrayLike, t_end: float, *, n_steps: int | None = None, tangent: bool = False) -> SlowSeries:
         """The orbit from x over the time t_end (at most ``n_steps`` maxima), with its times, azimuth and, with
         ``tangent``, its tangent vector's growth: :func:`rocknroller.analysis.slow.map.compiled_map.iterate_slow_map` from
-        the maximum x (its checks and limits; its Θ made continuous by ``unwrap_phase``)."""
+        the maximum x (its checks and limits; its Θ made continuous by ``unwrap_phase``).  The series holds the maxima
+        after x, F(x) first, as a prediction's series does (x itself is the start, not a sample); :meth:`iterate`
+        holds x as its first row."""
         x = _check_x(x)
         return iterate_slow_map(self.table, self.eps, 0.5 * float(x[2]), t_end, Q0=x[:2], n_steps=n_steps,
                                 second=self.second, tangent=tangent)
+
+    @classmethod
+    def from_prediction(cls, pred: Any) -> tuple["SlowMap", NDArray[np.float64]]:
+        """The map of a release's prediction and its start x0: ``F, x0 = SlowMap.from_prediction(pred)``; then
+        ``F.iterate(x0, n)[1:]`` are the prediction's maxima (its body, θ0, ε and order; x0 = (0, 0, 2ψ0), the
+        release at rest being a maximum of θ with Q_R = Q_J = 0).  A start with velocity is predicted on the region
+        tables of its energy, not on a release's map: a ValueError says so.
+
+        Examples
+        --------
+        >>> import math, numpy as np
+        >>> import rocknroller as rr
+        >>> pred = rr.predict_slow_motion(rr.Body.paper(1e-3), 0.95 * math.pi, 0.3, 100.0, order=1)
+        >>> F, x0 = rr.SlowMap.from_prediction(pred)
+        >>> orbit = F.iterate(x0, 3)[1:]
+        >>> bool(np.allclose(orbit[:, 0], pred.series.QR[:3], rtol=1e-9, atol=1e-15))
+        True
+        """
+        if pred.start is not None or pred.body is None:
+            raise ValueError("from_prediction takes a release from rest's prediction: a start with velocity is "
+                             "predicted on the region tables of its energy (pred.start is its state)")
+        return cls(pred.body, pred.theta0, pred.eps, order=pred.order), np.array([0.0, 0.0, 2.0 * float(pred.psi0)])
 
     def iterate(self, x: ArrayLike, n: int) -> NDArray[np.float64]:
         """The orbit x, F(x), …, Fⁿ(x) as an array (n + 1, 3), by the compiled kernel in one call (it stays in the
@@ -264,7 +288,7 @@ class SlowMap(_MapMixin):
             The orbit leaves the tables.
         """
         x = _check_x(x)
-        n = _check_n(n, *self.max_steps)
+        n = _check_n(n, *self._max_steps)
         out = np.empty((n + 1, 3))
         out[0] = x
         if n:
@@ -310,7 +334,7 @@ class ExactMap(_MapMixin):
     sym: Body = field(init=False, repr=False, compare=False)
     member: Body = field(init=False, repr=False, compare=False)
     E: float = field(init=False, repr=False, compare=False)
-    max_steps: ClassVar[tuple[int, str]] = (EXACT_MAX_STEPS, "EXACT_MAX_STEPS")
+    _max_steps: ClassVar[tuple[int, str]] = (EXACT_MAX_STEPS, "EXACT_MAX_STEPS")
 
     def __post_init__(self) -> None:
         _check_body(self.body)

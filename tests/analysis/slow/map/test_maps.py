@@ -293,3 +293,29 @@ def test_huge_angles_are_refused_past_a_stated_bound(capsys):
     assert predict_slow_motion(body, 0.95 * math.pi, ANGLE_MAX, 100.0, order=1).series.t.size > 0
     assert main(["slow", "--order", "1", "--psi0", "1e15"]) == 2
     assert "--psi0 must be a finite angle within [-1e+06, 1e+06]" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_a_releases_prediction_gives_its_map_and_start(order):
+    """pred.start was None for a release and nothing said how to get the map's start: SlowMap.from_prediction gives
+    the map and x0, whose orbit is the prediction's series (iterate includes x0, run and the series do not)."""
+    from rocknroller.analysis.slow.prediction import predict_slow_motion
+
+    pred = predict_slow_motion(Body.paper(1e-3), 0.95 * math.pi, 0.3, 100.0, order=order)
+    F, x0 = SlowMap.from_prediction(pred)
+    assert F.order == order and x0[2] == 0.6 and not x0[:2].any()
+    n = pred.series.t.size
+    orbit = F.iterate(x0, n)
+    np.testing.assert_array_equal(orbit[1:, :2], np.column_stack([pred.series.QR, pred.series.QJ]))
+    run = F.run(x0, 100.0)
+    np.testing.assert_array_equal(run.QR, pred.series.QR)
+    assert "max_steps" not in {n for n in dir(SlowMap) if not n.startswith("_")}
+
+
+def test_from_prediction_refuses_a_start_with_velocity():
+    from rocknroller.analysis.model.equations import EulerState
+    from rocknroller.analysis.slow.prediction import predict_slow_motion
+
+    pred = predict_slow_motion(Body.paper(1e-3), EulerState(0.95 * math.pi, 0.0, 0.3, 0.0, 0.01, 0.0), t_end=100.0)
+    with pytest.raises(ValueError, match="a start with velocity is predicted on the region tables"):
+        SlowMap.from_prediction(pred)
