@@ -11,7 +11,7 @@ from typing import Any
 __all__ = ["chaos_summary", "chaos_lines"]
 
 #: What the horizon's label says about the quantities past it.
-_STATISTICAL = ("predictions past t = {t:.6g} are statistical only: the orbit's Q, Theta at a given time and the order "
+_STATISTICAL = ("predictions past t = {t} are statistical only: the orbit's Q, Theta at a given time and the order "
                 "of its region runs and crossings are not predicted past it; its extents, Phi and rocks per region "
                 "over the run describe the region the orbit fills")
 
@@ -38,7 +38,8 @@ def chaos_summary(pred: Any) -> dict[str, Any]:
     beyond = bool(pred.t_end > h.t)
     out["horizon"] = {"t": h.t if math.isfinite(h.t) else None, "method": h.method, "fraction": h.fraction,
                       "probe_t": h.probe_t, "probe_error": h.probe_error, "rate": h.rate,
-                      "statistical_only": _STATISTICAL.format(t=h.t) if beyond else None}
+                      "lower_bound": h.method in EXTRAPOLATED and math.isfinite(h.t),
+                      "statistical_only": _STATISTICAL.format(t=two_digits(h.t)) if beyond else None}
     out["beyond_horizon"] = beyond
     return out
 
@@ -57,6 +58,19 @@ _HORIZON_METHODS = {
 }
 
 
+#: The methods that extrapolate past the direct probe: their horizon is a lower bound.  Measured on five chaotic
+#: starts against an independently derived direct ODE (twin runs of 15 700 time units), the two extrapolated horizons
+#: fell short of the time at which the map - ODE error first reached 10 % by 1.76x and 2.09x: cautious, by about 2x.
+EXTRAPOLATED = ("exponential", "linear")
+_EXTRAPOLATION_NOTE = ("extrapolated past the probe, a lower bound: on chaotic starts checked against an independent "
+                       "ODE such horizons fell short of the true one by about 2x")
+
+
+def two_digits(t: float) -> str:
+    """A horizon to the two significant digits its probe resolves: 250, 8700, 1.9e+06."""
+    return f"{float(f'{t:.2g}'):g}"
+
+
 def chaos_lines(s: dict[str, Any]) -> list[str]:
     """The text lines on order and chaos (:func:`chaos_summary`)."""
     ch, h = s["chaos"], s["horizon"]
@@ -73,8 +87,11 @@ def chaos_lines(s: dict[str, Any]) -> list[str]:
         lines.append(f"predictability horizon: not defined ({s['horizon_note']})")
         return lines
     how = _HORIZON_METHODS[h["method"]].format(f=h["fraction"], p=h["probe_t"], e=h["probe_error"], r=h["rate"])
-    t = "infinite" if h["t"] is None else f"t = {h['t']:.6g}"
+    if h.get("lower_bound"):
+        how += f"; {_EXTRAPOLATION_NOTE}"
+    # two significant digits, what the probe resolves
+    t = "infinite" if h["t"] is None else f"t {'>=' if h.get('lower_bound') else '='} {two_digits(h['t'])}"
     lines.append(f"predictability horizon: {t} (map - ODE error reaches {h['fraction']:.0%} of the extents; {how})")
     if s["beyond_horizon"]:
-        lines.append(f"beyond the horizon: t_end = {s['t_end']:g} > {h['t']:.6g}: {h['statistical_only']}")
+        lines.append(f"beyond the horizon: t_end = {s['t_end']:g} > {two_digits(h['t'])}: {h['statistical_only']}")
     return lines

@@ -71,7 +71,7 @@ if TYPE_CHECKING:
 
 __all__ = ["HORIZON_FRACTION", "SPAN_ROCKS", "LYAPUNOV_SPAN", "CRITERION", "PROBE_ROCKS", "MapChaos", "map_verdict",
            "map_indicators", "indicator_span", "tangent_scale", "Horizon", "map_ode_errors", "horizon_from_errors",
-           "HorizonProbe", "LAYER_GRID", "LayerWidth", "layer_width"]
+           "HorizonProbe", "LAYER_GRID", "LayerWidth", "layer_width", "ENVELOPE_RESOLUTION"]
 
 #: Fraction of the extents that the map − ODE error reaches at the predictability horizon.
 HORIZON_FRACTION = 0.1
@@ -180,6 +180,11 @@ def map_ode_errors(QR: ArrayLike, QJ: ArrayLike, QR_ode: ArrayLike, QJ_ode: Arra
     return np.maximum(np.abs(qr[:n] - qr_ode[:n]) / DR, np.abs(qj[:n] - qj_ode[:n]) / DJ)
 
 
+#: The smallest growth of the map − ODE error envelope (a fraction of the extents) that counts as growth: 16 u, the
+#: rounding of a few differences of Q's each rounded to about u of the extents, × 4 margin.
+ENVELOPE_RESOLUTION = 16.0 * float(np.finfo(float).eps) / 2.0
+
+
 def horizon_from_errors(t: ArrayLike, error: ArrayLike, law: str, rate: float = 0.0,
                         fraction: float = HORIZON_FRACTION) -> Horizon:
     """The horizon from the map − ODE errors over a probe window (module docstring): the first time the error
@@ -214,6 +219,10 @@ def horizon_from_errors(t: ArrayLike, error: ArrayLike, law: str, rate: float = 
                        fraction)
     half = t.size // 2
     slope = max(float(np.polyfit(t[half:], envelope[half:], 1)[0]), 0.0) if t.size - half >= 2 else 0.0
+    # a growth over the window's later half below the envelope's own resolution (its errors are differences of Q's
+    # rounded to a few u of the extents) is round-off, not a rate (a slope of 3.2e-21 gave a horizon of 1e+17)
+    if slope * (t_p - float(t[half])) <= ENVELOPE_RESOLUTION:
+        slope = 0.0
     if slope == 0.0:
         return Horizon(math.inf, "unresolved", t_p, e_p, 0.0, fraction)
     return Horizon(t_p + (fraction - e_p) / slope, law, t_p, e_p, slope, fraction)

@@ -6,6 +6,7 @@ import json
 import math
 import warnings
 
+import numpy as np
 import pytest
 
 from rocknroller.analysis.model.body import Body
@@ -356,7 +357,35 @@ def test_chaos_and_horizon_in_text_json_and_csv(fresh_cache, tmp_path, capsys):
     assert main(argv) == 0
     text = capsys.readouterr().out
     assert "order/chaos over the span" in text and "CHAOTIC" in text and "per rock" in text
-    assert f"predictions past t = {out['horizon']['t']:.6g} are statistical only" in text
+    # the horizon to the two digits its probe resolves (six were printed for an extrapolation 4500x past its probe)
+    from rocknroller.cli.slow_chaos import two_digits
+
+    assert f"predictions past t = {two_digits(out['horizon']['t'])} are statistical only" in text
+    assert two_digits(248.132) == "250" and two_digits(1956950.0) == "2e+06"
+
+
+@pytest.mark.parametrize("method, lower", [("measured", False), ("linear", True), ("exponential", True)])
+def test_an_extrapolated_horizon_is_a_lower_bound_to_two_digits(method, lower):
+    """--psi0 0.05 --eps 3e-3 printed t = 1.95695e+06, a linear extrapolation 4500x past a 435-unit probe, to six
+    digits: two digits, and '>=' with the extrapolation's measured caution where it was extrapolated."""
+    from rocknroller.cli.slow_chaos import chaos_lines
+
+    h = {"t": 1956950.0, "method": method, "fraction": 0.1, "probe_t": 435.0, "probe_error": 0.015, "rate": 5e-8,
+         "lower_bound": lower}
+    line = chaos_lines({"chaos": None, "chaos_note": "-", "horizon": h, "beyond_horizon": False})[1]
+    assert ("t >= 2e+06" if lower else "t = 2e+06") in line and "1.95695" not in line
+    assert ("fell short of the true one by about 2x" in line) is lower
+
+
+def test_a_slope_at_round_off_is_no_rate():
+    """A slope of 3.2e-21 per unit time (0.96pi, eps 5.2e-3, psi0 1.1) made a finite horizon: it is unresolved."""
+    from rocknroller.analysis.slow.dynamics.chaos import horizon_from_errors
+
+    t = np.linspace(0.0, 500.0, 101)
+    flat = np.full_like(t, 0.011) + 3.2e-21 * t
+    assert horizon_from_errors(t, flat, "linear").method == "unresolved"
+    grows = 0.011 + 1e-6 * t
+    assert horizon_from_errors(t, grows, "linear").method == "linear"
 
 
 def test_regular_release_within_its_horizon(fresh_cache, capsys):
