@@ -34,7 +34,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["CacheWarning", "MemoryCache", "array_bytes", "cache_dir", "atomic_write", "probe_writable", "warn_unwritable", "array_checksum",
-           "save_arrays", "load_arrays", "COMPILE_NOTE_AFTER", "compiling", "warming"]
+           "save_arrays", "load_arrays", "COMPILE_NOTE_AFTER", "compiling", "warming",
+           "note_after"]
 
 #: Names of the two bookkeeping members of an array file (0-d unicode arrays).
 KEY_FIELD, CHECKSUM_FIELD = "__key__", "__sha256__"
@@ -301,15 +302,25 @@ def compiling(what: str, seconds: float) -> Iterator[None]:
     seconds (a compilation, not a load from heyoka's disk cache), one line on stderr says what is being compiled, how
     long that usually takes (``seconds``, measured on one core) and that it happens once per machine."""
     hint = "" if getattr(_WARM_HINT, "off", False) else "; 'rocknroller warm' compiles all integrators ahead of time"
+    with note_after(COMPILE_NOTE_AFTER, f"rocknroller: compiling {what} (once per machine, usually ~{seconds:.0f} s "
+                                        f"CPU; kept in heyoka's disk cache{hint})"):
+        yield
+
+
+@contextmanager
+def note_after(seconds: float, line: str) -> Iterator[threading.Event]:
+    """Print ``line`` on stderr if the context is still running after ``seconds``; the event yielded is set once it
+    was printed (for a closing line)."""
+    said = threading.Event()
 
     def note() -> None:
-        print(f"rocknroller: compiling {what} (once per machine, usually ~{seconds:.0f} s CPU; kept in heyoka's disk "
-              f"cache{hint})", file=sys.stderr, flush=True)
+        said.set()
+        print(line, file=sys.stderr, flush=True)
 
-    timer = threading.Timer(COMPILE_NOTE_AFTER, note)
+    timer = threading.Timer(seconds, note)
     timer.daemon = True
     timer.start()
     try:
-        yield
+        yield said
     finally:
         timer.cancel()

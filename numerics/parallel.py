@@ -7,10 +7,11 @@ processes import the calling script: guard a script's top level with ``if __name
 from __future__ import annotations
 
 import sys
-import threading
 import time
 from contextlib import contextmanager
 from typing import Any, Callable, Iterator, Sequence
+
+from rocknroller.numerics.cache import note_after
 
 __all__ = ["MAX_PROCESSES", "QUIET_NOTE_AFTER", "check_processes", "map_blocks"]
 
@@ -44,22 +45,13 @@ def _noted(desc: str, total: int, unit: str, shown: bool) -> Iterator[None]:
         yield
         return
     start = time.perf_counter()
-    said = threading.Event()
-
-    def note() -> None:
-        said.set()
-        print(f"rocknroller: {desc}: {total} {unit}s (no progress bar: stderr is not a terminal) ...", file=sys.stderr,
-              flush=True)
-
-    timer = threading.Timer(QUIET_NOTE_AFTER, note)
-    timer.daemon = True
-    timer.start()
-    try:
-        yield
-    finally:
-        timer.cancel()
-        if said.is_set():
-            print(f"rocknroller: {desc}: done in {time.perf_counter() - start:.1f} s", file=sys.stderr, flush=True)
+    with note_after(QUIET_NOTE_AFTER, f"rocknroller: {desc}: {total} {unit}s (no progress bar: stderr is not a "
+                                      "terminal) ...") as said:
+        try:
+            yield
+        finally:
+            if said.is_set():
+                print(f"rocknroller: {desc}: done in {time.perf_counter() - start:.1f} s", file=sys.stderr, flush=True)
 
 
 def map_blocks(fn: Callable[..., Any], blocks: Sequence[tuple[Any, ...]], sizes: Sequence[int], *, processes: int = 1,

@@ -40,15 +40,7 @@ def test_warm_lists_the_integrators_of_every_compile_site():
 
 
 def test_a_compilation_is_announced_once_on_stderr(monkeypatch, capsys):
-    monkeypatch.setattr(cache, "COMPILE_NOTE_AFTER", 0.0)
-    announced = threading.Event()
-    real_print = print
-
-    def spy(*args, **kwargs):
-        real_print(*args, **kwargs)
-        announced.set()
-
-    monkeypatch.setattr("builtins.print", spy)
+    announced = _announcements(monkeypatch)
     with cache.compiling("the test integrator", 12.0):
         assert announced.wait(10.0)  # the build is still running: the note comes
     err = capsys.readouterr().err.splitlines()
@@ -107,6 +99,15 @@ def test_warm_fails_saying_why_when_nothing_can_be_cached(monkeypatch, capsys):
 
 
 def test_warm_does_not_tell_the_user_to_run_warm(monkeypatch, capsys):
+    announced = _announcements(monkeypatch)
+    with cache.warming(), cache.compiling("the test integrator", 12.0):
+        assert announced.wait(10.0)
+    err = capsys.readouterr().err
+    assert "compiling the test integrator" in err and "rocknroller warm" not in err
+
+
+def _announcements(monkeypatch) -> threading.Event:
+    """The compile note at once (COMPILE_NOTE_AFTER = 0), and an event set when anything is printed."""
     monkeypatch.setattr(cache, "COMPILE_NOTE_AFTER", 0.0)
     announced = threading.Event()
     real_print = print
@@ -116,7 +117,4 @@ def test_warm_does_not_tell_the_user_to_run_warm(monkeypatch, capsys):
         announced.set()
 
     monkeypatch.setattr("builtins.print", spy)
-    with cache.warming(), cache.compiling("the test integrator", 12.0):
-        assert announced.wait(10.0)
-    err = capsys.readouterr().err
-    assert "compiling the test integrator" in err and "rocknroller warm" not in err
+    return announced
