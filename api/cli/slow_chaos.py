@@ -8,7 +8,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-__all__ = ["chaos_summary", "chaos_lines"]
+__all__ = ["chaos_summary", "chaos_lines", "two_digits", "EXTRAPOLATED"]
 
 #: What the horizon's label says about the quantities past it.
 _STATISTICAL = ("predictions past t = {t} are statistical only: the orbit's Q, Theta at a given time and the order "
