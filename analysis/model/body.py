@@ -461,7 +461,9 @@ class LoadedSphere:
             raise ValueError(f"axis must be 1, 2 or 3 (the principal axis to follow as the third), got axis={axis!r}")
         order = [(axis + k) % 3 for k in range(3)]  # the old indices of the new axes 1, 2, 3
         moments = (self.I1, self.I2, self.I3)
-        return LoadedSphere(*(moments[i] for i in order), tuple(self.offset[i] for i in order), self.g)
+        c = self.offset
+        return LoadedSphere(moments[order[0]], moments[order[1]], moments[order[2]],
+                            (c[order[0]], c[order[1]], c[order[2]]), self.g)
 
     def to_body(self) -> Body:
         """The :class:`Body` of this sphere where c = (0, 0, −a), a >= 0, with I1 <= I2 < I3; else a ValueError."""
