@@ -52,6 +52,21 @@ def _machine() -> str:
     return f"{cpu}, {os.cpu_count()} cores, {gib}; {platform.system()} {platform.release()}, Python {platform.python_version()}"
 
 
+def _vector_unit() -> str:
+    """The CPU's widest vector instructions (from /proc/cpuinfo's flags), heyoka's batch width for it and the lanes
+    run_ensemble uses here (numerics/ensembles/lanes.py): the ensembles' figures depend on all three."""
+    info = Path("/proc/cpuinfo")
+    flags = set(next((line.split(":", 1)[1].split() for line in info.read_text().splitlines()
+                      if line.startswith("flags")), [])) if info.exists() else set()
+    unit = "AVX-512" if "avx512f" in flags else "AVX2" if "avx2" in flags else "no AVX2" if flags else "unknown"
+    code = ("from rocknroller.numerics.ensembles.batch import batch_width; "
+            "from rocknroller.numerics.ensembles.lanes import default_lanes; print(batch_width(), default_lanes())")
+    width, lanes = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                                  check=True).stdout.split()
+    return (f"vector unit {unit}; heyoka's recommended batch width {width}; run_ensemble's lanes {lanes} "
+            "(`rocknroller warm` measures 4 and 8 lanes side by side and keeps the faster)")
+
+
 def _versions() -> str:
     code = ("import rocknroller, numpy, scipy, heyoka, mpmath; print(f'rocknroller {rocknroller.__version__}, "
             "numpy {numpy.__version__}, scipy {scipy.__version__}, heyoka {heyoka.__version__}, "
@@ -80,7 +95,7 @@ def main(quick: bool = False) -> None:
              "benchmark prints the load average it ran at, and the ratios it reports are measured side by side in "
              "one process.\n\n",
              f"* run: {started:%Y-%m-%d %H:%M} UTC{' (--quick)' if quick else ''}\n",
-             f"* machine: {_machine()}\n", f"* versions: {_versions()}; the tree: {_tree()}\n\n"]
+             f"* machine: {_machine()}\n", f"* vector unit: {_vector_unit()}\n", f"* versions: {_versions()}; the tree: {_tree()}\n\n"]
     env = dict(os.environ, PYTHONUNBUFFERED="1")
     for script, args, what in BENCHMARKS:
         if quick and script == "bench_long_run.py":

@@ -188,16 +188,18 @@ def body_from_args(args: argparse.Namespace, gravity: bool = False) -> Body:
 
 
 def add_initial_state_options(parser: argparse.ArgumentParser, theta0_default: str = "0.95pi",
-                              rates_note: str = "", psi0_default: str = "0") -> None:
+                              rates_note: str = "", psi0_default: str = "0",
+                              theta0_range: str = "in [0, pi]") -> None:
     """--theta0 --phi0 --psi0 --theta-dot0 --phi-dot0 --psi-dot0, or --omega W1 W2 W3 (body frame).
 
     The rates default to None ("not given", read as 0) so that a command can tell an explicit 0 from
-    an option left out; ``rates_note`` is added to the group's help (e.g. a command-specific default ω).
+    an option left out; ``rates_note`` is added to the group's help (e.g. a command-specific default ω);
+    ``theta0_range`` is the range of --theta0 the command accepts, in the words of its description.
     """
     grp = parser.add_argument_group(
         "initial state (angles accept 0.95pi, pi/4, -0.5pi, ...)",
         "The Euler rates default to 0" + (f"; {rates_note}" if rates_note else "") + ".")
-    grp.add_argument("--theta0", type=str, default=theta0_default, help=f"tilt in [0, pi] (default {theta0_default})")
+    grp.add_argument("--theta0", type=str, default=theta0_default, help=f"tilt {theta0_range} (default {theta0_default})")
     grp.add_argument("--phi0", type=str, default="0", help="azimuth (default 0)")
     grp.add_argument("--psi0", type=str, default=psi0_default, help=f"spin angle (default {psi0_default})")
     grp.add_argument("--theta-dot0", type=float, default=None, help="tilt rate (default 0)")

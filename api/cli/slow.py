@@ -85,8 +85,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     add_body_options(p, eps_default=1e-3)
     add_initial_state_options(p, psi0_default="pi/4", rates_note=(
-        f"with none of them (and no --critical-line) the body is released from rest, theta0 in [{_LO:g}pi, "
-        f"{_HI:g}pi]; with any, the region tables of the start's energy are used (--chart)"))
+        f"with none of them (and no --critical-line) the body is released from rest at 0 < theta0 <= {_HI:g}pi "
+        f"(on the release tables from {_LO:g}pi up, below on the region tables of its energy); with any, the region "
+        "tables of the start's energy are used (--chart)"),
+        theta0_range=f"in (0, {_HI:g}pi] for a release from rest, in [0, pi] with rates")
     add_critical_line_options(p.add_argument_group("start on a critical line"))
     p.add_argument("--processes", type=int, default=2, metavar="N",
                    help="processes of this machine that build the tables (the region tables of a start with "

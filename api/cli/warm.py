@@ -11,21 +11,25 @@ from typing import Any, Callable
 
 def integrators() -> list[tuple[str, Callable[[], Any]]]:
     """(what, build) for every compiled integrator of the package: the direct ODE in double and extended precision,
-    the ensembles' batch integrator at the default lane count, the chaos indicators' variational integrator (each of
+    the ensembles' batch integrator at each lane count the ensembles may use (``LANE_CANDIDATES`` and heyoka's
+    recommendation, :mod:`rocknroller.numerics.ensembles.lanes`), the chaos indicators' variational integrator (each of
     these three also for the general loaded sphere, Chaplygin's top), and the
     averaging tables' variational integrators of order 1 and 2 and of the three harmonics.  Each build loads from heyoka's disk cache when it
     holds the integrator, and compiles it into that cache otherwise."""
     from rocknroller.analysis.slow.map.orbit import _variational_integrator
     from rocknroller.numerics.ensembles.batch import batch_integrator, batch_width
+    from rocknroller.numerics.ensembles.lanes import LANE_CANDIDATES
     from rocknroller.numerics.integrate import heyoka_integrator
     from rocknroller.numerics.variational import variational_integrator
 
+    widths = sorted({*LANE_CANDIDATES, batch_width()})
     return [("direct ODE (double precision)", lambda: heyoka_integrator("double")),
             ("direct ODE (extended precision)", lambda: heyoka_integrator("extended")),
-            ("ensembles' batch integrator", lambda: batch_integrator(batch_width())),
+            *((f"ensembles' batch integrator ({w} lanes)", lambda w=w: batch_integrator(w)) for w in widths),
             ("chaos indicators' variational integrator", variational_integrator),
             ("direct ODE of the general loaded sphere (double precision)", lambda: heyoka_integrator("double", n_par=7)),
-            ("ensembles' batch integrator, general loaded sphere", lambda: batch_integrator(batch_width(), n_par=7)),
+            *((f"ensembles' batch integrator, general loaded sphere ({w} lanes)",
+               lambda w=w: batch_integrator(w, n_par=7)) for w in widths),
             ("chaos indicators' variational integrator, general loaded sphere", lambda: variational_integrator(7)),
             ("averaging tables' variational integrator, order 1", lambda: _variational_integrator(1)),
             ("averaging tables' variational integrator, order 2", lambda: _variational_integrator(2)),
@@ -41,7 +45,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         description="Compile the package's integrators (the direct ODE in double and extended precision, the "
         "ensembles' batch integrator, the chaos indicators' and the averaging tables' variational integrators) into "
         "heyoka's disk cache (HEYOKA_CACHE_DIR), so that no later command waits for a compilation: one that is "
-        "already there loads in a fraction of a second. Compiling all of them takes about a minute of CPU. "
+        "already there loads in a fraction of a second. Compiling all of them takes about two minutes of CPU. "
+        "Then it times the ensembles' batch integrator at 4 and 8 lanes side by side (a few seconds) and records the "
+        "faster for run_ensemble (the results do not depend on it). "
         "Prints each integrator, whether it was compiled and cached or loaded from the cache, and the seconds it "
         "took; exits 1, saying why, when heyoka's disk cache cannot be used (nothing is then kept for later "
         "processes).",
@@ -56,6 +62,7 @@ def run(args: argparse.Namespace) -> int:
 
     from rocknroller.numerics.backends import check_diskcache
     from rocknroller.numerics.cache import CacheWarning, warming
+    from rocknroller.numerics.ensembles.lanes import measure_lanes
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", CacheWarning)
@@ -75,6 +82,8 @@ def run(args: argparse.Namespace) -> int:
             else:
                 status = "loaded from heyoka's disk cache"
             print(f"{what}: {status} in {seconds:.1f} s", flush=True)
+        choice = measure_lanes()
+        print(f"ensembles' lanes, measured side by side: {choice.describe()}", flush=True)
     if not cached:
         reason = why[0] if why else "heyoka's disk cache is switched off (hy.llvm_state.set_diskcache_enabled)"
         print(f"rocknroller warm: nothing was cached, so every process compiles again: {reason}", file=sys.stderr)

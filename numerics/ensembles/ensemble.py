@@ -4,7 +4,8 @@ Each :class:`Job` (a body, an initial state, a final time, and the integrator's 
 :func:`rocknroller.numerics.integrate.simulate` runs it with ``samples=False`` (turning points only) and boiled down to
 a :class:`RunSummary` of plain arrays and floats: the θ-maxima and the slow diagnostics that the averaged map is
 compared with.  The jobs run in batches, in the lanes of heyoka's batch integrator (:mod:`rocknroller.numerics.ensembles.batch`,
-as many lanes as heyoka recommends for the CPU: the SIMD width), at the job's tolerance (default machine epsilon;
+as many lanes as measured fastest on this machine, else as heyoka recommends for the CPU:
+:mod:`rocknroller.numerics.ensembles.lanes`), at the job's tolerance (default machine epsilon;
 jobs of one tolerance share a batch, :mod:`rocknroller.numerics.run_limits`).  A lane's steps
 depend only on its job, so a job's summary is the same bit for bit in whichever lane, batch, process, thread or
 machine it runs (provided every worker has the same versions of rocknroller, heyoka and numpy, which
@@ -46,7 +47,8 @@ import numpy as np
 
 from rocknroller.analysis.model.body import Body, LoadedSphere
 from rocknroller.analysis.model.equations import EulerState
-from rocknroller.numerics.ensembles.batch import MAX_LANES, MIN_LANES, batch_integrator, batch_width, run_batch
+from rocknroller.numerics.ensembles.batch import MAX_LANES, MIN_LANES, batch_integrator, run_batch
+from rocknroller.numerics.ensembles.lanes import default_lanes
 from rocknroller.numerics.budget import HEYOKA_SECONDS_PER_RADIAN, WORK_BUDGET_SECONDS, check_work
 from rocknroller.numerics.integrate import check_run, heyoka_integrator, simulate
 from rocknroller.numerics.run_limits import DEFAULT_TOL, check_tol
@@ -311,8 +313,9 @@ def run_ensemble(jobs: Sequence[Job], *, scheduler: str | None = None, workers: 
         CPU seconds the jobs may take together (:mod:`rocknroller.numerics.budget`; None: no limit), estimated before
         any work from their radians Λ·t_end; however many processes share them.
     lanes : int, optional
-        Lanes per batch, in [``MIN_LANES``, ``MAX_LANES``] (default :func:`rocknroller.numerics.ensembles.batch.batch_width`, the width
-        heyoka recommends for this CPU); 1 runs each job by itself in the scalar integrator (:func:`run_job`), as
+        Lanes per batch, in [``MIN_LANES``, ``MAX_LANES``] (default :func:`rocknroller.numerics.ensembles.lanes.default_lanes`: the
+        width measured fastest on this machine by ``rocknroller warm``, else the one heyoka recommends for the CPU; the
+        results do not depend on it); 1 runs each job by itself in the scalar integrator (:func:`run_job`), as
         ``simulate`` does, whose results differ from the lanes' in the last bits (:mod:`rocknroller.numerics.ensembles.batch`).
 
     Returns
@@ -343,7 +346,7 @@ def run_ensemble(jobs: Sequence[Job], *, scheduler: str | None = None, workers: 
                               or not (lanes == 1 or MIN_LANES <= lanes <= MAX_LANES)):
         raise ValueError(f"lanes must be 1 (the scalar integrator) or a whole number in [{MIN_LANES}, {MAX_LANES}] "
                          f"(MIN_LANES, MAX_LANES), got lanes={lanes!r}")
-    lanes = batch_width() if lanes is None else int(lanes)
+    lanes = default_lanes() if lanes is None else int(lanes)
     if isinstance(jobs, (str, bytes)) or not isinstance(jobs, Sequence):
         raise ValueError(f"jobs must be a sequence (list or tuple) of Job, got {type(jobs).__name__}")
     if len(jobs) > MAX_JOBS:

@@ -49,6 +49,22 @@ def test_diagram_help_states_the_psi0_the_orbit_starts_from(tmp_path, capsys):
     assert json.loads(capsys.readouterr().out)["initial"]["psi0"] == parse_angle(default) == math.pi / 4
 
 
+def test_slow_help_states_one_release_range():
+    """`slow --help` stated 0 < theta0 <= 0.999pi in its description, [0.75pi, 0.999pi] for a release in the initial
+    state's note and [0, pi] at --theta0: every range it gives for a release from rest is now the one
+    check_release_theta0 enforces, and the tables' own range is named as theirs only."""
+    from rocknroller.analysis.slow.map.limits import THETA0_RANGE, check_release_theta0
+
+    text = " ".join(_help("slow").split())
+    hi = f"{THETA0_RANGE[1] / math.pi:g}pi"
+    assert f"0 < theta0 <= {hi}" in text and f"--theta0 THETA0 tilt in (0, {hi}] for a release from rest" in text
+    assert "theta0 in [" not in text and "tilt in [0, pi] (" not in text
+    assert check_release_theta0(THETA0_RANGE[1]) == THETA0_RANGE[1]
+    for outside in (0.0, math.nextafter(THETA0_RANGE[1], 4.0)):
+        with pytest.raises(ValueError, match="theta0 must lie in"):
+            check_release_theta0(outside)
+
+
 def test_help_shows_limits_by_value():
     """Help texts give the limits' values (simulate's said "MAX_SAMPLES samples, MAX_DENSE_RADIANS with samples")."""
     parser = build_parser()

@@ -9,6 +9,16 @@ import pytest
 
 from rocknroller.cli import main, warm
 from rocknroller.numerics import cache
+from rocknroller.numerics.ensembles import lanes
+
+#: What the fake lane measurement reports (the real one runs the batch integrator for seconds).
+FAKE_CHOICE = lanes.LaneChoice({4: 8.03, 8: 7.07}, 4, 8, True)
+
+
+@pytest.fixture(autouse=True)
+def fake_lanes(monkeypatch):
+    """warm's lane measurement, faked: the tests here are about the integrators and what warm prints."""
+    monkeypatch.setattr(lanes, "measure_lanes", lambda: FAKE_CHOICE)
 
 
 def test_warm_has_help_naming_the_disk_cache(capsys):
@@ -26,15 +36,21 @@ def test_warm_builds_every_integrator_once_and_reports_each(monkeypatch, capsys)
     assert main(["warm"]) == 0
     out = capsys.readouterr().out.splitlines()
     assert built == [0, 1, 2]
-    assert [line.split(":")[0] for line in out] == [what for what, _ in fake]
+    assert [line.split(":")[0] for line in out] == [what for what, _ in fake] + ["ensembles' lanes, measured side by side"]
+    assert out[-1].endswith("run_ensemble uses 8 lanes")
 
 
 def test_warm_lists_the_integrators_of_every_compile_site():
-    """One entry per compiled integrator: direct (2 precisions), ensembles, chaos, the same three for the general
-    loaded sphere, tables of order 1 and 2 and of the three harmonics."""
+    """One entry per compiled integrator: direct (2 precisions), ensembles (at each lane count run_ensemble may use:
+    4, 8 and heyoka's recommendation), chaos, the same for the general loaded sphere, tables of order 1 and 2 and of
+    the three harmonics."""
+    from rocknroller.numerics.ensembles.batch import batch_width
+
+    widths = {*lanes.LANE_CANDIDATES, batch_width()}
     names = [what for what, _ in warm.integrators()]
-    assert len(names) == len(set(names)) == 10
-    assert sum("general loaded sphere" in n for n in names) == 3
+    assert len(names) == len(set(names)) == 8 + 2 * len(widths)
+    assert sum("general loaded sphere" in n for n in names) == 2 + len(widths)
+    assert {f"ensembles' batch integrator ({w} lanes)" for w in widths} <= set(names)
     assert any("order 2" in n for n in names) and any("chaos" in n for n in names)
     assert any("harmonics" in n for n in names)
 
@@ -87,6 +103,7 @@ def test_warm_says_which_integrators_it_compiled_and_which_it_loaded(monkeypatch
     out = capsys.readouterr().out.splitlines()
     assert out[0].startswith("new one: compiled and cached in ")
     assert out[1].startswith("old one: loaded from heyoka's disk cache in ")
+    assert out[2] == f"ensembles' lanes, measured side by side: {FAKE_CHOICE.describe()}"
 
 
 def test_warm_fails_saying_why_when_nothing_can_be_cached(monkeypatch, capsys):
@@ -94,7 +111,7 @@ def test_warm_fails_saying_why_when_nothing_can_be_cached(monkeypatch, capsys):
     _fake(monkeypatch, enabled=False, warn="the cache directory /x cannot be used (read-only)")
     assert main(["warm"]) == 1
     captured = capsys.readouterr()
-    assert all(": compiled, not cached in " in line for line in captured.out.splitlines())
+    assert all(": compiled, not cached in " in line for line in captured.out.splitlines()[:-1])
     assert "nothing was cached" in captured.err and "/x cannot be used (read-only)" in captured.err
 
 
