@@ -29,7 +29,7 @@ extensions = [
     "sphinx_gallery.gen_gallery",
 ]
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
-exclude_patterns = ["_build", "figures", "**/README.txt", "examples/*.py", "paper/*.py"]
+exclude_patterns = ["_build", "figures", "theory/*_numbers.md", "**/README.txt", "examples/*.py", "paper/*.py"]
 myst_enable_extensions = ["dollarmath"]
 myst_heading_anchors = 3
 

@@ -70,8 +70,10 @@ class FrameGeometry:
     theta : the tilt θ of k from the upward vertical.
     centre, pole, mass_centre : the geometric centre, the pole (centre + k) and the mass centre (centre − a k).
     k : the symmetry axis in space.
-    band, meridians : (3, M) and two (3, M) arrays of points of the body-fixed great circles.
-    track : (2, n) contact points so far.
+    band, meridians : ndarray
+        (3, M) and two (3, M) arrays: points of the body-fixed great circles.
+    track : ndarray
+        (2, N): the contact points so far.
     """
 
     t: float

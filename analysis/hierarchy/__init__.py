@@ -6,6 +6,10 @@ rock'n'roller and Chaplygin's top, with their integrals and invariant measures.
     rational point where its derivative along the flow is not zero.
 ``measure``
     sympy checks of a candidate invariant density, div(ρ f) = 0.
+``phase_volume``
+    the flow's divergence, its time average along a run forward and backward (the sum of the Lyapunov exponents),
+    the densities of the members that have one, and the steady rotations about the vertical with their stability:
+    Chaplygin's top's attractors and repellers (docs/theory/chaplygin_top.md).
 ``members``, ``drift``, ``table``
     the four members' representative bodies and starts, the quantities' drifts along the direct ODE, and the table
     that puts the proofs and the measurements side by side (``rocknroller hierarchy``).

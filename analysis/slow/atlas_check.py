@@ -27,7 +27,8 @@ class AtlasCheck:
 
     Attributes
     ----------
-    index : ndarray (n, 2) of int, the (row, column) of each point.
+    index : ndarray of int
+        (N, 2): the (row, column) of each point.
     ode : dict, for each of the atlas's observables (``Atlas.observables``), the ODE's values (masked where
         undefined); ``megno`` and ``lyapunov`` are those of the direct motion's variational run over the same span
         (:func:`rocknroller.numerics.variational.direct_chaos_indicators`), masked where the map has none.

@@ -58,7 +58,8 @@ class SlowPrediction:
     ----------
     eps, theta0, psi0, t_end : inputs (θ0 and ψ0 of the initial state, for a start with velocity).
     K : ε κ, the standard-map parameter near pure rocking.
-    slow_period : period of Θ = 2ψ at the maxima; None if undefined (pure rocking) or not measurable
+    slow_period : float or None
+        The period of Θ = 2ψ at the maxima; None if undefined (pure rocking) or not measurable
         within t_end (fewer than two crossings of the mean).
     QR_extent, QJ_extent : max − min of Q_R, Q_J at the maxima within t_end.
     Phi : span of φ mod π at the maxima within t_end.
