@@ -253,3 +253,11 @@ def test_cite_names_the_literature_of_the_loaded_spheres(command, keys):
     the family of loaded spheres: `hierarchy` its integrals and measures, `simulate --offset` Chaplygin's top."""
     found = set(re.findall(r"^@\w+\{(\w+),", rr.cite(command), flags=re.M))
     assert found & {"Chaplygin1903", "BorisovMamaev2002", "BorisovKazakovSataev2014"} == keys
+
+
+def test_changelog_speaks_to_users_not_to_the_tracker():
+    """The CHANGELOG's headings and entries cited the project's internal issue numbers ("### Added (issue 31)"),
+    which mean nothing to a reader of the release: each entry says what changed instead."""
+    text = (ROOT / "CHANGELOG.md").read_text()
+    cited = [line for line in text.splitlines() if re.search(r"\b(issues?|items?) \d", line, re.I)]
+    assert not cited, cited
