@@ -83,7 +83,7 @@ from rocknroller.numerics.run_limits import (DEFAULT_TOL, DT_RADIANS, ENERGY_RAN
                                              MAX_GRID_POINTS, MAX_RADIANS, MAX_SAMPLES, MOMENT_RANGE, UNWRAP_RADIANS,
                                              RunPlan, _theta_min_name, check_run, check_tol, default_dt, rate_bound,
                                              theta_min)
-from rocknroller.numerics.run_limits import energy_error_bound, energy_scale
+from rocknroller.numerics.run_limits import ENERGY_BOUND_MAX, energy_error_bound, energy_scale
 from rocknroller.numerics.trajectory import Trajectory, TurningPointRun, TurningPoints, _Samples
 
 __all__ = [
@@ -158,10 +158,18 @@ def _progress(total: float, enabled: bool | None):
 def check_energy_error(err: float, n_steps: int, tolerance: float, strict: bool, what: str = "",
                        stacklevel: int = 2) -> None:
     """Warn (:class:`AccuracyWarning`), or raise :class:`AccuracyError` with ``strict``, if a run's relative energy
-    error ``err`` exceeds what ``n_steps`` steps at ``tolerance`` allow (:func:`energy_error_bound`); ``what`` names
+    error ``err`` exceeds what ``n_steps`` steps at ``tolerance`` allow (:func:`energy_error_bound`), or if that bound
+    exceeds ``ENERGY_BOUND_MAX``, where the check can no longer tell an accurate run from a wrong one; ``what`` names
     where it was measured; ``stacklevel`` counts from the caller of this function."""
     bound = energy_error_bound(tolerance, n_steps)
-    if err > bound:
+    if bound > ENERGY_BOUND_MAX:
+        msg = (f"the energy check cannot vouch for this run: {n_steps} steps at tolerance {tolerance:.3g} allow a "
+               f"relative energy error of {bound:.3g}, over {ENERGY_BOUND_MAX:g} (measured {err:.3g}{what}); lower "
+               "the tolerance or shorten the run")
+        if strict:
+            raise AccuracyError(msg)
+        warnings.warn(msg, AccuracyWarning, stacklevel=stacklevel + 1)
+    elif err > bound:
         msg = (f"the relative energy error {err:.3g}{what} exceeds {bound:.3g}, the most that {n_steps} steps at "
                f"tolerance {tolerance:.3g} allow: the run is not accurate")
         if strict:

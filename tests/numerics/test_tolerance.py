@@ -96,3 +96,21 @@ def test_an_ensemble_batches_jobs_by_tolerance():
         (alone,) = run_ensemble([job], progress=False)
         assert np.array_equal(summary.maxima.states, alone.maxima.states) and summary.n_steps == alone.n_steps
     assert mixed[0].energy_rel_error > mixed[1].energy_rel_error
+
+
+def test_a_check_that_cannot_fail_is_not_passed_off_as_one():
+    """At --tol 1e-6 over 10⁵ time units the energy bound was 2.6 (261 % of the energy): any error passed, so
+    --strict could never fail.  Past ENERGY_BOUND_MAX the check says it cannot vouch for the run: an AccuracyError
+    with strict, an AccuracyWarning without.  The run here: TOL_MAX over enough steps that the bound passes it."""
+    from rocknroller.numerics.integrate import AccuracyError, AccuracyWarning
+    from rocknroller.numerics.run_limits import ENERGY_BOUND_MAX, energy_error_bound
+
+    body, start = rr.Body.paper(1e-3), rr.EulerState(0.95 * math.pi, 0.0, 0.3, 0.0, 0.0, 0.0)
+    quiet = rr.simulate(body, start, 50.0, tol=TOL_MAX, samples=False)
+    assert energy_error_bound(TOL_MAX, quiet.n_steps) <= ENERGY_BOUND_MAX  # short: the check still means something
+    t_end = 50.0 * 2.0 * ENERGY_BOUND_MAX / energy_error_bound(TOL_MAX, quiet.n_steps)  # about twice the steps allowed
+    with pytest.raises(AccuracyError, match="cannot vouch"):
+        rr.simulate(body, start, t_end, tol=TOL_MAX, samples=False, strict=True)
+    with pytest.warns(AccuracyWarning, match="cannot vouch"):
+        run = rr.simulate(body, start, t_end, tol=TOL_MAX, samples=False)
+    assert energy_error_bound(TOL_MAX, run.n_steps) > ENERGY_BOUND_MAX > run.energy_rel_error
