@@ -39,7 +39,7 @@ from rocknroller.cli.options import (add_body_options, add_critical_line_options
                                      add_initial_state_options, body_from_args, check_critical_line_options,
                                      critical_line_state, output_path, parse_angle, prepare_output_dir, print_json,
                                      rates_given)
-from rocknroller.cli.slow_chaos import chaos_lines, chaos_summary
+from rocknroller.cli.slow_chaos import apply_trust, chaos_lines, chaos_summary, trust_lines
 from rocknroller.cli.slow_periodic import apply_periodic, periodic_lines, periodic_summary
 from rocknroller.cli.slow_statistics import (STATISTICS_CSV, add_statistics_options, check_statistics_options,
                                              check_statistics_work, statistics_lines, statistics_summary,
@@ -311,7 +311,8 @@ def run(args: argparse.Namespace) -> int:
     summary["pendulum"] = None if pend is None else {
         **{q: getattr(pend, q) for q in _QUANTITIES}, "kappa": consts.kappa,
         "eps_period_doubling": consts.eps_period_doubling, "T0": consts.T0, "C0": list(consts.C0),
-        "stable_psi": consts.stable_psi}
+        "stable_psi": consts.stable_psi,
+        "regime_ratio": None if math.isnan(pend.regime_ratio) else pend.regime_ratio}  # NaN for eps = 0
     if pend is not None and pred.pure_rocking:
         summary["pendulum"]["slow_period"] = None  # K = 0: no libration (the closed form's period is infinite)
     if args.period_doubling:
@@ -361,8 +362,9 @@ def _finish(args: argparse.Namespace, body: Any, pred: Any, pend: Any, start: An
                       f"its state on the region tables; the ensemble is a ball of release angles psi0 on the release "
                       f"tables, theta0 in [{_LO:g}pi, {_HI:g}pi] with --phi0 0")
     summary.update(statistics_summary(args, body, pred, summary, release=start is None, off_tables=off_tables))
+    apply_trust(summary)
     horizon = None if summary["horizon"] is None else summary["horizon"]["t"]
-    written = _plot(pred, ode, body, theta0, psi0, horizon, args.plot) if args.plot is not None else []
+    written = _plot(pred, ode, horizon, args.plot) if args.plot is not None else []
     if args.csv is not None:
         written.append(_write_csv(args.csv / CSV_NAME, pred, body, summary))
         if summary["statistics"] is not None:
@@ -390,7 +392,9 @@ def _write_csv(path: Path, pred: Any, body: Any, s: dict[str, Any]) -> Path:
     header = [f"rocknroller slow: body {body.describe()}; eps={body.epsilon_text()}; "
               f"theta0={angle_text(s['theta0'])}; psi0={angle_text(s['psi0'])}; t_end={s['t_end']!r}; "
               f"map of order {pred.order} in eps; K={s['K']!r}",
-              *chaos_lines(s), *statistics_lines(s),
+              "status of the summary's numbers: " + "; ".join(f"{src} {q} {st}" for src, marks in s["status"].items()
+                                                              for q, st in marks.items()),
+              *trust_lines(s), *chaos_lines(s), *statistics_lines(s),
               "columns: the maxima of theta: t, Q_R, Q_J, Theta = 2 psi (unwrapped), phi, critical region, "
               "log_growth = ln(|w|/|w0|) of the tangent vector since the map's start (empty without indicators), "
               "beyond_horizon (true past the predictability horizon: statistical only; empty without a horizon)"]
@@ -414,12 +418,13 @@ def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: flo
         print(f"start: {start}; first maximum of theta at t={fm['t']:.6g} (theta={fm['theta']:.6g}, "
               f"Q_R={fm['QR']:.6g}, Q_J={fm['QJ']:.6g}); E={s['E']:.8g}; region tables interpolate to "
               f"{s['table_interp_error']:.1e}; t_end={t_end:g}; K = eps*kappa = {s['K']:.4g}")
-    cols = ["quantity", "averaged map", "closed form"] + (["direct ODE", "map rel.err", "closed rel.err"]
-                                                         if "ode" in s else [])
+    cols = ["quantity", "averaged map", "status", "closed form", "status"] + (
+        ["direct ODE", "map rel.err", "closed rel.err"] if "ode" in s else [])
     rows = []
     pend = s["pendulum"] or {}
+    status = s["status"]
     for q in _QUANTITIES:
-        row = [q, _fmt(s[q]), _fmt(pend.get(q))]
+        row = [q, _fmt(s[q]), status["map"][q], _fmt(pend.get(q)), status.get("closed_form", {}).get(q, "")]
         if "ode" in s:
             row += [_fmt(s["ode"][q]), _fmt(s["rel_error"][q]), _fmt((pend.get("rel_error") or {}).get(q))]
         rows.append(row)
@@ -441,7 +446,7 @@ def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: flo
         print(f"exact one-step map: period doubling at eps = {pd['eps_exact']:.8g} (first order 4/kappa = "
               f"{pd['eps_first_order']:.8g}; K = eps*kappa = {pd['K_exact']:.8g} = 4 {'-' if pd['correction'] < 0 else '+'} "
               f"{abs(pd['correction']):.4g} eps)")
-    for line in chaos_lines(s) + statistics_lines(s) + periodic_lines(s):
+    for line in trust_lines(s) + chaos_lines(s) + statistics_lines(s) + periodic_lines(s):
         print(line)
     if s["routh_sphere"]:
         print(_PURE_ROCKING)
@@ -456,38 +461,12 @@ def _print_table(s: dict[str, Any], body, theta0: float, psi0: float, t_end: flo
               f"{', '.join(f'{lab}:{n}' for lab, n, _ in s['ode']['region_runs'])}")
 
 
-def _figure(pred, ode, body, theta0: float, psi0: float, horizon: float | None) -> Any:
-    """The --plot figure: the (Q_R, Q_J) at the maxima by the ODE and the map over the critical lines
-    (:meth:`SlowPrediction.plot`), ψ mod π at the maxima against t with the predictability horizon (if defined): a
-    line at it and the shaded span past it, where the map's points are statistical only (after t_end: named in the
-    legend)."""
-    import numpy as np
+def _plot(pred, ode, horizon: float | None, out: Path) -> list[Path]:
+    """The --plot figure, that of :meth:`SlowPrediction.plot` with the direct ODE beside the map
+    (:func:`rocknroller.analysis.slow.dynamics.result_plots.plot_prediction`) and the summary's horizon, as PNG and
+    PDF."""
+    from rocknroller.analysis.slow.dynamics.result_plots import plot_prediction
+    from rocknroller.papers.output import new_figure, save_figure
 
-    from rocknroller.papers.output import new_figure
-
-    fig = new_figure(figsize=(11, 4.2))
-    ax1, ax2 = fig.subplots(1, 2)
-    ax1.plot(ode.QR, ode.QJ, "o", ms=5, mfc="none", color="tab:red", label="direct ODE (maxima)")
-    pred.plot(ax=ax1)
-    ax1.set_xlabel("$Q_R$ at the maxima of $\\theta$")
-    ax1.legend(fontsize=8, loc="best")
-    ax2.plot(ode.t, np.mod(0.5 * ode.Theta, np.pi), "o", ms=4, mfc="none", color="tab:red", label="direct ODE")
-    ax2.plot(pred.series.t, pred.series.psi_mod_pi, ".", ms=3, color="k", label="averaged map")
-    if horizon is not None and horizon < pred.t_end:
-        ax2.axvline(horizon, color="tab:purple", lw=1.2, label=f"predictability horizon t = {horizon:.4g}")
-        ax2.axvspan(horizon, pred.t_end, color="tab:purple", alpha=0.08, lw=0, label="past it: statistical only")
-        ax2.set_xlim(0.0, pred.t_end)
-    elif horizon is not None:  # named in the legend, beyond the axis
-        ax2.plot([], [], " ", label=f"predictability horizon t = {horizon:.4g} (after t_end)")
-    ax2.set_xlabel("t")
-    ax2.set_ylabel("$\\psi$ mod $\\pi$ at the maxima")
-    ax2.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.0, 1.0))
-    fig.suptitle(f"slow motion: eps={body.epsilon:.3g}, theta0={theta0:.4g}, psi0={psi0:.4g}", fontsize=10)
-    fig.tight_layout()
-    return fig
-
-
-def _plot(pred, ode, body, theta0: float, psi0: float, horizon: float | None, out: Path) -> list[Path]:
-    from rocknroller.papers.output import save_figure
-
-    return save_figure(_figure(pred, ode, body, theta0, psi0, horizon), out, "slow_orbit")
+    fig = plot_prediction(pred, new_figure(figsize=(11, 4.2), layout="constrained"), horizon=horizon, ode=ode)
+    return save_figure(fig, out, "slow_orbit")

@@ -1,6 +1,7 @@
-"""``rocknroller slow``: what it says on order and chaos, the map's verdict over its span with MEGNO and λ, and the
+"""``rocknroller slow``: what it says on order and chaos, the map's verdict over its span with MEGNO and λ, the
 predictability horizon with the method that found it (the summary's ``chaos``, ``horizon`` and ``beyond_horizon``
-entries and their text lines).
+entries and their text lines), and what each number can be trusted for (``status``,
+:mod:`rocknroller.analysis.slow.trust`).
 """
 
 from __future__ import annotations
@@ -8,7 +9,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-__all__ = ["chaos_summary", "chaos_lines", "two_digits", "EXTRAPOLATED"]
+__all__ = ["chaos_summary", "chaos_lines", "two_digits", "EXTRAPOLATED", "apply_trust", "trust_lines"]
 
 #: What the horizon's label says about the quantities past it.
 _STATISTICAL = ("predictions past t = {t} are statistical only: the orbit's Q, Theta at a given time and the order "
@@ -94,4 +95,44 @@ def chaos_lines(s: dict[str, Any]) -> list[str]:
     lines.append(f"predictability horizon: {t} (map - ODE error reaches {h['fraction']:.0%} of the extents; {how})")
     if s["beyond_horizon"]:
         lines.append(f"beyond the horizon: t_end = {s['t_end']:g} > {two_digits(h['t'])}: {h['statistical_only']}")
+    return lines
+
+
+def apply_trust(s: dict[str, Any]) -> None:
+    """Mark each of the summary's quantities, the map's and the closed form's, predicted, statistical or undefined
+    (:func:`~rocknroller.analysis.slow.trust.map_trust`, :func:`~rocknroller.analysis.slow.trust.closed_form_trust`),
+    in ``s["status"]`` with the reasons in ``s["status_reasons"]``; an undefined number and its relative error
+    become null."""
+    from rocknroller.analysis.slow.trust import QUANTITIES, closed_form_trust, map_trust
+
+    verdict = None if s["chaos"] is None else s["chaos"]["verdict"]
+    pend = s.get("pendulum")
+    marks = {"map": {q: map_trust(q, s[q], verdict, s["beyond_horizon"]) for q in QUANTITIES}}
+    if pend is not None:
+        marks["closed_form"] = {q: closed_form_trust(q, pend[q], verdict, s["K"], pend["regime_ratio"])
+                                for q in QUANTITIES}
+    for source, trusts in marks.items():
+        values = s if source == "map" else pend
+        errors = s.get("rel_error") if source == "map" else (pend or {}).get("rel_error")
+        for q, trust in trusts.items():
+            if trust.status == "undefined":
+                values[q] = None
+                if errors is not None:
+                    errors[q] = None
+    s["status"] = {source: {q: t.status for q, t in trusts.items()} for source, trusts in marks.items()}
+    s["status_reasons"] = {source: {q: t.reason for q, t in trusts.items() if t.reason}
+                           for source, trusts in marks.items()}
+
+
+def trust_lines(s: dict[str, Any]) -> list[str]:
+    """One line per source whose numbers are not all predicted: which are statistical or undefined, and why."""
+    names = {"map": "averaged map", "closed_form": "closed form"}
+    lines = []
+    for source, reasons in s["status_reasons"].items():
+        by_reason: dict[str, list[str]] = {}
+        for q, why in reasons.items():
+            by_reason.setdefault(f"{s['status'][source][q]} ({why})", []).append(q)
+        if by_reason:
+            lines.append(f"status, {names[source]}: " + "; ".join(f"{', '.join(qs)} {what}"
+                                                                  for what, qs in by_reason.items()))
     return lines

@@ -66,7 +66,7 @@ from rocknroller.analysis.slow.map.limits import AveragingValidityWarning, eps_p
 from rocknroller.analysis.slow.map.orbit import _QJ_of, _QR_of, eps_derivative_rhs
 
 __all__ = ["PENDULUM_THETA0_RANGE", "REGIME_TOLERANCE", "ClosedFormRegimeWarning", "PendulumConstants",
-           "pendulum_constants", "PendulumPrediction", "pendulum_prediction", "regime_ratio", "BeatPrediction",
+           "pendulum_constants", "PendulumPrediction", "pendulum_prediction", "regime_ratio", "pendulum_regime_error", "BeatPrediction",
            "beat_prediction"]
 
 _N_START = 32
@@ -280,6 +280,21 @@ def regime_ratio(body: Body, theta0: float, constants: PendulumConstants | None 
     return abs(body.epsilon * constants.kappa) * scale / (constants.T0 * dnu) ** 2
 
 
+def pendulum_regime_error(R2: float) -> float:
+    """The bound √(1 + 1/R²) − 1 on the pendulum's slow-period error from its regime (module docstring, "Regimes"),
+    at R² = ``regime_ratio`` (0 for ε = 0, R² NaN: pure rocking, where there is no libration to be off).
+
+    Examples
+    --------
+    >>> from rocknroller.analysis.slow.dynamics.pendulum import pendulum_regime_error
+    >>> print(f"{pendulum_regime_error(2.0):.4f} {pendulum_regime_error(9.76):.4f}")
+    0.2247 0.0500
+    """
+    if math.isnan(R2):
+        return 0.0
+    return math.inf if R2 <= 0.0 else math.sqrt(1.0 + 1.0 / R2) - 1.0
+
+
 def _regime_warning(form: str, R2: float, off: str, holds: str, theta0: float, body: Body) -> None:
     """ClosedFormRegimeWarning: ``form`` is used at R², where its slow period may be ``off``; it ``holds`` elsewhere."""
     import warnings
@@ -365,7 +380,7 @@ def pendulum_prediction(body: Body, theta0: float, psi0: float, t_end: float = 1
                                   eps_period_doubling=c.eps_period_doubling, slow_period=math.inf,
                                   QR_extent=0.0, QJ_extent=0.0, Phi=0.0, line_slope=c.line_slope)
     R2 = regime_ratio(body, c.theta0, c)
-    bound = math.sqrt(1.0 + 1.0 / R2) - 1.0
+    bound = pendulum_regime_error(R2)
     if bound > REGIME_TOLERANCE:
         off = (f"by up to {bound:.0%}" if R2 >= _PENDULUM_BOUND_FROM else
                f"by {bound:.0%} or more (several times as theta0 falls: its period grows like 1/theta0)")
