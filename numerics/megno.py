@@ -28,13 +28,18 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["ChaosIndicators", "MEGNO_CHAOTIC", "MIN_SAMPLES", "megno_series", "lyapunov_slope", "chaos_indicators"]
+__all__ = ["ChaosIndicators", "MEGNO_CHAOTIC", "MEGNO_CLIP", "MIN_SAMPLES", "megno_series", "lyapunov_slope",
+           "chaos_indicators"]
 
 #: ⟨Y⟩ above which an orbit is called chaotic over the time sampled.  A regular orbit's ⟨Y⟩ is 2 + O(ln t / t)
 #: (≤ 2.2 from a few dozen maxima on), a stable periodic one's tends to 0; a chaotic one's passes 3 once λ t ≳ 6,
 #: i.e. once a nearby start has separated by e⁶ ≈ 400 times its initial distance.  The verdict is a finite-time one:
 #: an orbit in a thin chaotic layer with λ t < 6 over the time sampled is called regular, and is, to that time.
 MEGNO_CHAOTIC = 3.0
+#: Top of the colour scales of MEGNO (the atlas's layer, the portrait's orbits): a regular orbit's MEGNO is ≈ 2 (0 on
+#: a stable periodic one), a chaotic one's grows as λt/2 without bound (above ``MEGNO_CHAOTIC``: chaotic); larger
+#: values get the top colour (the colour bar's arrow), so that the scale is the same on every figure.
+MEGNO_CLIP = 5.0
 #: Fewest samples (θ-maxima after the start) from which the indicators are computed.
 MIN_SAMPLES = 8
 

@@ -31,13 +31,9 @@ from rocknroller.papers.output import new_figure
 if TYPE_CHECKING:  # pragma: no cover
     from rocknroller.numerics.trajectory import Trajectory
 
-__all__ = ["LINE_STYLE", "MEGNO_CLIP", "DiagramData", "critical_line_data", "draw_critical_lines", "free_spots",
+__all__ = ["LINE_STYLE", "DiagramData", "critical_line_data", "draw_critical_lines", "free_spots",
            "plot_V_phi", "region_diagram", "scaled_axis"]
 
-#: Top of the colour scales of MEGNO (the atlas's layer, the portrait's orbits): a regular orbit's MEGNO is ≈ 2 (0 on
-#: a stable periodic one), a chaotic one's grows as λt/2 without bound (above 3: chaotic,
-#: ``numerics.megno.MEGNO_CHAOTIC``); larger values get the top colour (the colour bar's arrow).
-MEGNO_CLIP = 5.0
 #: Where each region's V_φ panel sits around the central axes (row, column of a 3×3 grid).
 _PANEL_CELL = {"II": (0, 1), "IV": (2, 1), "III": (1, 0), "I": (1, 2)}
 _NUMERAL_FONT: dict[str, Any] = dict(fontsize=12, fontweight="bold")

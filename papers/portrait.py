@@ -43,9 +43,9 @@ from rocknroller.analysis.slow.map.compiled_map import SlowSeries
 from rocknroller.analysis.slow.map.family import maximum_state, rest_energy
 from rocknroller.analysis.slow.map.maps import SlowMap
 from rocknroller.numerics.budget import WORK_BUDGET_SECONDS
-from rocknroller.numerics.megno import MEGNO_CHAOTIC, MIN_SAMPLES
+from rocknroller.numerics.megno import MEGNO_CHAOTIC, MEGNO_CLIP, MIN_SAMPLES
 from rocknroller.papers.output import new_figure
-from rocknroller.papers.plotting import MEGNO_CLIP, draw_critical_lines, scaled_axis
+from rocknroller.papers.plotting import draw_critical_lines, scaled_axis
 from rocknroller.papers.portrait_limits import (BYTES_PER_MAXIMUM, CSV_BYTES_PER_ROW, MAX_ODE_STARTS,  # re-exported
                                                 MAX_PORTRAIT_MAXIMA, MAX_PORTRAIT_ORBITS, _check_grid,
                                                 check_portrait_size)

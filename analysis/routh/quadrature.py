@@ -53,6 +53,7 @@ from numpy.typing import ArrayLike, NDArray
 from rocknroller.analysis.model.body import Body, float_or_nan
 from rocknroller.analysis.model.diagnostics import wrap_angle
 from rocknroller.analysis.model.invariants import rho_inv
+from rocknroller.analysis.routh.precession_plots import precession_figure
 from rocknroller.analysis.routh.reduction import (E_MAX, NO_MOTION, OK, STATUS_TEXT, STEADY, D_coefficient,
                                                   NoMotionError, SteadyRollingError, _f, _P_and_terms, _P_xy, _U_xy,
                                                   check_invariants, require_open_tilt, theta_from_xy, tilt_xy,
@@ -62,9 +63,8 @@ from rocknroller.analysis.routh.turning_points import TurningPoints, solve_turni
 if TYPE_CHECKING:
     import pandas
 
-__all__ = [
-    "UNRESOLVED", "QUADRATURE_STATUS_TEXT", "Precession", "precession", "precession_from_turning_point", "check_rtol"
-]
+__all__ = ["UNRESOLVED", "QUADRATURE_STATUS_TEXT", "Precession", "precession", "precession_from_turning_point",
+           "check_rtol"]
 
 #: Extra status of the double-precision quadrature: the rule did not converge, or its estimated rounding
 #: error exceeds 1e-12 (near-steady rolling: E − U(θ) is a small difference everywhere); use precession_mp.
@@ -155,6 +155,19 @@ class Precession:
 
         names = [f.name for f in fields(self) if getattr(self, f.name) is not None]
         return dataframe({**{n: getattr(self, n) for n in names}, "status_text": self.status_text()})
+
+    def plot(self, fig: Any = None) -> Any:
+        """T_θ, Δφ and Δψ per T_θ over the (Q_R, Q_J) plane on ``fig`` (a new pyplot figure without one), as
+        ``rocknroller table --plot`` draws them (:func:`~rocknroller.analysis.routh.precession_plots.precession_figure`).
+
+        Examples
+        --------
+        >>> import math, matplotlib.figure, rocknroller as rr
+        >>> p, _ = rr.precession_from_turning_point(0.95 * math.pi, [0.01, 0.02], [-0.002, 0.0], rr.Body.paper())
+        >>> print(p.plot(matplotlib.figure.Figure(figsize=(13, 4))).axes[3].get_ylabel())
+        $T_\\theta$ (time units)
+        """
+        return precession_figure(self.QR, self.QJ, self.T_theta, self.delta_phi, self.delta_psi, fig=fig)
 
 
 # ----------------------------------------------------------------------------- double precision

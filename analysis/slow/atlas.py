@@ -174,11 +174,23 @@ class Atlas:
         return dataframe({self.row_name: R, self.col_name: C, **{n: self.values[n] for n in self.observables}})
 
     def plot(self, fig: Any = None) -> Any:
-        """The observables on ``fig`` (a new pyplot figure without one) as lines or heat maps; returns the figure
-        (:func:`rocknroller.analysis.slow.dynamics.result_plots.plot_atlas_panels`)."""
-        from rocknroller.analysis.slow.dynamics.result_plots import plot_atlas_panels
+        """The observables on ``fig`` (a new pyplot figure of
+        :func:`~rocknroller.analysis.slow.dynamics.atlas_figure.atlas_figsize` without one) as heat maps over the plane
+        or lines along a single row or column, the figure of ``rocknroller atlas``: panels titled in words, colour bars
+        labelled with units, MEGNO on the fixed scale [0, ``MEGNO_CLIP``]
+        (:func:`~rocknroller.analysis.slow.dynamics.atlas_figure.atlas_figure`).  Returns the figure.
 
-        return plot_atlas_panels(self, fig)
+        Examples
+        --------
+        >>> import math, matplotlib.figure, rocknroller as rr
+        >>> atlas = rr.atlas_from_rest(rr.Body.paper(1e-3), [0.95 * math.pi], [0.3, 0.8], 200.0)
+        >>> fig = atlas.plot(matplotlib.figure.Figure(figsize=(17, 7.5), layout="constrained"))
+        >>> print(fig.axes[4].get_title(), "|", fig.axes[4].get_ylabel())
+        full-angle reversals | per 1000 time units
+        """
+        from rocknroller.analysis.slow.dynamics.atlas_figure import atlas_figure
+
+        return atlas_figure(self, fig)
 
     def state(self, i: int, j: int) -> EulerState:
         """The initial state of grid point (row i, column j)."""

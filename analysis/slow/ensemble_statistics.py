@@ -37,7 +37,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING, Any, Sequence
+from typing import TYPE_CHECKING, Any, ClassVar, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -202,6 +202,7 @@ class EnsembleStatistics:
     order: int | None = None
     warnings: tuple[str, ...] = ()
     left: tuple[float, ...] = ()
+    units: ClassVar[dict[str, str]] = STATISTIC_UNITS  #: the statistics' units (``STATISTIC_UNITS``), for the figures
 
     def mean(self, name: str) -> float:
         """Mean of one statistic over the members."""
@@ -225,8 +226,16 @@ class EnsembleStatistics:
         return dataframe({"psi0": self.ball.psi0_values(), "rocks": self.rocks, **self.values})
 
     def plot(self, fig: Any = None) -> Any:
-        """Histograms of the statistics over the members, one panel each, on ``fig`` (a new pyplot figure without
-        one; :func:`rocknroller.analysis.slow.dynamics.result_plots.plot_statistics`).  Returns the figure."""
+        """The figure of the statistics over the members (histograms, one panel each, the x axes labelled with
+        :attr:`units`) on ``fig``, a new pyplot figure without one (:func:`~.result_plots.plot_statistics`).
+
+        Examples
+        --------
+        >>> import math, matplotlib.figure, rocknroller as rr
+        >>> ens = rr.map_ensemble(rr.Body.paper(1e-3), rr.StartBall(0.95 * math.pi, 0.8, 0.1, 4), 200.0, order=1)
+        >>> print(ens.plot(matplotlib.figure.Figure(figsize=(13, 5.2))).axes[4].get_xlabel())
+        full-angle reversals (per 1000 time units)
+        """
         from rocknroller.analysis.slow.dynamics.result_plots import plot_statistics
 
         return plot_statistics(self, fig)

@@ -165,14 +165,30 @@ class SlowPrediction:
             frame["region"] = np.asarray(self.regions)
         return frame
 
-    def plot(self, ax: Any = None) -> Any:
-        """Draw the predicted (Q_R, Q_J) at the θ-maxima on ``ax`` (a new pyplot figure without one, its layout
-        constrained so that no label is cut off) over the critical lines Q_J,π^crit and Q_J,0^crit of its ``body``
-        (paper eqs. QJcrit_pi, QJcrit_0; :func:`rocknroller.analysis.slow.dynamics.result_plots.plot_prediction`), with a
-        legend; the axes keep the samples' range.  Returns the axes."""
+    def plot(self, fig: Any = None, ode: Any = None) -> Any:
+        """Draw the prediction on ``fig`` (a new pyplot figure without one), as ``rocknroller slow --plot`` does
+        (:func:`rocknroller.analysis.slow.dynamics.result_plots.plot_prediction`): the (Q_R, Q_J) at the θ-maxima
+        over the critical lines Q_J,π^crit and Q_J,0^crit of its ``body`` (paper eqs. QJcrit_pi, QJcrit_0) and ψ mod π
+        at the maxima against t with the predictability horizon (:meth:`horizon`, where it is finite: a line at it
+        before t_end, the span past it shaded, or named in the legend after t_end), titled with the body, ε, θ0, ψ0
+        and the map's order; ``ode``: the direct ODE's maxima beside the map's (``check_prediction(...).ode``).
+        Returns the figure.
+
+        Examples
+        --------
+        >>> import math, matplotlib.figure, rocknroller as rr
+        >>> pred = rr.predict_slow_motion(rr.Body.paper(5e-3), 0.95 * math.pi, 0.05, 400.0, order=1)
+        >>> fig = pred.plot(matplotlib.figure.Figure(figsize=(11, 4.2), layout="constrained"))
+        >>> print(fig.axes[1].get_lines()[1].get_label() == f"predictability horizon t = {pred.horizon():.4g}")
+        True
+        """
         from rocknroller.analysis.slow.dynamics.result_plots import plot_prediction
 
-        return plot_prediction(self, ax)
+        try:
+            t_h = self.horizon()
+        except ValueError:  # no horizon: ε = 0, no indicators, or a fixed point of the map
+            t_h = math.inf
+        return plot_prediction(self, fig, horizon=t_h if math.isfinite(t_h) else None, ode=ode)
 
 
 def critical_regions(QR: ArrayLike, QJ: ArrayLike, t: ArrayLike, body: Body):

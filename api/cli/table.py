@@ -13,7 +13,8 @@ import numpy as np
 
 from rocknroller.analysis.routh.quadrature import DEFAULT_RTOL, RTOL_RANGE, check_rtol
 from rocknroller.cli.options import (add_body_options, add_budget_option, add_force_option, body_from_args,
-                                     budget_from_args, output_path, parse_angle, prepare_output_file, print_json)
+                                     budget_from_args, output_path, parse_angle, prepare_output_dir,
+                                     prepare_output_file, print_json)
 from rocknroller.numerics.budget import check_work, mp_point_seconds
 
 COLUMNS = ("Q_R", "Q_J", "E", "theta_N", "theta_X", "T_theta", "tau", "delta_phi", "delta_psi", "visible_phi",
@@ -31,6 +32,8 @@ _CHUNK = 2048
 #: Largest grid (number of points) in double precision (≈ 40 µs and ≈ 0.5 kB per point) and with --dps (≈ 0.4 s each).
 MAX_POINTS = 500_000
 MAX_POINTS_MP = 2_000
+#: The figure's files, written to --plot DIR.
+FIGURES = ("precession_table.png", "precession_table.pdf")
 
 
 def parse_grid(text: str, name: str) -> np.ndarray:
@@ -106,6 +109,10 @@ def register(sub: argparse._SubParsersAction) -> None:
                         f"{RTOL_RANGE[1]:g}] (default {DEFAULT_RTOL:g})")
     p.add_argument("--out", type=output_path, default=Path("precession_table.csv"), metavar="FILE",
                    help="CSV output (default precession_table.csv; an existing file is not overwritten without --force)")
+    p.add_argument("--plot", type=output_path, default=None, metavar="DIR",
+                   help="also draw the table over the (Q_R, Q_J) plane: the period and delta_phi, delta_psi per it, "
+                        "with labelled colour bars, as precession_table.png and .pdf in DIR (created if missing; "
+                        "existing files are not overwritten without --force); with --E, one energy")
     add_force_option(p)
     add_budget_option(p, "the table")
     p.add_argument("--json", action="store_true", help="print a one-object JSON summary on stdout")
@@ -146,7 +153,11 @@ def run(args: argparse.Namespace) -> int:
     if args.dps is not None:  # the double backend's points are bounded by MAX_POINTS (~40 µs each)
         check_work(n * mp_point_seconds(args.dps), f"a table of {n} mpmath points at {args.dps} digits",
                    budget_from_args(args))
+    if args.plot is not None and E_axis.size > 1:
+        raise ValueError(f"--plot draws the (Q_R, Q_J) plane at one energy: give one --E value, got --E {args.E}")
     prepare_output_file(args.out, "--out", args.force)
+    if args.plot is not None:
+        prepare_output_dir(args.plot, "--plot", args.force, FIGURES)
     if args.E is not None:
         E, QR, QJ = (a.ravel() for a in np.meshgrid(E_axis, QR_axis, QJ_axis, indexing="ij"))
         theta0 = None
@@ -188,6 +199,7 @@ def run(args: argparse.Namespace) -> int:
     from rocknroller.analysis.criticality.lines import region
 
     rows["region"] = [str(v) for v in np.asarray(region(QR, QJ, body)).ravel()]
+    written = [] if args.plot is None else _plot(args, rows, body, theta0, E_axis)
     if args.dps is not None:
         for c in COLUMNS[2:10]:
             rows[c] = [_cell(v, args.dps) for v in rows[c]]
@@ -211,8 +223,8 @@ def run(args: argparse.Namespace) -> int:
     ]
     write_csv(args.out, rows, header)
     counts = dict(Counter(rows["status"]))
-    summary = {"out": str(args.out), "n_points": n, "status_counts": counts, "mode": "theta0" if theta0 is not None
-               else "E", "theta0": theta0, "per": args.per, "backend": "mpmath" if args.dps else "double",
+    summary = {"out": str(args.out), "figures": [str(p) for p in written], "n_points": n, "status_counts": counts,
+               "mode": "theta0" if theta0 is not None else "E", "theta0": theta0, "per": args.per, "backend": "mpmath" if args.dps else "double",
                "dps": args.dps, "body": {k: getattr(body, k) for k in ("a", "I1", "I2", "I3", "g")},
                "elapsed_s": elapsed}
     if args.json:
@@ -220,8 +232,22 @@ def run(args: argparse.Namespace) -> int:
     else:
         print(f"body: {body.describe()}")
         print(f"{n} points ({mode}) in {elapsed:.3g} s: " + ", ".join(f"{k}={v}" for k, v in sorted(counts.items())))
-    print(f"wrote {args.out}", file=sys.stderr)
+    for path in [args.out, *written]:
+        print(f"wrote {path}", file=sys.stderr)
     return 0
+
+
+def _plot(args: argparse.Namespace, rows: dict, body: Any, theta0: float | None, E_axis: np.ndarray) -> list[Path]:
+    """The table over the (Q_R, Q_J) plane (:func:`rocknroller.analysis.routh.precession_plots.precession_figure`,
+    the figure of ``Precession.plot``), per ``--per``, as PNG and PDF in ``--plot``."""
+    from rocknroller.analysis.routh.precession_plots import precession_figure
+    from rocknroller.papers.output import angle_text, new_figure, save_figure
+
+    where = f"theta_X = theta0 = {angle_text(theta0)} fixed" if theta0 is not None else f"E = {E_axis[0]!r}"
+    title = f"precession table of Routh's sphere, {where}\nbody {body.describe()}"
+    fig = precession_figure(rows["Q_R"], rows["Q_J"], rows[args.per], rows["delta_phi"], rows["delta_psi"],
+                            per=args.per, fig=new_figure(figsize=(13, 4.4), layout="constrained"), title=title)
+    return save_figure(fig, args.plot, "precession_table")
 
 
 def _fill_double(rows: dict, sl: slice, pr: Any, ok: np.ndarray, factor: float) -> None:

@@ -21,12 +21,8 @@ pred = rr.predict_slow_motion(body, theta0, psi0, t_end, order=1)
 check = rr.check_prediction(body, pred)  # the direct ODE from the same start, as `rocknroller slow --check`
 ode = check.ode
 
-fig = Figure(figsize=(6, 4.5))
-ax = fig.subplots()
-ax.plot(ode.QR, ode.QJ, "o", ms=5, mfc="none", color="tab:red", label="direct ODE (maxima)")
-pred.plot(ax=ax)
-ax.legend(fontsize=8)
-ax.ticklabel_format(style="sci", scilimits=(-2, 2))
+# the figure of `rocknroller slow --plot`: (Q_R, Q_J) over the critical lines, and ψ mod π with the horizon
+fig = pred.plot(Figure(figsize=(11, 4.2), layout="constrained"), ode=ode)
 
 # %%
 # The slow observables

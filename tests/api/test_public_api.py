@@ -61,8 +61,8 @@ def test_slow_prediction_table_and_plot():
     frame = pred.to_dataframe()
     assert list(frame.columns) == ["t", "Q_R", "Q_J", "Theta", "phi", "region"]
     np.testing.assert_array_equal(frame["Q_R"].to_numpy(), pred.series.QR)
-    ax = Figure().add_subplot()
-    assert pred.plot(ax=ax) is ax and ax.lines[0].get_xdata().size == pred.series.t.size
+    fig = Figure()
+    assert pred.plot(fig) is fig and fig.axes[0].lines[0].get_xdata().size == pred.series.t.size
 
 
 def test_to_dataframe_says_pandas_is_missing(monkeypatch):

@@ -5,12 +5,16 @@ from __future__ import annotations
 
 import math
 
-import matplotlib.pyplot as plt
-import numpy as np
-import pytest
+import matplotlib
 
-import rocknroller as rr
-from figure_checks import draw, inside, legend_texts, overlapping, tick_labels
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+
+import rocknroller as rr  # noqa: E402
+from figure_checks import draw, inside, legend_texts, overlapping, tick_labels  # noqa: E402
 
 
 @pytest.fixture(autouse=True)
@@ -25,8 +29,8 @@ def test_slow_prediction_plot_draws_the_critical_lines_and_keeps_its_labels(tmp_
     the left edge)."""
     body = rr.Body.paper(1e-3)
     pred = rr.predict_slow_motion(body, 0.95 * math.pi, math.pi / 4, 400.0, order=1)
-    ax = pred.plot()
-    fig = ax.figure
+    fig = pred.plot()
+    ax = fig.axes[0]
     fig.savefig(tmp_path / "prediction.png")
     lines = {line.get_gid(): line for line in ax.get_lines() if line.get_gid()}
     assert set(lines) == {"QJ0crit", "QJpicrit"}
@@ -37,6 +41,33 @@ def test_slow_prediction_plot_draws_the_critical_lines_and_keeps_its_labels(tmp_
     assert lo <= pred.series.QR.min() and pred.series.QR.max() <= hi and hi - lo < 2 * np.ptp(pred.series.QR)
     assert inside(fig, ax.yaxis.label) and inside(fig, ax.xaxis.label)
     assert any("crit" in t for t in legend_texts(fig))
+
+
+def test_slow_prediction_plot_has_the_commands_title_and_marks_its_horizon():
+    """A chaotic release (ε = 5e-3, ψ0 = 0.05, horizon ≈ 140 t.u. < t_end = 400), as ``rocknroller slow --plot``
+    draws it: the title names the body, ε, θ0, ψ0 and the map's order; the ψ panel has a labelled vertical line at
+    the horizon and the span past it shaded, both in its legend, and labelled axes with units; a regular release
+    over a t_end before its horizon names the horizon in the legend only."""
+    body = rr.Body.paper(5e-3)
+    pred = rr.predict_slow_motion(body, 0.95 * math.pi, 0.05, 400.0, order=1)
+    t_h = pred.horizon()
+    assert 0.0 < t_h < 400.0
+    fig = pred.plot()
+    title = fig.get_suptitle()
+    assert all(part in title for part in ("order 1", "ε = 0.005", "θ0 = 0.95π", "ψ0 = 0.01592π", body.describe()))
+    ax_q, ax_t = fig.axes[:2]
+    marks = [line for line in ax_t.get_lines() if list(line.get_xdata()) == [t_h, t_h]]
+    assert len(marks) == 1 and marks[0].get_label() == f"predictability horizon t = {t_h:.4g}"
+    (span,) = ax_t.patches
+    assert (span.get_x(), span.get_x() + span.get_width()) == pytest.approx((t_h, 400.0), rel=1e-12)
+    assert {"predictability horizon t = " + f"{t_h:.4g}", "past it: statistical only"} <= set(legend_texts(fig))
+    assert ax_t.get_xlabel() == "t (time units)" and ax_t.get_ylabel() == "$\\psi$ mod $\\pi$ at the maxima (rad)"
+    assert {line.get_gid() for line in ax_q.get_lines()} >= {"QJ0crit", "QJpicrit"} and _labels_inside(fig)
+    regular = rr.predict_slow_motion(rr.Body.paper(1e-3), 0.95 * math.pi, math.pi / 4, 200.0, order=1)
+    t_r = regular.horizon()
+    ax_r = regular.plot().axes[1]
+    assert t_r > 200.0 and not ax_r.patches
+    assert f"predictability horizon t = {t_r:.4g} (after t_end)" in [t.get_text() for t in ax_r.get_legend().get_texts()]
 
 
 BODY = rr.Body.paper(1e-3)
@@ -125,12 +156,42 @@ def test_ensemble_statistics_and_comparison_frames_and_plots(results, tmp_path):
     fig = a.plot()
     fig.savefig(tmp_path / "statistics.png")
     panels = [ax for ax in fig.axes if ax.get_visible()]
-    assert len(panels) == len(STATISTICS) and all(ax.patches for ax in panels) and _labels_inside(fig)
+    drawn = [bool(np.any(a.values[n])) for n in STATISTICS]  # a statistic 0 for every member is not drawn
+    assert len(panels) == len(STATISTICS) and [bool(ax.patches) for ax in panels] == drawn and _labels_inside(fig)
     fig = cmp.plot()
     fig.savefig(tmp_path / "comparison.png")
     panels = [ax for ax in fig.axes if ax.get_visible()]
-    assert len(panels) == len(STATISTICS) and all(len(ax.patches) == 2 for ax in panels) and _labels_inside(fig)
+    drawn = [bool(np.any(a.values[n]) or np.any(cmp.b.values[n])) for n in STATISTICS]
+    assert len(panels) == len(STATISTICS) and _labels_inside(fig)
+    assert [len(ax.patches) for ax in panels] == [2 if d else 0 for d in drawn]
     assert all(("NOT consistent" in ax.get_title()) != cmp[n].consistent for ax, n in zip(panels, STATISTICS))
+
+
+def test_ensemble_statistics_plot_labels_its_axes_with_units_and_draws_no_bar_for_zero():
+    """A ball whose rocks never enter regions II and IV (fractions 0 for every member) and whose members all reverse
+    as often: the zero fractions draw nothing but say "none" (they were drawn as a bar across the whole axis), the
+    fractions lie on [0, 1], the constant reversal count is a narrow bar, every x axis is labelled in words with its
+    unit (reversals per 1000 time units, ``STATISTIC_UNITS``)."""
+    from rocknroller.analysis.slow.ensemble_statistics import STATISTIC_UNITS, STATISTICS
+
+    ens = rr.map_ensemble(BODY, rr.StartBall(THETA0, math.pi / 4, 0.1, 8, seed=1), 300.0, order=1)
+    zero = [n for n in STATISTICS if not np.any(ens.values[n])]
+    assert {"fraction_II", "fraction_IV"} <= set(zero) and np.ptp(ens.values["full_reversals"]) == 0
+    fig = ens.plot()
+    panels = dict(zip(STATISTICS, [ax for ax in fig.axes if ax.get_visible()]))
+    for name in zero:
+        assert not panels[name].patches and [t.get_text() for t in panels[name].texts] == ["none: 0 for every member"]
+    for name in STATISTICS:
+        ax = panels[name]
+        assert ax.get_xlabel() and ax.get_ylabel() == "members"
+        if name.startswith("fraction_"):
+            assert ax.get_xlim() == (0.0, 1.0) and ax.get_xlabel() == f"fraction of the rocks in region {name[9:]}"
+    assert panels["full_reversals"].get_xlabel() == f"full-angle reversals ({STATISTIC_UNITS['full_reversals']})"
+    assert STATISTIC_UNITS["visible_reversals"] in panels["visible_reversals"].get_xlabel()
+    (bar,) = panels["full_reversals"].patches
+    lo, hi = panels["full_reversals"].get_xlim()
+    assert bar.get_window_extent().width < 0.2 * panels["full_reversals"].get_window_extent().width and lo < hi
+    assert _labels_inside(fig)
 
 
 def test_periodic_orbit_and_branch_frames_and_plots(results):
@@ -171,6 +232,8 @@ def test_portrait_frame_and_plot(results):
 
 def test_atlas_frame_and_plot(results, tmp_path):
     """One row per grid point (θ0, ψ0, the observables); the one-θ0 atlas's quick look draws lines along ψ0."""
+    from rocknroller.numerics.megno import MEGNO_CLIP
+
     atlas = results["atlas"]
     frame = atlas.to_dataframe()
     assert list(frame.columns) == ["theta0", "psi0", *atlas.observables] and len(frame) == 3
@@ -181,8 +244,10 @@ def test_atlas_frame_and_plot(results, tmp_path):
     panels = [ax for ax in fig.axes if ax.get_visible()]
     assert len(panels) == len(atlas.observables) and _labels_inside(fig)
     for ax, name in zip(panels, atlas.observables):
+        y = np.ma.ravel(atlas.values[name])
+        y = np.ma.minimum(y, MEGNO_CLIP) if name == "megno" else y  # MEGNO on the fixed scale, as the command's
         np.testing.assert_array_equal(ax.get_lines()[0].get_xdata(), atlas.cols / math.pi)
-        np.testing.assert_array_equal(ax.get_lines()[0].get_ydata(), np.ma.ravel(atlas.values[name]).filled(np.nan))
+        np.testing.assert_array_equal(ax.get_lines()[0].get_ydata(), y.filled(np.nan))
 
 
 def test_every_frame_says_pandas_is_missing(results, monkeypatch):

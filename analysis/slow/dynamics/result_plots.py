@@ -3,7 +3,8 @@
 :class:`~rocknroller.analysis.slow.ensemble_statistics.EnsembleStatistics`,
 :class:`~rocknroller.analysis.slow.ensemble_statistics.EnsembleComparison`,
 :class:`~rocknroller.analysis.slow.dynamics.periodic_orbits.PeriodicOrbit`,
-:class:`~rocknroller.analysis.slow.dynamics.periodic_orbits.Branch` and :class:`~rocknroller.analysis.slow.atlas.Atlas`.
+:class:`~rocknroller.analysis.slow.dynamics.periodic_orbits.Branch` (the atlas's:
+:mod:`rocknroller.analysis.slow.dynamics.atlas_figure`).
 
 Each function draws on the axes (or figure) it is given; without one it opens a pyplot figure with a constrained
 layout (for interactive use, on whatever backend the user has chosen: the package never calls ``matplotlib.use``).
@@ -14,14 +15,13 @@ papers (the paper's starts, colour bars, CSV): :mod:`rocknroller.papers`.
 from __future__ import annotations
 
 import math
-from typing import Any, Sequence
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 
 from rocknroller.analysis.criticality.drawing import draw_critical_lines
 
-__all__ = ["plot_prediction", "plot_statistics", "plot_comparison", "plot_periodic_orbit", "plot_branch",
-           "line_axis", "plot_atlas_panels"]
+__all__ = ["plot_prediction", "plot_statistics", "plot_comparison", "plot_periodic_orbit", "plot_branch"]
 
 
 def _axes(ax: Any, figsize: tuple[float, float]) -> Any:
@@ -46,67 +46,157 @@ def _panels(fig: Any, n: int, width: float = 3.2, height: float = 2.6) -> tuple[
     return fig, list(axes[:n])
 
 
-def plot_prediction(pred: Any, ax: Any = None) -> Any:
-    """A :class:`SlowPrediction`'s (Q_R, Q_J) at the θ-maxima over the critical lines (paper eqs. QJcrit_pi,
-    QJcrit_0) of its ``body`` (none without one); the axes keep the samples' range."""
-    ax = _axes(ax, (5.5, 4.2))
-    QR, QJ = pred.series.QR, pred.series.QJ
-    ax.plot(QR, QJ, ".", ms=3, color="k", label="averaged map (maxima)")
-    if pred.body is not None and QR.size:
-        xlim, ylim = ax.get_xlim(), ax.get_ylim()
-        draw_critical_lines(ax, pred.body, *xlim)
-        ax.set_xlim(xlim)
-        ax.set_ylim(ylim)
-    ax.set_xlabel("$Q_R$")
-    ax.set_ylabel("$Q_J$")
-    ax.ticklabel_format(style="sci", scilimits=(-2, 2))
-    ax.legend(fontsize=7, loc="best")
-    return ax
+def _prediction_title(pred: Any) -> str:
+    """The body, ε, the start and the map's order, as the figure's title."""
+    start = "released from rest" if pred.start is None else "started with velocity"
+    head = (f"slow motion by the averaged map of order {pred.order}: ε = {pred.eps:.3g}, {start} at "
+            f"θ0 = {pred.theta0 / math.pi:.4g}π, ψ0 = {pred.psi0 / math.pi:.4g}π")
+    return head if pred.body is None else f"{head}\nbody {pred.body.with_epsilon(pred.eps).describe()}"
 
 
-def _histogram(ax: Any, samples: Sequence[Any], labels: Sequence[str], colours: Sequence[str]) -> None:
-    """Histograms of one statistic of one or two ensembles on shared bins (one bin for a constant), at most four
-    x ticks (in units of a power of ten where small or large) so that their labels stay apart."""
+def plot_prediction(pred: Any, fig: Any = None, *, horizon: float | None = None, ode: Any = None) -> Any:
+    """Draw a :class:`SlowPrediction`: its (Q_R, Q_J) at the θ-maxima over the critical lines of its ``body`` (paper
+    eqs. QJcrit_pi, QJcrit_0; none without one), the axes keeping the samples' range, and ψ mod π at the maxima
+    against t with the predictability horizon; titled with the body, ε, the start and the map's order.
+
+    Parameters
+    ----------
+    pred : SlowPrediction
+        The prediction (read by its attributes).
+    fig : matplotlib.figure.Figure, optional
+        The figure to draw on (a new pyplot figure with a constrained layout without one).
+    horizon : float, optional
+        The predictability horizon: before t_end, a line at it and the span past it shaded (the map's points there
+        are statistical only); after t_end, named in the legend; None: no horizon.
+    ode : optional
+        The direct ODE's θ-maxima from the same start (``QR``, ``QJ``, ``t``, ``Theta``: ``check_prediction(...).ode``),
+        drawn beside the map's as open red circles.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Its axes: the (Q_R, Q_J) panel, then the ψ panel.
+
+    Examples
+    --------
+    >>> import math
+    >>> from matplotlib.figure import Figure
+    >>> import rocknroller as rr
+    >>> from rocknroller.analysis.slow.dynamics.result_plots import plot_prediction
+    >>> pred = rr.predict_slow_motion(rr.Body.paper(1e-3), 0.95 * math.pi, math.pi / 4, 200.0, order=1)
+    >>> fig = plot_prediction(pred, Figure(figsize=(11, 4.2), layout="constrained"), horizon=150.0)
+    >>> print([line.get_label() for line in fig.axes[1].get_lines()])
+    ['averaged map', 'predictability horizon t = 150']
+    """
+    if fig is None:
+        import matplotlib.pyplot as plt
+
+        fig = plt.figure(figsize=(11, 4.2), layout="constrained")
+    ax_q, ax_t = fig.subplots(1, 2)
+    series = pred.series
+    if ode is not None:
+        ax_q.plot(ode.QR, ode.QJ, "o", ms=5, mfc="none", color="tab:red", label="direct ODE (maxima)")
+        ax_t.plot(ode.t, np.mod(0.5 * ode.Theta, np.pi), "o", ms=4, mfc="none", color="tab:red", label="direct ODE")
+    ax_q.plot(series.QR, series.QJ, ".", ms=3, color="k", label="averaged map (maxima)")
+    if pred.body is not None and series.QR.size:
+        xlim, ylim = ax_q.get_xlim(), ax_q.get_ylim()
+        draw_critical_lines(ax_q, pred.body, *xlim)
+        ax_q.set_xlim(xlim)
+        ax_q.set_ylim(ylim)
+    ax_q.set_xlabel("$Q_R$ at the maxima of $\\theta$")
+    ax_q.set_ylabel("$Q_J$ at the maxima of $\\theta$")
+    ax_q.ticklabel_format(style="sci", scilimits=(-2, 2))
+    ax_q.legend(fontsize=7, loc="best")
+    ax_t.plot(series.t, series.psi_mod_pi, ".", ms=3, color="k", label="averaged map")
+    if horizon is not None and horizon < pred.t_end:
+        ax_t.axvline(horizon, color="tab:purple", lw=1.2, label=f"predictability horizon t = {horizon:.4g}")
+        ax_t.axvspan(horizon, pred.t_end, color="tab:purple", alpha=0.08, lw=0, label="past it: statistical only")
+        ax_t.set_xlim(0.0, pred.t_end)
+    elif horizon is not None:  # named in the legend, beyond the axis
+        ax_t.plot([], [], " ", label=f"predictability horizon t = {horizon:.4g} (after t_end)")
+    ax_t.set_xlabel("t (time units)")
+    ax_t.set_ylabel("$\\psi$ mod $\\pi$ at the maxima (rad)")
+    ax_t.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0))
+    fig.suptitle(_prediction_title(pred), fontsize=9)
+    return fig
+
+
+#: The statistics of an ensemble in words (the region fractions: ``fraction_I`` ... ``fraction_IV``).
+_STATISTIC_WORDS = {"full_reversals": "full-angle reversals", "visible_reversals": "visible-angle reversals",
+                    "QR_extent": "$Q_R$ extent (max - min)", "QJ_extent": "$Q_J$ extent (max - min)"}
+
+
+def _statistic_words(name: str) -> str:
+    region = name.removeprefix("fraction_")
+    return f"fraction of the rocks in region {region}" if region != name else _STATISTIC_WORDS[name]
+
+
+def _histogram(ax: Any, name: str, samples: Sequence[Any], labels: Sequence[str], colours: Sequence[str],
+               units: Mapping[str, str]) -> None:
+    """Histograms of one statistic of one or two ensembles on shared bins, the x axis labelled in words with the
+    statistic's unit (``units``: ``STATISTIC_UNITS``).  A region fraction on the fixed range [0, 1]; a constant as
+    one narrow bin in a window ten times as wide; a statistic that is 0 for every member not drawn, but said so.  At
+    most four x ticks (in units of a power of ten where small or large) so that their labels stay apart."""
     from matplotlib.ticker import MaxNLocator
 
+    unit = units.get(name)
+    ax.set_xlabel(_statistic_words(name) + (f" ({unit})" if unit else ""), fontsize=8)
+    ax.set_ylabel("members", fontsize=8)
+    ax.tick_params(labelsize=7)
     lo = min(float(np.min(x)) for x in samples)
     hi = max(float(np.max(x)) for x in samples)
-    half = 0.05 * max(abs(lo), 1.0)  # a constant: one narrow bin about it
-    bins = np.linspace(lo, hi, 21) if hi > lo else np.array([lo - half, lo + half])
+    if lo == hi == 0.0:
+        ax.text(0.5, 0.5, "none: 0 for every member", transform=ax.transAxes, ha="center", va="center", fontsize=8,
+                color="0.3")
+        return
+    if name.startswith("fraction_"):
+        bins = np.linspace(0.0, 1.0, 21)
+        ax.set_xlim(0.0, 1.0)
+    elif hi > lo:
+        bins = np.linspace(lo, hi, 21)
+    else:
+        half = 0.05 * max(abs(lo), 1.0)
+        bins = np.array([lo - half, lo + half])
+        ax.set_xlim(lo - 10.0 * half, lo + 10.0 * half)
     for x, label, colour in zip(samples, labels, colours):
         ax.hist(x, bins=bins, histtype="step", color=colour, lw=1.3, label=label)
     ax.xaxis.set_major_locator(MaxNLocator(4))
     ax.ticklabel_format(axis="x", style="sci", scilimits=(-2, 3), useOffset=False)
 
 
+def _legend(axes: Sequence[Any]) -> None:
+    """The ensembles' legend, on the first panel with a histogram."""
+    drawn = [ax for ax in axes if ax.patches]
+    if drawn:
+        drawn[0].legend(fontsize=7)
+
+
 def plot_statistics(ens: Any, fig: Any = None) -> Any:
-    """Histograms of an :class:`EnsembleStatistics`' statistics over its members, one panel each, the mean in the
-    title.  Returns the figure."""
+    """Histograms of an :class:`EnsembleStatistics`' statistics over its members, one panel each titled in words with
+    the mean, the x axes labelled with the units (``ens.units``), the region fractions on [0, 1], a statistic that is
+    0 for every member not drawn but noted.  Returns the figure."""
     names = list(ens.values)
     fig, axes = _panels(fig, len(names))
     label = f"{ens.method}" + (f" (order {ens.order})" if ens.order else "")
     for ax, name in zip(axes, names):
-        _histogram(ax, [ens.values[name]], [label], ["k"])
-        ax.set_title(f"{name}: mean {ens.mean(name):.3g}", fontsize=8)
-        ax.set_ylabel("members", fontsize=8)
-        ax.tick_params(labelsize=7)
-    axes[0].legend(fontsize=7)
+        _histogram(ax, name, [ens.values[name]], [label], ["k"], ens.units)
+        ax.set_title(f"{_statistic_words(name)}: mean {ens.mean(name):.3g}", fontsize=8)
+    _legend(axes)
     fig.suptitle(f"{ens.ball.describe()}; t_end = {ens.t_end:g}, eps = {ens.eps:g}", fontsize=9)
     return fig
 
 
 def plot_comparison(cmp: Any, fig: Any = None) -> Any:
-    """Both ensembles of an :class:`EnsembleComparison` as histograms on shared bins, one panel per statistic, titled
-    with the KS p-value, the difference of the means in standard errors and the verdict.  Returns the figure."""
+    """Both ensembles of an :class:`EnsembleComparison` as histograms on shared bins (drawn as
+    :func:`plot_statistics` draws one), one panel per statistic, titled with the KS p-value, the difference of the
+    means in standard errors and the verdict.  Returns the figure."""
     fig, axes = _panels(fig, len(cmp.statistics))
     labels = [f"a: {cmp.a.method}", f"b: {cmp.b.method}"]
     for ax, s in zip(axes, cmp.statistics):
-        _histogram(ax, [cmp.a.values[s.name], cmp.b.values[s.name]], labels, ["k", "tab:red"])
+        _histogram(ax, s.name, [cmp.a.values[s.name], cmp.b.values[s.name]], labels, ["k", "tab:red"], cmp.a.units)
         verdict = "consistent" if s.consistent else "NOT consistent"
-        ax.set_title(f"{s.name}\nKS p = {s.ks_pvalue:.2g}, {s.n_se:.2g} SE: {verdict}", fontsize=8)
-        ax.set_ylabel("members", fontsize=8)
-        ax.tick_params(labelsize=7)
-    axes[0].legend(fontsize=7)
+        ax.set_title(f"{_statistic_words(s.name)}\nKS p = {s.ks_pvalue:.2g}, {s.n_se:.2g} SE: {verdict}", fontsize=8)
+    _legend(axes)
     fig.suptitle(f"{cmp.a.ball.describe()}; KS level {cmp.alpha:g}, {cmp.n_se_limit:g} SE", fontsize=9)
     return fig
 
@@ -158,42 +248,3 @@ def plot_branch(branch: Any, ax: Any = None, kind: str = "kick_phase", *, x_scal
         ax.set_ylabel(r"kick phase $\vartheta = \Theta + W(Q)/2$")
     ax.set_xlabel(r"$\varepsilon$" if x_scale == 1.0 else rf"$\varepsilon$ / {x_scale:.6g}")
     return ax
-
-
-def line_axis(atlas: Any) -> str | None:
-    """``"cols"`` or ``"rows"`` for an atlas of one row or one column (drawn as lines along the other), else None."""
-    if atlas.rows.size == 1 and atlas.cols.size > 1:
-        return "cols"
-    if atlas.cols.size == 1 and atlas.rows.size > 1:
-        return "rows"
-    return None
-
-
-def plot_atlas_panels(atlas: Any, fig: Any = None) -> Any:
-    """One panel per observable of an :class:`Atlas`: lines along the grid for an atlas of one row or one column,
-    else heat maps over its plane (angles in units of π, masked points blank).  Returns the figure."""
-    fig, axes = _panels(fig, len(atlas.observables), width=3.6, height=3.0)
-    along = line_axis(atlas)
-    scale = {name: math.pi if name in ("theta0", "psi0") else 1.0 for name in (atlas.row_name, atlas.col_name)}
-    unit = {name: "/π" if scale[name] != 1.0 else "" for name in scale}
-    x_name = atlas.row_name if along == "rows" else atlas.col_name
-    for ax, name in zip(axes, atlas.observables):
-        values = atlas.values[name]
-        if along is not None:
-            x = (atlas.rows if along == "rows" else atlas.cols) / scale[x_name]
-            ax.plot(x, np.ma.ravel(values).filled(np.nan), ".-", ms=4, lw=1)
-        else:
-            mesh = ax.pcolormesh(atlas.cols / scale[atlas.col_name], atlas.rows / scale[atlas.row_name], values,
-                                 shading="nearest")
-            fig.colorbar(mesh, ax=ax)
-            ax.set_ylabel(atlas.row_name + unit[atlas.row_name], fontsize=8)
-        ax.set_xlabel(x_name + unit[x_name], fontsize=8)
-        ax.set_title(name, fontsize=9)
-        ax.tick_params(labelsize=7)
-    fixed = ""
-    if along is not None:
-        f_name = atlas.col_name if along == "rows" else atlas.row_name
-        f_value = (atlas.cols if along == "rows" else atlas.rows)[0] / scale[f_name]
-        fixed = f", {f_name} = {f_value:.6g}" + ("π" if scale[f_name] != 1.0 else "")
-    fig.suptitle(f"atlas ({atlas.method}): eps = {atlas.eps:g}, t_end = {atlas.t_end:g}{fixed}", fontsize=9)
-    return fig

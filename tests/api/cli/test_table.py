@@ -144,3 +144,41 @@ def test_existing_output_is_not_overwritten(tmp_path, capsys):
     assert out.read_text().splitlines()[1].startswith("# rocknroller table")
     assert main(["table", "--out", str(tmp_path), "--quiet"]) == 2
     assert "is a directory" in capsys.readouterr().err
+
+
+def test_plot_writes_the_figure_of_precession_plot(tmp_path, capsys, monkeypatch):
+    """``--plot DIR``: precession_table.png and .pdf, the figure of ``Precession.plot()`` (one function draws both:
+    the same titles, axis and colour-bar labels and values, the grid's cells), per ``--per``; one energy only."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    from rocknroller.papers import output
+
+    figures = []
+    real = output.save_figure
+    monkeypatch.setattr(output, "save_figure", lambda fig, *a, **k: figures.append(fig) or real(fig, *a, **k))
+    out, figs = tmp_path / "t.csv", tmp_path / "figs"
+    assert main(["table", "--QR", "-0.01:0.01:5", "--QJ", "-0.004:0.004:3", "--out", str(out), "--plot", str(figs),
+                 "--json", "--quiet"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["figures"] == [str(figs / "precession_table.png"), str(figs / "precession_table.pdf")]
+    assert all((figs / name).stat().st_size > 0 for name in ("precession_table.png", "precession_table.pdf"))
+    (fig,) = figures
+    QR, QJ = np.meshgrid(np.linspace(-0.01, 0.01, 5), np.linspace(-0.004, 0.004, 3))
+    pr, _ = precession_from_turning_point(0.95 * np.pi, QR, QJ, Body.paper())
+    api = pr.plot(Figure())
+
+    def looks(f):
+        return [(ax.get_title(), ax.get_xlabel(), ax.get_ylabel(), ax.collections[0].colorbar.ax.get_ylabel(),
+                 ax.collections[0].get_array().tolist()) for ax in f.axes if ax.get_title()]
+
+    assert looks(fig) == looks(api) and len(looks(fig)) == 3
+    assert "theta_X = theta0 = 0.95pi" in fig.get_suptitle() and Body.paper().describe() in fig.get_suptitle()
+    assert main(["table", "--QR", "0.01", "--QJ", "0", "--per", "tau", "--out", str(tmp_path / "tau.csv"),
+                 "--plot", str(tmp_path / "tau"), "--quiet"]) == 0
+    assert [ax.get_title() for ax in figures[-1].axes][0] == "rocking period $\\tau$"
+    assert main(["table", "--E", "0.5:1:2", "--QR", "0.01", "--QJ", "0", "--out", str(tmp_path / "e.csv"),
+                 "--plot", str(tmp_path / "e"), "--quiet"]) == 2
+    assert "--plot draws the (Q_R, Q_J) plane at one energy" in capsys.readouterr().err
