@@ -216,11 +216,8 @@ class _FastTable:
             counts[1] += n_plain
             chunks.append(out[:n])
             done = sum(len(c) for c in chunks)
-            if status == _LEFT_TABLE:
-                self.table.evaluate(ub * self.e + vb * self.n)  # raises AveragingRangeError with the explanation
-            if status == _NO_CONVERGENCE:
-                raise AveragingRangeError(
-                    f"the implicit kick did not converge at eps={eps!r}: eps is too large for the first-order map")
+            if status in (_LEFT_TABLE, _NO_CONVERGENCE):
+                raise _failure(self, eps, status, ub, vb)
             if status == _DONE or (n_steps is not None and done >= n_steps):
                 break
             if done > MAX_MAXIMA:  # t_end was checked against T_θ(0)/2 per maximum; T_θ ≥ 0.7 T_θ(0) on the tables
@@ -229,6 +226,17 @@ class _FastTable:
             t, u, v, Th, phi = (float(x) for x in out[n - 1, :5])  # out was full: go on from the last maximum
             cap = _CHUNK if n_steps is None else min(_CHUNK, n_steps - done)
         return np.concatenate(chunks), (counts[0], counts[1])
+
+    def steps(self, eps: float, u: float, v: float, Th: float, out: NDArray[np.float64]) -> AveragingRangeError | None:
+        """Fill ``out`` (n, 5), C-contiguous, with the rows (t, u, v, Θ, φ) of the n maxima after the start (t and φ
+        from 0) in one kernel call, and None; or, if the orbit leaves the table (or its implicit kick fails), the rows
+        before that (the rest untouched) and that error, unraised."""
+        if not len(out):
+            return None
+        _, status, ub, vb, _, _ = _kernel.iterate(self.rows, self.rows_jac, self.geom, out, self.U, self.alpha,
+                                                  self.beta, self.dx, self.nv, eps, u, v, Th, 0.0, 0.0, math.inf,
+                                                  self.rows2)
+        return None if status == _FULL else _failure(self, eps, status, ub, vb)
 
 
 class _TangentRows:
@@ -260,39 +268,71 @@ def tangent_start(scale: float) -> tuple[float, float, float]:
 
 
 def chart_step(table: SlowMapTable, eps: float, x: NDArray[np.float64], second: SecondOrderTable | None = None,
-               jacobian: bool = False) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
+               jacobian: bool = False, failures: dict[int, ValueError] | None = None
+               ) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
     """One step of the map in the table's chart, x = (u, v, Θ) → x' (Θ' the kernel's own continued value: no
     wrapping), and with ``jacobian`` its derivative ∂x'/∂x: the kernel's tangent map of the step as implemented
     (:func:`iterate_slow_map`, ``tangent=True``), applied to the three unit vectors (one kernel step each; the kernel
     renormalises w, so M e_j = w' e^ℓ in the norm with weight 1).  No argument checks: the callers check theirs.
 
+    x may be an array (N, 3) of starts: then x' is (N, 3) and M (N, 3, 3), each row the kernel's step from that row
+    alone (a loop of kernel calls, each as for one start, so each row is what the start alone gives, bit for bit).
+    With ``failures`` (a dict) a start whose step fails is recorded there (its row index → its error, unraised) and
+    its rows of x' and M are NaN; without it the first failure is raised.
+
     Raises
     ------
     AveragingRangeError
-        The step leaves the table, or the implicit kick does not converge.
+        The step leaves the table, or the implicit kick does not converge (without ``failures``).
     """
     ft = _fast(table, second)
-    tr = _tangent_rows(ft) if jacobian else None
-    columns = []
-    for j in range(3 if jacobian else 1):
-        out = np.empty((1, 6 if jacobian else 5))
-        extra: tuple[Any, ...] = ()
-        if tr is not None:
-            w = np.zeros(4)
-            w[j] = 1.0
-            extra = (w, tr.rows_dw, tr.rows_kt, tr.rows2_kt, 1.0)
-        n, status, ub, vb, _, _ = _kernel.iterate(ft.rows, ft.rows_jac, ft.geom, out, ft.U, ft.alpha, ft.beta, ft.dx,
-                                                  ft.nv, eps, float(x[0]), float(x[1]), float(x[2]), 0.0, 0.0,
-                                                  math.inf, ft.rows2, *extra)
-        if status == _LEFT_TABLE:
-            ft.table.evaluate(ub * ft.e + vb * ft.n)  # raises AveragingRangeError with the explanation
-        if status == _NO_CONVERGENCE:
-            raise AveragingRangeError(
-                f"the implicit kick did not converge at eps={eps!r}: eps is too large for the first-order map")
-        assert n == 1 and status == _FULL, "one step fills the one row"
-        if extra:
-            columns.append(extra[0][:3] * math.exp(extra[0][3]))
-    return out[0, 1:4].copy(), (np.stack(columns, axis=1) if jacobian else None)
+    starts = np.asarray(x, float).reshape(-1, 3)
+    columns, width = (3, 6) if jacobian else (1, 5)
+    out = np.empty((len(starts), columns, width))
+    rows = out.reshape(-1, width)  # row k: the kernel's one row of output for start k // columns, column k % columns
+    tr, eps = (_tangent_rows(ft) if jacobian else None), float(eps)
+    bad: dict[int, ValueError] = {}
+    w = np.zeros((len(starts), columns, 4))  # with jacobian the tangent vectors (w_u, w_v, w_Θ, ℓ), e_j to start with
+    w.reshape(len(starts), 4 * columns)[:, ::5] = 1.0  # w[i, j, j]
+    ws = w.reshape(-1, 4)
+    fixed = (ft.U, ft.alpha, ft.beta, ft.dx, ft.nv, eps)
+    for i, (u, v, th) in enumerate(starts.tolist()):
+        for k in range(i * columns, (i + 1) * columns):
+            extra = () if tr is None else (ws[k], tr.rows_dw, tr.rows_kt, tr.rows2_kt, 1.0)
+            n, status, ub, vb, _, _ = _kernel.iterate(ft.rows, ft.rows_jac, ft.geom, rows[k], *fixed, u, v, th, 0.0,
+                                                      0.0, math.inf, ft.rows2, *extra)
+            if status != _FULL:
+                bad[i] = _failure(ft, eps, status, ub, vb)
+                break
+            assert n == 1, "one step fills the one row"
+    step, M = out[:, -1, 1:4].copy(), None
+    if tr is not None:
+        growth = np.array([math.exp(g) for g in w[..., 3].ravel().tolist()]).reshape(w.shape[:2])
+        M = np.ascontiguousarray(np.swapaxes(w[..., :3] * growth[..., None], 1, 2))
+    if bad:
+        if failures is None:
+            raise bad[min(bad)]
+        failures.update(bad)
+        step[list(bad)] = np.nan
+        if M is not None:
+            M[list(bad)] = np.nan
+    if np.ndim(x) == 1:
+        return step[0], None if M is None else M[0]
+    return step, M
+
+
+def _failure(ft: _FastTable, eps: float, status: int, ub: float, vb: float) -> AveragingRangeError:
+    """The error of a kernel run that stopped with ``status``: the implicit kick did not converge, or the orbit left
+    the table at (u, v) = (ub, vb), explained by the table's own evaluate there."""
+    if status == _NO_CONVERGENCE:
+        return AveragingRangeError(f"the implicit kick did not converge at eps={eps!r}: eps is too large for the "
+                                   "first-order map")
+    assert status == _LEFT_TABLE, f"a kernel run that neither finished nor failed (status {status})"
+    try:
+        ft.table.evaluate(ub * ft.e + vb * ft.n)
+    except AveragingRangeError as err:
+        return err
+    raise AssertionError("the kernel left the table where the table's own evaluate did not")
 
 
 def centre_period(table: SlowMapTable) -> float:

@@ -4,6 +4,9 @@ its angle differences: :func:`step_difference`) and its first and second ε-deri
 central differences (:func:`eps_derivatives`, :class:`EpsDerivatives`); the step's Q_R and Q_J are those of
 paper eq. JelletandRouth_Qtys.
 
+:func:`exact_step_jacobian` is the step's derivative in x = (Q_R, Q_J, Θ = 2ψ) by the chain rule through the one
+rock (:class:`rocknroller.analysis.slow.map.maps.ExactMap`'s Jacobian; that module's docstring gives the terms).
+
 The averaged slow map (:mod:`rocknroller.analysis.slow.prediction`) expands one step at fixed (E, Q_n, ψ_n) in
 ε = (I2 − I1)/I1 about Routh's sphere.  Here the same step is computed without expansion: the state at a maximum
 with the given (E, Q_R, Q_J, ψ) is solved for the body with I2 = (1 + ε) I1
@@ -22,17 +25,20 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.diagnostics import wrap_angle
-from rocknroller.analysis.model.invariants import jellett, routh
-from rocknroller.analysis.slow.map.family import _central_difference, _central_second_difference, maximum_state
-from rocknroller.analysis.slow.map.orbit import FIRST_ORDER_NAMES, symmetric_data
+from rocknroller.analysis.model.equations import body_frame_rhs, state_from_euler, turning_point_function
+from rocknroller.analysis.model.invariants import energy, jellett, routh
+from rocknroller.analysis.slow.map.family import (_central_difference, _central_second_difference,
+                                                   directional_derivative, family_member, maximum_state)
+from rocknroller.analysis.slow.map.orbit import FIRST_ORDER_NAMES, _psi_of, _QJ_of, _QR_of, symmetric_data
 
-__all__ = ["STEP_NAMES", "exact_step", "step_difference", "EpsDerivatives", "eps_derivatives"]
+__all__ = ["STEP_NAMES", "exact_step", "exact_step_jacobian", "step_difference", "EpsDerivatives", "eps_derivatives"]
 
 #: What one step returns, in this order: Q_R, Q_J, Θ = 2ψ, t and φ at the next maximum (Θ and φ continued from the
 #: start, so that differences between neighbouring steps are small): the components of the first-order responses.
@@ -59,6 +65,50 @@ def exact_step(sym: Body, eps: float, E: float, QR: float, QJ: float, psi: float
     y = m.states[k]
     return np.array([float(routh(sym, y[0:3], y[3:6])), float(jellett(sym, y[0:3], y[3:6])),
                      2.0 * (float(m.psi[k]) - shift), float(m.t[k]), float(m.phi[k])])
+
+
+def exact_step_jacobian(sym: Body, eps: float, E: float, x: NDArray[np.float64]) -> NDArray[np.float64]:
+    """∂(Q_R', Q_J', Θ')/∂(Q_R, Q_J, Θ) of :func:`exact_step` from the maximum x = (Q_R, Q_J, Θ = 2ψ) (3,) of the
+    member I2 = (1 + ε) I1 at the energy E: the start's dependence on x (six conditions), the variational equations
+    of the (γ, ω) system to the next maximum (three runs), the event time's dependence and the outputs' gradients
+    (:mod:`rocknroller.analysis.slow.map.maps`' docstring).
+
+    Raises
+    ------
+    ValueError
+        (E, Q) admits no motion.
+    """
+    from rocknroller.numerics.variational import tangent_to_maximum
+
+    member = family_member(sym, eps)[0]
+    T = float(symmetric_data(sym, E, float(x[0]), float(x[1]))[0])
+    st = maximum_state(sym, eps, E, float(x[0]), float(x[1]), 0.5 * float(x[2]))[2]
+    y0 = state_from_euler(st.theta, 0.0, st.psi, 0.0, st.phi_dot, st.psi_dot)
+    conditions = [(_QR_of(sym), False), (_QJ_of(sym), False), (_psi_of, True),
+                  (lambda y: energy(member, y[0:3], y[3:6]), False), (turning_point_function, False),
+                  (lambda y: y[0] * y[0] + y[1] * y[1] + y[2] * y[2], False)]
+    C = np.vstack([_gradient(f, y0, angle) for f, angle in conditions])
+    P = np.zeros((6, 3))
+    P[0, 0], P[1, 1], P[2, 2] = 1.0, 1.0, 0.5
+    dy0 = np.asarray(np.linalg.solve(C, P), float)  # ∂(γ, ω)/∂x at the start: C⁻¹ P
+    Y1, W = np.zeros(11), np.empty((6, 3))
+    for j in range(3):
+        _, Y1[:6], W[:, j] = tangent_to_maximum(member, y0[:6], dy0[:, j], 0.5 * T, 1.5 * T)
+    f = np.zeros(11)
+    f[:6] = np.array(body_frame_rhs(Y1, member.params)[:6], float)
+    dY = np.zeros((11, 3))
+    dY[:6] = W
+    dh = _gradient(turning_point_function, Y1, False)
+    dY[:6] -= np.outer(f[:6], dh @ W / (dh @ f[:6]))
+    outputs = [(_QR_of(sym), False, 1.0), (_QJ_of(sym), False, 1.0), (_psi_of, True, 2.0)]
+    return np.vstack([c * _gradient(g, Y1, angle) @ dY[:6] for g, angle, c in outputs])
+
+
+def _gradient(fun: Any, y: NDArray[np.float64], angle: bool) -> NDArray[np.float64]:
+    """∂fun/∂(γ, ω) at the body-frame state y (11,): fourth-order differences along the six unit vectors."""
+    V = np.zeros((11, 6))
+    V[:6, :6] = np.eye(6)
+    return np.asarray(directional_derivative(fun, np.repeat(y[:, None], 6, axis=1), V, angle=angle), float)
 
 
 def step_difference(d: NDArray[np.float64]) -> NDArray[np.float64]:

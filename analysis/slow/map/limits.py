@@ -2,24 +2,28 @@
 It holds the release angles of the release tables (``THETA0_RANGE``, :func:`check_map_theta0`) and of any release
 from rest (:func:`check_release_theta0`), the most θ-maxima of one run (``MAX_MAXIMA``) and the t_end they allow
 (:func:`t_end_limit`, :func:`check_t_end`), the standard map's period-doubling threshold K = ε κ = 4
-(``K_PERIOD_DOUBLING``, :func:`eps_period_doubling`) and the ψ of the stable rocking (:func:`stable_rocking_psi`), and
-the error and warning of the slow-motion prediction (:class:`AveragingRangeError`, :class:`AveragingValidityWarning`;
+(``K_PERIOD_DOUBLING``, :func:`eps_period_doubling`) and the ψ of the stable rocking (:func:`stable_rocking_psi`), the
+maxima x = (Q_R, Q_J, Θ) the maps take, one or an array of them (:func:`check_points`), and the error and warning of
+the slow-motion prediction (:class:`AveragingRangeError`, :class:`AveragingValidityWarning`;
 :mod:`rocknroller.analysis.slow.prediction`; docs/averaging.md, "Releases from rest: the range of θ0" and "Limits").
 
-Pure checks on plain floats: a ValueError naming the parameter (``name``, e.g. ``--theta0`` for the CLI) and its
-allowed range.
+Pure checks on plain floats (and on arrays of points, row by row): a ValueError naming the parameter (``name``, e.g.
+``--theta0`` for the CLI) and its allowed range, and for an array the rows that break it (:func:`rows_text`).
 """
 
 from __future__ import annotations
 
 import math
 
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
 from rocknroller.analysis.model.body import as_float
 
 __all__ = [
     "THETA0_RANGE", "MAX_MAXIMA", "K_PERIOD_DOUBLING", "eps_period_doubling", "stable_rocking_psi",
     "AveragingRangeError", "ChartWidthError", "AveragingValidityWarning", "check_map_theta0", "t_end_limit",
-    "check_t_end", "check_release_theta0", "ANGLE_MAX", "check_angle"
+    "check_t_end", "check_release_theta0", "ANGLE_MAX", "check_angle", "check_points", "rows_text"
 ]
 
 #: Largest |angle| (ψ0, Θ, in radians) the slow motion takes: an angle is reduced mod 2π in double precision with an
@@ -32,9 +36,67 @@ def check_angle(name: str, value: float) -> float:
     """``value`` if it is a finite angle within ±``ANGLE_MAX``, else a ValueError naming ``name`` and the range."""
     v = float(value)
     if not abs(v) <= ANGLE_MAX:
-        raise ValueError(f"{name} must be a finite angle within [-{ANGLE_MAX:g}, {ANGLE_MAX:g}] rad (ANGLE_MAX): reduce "
-                         f"it mod 2pi, whose rounding grows as |angle| u, got {name}={v!r}")
+        raise ValueError(_angle_message(name, v))
     return v
+
+
+def _angle_message(name: str, v: float) -> str:
+    return (f"{name} must be a finite angle within [-{ANGLE_MAX:g}, {ANGLE_MAX:g}] rad (ANGLE_MAX): reduce it mod 2pi, "
+            f"whose rounding grows as |angle| u, got {name}={v!r}")
+
+
+#: Most row indices an error message lists (:func:`rows_text`).
+ROWS_LISTED = 10
+
+
+def rows_text(mask: NDArray[np.bool_]) -> str:
+    """The rows of an array of points where ``mask`` (its leading shape) is True, for a message: their indices into
+    the leading axes (integers for a stack (N, 3), tuples beyond; the first ``ROWS_LISTED``) and their count."""
+    where = np.argwhere(mask)
+    rows = [int(i[0]) if mask.ndim == 1 else tuple(int(j) for j in i) for i in where[:ROWS_LISTED]]
+    more = ", ..." if len(where) > ROWS_LISTED else ""
+    return f"rows {str(rows)[:-1]}{more}] ({len(where)} of {mask.size})"
+
+
+def check_points(x: ArrayLike) -> NDArray[np.float64]:
+    """x as a new float array (..., 3): one maximum (Q_R, Q_J, Θ) of shape (3,), or an array of them along its last
+    axis; else a ValueError.  Each row must be three finite numbers with |Θ| ≤ ``ANGLE_MAX`` (:func:`check_angle`);
+    an array's message names the rows that are not (:func:`rows_text`), one point's is the one it always was.  A
+    complex x is refused, not cast with a ComplexWarning (its imaginary part silently dropped), and so is a string.
+
+    Examples
+    --------
+    >>> check_points([[0.0, 0.0, 1.0], [1e-3, 0.0, 2.0]]).shape
+    (2, 3)
+    >>> check_points([[0.0, 0.0, 1.0], [0.0, float("nan"), 2.0]])
+    Traceback (most recent call last):
+    ...
+    ValueError: x must be three finite numbers (Q_R, Q_J, Theta) in every row, and rows [1] (1 of 2) of x (shape (2, 3)) are not
+    """
+    try:
+        shape: object = np.shape(x)
+        real = not isinstance(x, str) and not np.iscomplexobj(x)
+        a = np.array(x, dtype=float) if real else np.array(np.nan)
+    except (TypeError, ValueError):  # a ragged sequence, or elements that are not numbers
+        shape, a = "none: not an array of numbers", np.array(np.nan)
+    if a.ndim == 0 or a.shape[-1] != 3:
+        got = f"x={x!r} (shape {shape})" if a.ndim <= 1 else f"an array of shape {a.shape}"
+        raise ValueError(f"x must be three finite numbers (Q_R, Q_J, Theta), or an array (..., 3) of them, got {got}")
+    if a.ndim == 1:
+        if not np.all(np.isfinite(a)):
+            raise ValueError(f"x must be three finite numbers (Q_R, Q_J, Theta), got x={x!r} (shape {shape})")
+        check_angle("Theta", a[2])
+        return a
+    bad = ~np.all(np.isfinite(a), axis=-1)
+    if bad.any():
+        raise ValueError(f"x must be three finite numbers (Q_R, Q_J, Theta) in every row, and {rows_text(bad)} of x "
+                         f"(shape {a.shape}) are not")
+    far = ~(np.abs(a[..., 2]) <= ANGLE_MAX)
+    if far.any():
+        raise ValueError(f"{_angle_message('Theta', float(a[..., 2][far][0]))}, the first of {rows_text(far)} of x "
+                         f"(shape {a.shape}) beyond it")
+    return a
+
 
 #: Release angles (θ0_min, θ0_max) for which the tables are built and the map is validated against the direct ODE
 #: (docs/averaging.md, "Releases from rest: the range of θ0").  Below ≈ 0.732π (paper body) the table rectangle, 2.5

@@ -29,11 +29,26 @@ The inverse.  Time reversal R: (Q, Θ) → (−Q, Θ) is a reversor of both maps
 "Reversible drift–kick–drift"; for the exact map the ODE's own reversibility), so ``inverse(y) = R F(R y)``, and
 ``inverse(self(x)) = x`` to the maps' evaluation error.  Neither map preserves volume in (Q_R, Q_J, Θ): the
 reversor gives det DF(x) · det DF(R F x) = 1 along any orbit, not det DF = 1 (the tests check the former).
+
+Arrays.  Every method takes one maximum x, shape (3,), or an array of them, shape (..., 3) (the last axis
+(Q_R, Q_J, Θ)), and keeps its leading shape: ``F(x)`` and ``inverse(x)`` (..., 3), ``jacobian(x)`` (..., 3, 3),
+``iterate(x, n)`` (..., n + 1, 3) (each point's orbit laid out as one point's).  Each row is the one-point call's, bit
+for bit: the slow map makes one compiled-kernel call per row (its chart rotation, Θ continuation and checks are NumPy
+operations on all rows at once, each element's arithmetic that of one point), the exact map one direct run per row.
+The rows are checked one by one (three finite numbers, |Θ| ≤ ``ANGLE_MAX``; a ValueError names the rows that are
+not).  A point whose step fails (the slow map: it leaves the tables or its implicit kick does not converge, an
+AveragingRangeError; the exact map: (E, Q) admits no motion, a ValueError) fails alone, all rows being evaluated
+first: with ``failed="raise"`` (the default) the first failing row's own error is raised, with a note naming every
+failing row; with ``failed="nan"`` its row is NaN (a Jacobian its 3 × 3 block, an orbit its rows from the failure
+on) and the others are returned.  Every value of a step that does not fail is finite, so ``np.isnan(y[..., 0])`` is
+the mask of the failed points.  The slow step is not rewritten in NumPy: it is an implicit kick solved per point
+(simplified Newton with its own stop, and halvings at the table's edge) in the C kernel, ~3 µs a point with the
+call; the tables' interpolation in NumPy measured 1.1 µs a point per evaluation (2.5 with the derivatives), five or
+more a step, and would round otherwise (benchmarks/bench_map_arrays.py: the array call against the loop over rows).
 """
 
 from __future__ import annotations
 
-import sys
 from abc import ABC, abstractmethod
 from dataclasses import InitVar, dataclass, field
 from typing import TYPE_CHECKING, Any, ClassVar
@@ -43,13 +58,11 @@ from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.model.body import Body, float_or_nan
 from rocknroller.analysis.model.diagnostics import wrap_angle
-from rocknroller.analysis.model.equations import body_frame_rhs, state_from_euler, turning_point_function
-from rocknroller.analysis.model.invariants import energy
 from rocknroller.analysis.slow.map.compiled_map import SlowSeries, _fast, chart_step, iterate_slow_map
-from rocknroller.analysis.slow.map.exact_step import exact_step
-from rocknroller.analysis.slow.map.family import directional_derivative, family_member, maximum_state, rest_energy
-from rocknroller.analysis.slow.map.limits import MAX_MAXIMA, check_angle, check_map_theta0, check_release_theta0
-from rocknroller.analysis.slow.map.orbit import _psi_of, _QJ_of, _QR_of, symmetric_data
+from rocknroller.analysis.slow.map.exact_step import exact_step, exact_step_jacobian
+from rocknroller.analysis.slow.map.family import family_member, rest_energy
+from rocknroller.analysis.slow.map.limits import (MAX_MAXIMA, check_map_theta0, check_points, check_release_theta0,
+                                                  rows_text)
 
 if TYPE_CHECKING:
     from rocknroller.analysis.slow.map.chart import SecondOrderTable, SlowMapTable
@@ -65,36 +78,35 @@ EXACT_MAX_STEPS = 10_000
 #: ≤ 1.3e-13 on both maps at 0.9π and 0.95π, ε = 1.05 and 1.5 × 4/κ (its Θ component; 2e-15 in Q_R, 6e-17 in Q_J):
 #: 200 ulp of 4π = 5.6e-13 is four times that.
 EVALUATION_ULPS = 200.0
+#: What the maps do with the points whose step fails (module docstring, "Arrays").
+_FAILED = ("raise", "nan")
+
+Failures = dict[int, ValueError]  # the failed rows of a stack of points: row index -> its error, unraised
 
 
 def reverse(x: ArrayLike) -> NDArray[np.float64]:
-    """The time reversal R(Q_R, Q_J, Θ) = (−Q_R, −Q_J, Θ) (a reversor of both maps: R F R = F⁻¹)."""
+    """The time reversal R(Q_R, Q_J, Θ) = (−Q_R, −Q_J, Θ) (a reversor of both maps: R F R = F⁻¹), of one point (3,)
+    or of each row of an array (..., 3)."""
     x = np.array(x, float)
-    x[:2] = -x[:2]
+    x[..., :2] = -x[..., :2]
     return x
 
 
-def _continued(theta: float, raw: float) -> float:
-    """Θ' = Θ + (Θ'_raw − Θ wrapped to (−π, π]) (module docstring)."""
-    return theta + float(wrap_angle(raw - theta))
-
-
-def _check_x(x: ArrayLike) -> NDArray[np.float64]:
-    try:  # a complex x is refused, not cast with a ComplexWarning (its imaginary part silently dropped)
-        real = not isinstance(x, str) and not np.iscomplexobj(x)
-        a = np.asarray(x, dtype=float) if real else np.array(np.nan)
-    except (TypeError, ValueError):
-        a = np.array(np.nan)
-    if a.shape != (3,) or not np.all(np.isfinite(a)):
-        raise ValueError(f"x must be three finite numbers (Q_R, Q_J, Theta), got x={x!r} (shape {np.shape(x)})")
-    check_angle("Theta", a[2])
-    return a.copy()
+def _continued(theta: NDArray[np.float64], raw: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Θ' = Θ + (Θ'_raw − Θ wrapped to (−π, π]) (module docstring), elementwise."""
+    return np.asarray(theta + wrap_angle(raw - theta), float)
 
 
 def _check_n(n: int, limit: int, name: str) -> int:
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 0 <= n <= limit:
         raise ValueError(f"n must be an integer in [0, {limit}] ({name}), got n={n!r}")
     return int(n)
+
+
+def _check_failed(failed: str) -> str:
+    if not isinstance(failed, str) or failed not in _FAILED:
+        raise ValueError(f"failed must be one of {_FAILED}, got failed={failed!r}")
+    return failed
 
 
 def _check_eps(eps: float, body: Body) -> float:
@@ -107,35 +119,20 @@ def _check_eps(eps: float, body: Body) -> float:
     return e
 
 
-class _MapMixin(ABC):
-    """``inverse`` and ``iterate`` from ``__call__`` (both maps)."""
-
-    _max_steps: ClassVar[tuple[int, str]]  # (the largest n of iterate, its name): private, not a field
-
-    @abstractmethod
-    def __call__(self, x: ArrayLike) -> NDArray[np.float64]:
-        """F(x)."""
-
-    def inverse(self, x: ArrayLike) -> NDArray[np.float64]:
-        """F⁻¹(x) = R F(R x), by the reversing symmetry R (module docstring)."""
-        return reverse(self(reverse(_check_x(x))))
-
-    def iterate(self, x: ArrayLike, n: int) -> NDArray[np.float64]:
-        """The orbit x, F(x), …, Fⁿ(x): an array (n + 1, 3) of (Q_R, Q_J, Θ) (Θ continued).
-
-        Raises
-        ------
-        ValueError
-            x not three finite numbers; n not an integer in [0, the map's limit].
-        """
-        x = _check_x(x)
-        n = _check_n(n, *self._max_steps)
-        out = np.empty((n + 1, 3))
-        out[0] = x
-        for k in range(n):
-            out[k + 1] = self(out[k])
-        return out
-
+def _settle(y: NDArray[np.float64], failures: Failures, shape: tuple[int, ...], failed: str) -> NDArray[np.float64]:
+    """The results y (N, ...) of the N rows of x, reshaped to x's leading ``shape``; with ``failed="raise"`` the first
+    failed row's own error instead (for an array, with a note naming every failed row)."""
+    if failures and failed == "raise":
+        first = min(failures)
+        err = failures[first]
+        if shape:
+            mask = np.zeros(len(y), bool)
+            mask[list(failures)] = True
+            where = ", ".join(str(int(i)) for i in np.unravel_index(first, shape))
+            err.add_note(f"at x[{where}], the first of {rows_text(mask.reshape(shape))} of x (shape {shape + (3,)}) "
+                         "whose step failed; failed='nan' returns the other rows, these NaN")
+        raise err
+    return y.reshape(shape + y.shape[1:])
 
 
 def _check_body(body: object) -> None:
@@ -144,6 +141,80 @@ def _check_body(body: object) -> None:
     if not isinstance(body, Body):
         raise ValueError(f"body must be a rocknroller Body (the mass centre on the third principal axis), got "
                          f"{getattr(body, 'kind', None) or type(body).__name__}")
+
+
+class _MapMixin(ABC):
+    """``__call__``, ``jacobian``, ``inverse`` and ``iterate`` on one point or an array of them (module docstring,
+    "Arrays") from the map's steps and Jacobians of a stack of points (N, 3)."""
+
+    _max_steps: ClassVar[tuple[int, str]]  # (the largest n of iterate, its name): private, not a field
+
+    @abstractmethod
+    def _steps(self, X: NDArray[np.float64]) -> tuple[NDArray[np.float64], Failures]:
+        """F of each row of X (N, 3), its Θ' as the step gives it (the caller continues it), and the failed rows
+        (NaN)."""
+
+    @abstractmethod
+    def _jacobians(self, X: NDArray[np.float64]) -> tuple[NDArray[np.float64], Failures]:
+        """DF at each row of X (N, 3): (N, 3, 3), and the failed rows (NaN)."""
+
+    def _orbits(self, X: NDArray[np.float64], n: int) -> tuple[NDArray[np.float64], Failures]:
+        """The orbits (N, n + 1, 3) of the rows of X by n rounds of steps over the rows that have not failed (a failed
+        orbit NaN from its failure on), and the failed rows."""
+        out = np.full((len(X), n + 1, 3), np.nan)
+        out[:, 0] = X
+        failures: Failures = {}
+        alive = np.arange(len(X))
+        for k in range(n):
+            y, bad = self._steps(out[alive, k])
+            y[:, 2] = _continued(out[alive, k, 2], y[:, 2])
+            out[alive, k + 1] = y
+            failures.update({int(alive[i]): err for i, err in bad.items()})
+            alive = np.delete(alive, list(bad))
+        return out, failures
+
+    def _call(self, x: ArrayLike, failed: str) -> NDArray[np.float64]:
+        X = check_points(x)
+        failed = _check_failed(failed)
+        flat = X.reshape(-1, 3)
+        y, failures = self._steps(flat)
+        y[:, 2] = _continued(flat[:, 2], y[:, 2])
+        return _settle(y, failures, X.shape[:-1], failed)
+
+    def _jacobian(self, x: ArrayLike, failed: str) -> NDArray[np.float64]:
+        X = check_points(x)
+        failed = _check_failed(failed)
+        J, failures = self._jacobians(X.reshape(-1, 3))
+        return _settle(J, failures, X.shape[:-1], failed)
+
+    def inverse(self, x: ArrayLike, *, failed: str = "raise") -> NDArray[np.float64]:
+        """F⁻¹(x) = R F(R x), by the reversing symmetry R (module docstring): (3,) for one point, (..., 3) for an
+        array (..., 3) of them, each row the one point's (module docstring, "Arrays"; ``failed`` as there).
+
+        Raises
+        ------
+        ValueError
+            x not three finite numbers (or not an array (..., 3) of them), naming the rows; F's own errors.
+        """
+        return reverse(self._call(reverse(check_points(x)), failed))
+
+    def iterate(self, x: ArrayLike, n: int, *, failed: str = "raise") -> NDArray[np.float64]:
+        """The orbit x, F(x), …, Fⁿ(x): an array (n + 1, 3) of (Q_R, Q_J, Θ) (Θ continued); for an array x (..., 3)
+        one orbit per row, (..., n + 1, 3), each the one point's (module docstring, "Arrays": with ``failed="nan"``
+        a failed orbit is NaN from its failing step on).
+
+        Raises
+        ------
+        ValueError
+            x not three finite numbers (or not an array (..., 3) of them), naming the rows; n not an integer in
+            [0, the map's limit]; F's own errors.
+        """
+        X = check_points(x)
+        n = _check_n(n, *self._max_steps)
+        failed = _check_failed(failed)
+        out, failures = self._orbits(X.reshape(-1, 3), n)
+        return _settle(out, failures, X.shape[:-1], failed)
+
 
 @dataclass(frozen=True)
 class SlowMap(_MapMixin):
@@ -171,6 +242,20 @@ class SlowMap(_MapMixin):
     >>> F.iterate(x, 3).shape, F.jacobian(x).shape
     ((4, 3), (3, 3))
 
+    An array of points (..., 3) gives the same leading shape, each row the one point's bit for bit:
+
+    >>> X = np.array([[1e-3, 0.0, 1.0], [-2e-3, 1e-5, 4.0]])
+    >>> F(X).shape, F.jacobian(X).shape, F.iterate(X, 3).shape
+    ((2, 3), (2, 3, 3), (2, 4, 3))
+    >>> bool(np.array_equal(F(X)[1], F(X[1])))
+    True
+
+    A point that leaves the tables fails alone: ``failed="nan"`` makes its row NaN (the default raises its error).
+
+    >>> Y = F(np.array([[1e-3, 0.0, 1.0], [0.5, 0.0, 1.0]]), failed="nan")
+    >>> np.isnan(Y[:, 0]), bool(np.array_equal(Y[0], F(x)))
+    (array([False,  True]), True)
+
     Raises
     ------
     ValueError
@@ -185,6 +270,7 @@ class SlowMap(_MapMixin):
     workers: InitVar[int] = 1
     table: "SlowMapTable" = field(init=False, repr=False, compare=False)
     second: "SecondOrderTable | None" = field(init=False, repr=False, compare=False)
+    _B: NDArray[np.float64] = field(init=False, repr=False, compare=False)  # the chart's rotation (``chart``)
     _max_steps: ClassVar[tuple[int, str]] = (MAX_MAXIMA, "MAX_MAXIMA")
 
     def __post_init__(self, build: bool, workers: int) -> None:
@@ -201,7 +287,9 @@ class SlowMap(_MapMixin):
             from rocknroller.analysis.slow.map.second_order import load_or_build_second_order_table
 
             second = load_or_build_second_order_table(self.body, theta0, build=build, workers=workers)
-        for name, value in (("theta0", theta0), ("eps", eps), ("table", table), ("second", second)):
+        B = np.eye(3)
+        B[:2, 0], B[:2, 1] = table.e, table.n
+        for name, value in (("theta0", theta0), ("eps", eps), ("table", table), ("second", second), ("_B", B)):
             object.__setattr__(self, name, value)
 
     @property
@@ -212,45 +300,61 @@ class SlowMap(_MapMixin):
     @property
     def chart(self) -> NDArray[np.float64]:
         """B, the chart's rotation: x = B (u, v, Θ), Q = u e + v n (columns e, n of the table, and Θ)."""
-        B = np.eye(3)
-        B[:2, 0], B[:2, 1] = self.table.e, self.table.n
-        return B
+        return self._B.copy()
 
-    def _chart_step(self, x: NDArray[np.float64], jacobian: bool) -> tuple[NDArray[np.float64], Any]:
-        ft = _fast(self.table, self.second)
-        c = np.array([float(ft.e @ x[:2]), float(ft.n @ x[:2]), x[2]])  # as iterate_slow_map reads Q0
-        return chart_step(self.table, self.eps, c, self.second, jacobian)
+    def _chart_steps(self, X: NDArray[np.float64], jacobian: bool
+                     ) -> tuple[NDArray[np.float64], NDArray[np.float64] | None, Failures]:
+        """The kernel's step (and M) from each row of X (N, 3) in the chart (u, v, Θ), and the failed rows."""
+        c = X.copy()  # (u, v) = (e·Q, n·Q) as iterate_slow_map reads Q0, by a stacked matmul (one product per row)
+        c[:, :2] = np.matmul(X[:, None, :2], self._B[:2, :2])[:, 0]
+        failures: Failures = {}
+        y, M = chart_step(self.table, self.eps, c, self.second, jacobian, failures)
+        return y, M, failures
 
-    def __call__(self, x: ArrayLike) -> NDArray[np.float64]:
-        """F(x), x = (Q_R, Q_J, Θ) at a maximum of θ: the next maximum's (Q_R, Q_J, Θ).
+    def _steps(self, X: NDArray[np.float64]) -> tuple[NDArray[np.float64], Failures]:
+        y, _, failures = self._chart_steps(X, False)
+        return np.matmul(self._B, y[..., None])[..., 0], failures  # B y per row (one matrix-vector product each)
+
+    def _jacobians(self, X: NDArray[np.float64]) -> tuple[NDArray[np.float64], Failures]:
+        _, M, failures = self._chart_steps(X, True)
+        assert M is not None, "chart_step gives M with jacobian=True"
+        return self._B @ M @ self._B.T, failures
+
+    def __call__(self, x: ArrayLike, *, failed: str = "raise") -> NDArray[np.float64]:
+        """F(x), x = (Q_R, Q_J, Θ) at a maximum of θ: the next maximum's (Q_R, Q_J, Θ); for an array x (..., 3) that of
+        each row, (..., 3) (module docstring, "Arrays": one kernel call per row, the rest on all rows at once).
+
+        Parameters
+        ----------
+        x : one maximum (3,) or an array of them (..., 3).
+        failed : ``"raise"`` (the first failed row's error, after all rows, noting every failed row) or ``"nan"``
+            (a failed row NaN, the others returned).
 
         Raises
         ------
         ValueError
-            x not three finite numbers.
+            x not three finite numbers (or not an array (..., 3) of them), naming the rows; ``failed`` not one of
+            ``"raise"``, ``"nan"``.
         AveragingRangeError
-            The step leaves the tables (or the implicit kick does not converge).
+            A step leaves the tables (or the implicit kick does not converge), with ``failed="raise"``.
         """
-        x = _check_x(x)
-        c = self._chart_step(x, False)[0]
-        y = self.chart @ c
-        y[2] = _continued(x[2], y[2])
-        return y
+        return self._call(x, failed)
 
-    def jacobian(self, x: ArrayLike) -> NDArray[np.float64]:
+    def jacobian(self, x: ArrayLike, *, failed: str = "raise") -> NDArray[np.float64]:
         """DF(x) = ∂(Q_R', Q_J', Θ')/∂(Q_R, Q_J, Θ): the kernel's exact tangent map of the step, B M Bᵀ (module
-        docstring)."""
-        M = self._chart_step(_check_x(x), True)[1]
-        B = self.chart
-        return B @ M @ B.T
+        docstring); (3, 3), or (..., 3, 3) for an array x (..., 3), each row's the one point's.  Raises as
+        ``__call__``."""
+        return self._jacobian(x, failed)
 
     def run(self, x: ArrayLike, t_end: float, *, n_steps: int | None = None, tangent: bool = False) -> SlowSeries:
         """The orbit from x over the time t_end (at most ``n_steps`` maxima), with its times, azimuth and, with
         ``tangent``, its tangent vector's growth: :func:`rocknroller.analysis.slow.map.compiled_map.iterate_slow_map` from
         the maximum x (its checks and limits; its Θ made continuous by ``unwrap_phase``).  The series holds the maxima
         after x, F(x) first, as a prediction's series does (x itself is the start, not a sample); :meth:`iterate`
-        holds x as its first row."""
-        x = _check_x(x)
+        holds x as its first row.  One start x (3,): a ValueError for an array of them."""
+        x = check_points(x)
+        if x.shape != (3,):
+            raise ValueError(f"run takes one maximum x = (Q_R, Q_J, Theta), got an array of shape {x.shape}")
         return iterate_slow_map(self.table, self.eps, 0.5 * float(x[2]), t_end, Q0=x[:2], n_steps=n_steps,
                                 second=self.second, tangent=tangent)
 
@@ -276,29 +380,38 @@ class SlowMap(_MapMixin):
                              "predicted on the region tables of its energy (pred.start is its state)")
         return cls(pred.body, pred.theta0, pred.eps, order=pred.order), np.array([0.0, 0.0, 2.0 * float(pred.psi0)])
 
-    def iterate(self, x: ArrayLike, n: int) -> NDArray[np.float64]:
+    def iterate(self, x: ArrayLike, n: int, *, failed: str = "raise") -> NDArray[np.float64]:
         """The orbit x, F(x), …, Fⁿ(x) as an array (n + 1, 3), by the compiled kernel in one call (it stays in the
-        chart: equal to n calls of F to the round-off of the chart's rotation, ~1 ulp of Q per call, carried by DF).
+        chart: equal to n calls of F to the round-off of the chart's rotation, ~1 ulp of Q per call, carried by DF);
+        for an array x (..., 3) one orbit per row, (..., n + 1, 3), each the one point's (with ``failed="nan"`` an
+        orbit that leaves the tables keeps its maxima inside them, NaN from there on).
 
         Raises
         ------
         ValueError
-            x not three finite numbers; n not an integer in [0, ``MAX_MAXIMA``].
+            x not three finite numbers (or not an array (..., 3) of them), naming the rows; n not an integer in
+            [0, ``MAX_MAXIMA``]; ``failed`` not one of ``"raise"``, ``"nan"``.
         AveragingRangeError
-            The orbit leaves the tables.
+            The orbit leaves the tables, with ``failed="raise"``.
         """
-        x = _check_x(x)
-        n = _check_n(n, *self._max_steps)
-        out = np.empty((n + 1, 3))
-        out[0] = x
-        if n:
-            ft = _fast(self.table, self.second)
-            rows, _ = ft.iterate(self.eps, float(ft.e @ x[:2]), float(ft.n @ x[:2]), float(x[2]), 0.0,
-                                 sys.float_info.max, n)
-            out[1:] = rows[:, 1:4] @ self.chart.T
-            raw = np.concatenate([[x[2]], rows[:, 3]])
-            out[:, 2] = np.cumsum(np.concatenate([[x[2]], wrap_angle(np.diff(raw))]))
-        return out
+        return super().iterate(x, n, failed=failed)
+
+    def _orbits(self, X: NDArray[np.float64], n: int) -> tuple[NDArray[np.float64], Failures]:
+        """One kernel run of n steps per row of X (N, 3) in the chart, then all rotated back and Θ continued at once
+        (per orbit the arithmetic of one); an orbit that failed keeps its rows before the failure (NaN after)."""
+        ft = _fast(self.table, self.second)
+        rows = np.full((len(X), n, 5), np.nan)  # (t, u, v, Θ, φ) of each orbit's maxima
+        failures: Failures = {}
+        for i, x in enumerate(X):
+            err = ft.steps(self.eps, float(ft.e @ x[:2]), float(ft.n @ x[:2]), float(x[2]), rows[i])
+            if err is not None:
+                failures[i] = err
+        out = np.empty((len(X), n + 1, 3))
+        out[:, 0] = X
+        out[:, 1:] = np.matmul(rows[:, :, 1:4], self._B.T)
+        raw = np.concatenate([X[:, 2:], rows[:, :, 3]], axis=1)
+        out[:, :, 2] = np.cumsum(np.concatenate([X[:, 2:], wrap_angle(np.diff(raw, axis=1))], axis=1), axis=1)
+        return out, failures
 
 
 @dataclass(frozen=True)
@@ -320,6 +433,9 @@ class ExactMap(_MapMixin):
     >>> F = rr.ExactMap(rr.Body.paper(0.0), 0.95 * math.pi, 0.005)
     >>> x = np.array([1e-3, 0.0, 1.0])
     >>> bool(np.allclose(F.inverse(F(x)), x, rtol=0.0, atol=1e-11))
+    True
+    >>> X = np.array([x, [-4e-3, 1e-4, 4.0]])                # one direct run per row
+    >>> bool(np.array_equal(F(X), np.array([F(X[0]), F(X[1])])))
     True
 
     Raises
@@ -345,68 +461,40 @@ class ExactMap(_MapMixin):
                             ("E", rest_energy(sym, theta0))):
             object.__setattr__(self, name, value)
 
-    def _period(self, x: NDArray[np.float64]) -> float:
-        """The symmetric body's T_θ at (E, Q): the next maximum is the first after half of it."""
-        return float(symmetric_data(self.sym, self.E, float(x[0]), float(x[1]))[0])
+    def _steps(self, X: NDArray[np.float64]) -> tuple[NDArray[np.float64], Failures]:
+        y, failures = np.full((len(X), 3), np.nan), {}
+        for i, x in enumerate(X):
+            try:
+                y[i] = exact_step(self.sym, self.eps, self.E, float(x[0]), float(x[1]), 0.5 * float(x[2]))[:3]
+            except ValueError as err:
+                failures[i] = err
+        return y, failures
 
-    def __call__(self, x: ArrayLike) -> NDArray[np.float64]:
-        """F(x), x = (Q_R, Q_J, Θ) at a maximum of θ: the next maximum's (Q_R, Q_J, Θ) (one direct run).
+    def _jacobians(self, X: NDArray[np.float64]) -> tuple[NDArray[np.float64], Failures]:
+        J, failures = np.full((len(X), 3, 3), np.nan), {}
+        for i, x in enumerate(X):
+            try:
+                J[i] = exact_step_jacobian(self.sym, self.eps, self.E, x)
+            except ValueError as err:
+                failures[i] = err
+        return J, failures
+
+    def __call__(self, x: ArrayLike, *, failed: str = "raise") -> NDArray[np.float64]:
+        """F(x), x = (Q_R, Q_J, Θ) at a maximum of θ: the next maximum's (Q_R, Q_J, Θ) (one direct run); for an
+        array x (..., 3) that of each row, (..., 3), one run per row (module docstring, "Arrays"; ``failed`` as
+        there: ``"raise"`` or ``"nan"``).
 
         Raises
         ------
         ValueError
-            x not three finite numbers, or (E, Q) admits no motion.
+            x not three finite numbers (or not an array (..., 3) of them), naming the rows; ``failed`` not one of
+            ``"raise"``, ``"nan"``; or (E, Q) admits no motion, with ``failed="raise"``.
         """
-        x = _check_x(x)
-        y = exact_step(self.sym, self.eps, self.E, float(x[0]), float(x[1]), 0.5 * float(x[2]))[:3]
-        y[2] = _continued(x[2], y[2])
-        return y
+        return self._call(x, failed)
 
-    def _start(self, x: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """The body-frame state (11,) at the maximum x and ∂(γ, ω)/∂x (6, 3) (module docstring)."""
-        st = maximum_state(self.sym, self.eps, self.E, float(x[0]), float(x[1]), 0.5 * float(x[2]))[2]
-        y0 = state_from_euler(st.theta, 0.0, st.psi, 0.0, st.phi_dot, st.psi_dot)
-        C = np.vstack([self._gradient(f, y0, angle) for f, angle in self._conditions()])
-        P = np.zeros((6, 3))
-        P[0, 0], P[1, 1], P[2, 2] = 1.0, 1.0, 0.5
-        return y0, np.asarray(np.linalg.solve(C, P), float)
-
-    def _conditions(self) -> list[tuple[Any, bool]]:
-        """The functions of y that fix the start (Q_R, Q_J, ψ, E, dγ3/dt, |γ|²), each with its ``angle`` flag."""
-        member = self.member
-        return [(_QR_of(self.sym), False), (_QJ_of(self.sym), False), (_psi_of, True),
-                (lambda y: energy(member, y[0:3], y[3:6]), False), (turning_point_function, False),
-                (lambda y: y[0] * y[0] + y[1] * y[1] + y[2] * y[2], False)]
-
-    @staticmethod
-    def _gradient(fun: Any, y: NDArray[np.float64], angle: bool) -> NDArray[np.float64]:
-        """∂fun/∂(γ, ω) at the body-frame state y (11,): fourth-order differences along the six unit vectors."""
-        V = np.zeros((11, 6))
-        V[:6, :6] = np.eye(6)
-        return np.asarray(directional_derivative(fun, np.repeat(y[:, None], 6, axis=1), V, angle=angle), float)
-
-    def jacobian(self, x: ArrayLike) -> NDArray[np.float64]:
+    def jacobian(self, x: ArrayLike, *, failed: str = "raise") -> NDArray[np.float64]:
         """DF(x) = ∂(Q_R', Q_J', Θ')/∂(Q_R, Q_J, Θ) by the variational equations of the direct ODE through the rock,
-        with the start's and the event's dependence on x (module docstring): three variational runs.
-
-        Raises
-        ------
-        ValueError
-            x not three finite numbers, or (E, Q) admits no motion.
-        """
-        from rocknroller.numerics.variational import tangent_to_maximum
-
-        x = _check_x(x)
-        T = self._period(x)
-        y0, dy0 = self._start(x)
-        Y1, W = np.zeros(11), np.empty((6, 3))
-        for j in range(3):
-            _, Y1[:6], W[:, j] = tangent_to_maximum(self.member, y0[:6], dy0[:, j], 0.5 * T, 1.5 * T)
-        f = np.zeros(11)
-        f[:6] = np.array(body_frame_rhs(Y1, self.member.params)[:6], float)
-        dY = np.zeros((11, 3))
-        dY[:6] = W
-        dh = self._gradient(turning_point_function, Y1, False)
-        dY[:6] -= np.outer(f[:6], dh @ W / (dh @ f[:6]))
-        outputs = [(_QR_of(self.sym), False, 1.0), (_QJ_of(self.sym), False, 1.0), (_psi_of, True, 2.0)]
-        return np.vstack([c * self._gradient(g, Y1, angle) @ dY[:6] for g, angle, c in outputs])
+        with the start's and the event's dependence on x (module docstring; three variational runs,
+        :func:`rocknroller.analysis.slow.map.exact_step.exact_step_jacobian`); (3, 3), or (..., 3, 3) for an array
+        x (..., 3).  Raises as ``__call__``."""
+        return self._jacobian(x, failed)

@@ -223,7 +223,7 @@ def test_periodic_orbits_agree_with_central_differences(monkeypatch, period, eps
 
 def test_bad_input(slow1, exact):
     for F in (slow1, exact):
-        for x in ([1.0, 2.0], [[0.0, 0.0, 1.0]], [0.0, math.nan, 1.0], "abc"):
+        for x in ([1.0, 2.0], [[0.0, 0.0]], [0.0, math.nan, 1.0], "abc"):  # an array (..., 3): test_map_arrays.py
             with pytest.raises(ValueError, match=r"x must be three finite numbers \(Q_R, Q_J, Theta\)"):
                 F(x)
             with pytest.raises(ValueError, match="x must be"):
