@@ -76,7 +76,7 @@ from rocknroller.analysis.slow.map.family import first_maximum, rest_energy
 # reports those this module does not use itself as unused.
 from rocknroller.analysis.slow.map.limits import (K_PERIOD_DOUBLING, MAX_MAXIMA, THETA0_RANGE,  # noqa: F401
                                                   AveragingRangeError, AveragingValidityWarning, ChartWidthError,
-                                                  check_angle, check_map_theta0, check_release_theta0, check_t_end,
+                                                  check_angle, check_map_theta0, check_release_theta0, check_t_end, default_order,
                                                   eps_period_doubling, t_end_limit)
 from rocknroller.analysis.slow.map.table import (REGION_TABLE_ACCURACY, TableNotCachedError, build_table,  # noqa: F401
                                                  load_or_build_table)
@@ -305,23 +305,6 @@ def _warn_validity(eps: float, table: SlowMapTable) -> None:
             f"{table.interp_error:.1e} (> {REGION_TABLE_ACCURACY:g}), and the prediction carries that error: "
             f"{accuracy_cause(table)}",
             AveragingValidityWarning, stacklevel=3)
-
-
-def default_order(start: float | EulerState) -> int:
-    """The order of the map in ε when none is given, for a release angle θ0 or an initial state: the default of
-    :func:`predict_slow_motion` and of ``rocknroller slow`` alike.
-
-    2 for a release from rest in ``THETA0_RANGE``: the second-order release tables bring the map 10–1000× closer to the
-    direct ODE at ε ≤ 3e-3 (at the command's default release, 0.95π, ψ0 = π/4, ε = 1e-3, 1000 time units: slow period
-    within 3.5e-6 of the ODE, order 1 2.2e-4; docs/slow_validation.md, "Releases from rest, second order"), for a build
-    once per (body, θ0), then cached, and little more than the run time of order 1.  1 for any other start (an initial
-    state, or a release below ``THETA0_RANGE``): its second-order tables are per energy, several times dearer, so
-    order 2 is asked for explicitly there.  The costs: docs/performance.md.
-    """
-    # compared as given (int or float; Python compares them exactly, so 10**400 or NaN is simply out of range)
-    in_range = (isinstance(start, (int, float)) and not isinstance(start, bool)
-                and THETA0_RANGE[0] <= start <= THETA0_RANGE[1])
-    return 2 if in_range else 1
 
 
 def releases_on_region_tables(theta0: float) -> bool:

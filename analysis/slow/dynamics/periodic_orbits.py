@@ -54,8 +54,8 @@ from numpy.typing import ArrayLike, NDArray
 from rocknroller.analysis.model.body import Body, float_or_nan
 from rocknroller.analysis.model.diagnostics import wrap_angle
 from rocknroller.analysis.slow.map.chart import TABLE_FUNCTIONS, SlowMapTable
-from rocknroller.analysis.slow.map.limits import (K_PERIOD_DOUBLING, AveragingRangeError, eps_period_doubling,
-                                              stable_rocking_psi)
+from rocknroller.analysis.slow.map.limits import (K_PERIOD_DOUBLING, AveragingRangeError, default_order,
+                                                  eps_period_doubling, stable_rocking_psi)
 from rocknroller.analysis.slow.map.maps import EVALUATION_ULPS, ExactMap, SlowMap
 
 if TYPE_CHECKING:
@@ -235,11 +235,12 @@ class _Problem:
     in the chart coordinates x = (u, v, Θ) of the release table of (body, θ0), at one ε: F_chart = Bᵀ F B with B the
     chart's rotation, and its Jacobian Bᵀ DF B (the map's exact tangent)."""
 
-    def __init__(self, body: Body, theta0: float, eps: float, map: str, order: int, workers: int) -> None:
+    def __init__(self, body: Body, theta0: float, eps: float, map: str, order: int | None, workers: int) -> None:
         from rocknroller.analysis.slow.map.table import load_or_build_table
 
         if map not in MAPS:
             raise ValueError(f"map must be one of {MAPS}, got map={map!r}")
+        order = default_order(theta0) if order is None else order  # the one default: 2 on the release tables
         if order not in (1, 2) or isinstance(order, bool):
             raise ValueError(f"order must be 1 or 2, got order={order!r}")
         self.table: SlowMapTable = load_or_build_table(body, theta0)
@@ -377,7 +378,7 @@ def _orbit(problem: _Problem, x: NDArray[np.float64], period: int, iterations: i
                          periodicity=float(np.max(np.abs(d))), iterations=iterations)
 
 
-def periodic_orbit(body: Body, theta0: float, eps: float, period: int = 2, *, map: str = "slow", order: int = 1,
+def periodic_orbit(body: Body, theta0: float, eps: float, period: int = 2, *, map: str = "slow", order: int | None = None,
                    axis: str = "stable", start: Sequence[float] | None = None, workers: int = 1) -> PeriodicOrbit:
     """The S-symmetric periodic orbit of ``period`` (1: pure rocking; 2: the orbit born at its period doubling) of the
     ``map`` of (body with I2 = (1 + ε) I1, the energy of the release from rest at θ0), by Newton's method on
@@ -390,7 +391,8 @@ def periodic_orbit(body: Body, theta0: float, eps: float, period: int = 2, *, ma
     eps : ε in (0, K_MAX/κ], below I3/I1 − 1.
     period : 1 or 2.
     map : ``"slow"`` (the averaged map of ``order``) or ``"exact"`` (the direct ODE, one exact step per evaluation).
-    order : 1 or 2, of the slow map (2 needs the second-order table, built by ``workers`` processes and cached).
+    order : 1 or 2, of the slow map (2 needs the second-order table, built by ``workers`` processes and cached);
+        default :func:`~rocknroller.analysis.slow.map.limits.default_order`, 2 on the release tables.
     axis : ``"stable"`` or ``"unstable"``: the rocking axis the orbit is about (Θ* = 2ψ_s or 2ψ_s + π; the period-2
         orbit exists about the stable one only).
     start : (u, v, Θ) to start from (default: the first-order point, module docstring).
@@ -433,7 +435,7 @@ def periodic_orbit(body: Body, theta0: float, eps: float, period: int = 2, *, ma
 
 
 def continue_orbit(body: Body, theta0: float, eps_values: ArrayLike, period: int = 2, *, map: str = "slow",
-                   order: int = 1, axis: str = "stable", start: Sequence[float] | None = None,
+                   order: int | None = None, axis: str = "stable", start: Sequence[float] | None = None,
                    workers: int = 1) -> Branch:
     """Natural-parameter continuation in ε: the orbit of :func:`periodic_orbit` at each of ``eps_values`` in turn,
     started from the secant through the previous two solutions (the first from ``start`` or the default start, the

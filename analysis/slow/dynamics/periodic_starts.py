@@ -29,7 +29,8 @@ def on_rocking_axis(psi0: float) -> bool:
     return min(r, math.pi - r) <= 8.0 * math.ulp(max(math.pi, abs(2.0 * float(psi0))))
 
 
-def periodic_start(body: Body, theta0: float, psi0: float, *, order: int = 1, workers: int = 1) -> PeriodicOrbit | None:
+def periodic_start(body: Body, theta0: float, psi0: float, *, order: int | None = None,
+                   workers: int = 1) -> PeriodicOrbit | None:
     """The periodic orbit a release from rest at (θ0, ψ0) lies on, or None.  Released with ψ0 = 0 or π/2 (mod π,
     :func:`on_rocking_axis`) the body rocks in a principal plane (pure rocking, Q = 0 at every maximum, by the symmetry
     S): the map's fixed point there (Newton's method from the start; it lies within the tables' interpolation error of
@@ -43,7 +44,8 @@ def periodic_start(body: Body, theta0: float, psi0: float, *, order: int = 1, wo
     Raises
     ------
     ValueError
-        θ0 outside ``THETA0_RANGE``, a non-finite ψ0, or order not 1 or 2 (naming it).
+        θ0 outside ``THETA0_RANGE``, a non-finite ψ0, or order not 1 or 2 (naming it; default
+        :func:`~rocknroller.analysis.slow.map.limits.default_order`, 2 on the release tables).
     """
     from rocknroller.analysis.slow.map.limits import check_map_theta0
 

@@ -19,11 +19,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.model.body import as_float
+from rocknroller.analysis.model.equations import EulerState
 
 __all__ = [
     "THETA0_RANGE", "MAX_MAXIMA", "K_PERIOD_DOUBLING", "eps_period_doubling", "stable_rocking_psi",
     "AveragingRangeError", "ChartWidthError", "AveragingValidityWarning", "check_map_theta0", "t_end_limit",
-    "check_t_end", "check_release_theta0", "ANGLE_MAX", "check_angle", "check_points", "rows_text"
+    "check_t_end", "check_release_theta0", "default_order", "ANGLE_MAX", "check_angle", "check_points", "rows_text"
 ]
 
 #: Largest |angle| (ψ0, Θ, in radians) the slow motion takes: an angle is reduced mod 2π in double precision with an
@@ -178,3 +179,29 @@ def check_t_end(t_end: float, T0: float, name: str = "t_end") -> float:
             f"{name} must be a finite number in (0, {tmax:.6g}], got {name}={t_end!r}: a run of the slow map "
             f"produces up to t_end/(T_theta/2) maxima of theta (T_theta = {T0:.6g}), at most {MAX_MAXIMA:.0e}")
     return t_end
+
+
+def default_order(start: float | EulerState) -> int:
+    """The order of the map in ε when none is given, for a release angle θ0 or an initial state: the one default of
+    every entry that takes an order (``predict_slow_motion``, ``SlowMap``, ``slow_portrait``, ``periodic_orbit``,
+    ``continue_orbit``, ``periodic_start``, ``map_ensemble``, ``bifurcation_diagram``) and of the commands
+    (``slow``, ``portrait``, ``bifurcation``); only the atlas runs at a fixed order, 1 (``ATLAS_ORDER``), and names it.
+
+    2 for a release from rest in ``THETA0_RANGE``: the second-order release tables bring the map 10–1000× closer to the
+    direct ODE at ε ≤ 3e-3 (at the command's default release, 0.95π, ψ0 = π/4, ε = 1e-3, 1000 time units: slow period
+    within 3.5e-6 of the ODE, order 1 2.2e-4; docs/slow_validation.md, "Releases from rest, second order"), for a build
+    once per (body, θ0), then cached, and little more than the run time of order 1.  1 for any other start (an initial
+    state, or a release below ``THETA0_RANGE``): its second-order tables are per energy, several times dearer, so
+    order 2 is asked for explicitly there.  The costs: docs/performance.md.
+
+    Examples
+    --------
+    >>> import math
+    >>> from rocknroller.analysis.slow.map.limits import default_order
+    >>> default_order(0.95 * math.pi), default_order(0.6 * math.pi)
+    (2, 1)
+    """
+    # compared as given (int or float; Python compares them exactly, so 10**400 or NaN is simply out of range)
+    in_range = (isinstance(start, (int, float)) and not isinstance(start, bool)
+                and THETA0_RANGE[0] <= start <= THETA0_RANGE[1])
+    return 2 if in_range else 1

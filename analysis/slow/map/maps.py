@@ -1,8 +1,8 @@
 """The slow map and the exact map as objects: one small class per map, its tangent map and inverse beside it.
 It holds :class:`SlowMap` (the averaged drift–kick–drift map of order 1 or 2 on the release tables of (body, θ0);
 :func:`rocknroller.analysis.slow.map.compiled_map.iterate_slow_map`) and :class:`ExactMap` (the direct ODE's map from a
-maximum of θ to the next one, :func:`rocknroller.analysis.slow.map.exact_step.exact_step`), at the energy E = U(θ0) of the
-release from rest at θ0 (paper eq. energy) and the member I2 = (1 + ε) I1 of the body's family.
+maximum of θ to the next one, :func:`rocknroller.analysis.slow.map.exact_step.exact_step`), at the energy E = U(θ0) of
+the release from rest at θ0 (paper eq. energy) and the member I2 = (1 + ε) I1 of the body's family.
 
 The state.  A maximum of θ at that energy is x = (Q_R, Q_J, Θ) (paper eqs. JelletandRouth_Qtys; Θ = 2ψ).  Θ counts
 mod 2π (ψ is sampled at the maxima only, so the turns between them are not seen); both maps return Θ' continued
@@ -62,7 +62,7 @@ from rocknroller.analysis.slow.map.compiled_map import SlowSeries, _fast, chart_
 from rocknroller.analysis.slow.map.exact_step import exact_step, exact_step_jacobian
 from rocknroller.analysis.slow.map.family import family_member, rest_energy
 from rocknroller.analysis.slow.map.limits import (MAX_MAXIMA, check_map_theta0, check_points, check_release_theta0,
-                                                  rows_text)
+                                                  default_order, rows_text)
 
 if TYPE_CHECKING:
     from rocknroller.analysis.slow.map.chart import SecondOrderTable, SlowMapTable
@@ -209,9 +209,7 @@ class _MapMixin(ABC):
             x not three finite numbers (or not an array (..., 3) of them), naming the rows; n not an integer in
             [0, the map's limit]; F's own errors.
         """
-        X = check_points(x)
-        n = _check_n(n, *self._max_steps)
-        failed = _check_failed(failed)
+        X, n, failed = check_points(x), _check_n(n, *self._max_steps), _check_failed(failed)
         out, failures = self._orbits(X.reshape(-1, 3), n)
         return _settle(out, failures, X.shape[:-1], failed)
 
@@ -227,7 +225,7 @@ class SlowMap(_MapMixin):
     theta0 : the release angle, in ``THETA0_RANGE`` (its release tables are loaded, or built and cached).
     eps : ε in [0, I3/I1 − 1) (beyond K = εκ ≈ 8 orbits soon leave the tables, and the first-order map's implicit
         kick may stop converging: an AveragingRangeError when evaluated).
-    order : 1 or 2 (2 loads or builds the second-order table, by ``workers`` processes).
+    order : 1 or 2 (2 builds or loads the second-order table, by ``workers`` processes); default 2 (``default_order``).
     build : build missing tables (else a ValueError says they are not cached).
     workers : processes building a second-order table.
 
@@ -265,7 +263,7 @@ class SlowMap(_MapMixin):
     body: Body
     theta0: float
     eps: float
-    order: int = 1
+    order: int | None = None
     build: InitVar[bool] = True
     workers: InitVar[int] = 1
     table: "SlowMapTable" = field(init=False, repr=False, compare=False)
@@ -277,6 +275,7 @@ class SlowMap(_MapMixin):
         from rocknroller.analysis.slow.map.table import load_or_build_table
 
         _check_body(self.body)
+        object.__setattr__(self, "order", default_order(self.theta0) if self.order is None else self.order)
         if self.order not in (1, 2) or isinstance(self.order, bool):
             raise ValueError(f"order must be 1 or 2, got order={self.order!r}")
         theta0 = check_map_theta0(self.theta0)

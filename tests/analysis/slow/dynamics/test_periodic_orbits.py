@@ -79,7 +79,7 @@ def test_fixed_point_multipliers_match_period_doubling(kind):
     multipliers (of modulus ≤ 4) allows a condition of 5.  Greene's residue: 1 − K/4 ... the pair's trace 2 − K at
     first order: R ≈ K/4 within O(K²ε) (2e-5 at 0.95π)."""
     eps = 0.9 * e1()
-    o = periodic_orbit(BODY, THETA0, eps, 1, map=kind)
+    o = periodic_orbit(BODY, THETA0, eps, 1, map=kind, order=1)
     J = (map_rocking_jacobian(load_or_build_table(BODY, THETA0), eps, math.pi / 2) if kind == "slow"
          else rocking_jacobian(BODY, THETA0, eps, math.pi / 2))
     assert np.abs(np.sort_complex(o.multipliers) - np.sort_complex(np.linalg.eigvals(J))).max() < 1e-6
@@ -93,7 +93,8 @@ def test_residue_passes_one_at_the_map_period_doubling():
     same map, so they agree to that."""
     from scipy.optimize import brentq
 
-    root = brentq(lambda e: periodic_orbit(BODY, THETA0, e, 1).residue - 1.0, 0.99 * e1(), 1.01 * e1(), rtol=1e-12)
+    root = brentq(lambda e: periodic_orbit(BODY, THETA0, e, 1, order=1).residue - 1.0, 0.99 * e1(), 1.01 * e1(),
+                  rtol=1e-12)
     assert root == pytest.approx(e1(), rel=1e-9)
 
 

@@ -30,7 +30,7 @@ EPS = 1e-2
 
 @pytest.fixture(scope="module")
 def slow1() -> SlowMap:
-    return SlowMap(BODY, THETA0, EPS)
+    return SlowMap(BODY, THETA0, EPS, 1)  # order 1 given: the default is 2 (default_order)
 
 
 @pytest.fixture(scope="module")

@@ -39,7 +39,7 @@ ETA = mp.EVALUATION_ULPS * float(np.finfo(float).eps) * 4.0 * math.pi
 
 @pytest.fixture(scope="module")
 def slow1() -> SlowMap:
-    return SlowMap(BODY, THETA0, EPS)
+    return SlowMap(BODY, THETA0, EPS, 1)  # order 1 given: the default is 2 (default_order)
 
 
 @pytest.fixture(scope="module")
