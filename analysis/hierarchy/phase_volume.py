@@ -146,7 +146,7 @@ def reversed_state(initial: EulerState) -> EulerState:
     (-0.7, 0.5, -1.3) True
     """
     return replace(initial, theta_dot=-initial.theta_dot, phi_dot=-initial.phi_dot, psi_dot=-initial.psi_dot,
-                   omega=None if initial.omega is None else tuple(-w for w in initial.omega))
+                   omega=None if initial.omega is None else (-initial.omega[0], -initial.omega[1], -initial.omega[2]))
 
 
 def advance(body: Body | LoadedSphere, initial: EulerState, t: float) -> EulerState:
@@ -259,11 +259,12 @@ def phase_volume_rate(body: Body | LoadedSphere, initial: EulerState, t_end: flo
             d = divergence(body, y[:, 0:3].T, y[:, 3:6].T).reshape(b - a, nodes.size)
             sums[k, a:b] = 0.5 * width * (d @ weights)
     q = sign * sums[0]
-    ends = np.arange(1, n + 1) * width
+    ends = np.arange(1, n + 1, dtype=np.float64) * width
     marks = tuple((f * t_end, math.fsum(q[:round(f * n)]) / (f * t_end)) for f in CHECKPOINTS)
     return PhaseVolumeRate(rate=marks[-1][1], error=math.fsum(np.abs(sums[0] - sums[1])) / t_end, t_end=t_end,
                            backward=bool(backward), checkpoints=marks, energy_rel_error=run.energy_rel_error,
-                           n_steps=run.n_steps, t=ends, running=np.cumsum(q) / ends, maxima=run.maxima)
+                           n_steps=run.n_steps, t=ends, running=np.asarray(np.cumsum(q) / ends, np.float64),
+                           maxima=run.maxima)
 
 
 def _density_member(body: Body | LoadedSphere) -> tuple[LoadedSphere, str]:

@@ -112,8 +112,8 @@ def apply_trust(s: dict[str, Any]) -> None:
         marks["closed_form"] = {q: closed_form_trust(q, pend[q], verdict, s["K"], pend["regime_ratio"])
                                 for q in QUANTITIES}
     for source, trusts in marks.items():
-        values = s if source == "map" else pend
-        errors = s.get("rel_error") if source == "map" else (pend or {}).get("rel_error")
+        values: dict[str, Any] = s if source == "map" else (pend or {})
+        errors: dict[str, Any] | None = s.get("rel_error") if source == "map" else (pend or {}).get("rel_error")
         for q, trust in trusts.items():
             if trust.status == "undefined":
                 values[q] = None
