@@ -31,8 +31,8 @@ from rocknroller.analysis.model.equations import EulerState
 from rocknroller.numerics.cache import CacheWarning, cache_dir, load_arrays, save_arrays
 from rocknroller.numerics.ensembles.batch import MAX_LANES, MIN_LANES, batch_width, run_batch
 
-__all__ = ["LANE_CANDIDATES", "LANE_MARGIN", "MAX_MEASURE_JOBS", "MAX_MEASURE_T_END", "LaneChoice", "choose_lanes", "machine_key", "default_lanes",
-           "measure_lanes"]
+__all__ = ["LANE_CANDIDATES", "LANE_MARGIN", "MAX_MEASURE_JOBS", "MAX_MEASURE_T_END", "LaneChoice", "choose_lanes",
+           "machine_key", "default_lanes", "measure_lanes"]
 
 #: The widths compared: those heyoka recommends for AVX2 (4) and AVX-512 (8) double precision.
 LANE_CANDIDATES = (4, 8)
