@@ -8,7 +8,10 @@ estimate their CPU time from the rates below and refuse past ``budget`` seconds 
 naming the estimate: ``budget=`` in the API (None: no limit), ``--budget`` on the command line.
 
 The rates are CPU seconds measured on this kind of machine (2 cores), rounded up: an estimate errs on the high side,
-by up to 2.5× (4× for mpmath at 120-240 digits), which is what a budget of an hour needs.
+by up to 2.5× (4× for mpmath at 120-240 digits), which is what a budget of an hour needs.  A command's estimate counts
+all of its work, each part at its rate: the tables not cached (:func:`rocknroller.analysis.slow.work.tables_seconds`),
+the map's runs with their tangent vectors and overheads, direct and variational runs with theirs, and its files;
+``benchmarks/bench_budget.py commands`` checks the sums against whole commands (estimate/measured 1.3-2.9).
 ``benchmarks/bench_budget.py`` measures them again beside the constants (at load 1.3: heyoka 9.6e-6 s and DOP853
 1.1e-3 s per radian, a release table 1.6 s, a band-chart region table 13.5 s, mpmath points 0.26, 1.3 and 4.7 s at
 30, 120 and 240 digits), and the averaged map's cost per θ-maximum at orders 1 and 2.
@@ -23,8 +26,9 @@ from rocknroller.analysis.model.body import float_or_nan
 __all__ = ["WORK_BUDGET_SECONDS", "HEYOKA_SECONDS_PER_RADIAN", "HEYOKA_EXTENDED_SECONDS_PER_RADIAN",
            "DOP853_SECONDS_PER_RADIAN", "RELEASE_TABLE_SECONDS",
            "REGION_TABLE_SECONDS", "MAP_SECONDS_PER_MAXIMUM", "MAP_ORDER2_SECONDS_PER_MAXIMUM",
-           "EXACT_ORBIT_SECONDS", "PERIOD_DOUBLING_SECONDS", "SLOW_ORBIT_SECONDS", "WorkBudgetError", "check_budget", "check_work", "mp_point_seconds",
-           "format_seconds"]
+           "EXACT_ORBIT_SECONDS", "PERIOD_DOUBLING_SECONDS", "SLOW_ORBIT_SECONDS", "SECOND_ORDER_TABLE_SECONDS",
+           "MAP_TANGENT_FACTOR", "MAP_SETUP_SECONDS", "MAP_RUN_SECONDS", "ATLAS_POINT_SECONDS", "DIRECT_RUN_SECONDS", "WorkBudgetError",
+           "check_budget", "check_work", "mp_point_seconds", "format_seconds"]
 
 #: CPU seconds a call may take without being asked for explicitly.
 WORK_BUDGET_SECONDS = 3600.0
@@ -44,12 +48,34 @@ REGION_TABLE_SECONDS = 30.0
 MAP_SECONDS_PER_MAXIMUM = 6.0e-6
 #: The same at order 2 (the second-order kick besides): 7.8-9.1e-6 measured.
 MAP_ORDER2_SECONDS_PER_MAXIMUM = 1.2e-5
-#: One periodic orbit of the exact one-step map (Newton on direct-ODE steps, ``periodic_orbit(map="exact")``):
-#: 0.25-0.32 s measured for period 1 and 0.89 s for period 2 at θ0 = 0.93π.
-EXACT_ORBIT_SECONDS = 2.0
-#: The exact map's period doubling ε_pd of one θ0 (``period_doubling``): 10.3 s measured at θ0 = 0.93π.
-PERIOD_DOUBLING_SECONDS = 20.0
-#: One periodic orbit of the slow map on a continued branch (``continue_orbit``): 1.2 ms measured a point.
+#: One second-order release table (order 2's k₂ on a release table's chart, default grid, one process; the release
+#: table it stands on not included): 13.5 s measured at θ0 = 0.95π (load 0.7; docs/performance.md: 6.7 s).
+SECOND_ORDER_TABLE_SECONDS = 25.0
+#: The factor the map's tangent vector (the chaos indicators: ``tangent=True``) puts on its cost per θ-maximum:
+#: 1.5-1.6 measured (atlases of 1000-3000 points, t_end 200-5000; benchmarks/bench_chaos_map.py: 1.5-1.8).
+MAP_TANGENT_FACTOR = 2.0
+#: Making one table ready for the compiled map (once per table and call): ~0.3 s measured (a portrait's first orbits).
+MAP_SETUP_SECONDS = 0.4
+#: The overhead of one run of the map besides its θ-maxima (the call, its checks, its indicators; a portrait's
+#: orbit): below 0.5 ms measured (portraits of 100 orbits of 2000 time units: 0.06-0.13 s in all).
+MAP_RUN_SECONDS = 1.0e-3
+#: The overhead of one point of an atlas besides its map's θ-maxima (``predict_slow_motion``'s start, the run's
+#: diagnostics and its crossings of the critical lines): ~0.27 ms measured (3000 points of 200 time units, 0.31 ms a
+#: point in all).
+ATLAS_POINT_SECONDS = 5.0e-4
+#: The overhead of one direct run besides its radians (the call, its turning points; a horizon probe of 40 rocks is
+#: mostly this): ~0.02 s measured (a probe of 40 rocks at θ0 = 0.95π, 1540 radians, takes 0.036-0.040 s).
+DIRECT_RUN_SECONDS = 5.0e-2
+#: One periodic orbit of the exact one-step map (Newton on direct-ODE steps, ``periodic_orbit(map="exact")``) of
+#: period 1; one of period 2 counts twice: 0.17-0.31 s measured for period 1 and 0.48-0.53 s for period 2 at
+#: θ0 = 0.9π and 0.95π (0.25-0.32 and 0.89 s at 0.93π before).
+EXACT_ORBIT_SECONDS = 0.6
+#: The exact map's period doubling ε_pd of one θ0 (``period_doubling``, its release table cached): 2.2-3.2 s measured
+#: at θ0 = 0.85π-0.99π (10.3 s at 0.93π in an earlier version).
+PERIOD_DOUBLING_SECONDS = 6.0
+#: One periodic orbit of the slow map on a continued branch (``continue_orbit``, 111 points; the map's setup,
+#: ``MAP_SETUP_SECONDS``, once per θ0 besides): 1.0-1.1 ms measured a point at order 2 (θ0 = 0.9π, 0.95π), 4.7 ms at
+#: order 1 with the first call's setup; 1.2 ms before.
 SLOW_ORBIT_SECONDS = 3.0e-3
 
 

@@ -20,7 +20,7 @@ from rocknroller.analysis.slow.map.tables_at_once import build_release_tables
 from rocknroller.analysis.slow.dynamics.period_doubling import period_doubling
 from rocknroller.analysis.slow.dynamics.periodic_orbits import (K_MAX, MAX_BRANCH_POINTS, Branch, PeriodicOrbit,
                                                                 continue_orbit, periodic_orbit)
-from rocknroller.numerics.budget import (EXACT_ORBIT_SECONDS, PERIOD_DOUBLING_SECONDS, RELEASE_TABLE_SECONDS,
+from rocknroller.numerics.budget import (EXACT_ORBIT_SECONDS, MAP_SETUP_SECONDS, PERIOD_DOUBLING_SECONDS,
                                          SLOW_ORBIT_SECONDS, WORK_BUDGET_SECONDS, check_work)
 from rocknroller.papers.output import angle_text, new_figure, save_figure, write_csv
 
@@ -30,7 +30,7 @@ BRANCH_STYLE = {"fixed_stable_axis": ("C0", "rocking about the stable axis (fixe
                 "period2": ("C1", "period-2 orbit (born at the period doubling)")}
 
 __all__ = ["MAX_EXACT_FRACTIONS", "MAX_DIAGRAM_THETA0", "BifurcationData", "bifurcation_seconds", "bifurcation_data",
-           "bifurcation_figure", "bifurcation_diagram"]
+           "bifurcation_figure", "bifurcation_diagram", "FILES_SECONDS"]
 
 #: ε/ε_pd at which the exact map's orbits are found (below and past the period doubling).
 EXACT_FRACTIONS = (0.9, 1.05, 1.2, 1.5)
@@ -39,6 +39,9 @@ EXACT_FRACTIONS = (0.9, 1.05, 1.2, 1.5)
 MAX_EXACT_FRACTIONS = 16
 #: Most release angles of one diagram (a column each, 5 inches wide; each ε_pd is ``PERIOD_DOUBLING_SECONDS``).
 MAX_DIAGRAM_THETA0 = 8
+#: CPU seconds of the diagram's files (:func:`bifurcation_diagram`: PNG, PDF, CSV): the figure of one θ0 of 111
+#: points 1.3 s measured.
+FILES_SECONDS = 2.0
 
 
 @dataclass(frozen=True)
@@ -75,18 +78,37 @@ def _check_counts(n_points: int, exact_fractions: Sequence[float]) -> None:
 
 
 def bifurcation_seconds(body: Body, theta0s: Sequence[float], n_points: int = 111,
-                        exact_fractions: Sequence[float] = EXACT_FRACTIONS) -> float:
+                        exact_fractions: Sequence[float] = EXACT_FRACTIONS, order: int = 1,
+                        build: bool = True) -> float:
     """The estimated CPU seconds of :func:`bifurcation_data` at each θ0 of ``theta0s``
-    (:mod:`rocknroller.numerics.budget`): per θ0 the exact map's ε_pd, one exact orbit per fraction (two above ε_pd:
-    the period-2 orbit besides), three slow branches of ``n_points`` orbits, and the release table if it is not
-    cached (order 2's second-order tables are not counted: built once per θ0, then cached)."""
-    from rocknroller.analysis.slow.map.table import build_table, is_cached
+    (:mod:`rocknroller.numerics.budget`), found without building or running anything: per θ0 the exact map's ε_pd,
+    one exact orbit per fraction (above ε_pd the period-2 orbit besides, counted twice), three slow branches of ``n_points``
+    orbits and the slow period-2 orbit at each fraction above ε_pd (and the map's setup), and with ``build`` the tables not cached (the
+    release table, and at ``order`` 2 the second-order table: :func:`rocknroller.analysis.slow.work.tables_seconds`).
 
-    sym = body.symmetric()
-    per_theta0 = (PERIOD_DOUBLING_SECONDS + EXACT_ORBIT_SECONDS * sum(1 + (float(f) > 1.0) for f in exact_fractions)
-                  + 3 * int(n_points) * SLOW_ORBIT_SECONDS)
-    tables = sum(not is_cached(build_table, sym, float(t)) for t in theta0s) * RELEASE_TABLE_SECONDS
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> warm = bifurcation_seconds(body, [0.95 * math.pi], build=False)
+    >>> print(bifurcation_seconds(body, [0.95 * math.pi], order=2) >= warm, f"{warm:.4g}")
+    True 13.41
+    """
+    from rocknroller.analysis.slow.work import tables_seconds
+
+    above = sum(float(f) > 1.0 for f in exact_fractions)
+    per_theta0 = (PERIOD_DOUBLING_SECONDS + EXACT_ORBIT_SECONDS * (len(exact_fractions) + 2 * above)
+                  + (3 * int(n_points) + above) * SLOW_ORBIT_SECONDS + MAP_SETUP_SECONDS)
+    tables = tables_seconds(body, [float(t) for t in theta0s], order)[0] if build else 0.0
     return len(theta0s) * per_theta0 + tables
+
+
+def _what(theta0s: Sequence[float], n_points: int, exact_fractions: Sequence[float], order: int) -> str:
+    """What :func:`bifurcation_seconds` counts, for its message."""
+    return (f"a bifurcation diagram at {len(theta0s)} theta0 (per theta0 the exact map's eps_pd, "
+            f"{len(exact_fractions)} exact fractions, 3 slow branches of {int(n_points)} points of order {order}, "
+            f"and the tables not cached)")
 
 
 def bifurcation_data(body: Body, theta0: float, *, fractions: tuple[float, float] = (0.6, 1.55), n_points: int = 111,
@@ -106,8 +128,8 @@ def bifurcation_data(body: Body, theta0: float, *, fractions: tuple[float, float
     """
     theta0 = check_map_theta0(theta0)
     _check_counts(n_points, exact_fractions)
-    check_work(bifurcation_seconds(body, [theta0], n_points, exact_fractions),
-               f"a bifurcation diagram's orbits at one theta0 ({len(exact_fractions)} exact fractions)", budget)
+    check_work(bifurcation_seconds(body, [theta0], n_points, exact_fractions, order),
+               _what([theta0], n_points, exact_fractions, order), budget)
     lo, hi = (float(f) for f in fractions)
     pd = period_doubling(body, theta0)
     K_pd = pd.eps_exact * pd.kappa  # K = eps*kappa at the exact map's period doubling
@@ -245,8 +267,9 @@ def bifurcation_diagram(body: Body, out_dir: str | Path, theta0s: Sequence[float
     theta0s = [check_map_theta0(t) for t in theta0s]
     n_points, exact = kwargs.get("n_points", 111), kwargs.get("exact_fractions", EXACT_FRACTIONS)
     _check_counts(n_points, exact)
-    check_work(bifurcation_seconds(body, theta0s, n_points, exact),
-               f"a bifurcation diagram at {len(theta0s)} theta0 with {len(exact)} exact fractions each", budget)
+    order = kwargs.get("order", 1)
+    check_work(bifurcation_seconds(body, theta0s, n_points, exact, order) + FILES_SECONDS,
+               _what(theta0s, n_points, exact, order), budget)
     where = {"scheduler": scheduler, "threads": threads} if (scheduler, threads) != (None, None) else \
         {"processes": kwargs.get("workers", 1)}
     build_release_tables(body, theta0s, progress=False, budget=None, **where)  # the budget is checked above

@@ -42,13 +42,13 @@ from rocknroller.analysis.slow.dynamics.chaos import MapChaos, map_indicators
 from rocknroller.analysis.slow.map.compiled_map import SlowSeries
 from rocknroller.analysis.slow.map.family import maximum_state, rest_energy
 from rocknroller.analysis.slow.map.maps import SlowMap
-from rocknroller.numerics.budget import WORK_BUDGET_SECONDS
+from rocknroller.numerics.budget import WORK_BUDGET_SECONDS, check_work
 from rocknroller.numerics.megno import MEGNO_CHAOTIC, MEGNO_CLIP, MIN_SAMPLES
 from rocknroller.papers.output import new_figure
 from rocknroller.papers.plotting import draw_critical_lines, scaled_axis
 from rocknroller.papers.portrait_limits import (BYTES_PER_MAXIMUM, CSV_BYTES_PER_ROW, MAX_ODE_STARTS,  # re-exported
                                                 MAX_PORTRAIT_MAXIMA, MAX_PORTRAIT_ORBITS, _check_grid,
-                                                check_portrait_size)
+                                                check_portrait_size, portrait_seconds)
 
 if TYPE_CHECKING:
     import pandas
@@ -244,7 +244,9 @@ def slow_portrait(body: Body, theta0: float, Theta: ArrayLike, p: ArrayLike | No
     progress : bool or None
         tqdm bars over the grid and the direct runs on stderr (None: only if stderr is a terminal).
     budget : float or None
-        CPU seconds the direct runs may take together (:func:`rocknroller.numerics.ensembles.ensemble.run_ensemble`).
+        CPU seconds the portrait may take (None: no limit), estimated before any work
+        (:func:`~rocknroller.papers.portrait_limits.portrait_seconds`: the tables not cached, the orbits with their
+        tangent vectors, the direct runs); over it a ``WorkBudgetError`` (a ValueError) naming the estimate.
     chaos : bool
         Carry the map's tangent vector along each orbit and give it its chaos indicators (``SlowPortrait.chaos``,
         the colour of the orbits by default; ~1.5-1.8x the map's own cost, the orbits the same to the bit).
@@ -254,7 +256,8 @@ def slow_portrait(body: Body, theta0: float, Theta: ArrayLike, p: ArrayLike | No
     ValueError
         Naming the parameter: ε ≤ 0, θ0 out of range, a grid value out of range or too many orbits, a bad order,
         or more θ-maxima than ``MAX_PORTRAIT_MAXIMA`` in all (:func:`check_portrait_size`: memory and CSV size,
-        before any table is built or orbit run).
+        before any table is built or orbit run); ``WorkBudgetError`` for an estimated cost over ``budget``, before any
+        work.
 
     Examples
     --------
@@ -284,6 +287,9 @@ def slow_portrait(body: Body, theta0: float, Theta: ArrayLike, p: ArrayLike | No
     if not 0.0 < ode_span < math.inf:
         raise ValueError(f"ode_t_end must be a finite number > 0 (or None: t_end), got ode_t_end={ode_t_end!r}")
     check_portrait_size(body, theta0, Th.size * n_p, t_end, [ode_span] * len(ode_starts))
+    seconds, what = portrait_seconds(body, theta0, Th.size * n_p, t_end, order=order, chaos=chaos,
+                                     ode_t_ends=[ode_span] * len(ode_starts))
+    check_work(seconds, what, budget)
     table = av.load_or_build_table(body, theta0, build=build, progress=progress)
     gu, gv = table.gradient("W", (0.0, 0.0))
     grad_W = gu * table.e + gv * table.n

@@ -16,7 +16,8 @@ from rocknroller.analysis.slow.dynamics.chaos import CRITERION, HORIZON_FRACTION
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.slow.map.family import maximum_state
-from rocknroller.numerics.budget import HEYOKA_SECONDS_PER_RADIAN, WORK_BUDGET_SECONDS, check_work
+from rocknroller.numerics.budget import (DIRECT_RUN_SECONDS, HEYOKA_SECONDS_PER_RADIAN, WORK_BUDGET_SECONDS,
+                                         check_work)
 from rocknroller.numerics.run_limits import rate_bound
 from rocknroller.numerics.megno import MEGNO_CHAOTIC, MIN_SAMPLES
 from rocknroller.papers.output import angle_text, save_figure, write_csv
@@ -28,13 +29,15 @@ __all__ = ["horizons_seconds", "orbit_horizons", "orbit_rows", "write_portrait"]
 def horizons_seconds(body: Body, theta0: float, n_orbits: int) -> float:
     """The estimated CPU seconds of :func:`orbit_horizons` for ``n_orbits`` orbits at the energy of a release from rest
     at θ0 (every orbit of a portrait has it): one direct run of ``PROBE_ROCKS`` T_θ(0) each, at Λ of that energy and
-    :data:`~rocknroller.numerics.budget.HEYOKA_SECONDS_PER_RADIAN`."""
+    :data:`~rocknroller.numerics.budget.HEYOKA_SECONDS_PER_RADIAN`, with ``DIRECT_RUN_SECONDS`` a run besides (the
+    probe of 40 rocks is mostly that: 0.036-0.040 s measured an orbit at θ0 = 0.95π)."""
     from rocknroller.analysis.slow.map.limits import check_map_theta0
     from rocknroller.analysis.slow.work import rocking_period
 
     theta0 = check_map_theta0(theta0)
     window = PROBE_ROCKS * rocking_period(body, theta0)
-    return n_orbits * rate_bound(body, EulerState(theta0).to_body_state()) * window * HEYOKA_SECONDS_PER_RADIAN
+    rate = rate_bound(body, EulerState(theta0).to_body_state())
+    return n_orbits * (rate * window * HEYOKA_SECONDS_PER_RADIAN + DIRECT_RUN_SECONDS)
 
 
 def orbit_horizons(portrait: SlowPortrait, budget: float | None = WORK_BUDGET_SECONDS) -> list[Any]:

@@ -49,8 +49,7 @@ from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import RATE_MAX, EulerState
 from rocknroller.analysis.slow import prediction as av
 from rocknroller.analysis.slow.map.limits import ANGLE_MAX
-from rocknroller.analysis.slow.work import check_map_work
-from rocknroller.numerics.budget import REGION_TABLE_SECONDS, RELEASE_TABLE_SECONDS, WORK_BUDGET_SECONDS, check_work
+from rocknroller.numerics.budget import WORK_BUDGET_SECONDS, check_work
 from rocknroller.numerics.megno import MEGNO_CHAOTIC
 from rocknroller.numerics.parallel import check_processes, map_blocks
 
@@ -59,7 +58,8 @@ if TYPE_CHECKING:
 
 __all__ = [
     "ATLAS_OBSERVABLES", "CHAOS_OBSERVABLES", "PLANES", "METHODS", "MAX_ATLAS_POINTS", "MAX_ODE_ATLAS_POINTS", "Atlas",
-    "reversal_counts", "atlas_from_rest", "atlas_of_rates", "ATLAS_ORDER"
+    "reversal_counts", "atlas_from_rest", "atlas_of_rates", "atlas_seconds", "ATLAS_ORDER", "FILES_SECONDS",
+    "FILES_SECONDS_PER_POINT"
 ]
 
 #: The map's order in ε of a map-made atlas: 1, whatever ``predict_slow_motion``'s default (2 for releases in
@@ -274,21 +274,54 @@ def _ode_atlas(body: Body, plane: str, rows: NDArray[np.float64], cols: NDArray[
 MAX_ODE_ATLAS_POINTS = 20_000
 
 
-def _check_table_work(body: Body, theta0: NDArray[np.float64], budget: float | None) -> None:
-    """Refuse an atlas whose uncached tables (one per θ0: a release table, or below ``THETA0_RANGE`` the region
-    tables of the release's energy) would take more than ``budget`` CPU seconds to build."""
-    from rocknroller.analysis.slow.map.family import rest_energy
-    from rocknroller.analysis.slow.map.region import region_table_cached
-    from rocknroller.analysis.slow.map.table import build_table, is_cached
+#: CPU seconds of an atlas's files (``rocknroller atlas``: its CSV and figures) besides its points: ~3.5 s measured (an
+#: atlas of 40 points: the command's 6.6 s less its two tables and its confirmation; benchmarks/bench_budget.py).
+FILES_SECONDS = 5.0
+#: The same per point of the grid: ~3e-4 s inferred (an atlas of 3000 points: the command's 19.2 s less its runs and
+#: its confirmation), not measured apart.
+FILES_SECONDS_PER_POINT = 5.0e-4
 
-    sym = body.symmetric()
-    region = [t0 for t0 in theta0 if av.releases_on_region_tables(t0)]
-    release = [t0 for t0 in theta0 if not av.releases_on_region_tables(t0)]
-    n_region = sum(not region_table_cached(sym, rest_energy(sym, float(t0))) for t0 in region)
-    n_release = sum(not is_cached(build_table, sym, float(t0)) for t0 in release)
-    check_work(n_region * REGION_TABLE_SECONDS + n_release * RELEASE_TABLE_SECONDS,
-               f"the atlas's tables ({n_release} release and {n_region} region tables to build, one per theta0 not "
-               "cached)", budget)
+
+def atlas_seconds(body: Body, theta0: ArrayLike, n_psi0: int, t_end: float, *, chaos: bool = True,
+                  build: bool = True, files: bool = False) -> tuple[float, str]:
+    """The estimated CPU seconds of a map-made release atlas (:func:`atlas_from_rest`) over the rows ``theta0`` and
+    ``n_psi0`` columns, and a phrase saying what they count (:mod:`rocknroller.numerics.budget`), without building or
+    running anything: with ``build`` the tables not cached (one per θ0: a release table, or below ``THETA0_RANGE`` the
+    region tables of the release's energy; :func:`rocknroller.analysis.slow.work.tables_seconds`), every point's run
+    of the map over t_end (the atlas's span) with its tangent vector if ``chaos``
+    (:func:`rocknroller.analysis.slow.work.map_runs_seconds`, ``ATLAS_POINT_SECONDS`` a point besides), and with
+    ``files`` the command's CSV and figures (``FILES_SECONDS``, ``FILES_SECONDS_PER_POINT``).
+
+    Raises
+    ------
+    ValueError
+        t_end not a finite number > 0.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> plain, _ = atlas_seconds(body, [0.95 * math.pi], 100, 1000.0, chaos=False, build=False)
+    >>> chaos, what = atlas_seconds(body, [0.95 * math.pi], 100, 1000.0, build=False)
+    >>> print(chaos > plain, "|", what.split(" (")[0])
+    True | the atlas's 100 points
+    """
+    from rocknroller.analysis.slow.work import map_runs_seconds, tables_seconds
+    from rocknroller.numerics.budget import ATLAS_POINT_SECONDS
+
+    t_end = float(t_end)
+    if not 0.0 < t_end < np.inf:  # also NaN; each run checks its own upper limit
+        raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}")
+    th = np.atleast_1d(np.asarray(theta0, float))
+    tables, built = tables_seconds(body, th, ATLAS_ORDER) if build else (0.0, "no tables to build")
+    runs, n_max = map_runs_seconds(body, th, n_psi0, t_end, ATLAS_ORDER, tangent=chaos, per_run=ATLAS_POINT_SECONDS)
+    n = th.size * n_psi0
+    output = FILES_SECONDS + n * FILES_SECONDS_PER_POINT if files else 0.0
+    what = (f"the atlas's {n} points ({built}; {n} map runs of order {ATLAS_ORDER} over t_end = {t_end:g}"
+            f"{' with their tangent vectors (the chaos layer)' if chaos else ''}, about {n_max:.2g} theta-maxima"
+            f"{'; its CSV and figures' if files else ''})")
+    return tables + runs + output, what
 
 
 def _check_method(method: str) -> str:
@@ -332,8 +365,8 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
         the same bit for bit wherever they are built) before the rows run.
     budget : float or None
         CPU seconds the atlas may take (:mod:`rocknroller.numerics.budget`; None: no limit), estimated before any
-        work: for the map, its runs' θ-maxima (:func:`rocknroller.analysis.slow.work.check_map_work`) and, separately,
-        one table build per θ0 whose tables are not cached; for the ODE, the runs' radians.
+        work: for the map all of it together (:func:`atlas_seconds`: the tables not cached, the runs' θ-maxima with
+        the chaos layer's tangent vectors, each point's overhead); for the ODE, the runs' radians.
     chaos : bool or None
         The map: add the chaos layer, ``CHAOS_OBSERVABLES`` (module docstring; the map's tangent vector, ~1.5-1.8x the
         map's cost without it); None: True for the map, False for the ODE (an atlas made by the ODE has no chaos
@@ -367,10 +400,8 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
     _check_size(th.size, ps.size, MAX_ATLAS_POINTS, "MAX_ATLAS_POINTS")
     chaos = chaos is not False
     processes = check_processes(processes, "processes")
-    check_map_work(body, th, ps.size, t_end, 1, f"the atlas's {th.size * ps.size} map runs of {float(t_end):g} "
-                   "time units each", budget)
+    check_work(*atlas_seconds(body, th, ps.size, t_end, chaos=chaos, build=build), budget)  # before any work
     if build:
-        _check_table_work(body, th, budget)
         if (scheduler, workers, threads) != (None, None, None):
             from rocknroller.analysis.slow.map.tables_at_once import build_release_tables
 

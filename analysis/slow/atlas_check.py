@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 from typing import Sequence
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState
@@ -18,7 +18,7 @@ from rocknroller.analysis.slow.atlas import ATLAS_OBSERVABLES, CHAOS_OBSERVABLES
 from rocknroller.numerics.budget import WORK_BUDGET_SECONDS, check_work
 from rocknroller.numerics.megno import MEGNO_CHAOTIC
 
-__all__ = ["AtlasCheck", "confirm_atlas"]
+__all__ = ["AtlasCheck", "confirm_atlas", "confirm_seconds"]
 
 
 @dataclass(frozen=True)
@@ -76,15 +76,53 @@ class AtlasCheck:
         return None if n == 0 else float(np.ma.sum(agrees)) / n
 
 
-def _check_chaos_work(body: Body, states: Sequence[EulerState], t_end: float, budget: float | None) -> None:
-    """Refuse variational runs from ``states`` whose estimated cost together (Λ t_end each, at
-    ``VARIATIONAL_SECONDS_PER_RADIAN``) exceeds ``budget``."""
-    from rocknroller.numerics.integrate import check_run
+def _chosen(n_t: int, n_p: int, every: int | None, points: Sequence[tuple[int, int]]) -> list[int]:
+    """The flat indices (row-major) of the points confirmed: 1 in ``every`` and ``points``; a ValueError naming
+    ``every`` or ``points`` where they are not as :func:`confirm_atlas` states."""
+    if every is not None and (int(every) != every or every < 1):
+        raise ValueError(f"every must be an integer >= 1 or None, got every={every!r}")
+    chosen = [] if every is None else list(range(0, n_t * n_p, int(every)))
+    for i, j in points:
+        if not (0 <= i < n_t and 0 <= j < n_p):
+            raise ValueError(f"points must lie on the {n_t} x {n_p} grid, got {(i, j)!r}")
+        chosen.append(int(i) * n_p + int(j))
+    return sorted(set(chosen))
+
+
+def confirm_seconds(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float, *, every: int | None = 50,
+                    points: Sequence[tuple[int, int]] = (), chaos: bool = True) -> tuple[float, str]:
+    """The estimated CPU seconds of :func:`confirm_atlas` on a release atlas over the grid ``theta0`` × ``psi0``
+    (before the atlas is made: the points it confirms follow from the grid), and a phrase saying what they count: a
+    direct run over t_end at each confirmed point (Λ t_end radians at ``HEYOKA_SECONDS_PER_RADIAN``, and
+    ``DIRECT_RUN_SECONDS`` a run) and, with ``chaos``, a variational run there
+    (``VARIATIONAL_SECONDS_PER_RADIAN``; counted at every confirmed point, where the map's layer may be masked).
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper(epsilon=1e-3)
+    >>> plain, _ = confirm_seconds(body, [0.95 * math.pi], [0.3, 0.8], 1000.0, every=1, chaos=False)
+    >>> both, what = confirm_seconds(body, [0.95 * math.pi], [0.3, 0.8], 1000.0, every=1)
+    >>> print(both > plain, "|", what)
+    True | the confirmation of 2 points (direct runs over t_end = 1000 and variational runs, one of each a point)
+    """
+    from rocknroller.numerics.budget import DIRECT_RUN_SECONDS, HEYOKA_SECONDS_PER_RADIAN
+    from rocknroller.numerics.run_limits import rate_bound
     from rocknroller.numerics.variational import VARIATIONAL_SECONDS_PER_RADIAN
 
-    radians = sum(check_run(body, s, t_end, samples=False)[4] * t_end for s in states)
-    check_work(radians * VARIATIONAL_SECONDS_PER_RADIAN,
-               f"the atlas's {len(states)} variational runs (Λ t_end = {radians:.3g} radians in all)", budget)
+    th, ps = np.atleast_1d(np.asarray(theta0, float)), np.atleast_1d(np.asarray(psi0, float))
+    flat = _chosen(th.size, ps.size, every, points)
+    rates = {}  # Λ of a release depends on θ0 alone (its energy)
+    for f in flat:
+        t0 = float(th[f // ps.size])
+        if t0 not in rates:
+            rates[t0] = rate_bound(body, EulerState(t0).to_body_state())
+    radians = sum(rates[float(th[f // ps.size])] for f in flat) * float(t_end)
+    seconds = radians * (HEYOKA_SECONDS_PER_RADIAN + (VARIATIONAL_SECONDS_PER_RADIAN if chaos else 0.0)) \
+        + len(flat) * DIRECT_RUN_SECONDS * (2 if chaos else 1)
+    return seconds, (f"the confirmation of {len(flat)} points (direct runs over t_end = {float(t_end):g}"
+                     f"{' and variational runs' if chaos else ''}, one of each a point)")
 
 
 def _ode_chaos(body: Body, states: Sequence[EulerState], t_end: float, threads: int | None) -> NDArray[np.float64]:
@@ -110,8 +148,8 @@ def confirm_atlas(atlas: Atlas, body: Body, *, every: int | None = 50, points: S
                   chaos: bool | None = None) -> AtlasCheck:
     """Run the direct ODE at 1 point in ``every`` (row-major, starting at the first; None: none) and at ``points``
     (row, column) of a map-made atlas, as an ensemble (:func:`rocknroller.numerics.ensembles.ensemble.run_ensemble`; where it
-    runs does not change the numbers); ``budget``: the CPU seconds the runs may take (as for ``run_ensemble``), and
-    separately the variational runs.
+    runs does not change the numbers); ``budget``: the CPU seconds the direct and the variational runs may take
+    together (:func:`confirm_seconds`, estimated before any run; None: no limit).
 
     ``chaos`` (None: whether the atlas has its chaos layer) also confirms the map's MEGNO and λ there by the direct
     motion's (:func:`rocknroller.numerics.variational.direct_chaos_indicators` over the atlas's t_end, at the points
@@ -144,14 +182,7 @@ def confirm_atlas(atlas: Atlas, body: Body, *, every: int | None = 50, points: S
         raise ValueError(f"chaos must be None, False, or True for an atlas with its chaos layer (atlas_from_rest's "
                          f"chaos=True), got chaos={chaos!r} for an atlas {'with' if has_chaos else 'without'} it")
     n_t, n_p = atlas.rows.size, atlas.cols.size
-    if every is not None and (int(every) != every or every < 1):
-        raise ValueError(f"every must be an integer >= 1 or None, got every={every!r}")
-    chosen = [] if every is None else list(range(0, n_t * n_p, int(every)))
-    for i, j in points:
-        if not (0 <= i < n_t and 0 <= j < n_p):
-            raise ValueError(f"points must lie on the {n_t} x {n_p} grid, got {(i, j)!r}")
-        chosen.append(int(i) * n_p + int(j))
-    flat = sorted(set(chosen))
+    flat = _chosen(n_t, n_p, every, points)
     if not flat:
         raise ValueError("nothing to confirm: give every or points")
     index = np.array([divmod(f, n_p) for f in flat], dtype=np.int64).reshape(-1, 2)
@@ -159,7 +190,8 @@ def confirm_atlas(atlas: Atlas, body: Body, *, every: int | None = 50, points: S
     names = ATLAS_OBSERVABLES + (CHAOS_OBSERVABLES if chaos else ())
     have = ~np.ma.getmaskarray(atlas.values["megno"][index[:, 0], index[:, 1]]) if chaos else np.zeros(0, bool)
     chaos_states = [s for s, h in zip(states, have) if h]
-    _check_chaos_work(body, chaos_states, atlas.t_end, budget)
+    check_work(*confirm_seconds(body, atlas.rows, atlas.cols, atlas.t_end, every=every, points=points,
+                                chaos=bool(chaos_states)), budget)  # before any run
     out, mask = _ode_values(body, states, atlas.t_end, scheduler, workers, threads, progress, budget)
     ode = {name: np.ma.MaskedArray(out[k], mask[k]) for k, name in enumerate(ATLAS_OBSERVABLES)}
     if chaos:

@@ -78,7 +78,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="write atlas.csv and the figures to DIR (default ./atlas; created if missing; existing files "
                         "are not overwritten without --force)")
     add_force_option(p)
-    add_budget_option(p, "the atlas (its table builds, or its direct runs) and its ODE confirmation each")
+    add_budget_option(p, "the atlas and its ODE confirmation together (the map's uncached tables, runs and chaos "
+                         "layer, the direct and variational runs, the files; or the direct runs of --method ode)")
     p.add_argument("--no-chaos", action="store_true",
                    help="the map: leave out the chaos layer (the map's MEGNO and Lyapunov exponent, ~1.5-1.8x the "
                         "map's own cost, and the direct runs' variational equations at the confirmed points, ~1-3x a "
@@ -132,6 +133,29 @@ def _grids(args: argparse.Namespace) -> tuple[str, dict[str, str]]:
     return method, texts
 
 
+def _check_map_atlas_work(body: Any, theta0: np.ndarray, psi0: np.ndarray, args: argparse.Namespace,
+                          confirm_every: int, budget: float | None) -> None:
+    """Refuse a map-made atlas whose work together, the atlas's (its uncached tables, runs and chaos layer, its
+    files) and its confirmation's (the direct and variational runs), is estimated over ``budget``, before any of it."""
+    from rocknroller.analysis.slow.atlas import MAX_ATLAS_POINTS, atlas_seconds
+    from rocknroller.analysis.slow.atlas_check import confirm_seconds
+    from rocknroller.numerics.budget import check_work
+
+    if theta0.size * psi0.size > MAX_ATLAS_POINTS:
+        return  # atlas_from_rest refuses the grid itself
+    chaos = not args.no_chaos
+    seconds, what = atlas_seconds(body, theta0, psi0.size, args.t_end, chaos=chaos, build=not args.cached_only,
+                                  files=True)
+    if confirm_every > 0 or args.confirm:
+        from types import SimpleNamespace
+
+        named = [_nearest(SimpleNamespace(rows=theta0, cols=psi0), s) for s in args.confirm]
+        more, also = confirm_seconds(body, theta0, psi0, args.t_end, every=confirm_every or None, points=named,
+                                     chaos=chaos)
+        seconds, what = seconds + more, f"{what} and {also}"
+    check_work(seconds, what, budget)
+
+
 def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller atlas`` with the parsed ``args``; returns the exit status."""
     from rocknroller.analysis.slow.atlas import ATLAS_ORDER, atlas_from_rest, atlas_of_rates
@@ -159,6 +183,8 @@ def run(args: argparse.Namespace) -> int:
                                grids["psi_dot0"], args.t_end, progress=progress, scheduler=scheduler,
                                workers=workers, threads=threads, budget=budget)
     else:
+        if method == "map" and 0.0 < args.t_end < np.inf:  # (else atlas_from_rest refuses t_end itself)
+            _check_map_atlas_work(body, grids["theta0"], grids["psi0"], args, confirm_every, budget)
         atlas = atlas_from_rest(body, grids["theta0"], grids["psi0"], args.t_end, method=method, progress=progress,
                                 build=not args.cached_only, processes=args.processes, scheduler=scheduler,
                                 workers=workers, threads=threads, budget=budget,

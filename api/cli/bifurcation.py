@@ -45,7 +45,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_force_option(p)
     p.add_argument("--cached-only", action="store_true",
                    help="fail instead of building the averaging tables when none are cached for this body/theta0")
-    add_budget_option(p, "the diagram")
+    add_budget_option(p, "the diagram (its uncached tables, eps_pd, exact and slow orbits, files)")
     p.add_argument("--json", action="store_true", help="print a JSON summary (files, eps_pd, the period-2 points)")
     p.add_argument("--quiet", action="store_true", help="no progress bars (table builds)")
     p.set_defaults(run=run)
@@ -56,10 +56,13 @@ def run(args: argparse.Namespace) -> int:
     from rocknroller.analysis.slow.map.second_order import load_or_build_second_order_table
     from rocknroller.analysis.slow.map.table import load_or_build_table
     from rocknroller.analysis.slow.prediction import default_order
-    from rocknroller.papers.bifurcation import MAX_DIAGRAM_THETA0, MAX_EXACT_FRACTIONS, bifurcation_diagram
+    from rocknroller.analysis.slow.map.limits import check_map_theta0
+    from rocknroller.numerics.budget import check_work
+    from rocknroller.papers.bifurcation import (FILES_SECONDS, MAX_DIAGRAM_THETA0, MAX_EXACT_FRACTIONS, _check_counts,
+                                                _what, bifurcation_diagram, bifurcation_seconds)
 
     body = body_from_args(args, gravity=True)
-    theta0s = [parse_angle(t, "--theta0") for t in (args.theta0 or ["0.9pi", "0.95pi"])]
+    theta0s = [check_map_theta0(parse_angle(t, "--theta0")) for t in (args.theta0 or ["0.9pi", "0.95pi"])]
     exact_at = [f for f in EXACT_FRACTIONS if f <= args.hi] if args.exact_at is None else args.exact_at
     if len(theta0s) > MAX_DIAGRAM_THETA0:
         raise ValueError(f"--theta0 may be given at most {MAX_DIAGRAM_THETA0} times (a column of the figure each), "
@@ -67,8 +70,11 @@ def run(args: argparse.Namespace) -> int:
     if len(exact_at) > MAX_EXACT_FRACTIONS:
         raise ValueError(f"--exact-at takes at most {MAX_EXACT_FRACTIONS} values (an exact-map solve each), got "
                          f"{len(exact_at)}")
-    prepare_output_dir(args.out, "--out", args.force, ["bifurcation.png", "bifurcation.pdf", "bifurcation.csv"])
     order = max(default_order(t) for t in theta0s) if args.order is None else args.order
+    _check_counts(args.points, exact_at)
+    check_work(bifurcation_seconds(body, theta0s, args.points, exact_at, order, build=not args.cached_only)
+               + FILES_SECONDS, _what(theta0s, args.points, exact_at, order), budget_from_args(args))  # before any work
+    prepare_output_dir(args.out, "--out", args.force, ["bifurcation.png", "bifurcation.pdf", "bifurcation.csv"])
     progress = False if args.quiet else None
     for theta0 in theta0s:  # the tables first: --cached-only refuses before any work, --quiet hides their builds
         load_or_build_table(body, theta0, build=not args.cached_only, progress=progress)

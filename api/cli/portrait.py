@@ -72,7 +72,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="write portrait.png, .pdf and .csv to DIR (default ./portrait; existing files are not "
                         "overwritten without --force)")
     add_force_option(p)
-    add_budget_option(p, "the direct runs")
+    add_budget_option(p, "the portrait (its uncached tables, orbits, direct runs, horizon probes and files)")
     p.add_argument("--cached-only", action="store_true",
                    help="fail instead of building the averaging tables when none are cached for this body/theta0")
     p.add_argument("--json", action="store_true", help="print a one-object JSON summary on stdout")
@@ -142,7 +142,8 @@ def run(args: argparse.Namespace) -> int:
     from rocknroller.papers.portrait_limits import MAX_PORTRAIT_ORBITS
     from rocknroller.analysis.slow.dynamics.chaos import CRITERION
     from rocknroller.numerics.budget import check_work
-    from rocknroller.papers.portrait_output import horizons_seconds, orbit_rows, write_portrait
+    from rocknroller.papers.portrait_limits import check_portrait_size, portrait_seconds
+    from rocknroller.papers.portrait_output import orbit_rows, write_portrait
 
     body = body_from_args(args, gravity=True)
     if args.E is not None and args.theta0 is not None:
@@ -156,12 +157,19 @@ def run(args: argparse.Namespace) -> int:
     values = None
     if args.values is not None:
         values = read_values(args.values, n_orbits)
-    if n_orbits <= MAX_PORTRAIT_ORBITS:  # (beyond it slow_portrait refuses the grid itself)
-        check_work(horizons_seconds(body, theta0, n_orbits), f"the horizons of the portrait's {n_orbits} orbits",
-                   budget_from_args(args))  # before any work, as the portrait checks its own
+    order = default_order(theta0) if args.order is None else args.order
+    ode_t_end = args.t_end if args.ode_t_end is None else args.ode_t_end
+    if n_orbits <= MAX_PORTRAIT_ORBITS and 0.0 < args.t_end < np.inf and 0.0 < ode_t_end < np.inf:
+        # (else slow_portrait refuses them itself, naming them)
+        from rocknroller.analysis.slow.map.limits import check_map_theta0
+
+        check_portrait_size(body, check_map_theta0(theta0), n_orbits, args.t_end,
+                            [ode_t_end] * len(starts))  # memory first
+        seconds, what = portrait_seconds(body, theta0, n_orbits, args.t_end, order=order,
+                                         ode_t_ends=[ode_t_end] * len(starts), horizons=True, files=True)
+        check_work(seconds, what, budget_from_args(args))  # all of the command's work, before any of it
     prepare_output_dir(args.out, "--out", args.force, OUTPUTS)
     progress = False if args.quiet else None
-    order = default_order(theta0) if args.order is None else args.order
     portrait = slow_portrait(body, theta0, Theta, p, args.t_end, order=order, ode_starts=starts,
                              ode_t_end=args.ode_t_end, build=not args.cached_only, progress=progress,
                              budget=budget_from_args(args))
