@@ -9,6 +9,11 @@ In the order data flows through them:
     The closed form near pure rocking: the standard map and its pendulum limit.
 ``period_doubling``
     The period doubling of stable rocking, from the exact step.
-``periodic_orbits``
-    Periodic orbits of the slow map and of the exact step, and their continuation in ε.
+``periodic_orbits``, ``periodic_starts``
+    Periodic orbits of the slow map and of the exact step, and their continuation in ε; the one a release lies on.
+``reversibility``, ``flow_volume``
+    Is the chaos conservative? The exact map's reversors, log Π det DP around cycles, the Lyapunov sums forward and
+    backward; the flow's volume along long direct runs and Livšic's test on its close returns.
+``result_plots``, ``atlas_figure``
+    The figures of the results above (the API's ``.plot()`` and the commands' figures alike).
 """
