@@ -15,7 +15,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.slow.map.limits import K_PERIOD_DOUBLING, check_map_theta0
+from rocknroller.analysis.slow.map.limits import K_PERIOD_DOUBLING, check_map_theta0, default_order
 from rocknroller.analysis.slow.map.tables_at_once import build_release_tables
 from rocknroller.analysis.slow.dynamics.period_doubling import period_doubling
 from rocknroller.analysis.slow.dynamics.periodic_orbits import (K_MAX, MAX_BRANCH_POINTS, Branch, PeriodicOrbit,
@@ -112,7 +112,7 @@ def _what(theta0s: Sequence[float], n_points: int, exact_fractions: Sequence[flo
 
 
 def bifurcation_data(body: Body, theta0: float, *, fractions: tuple[float, float] = (0.6, 1.55), n_points: int = 111,
-                     exact_fractions: Sequence[float] = EXACT_FRACTIONS, order: int = 1,
+                     exact_fractions: Sequence[float] = EXACT_FRACTIONS, order: int | None = None,
                      workers: int = 1, budget: float | None = WORK_BUDGET_SECONDS) -> BifurcationData:
     """The orbits of the diagram at θ0: the slow map's branches at ``n_points`` values of ε/ε_pd over ``fractions``
     (within K = εκ ≤ K_MAX), the exact map's at ``exact_fractions``; ``budget``: the CPU seconds it may take
@@ -127,6 +127,7 @@ def bifurcation_data(body: Body, theta0: float, *, fractions: tuple[float, float
         cost over ``budget``.
     """
     theta0 = check_map_theta0(theta0)
+    order = default_order(theta0) if order is None else order  # the one default: 2 on the release tables
     _check_counts(n_points, exact_fractions)
     check_work(bifurcation_seconds(body, [theta0], n_points, exact_fractions, order),
                _what([theta0], n_points, exact_fractions, order), budget)
@@ -267,7 +268,9 @@ def bifurcation_diagram(body: Body, out_dir: str | Path, theta0s: Sequence[float
     theta0s = [check_map_theta0(t) for t in theta0s]
     n_points, exact = kwargs.get("n_points", 111), kwargs.get("exact_fractions", EXACT_FRACTIONS)
     _check_counts(n_points, exact)
-    order = kwargs.get("order", 1)
+    order = kwargs.get("order")
+    order = max((default_order(float(t)) for t in theta0s), default=1) if order is None else order
+    kwargs["order"] = order  # one order for every theta0 of the diagram, as the command's
     check_work(bifurcation_seconds(body, theta0s, n_points, exact, order) + FILES_SECONDS,
                _what(theta0s, n_points, exact, order), budget)
     where = {"scheduler": scheduler, "threads": threads} if (scheduler, threads) != (None, None) else \

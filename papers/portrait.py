@@ -18,7 +18,8 @@ same maxima (:func:`rocknroller.analysis.slow.map.family.maximum_state`), run by
 Colour.  Each orbit is coloured by one value (:func:`portrait_values`): the values passed in; else, by default, the
 orbit's MEGNO (``SlowPortrait.chaos``: the map's tangent vector carried along the orbit,
 ``SlowMap.run(..., tangent=True)``, and :func:`rocknroller.analysis.slow.dynamics.chaos.map_indicators`, the indicators
-``predict_slow_motion`` gives a release), on a colour scale clipped to [0, ``MEGNO_CLIP``] = [0, 5] (regular ≈ 2, a
+``predict_slow_motion`` gives a release, over the same span, max(t_end, ``SPAN_ROCKS`` rocks): a release on the line
+p = 0 gets the verdict and MEGNO of ``rocknroller slow`` to the bit, whatever t_end), on a colour scale clipped to [0, ``MEGNO_CLIP``] = [0, 5] (regular ≈ 2, a
 stable periodic orbit 0, chaotic above 3, marked on the colour bar), grey where an orbit has fewer than
 :data:`~rocknroller.numerics.megno.MIN_SAMPLES` maxima (it left the tables early); with ``chaos=False``, or for other
 ``orbits`` given (:func:`orbit_values`: their ``chaos.megno`` where every one carries it), as those say, else the
@@ -38,9 +39,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.model.body import Body, as_float
 from rocknroller.analysis.slow import prediction as av
-from rocknroller.analysis.slow.dynamics.chaos import MapChaos, map_indicators
-from rocknroller.analysis.slow.map.compiled_map import SlowSeries
+from rocknroller.analysis.slow.dynamics.chaos import PROBE_ROCKS, MapChaos, indicator_span, map_indicators
+from rocknroller.analysis.slow.map.compiled_map import SlowSeries, centre_period
 from rocknroller.analysis.slow.map.family import maximum_state, rest_energy
+from rocknroller.analysis.slow.map.limits import default_order
 from rocknroller.analysis.slow.map.maps import SlowMap
 from rocknroller.numerics.budget import WORK_BUDGET_SECONDS, check_work
 from rocknroller.numerics.megno import MEGNO_CHAOTIC, MEGNO_CLIP, MIN_SAMPLES
@@ -73,6 +75,9 @@ class SlowPortrait:
     left : indices of the orbits that left the tables before t_end.
     ode_starts : the (Θ, p) of the direct runs.
     ode : the direct runs' θ-maxima (``TurningPoints``), one per ODE start.
+    probes : for each orbit with indicators, its run over the horizon probe's window and its (Q_R, Q_J) extents over
+        the indicators' span (what ``predict_slow_motion`` measures the horizon from); ``rock_time``: T_θ(0) of the
+        tables, whose ``PROBE_ROCKS`` times is that window.
     chaos : the map's chaos indicators of each orbit (None for an orbit of fewer than ``MIN_SAMPLES`` maxima); empty
         for a portrait made with ``chaos=False``.
 
@@ -100,6 +105,8 @@ class SlowPortrait:
     ode_starts: tuple[tuple[float, float], ...] = ()
     ode: tuple[Any, ...] = field(default=(), repr=False)
     chaos: tuple[MapChaos | None, ...] = field(default=(), repr=False)
+    probes: tuple[tuple[SlowSeries, tuple[float, float]] | None, ...] = field(default=(), repr=False, compare=False)
+    rock_time: float = math.nan
 
     @property
     def megno(self) -> NDArray[np.float64]:
@@ -214,7 +221,7 @@ N_P_DEFAULT = 9
 
 
 def slow_portrait(body: Body, theta0: float, Theta: ArrayLike, p: ArrayLike | None = None, t_end: float = 2000.0, *,
-                  order: int = 1, ode_starts: Sequence[tuple[float, float]] = (), ode_t_end: float | None = None,
+                  order: int | None = None, ode_starts: Sequence[tuple[float, float]] = (), ode_t_end: float | None = None,
                   build: bool = True, progress: bool | None = None,
                   budget: float | None = WORK_BUDGET_SECONDS, chaos: bool = True) -> SlowPortrait:
     """The slow map's orbits from the grid Θ × p at (body, θ0, ε = body.epsilon), and the direct ODE's θ-maxima
@@ -235,8 +242,9 @@ def slow_portrait(body: Body, theta0: float, Theta: ArrayLike, p: ArrayLike | No
     t_end : float
         Time span of each orbit (checked as ``iterate_slow_map`` checks it, and with the grid against
         ``MAX_PORTRAIT_MAXIMA``).
-    order : {1, 2}
-        The map's order (2 builds or loads the second-order tables of (body, θ0)).
+    order : {1, 2}, optional
+        The map's order (2 builds or loads the second-order tables of (body, θ0)); default
+        :func:`~rocknroller.analysis.slow.map.limits.default_order`, 2, as every entry's.
     ode_starts : sequence of (Θ, p)
         Starts run by the direct ODE over ``ode_t_end`` (default ``t_end``), at most ``MAX_ODE_STARTS``.
     build : bool
@@ -273,6 +281,7 @@ def slow_portrait(body: Body, theta0: float, Theta: ArrayLike, p: ArrayLike | No
     if not eps > 0.0:
         raise ValueError(f"eps must be > 0 for a portrait of the slow motion (at eps = 0 there is none), got "
                          f"eps={eps!r}")
+    order = default_order(theta0) if order is None else order
     if order not in (1, 2) or isinstance(order, bool):
         raise ValueError(f"order must be 1 or 2, got order={order!r}")
     theta0 = av.check_map_theta0(theta0)
@@ -317,26 +326,45 @@ def slow_portrait(body: Body, theta0: float, Theta: ArrayLike, p: ArrayLike | No
         QR, QJ = (s_p / along) * e
         state = maximum_state(body.symmetric(), eps, table.E0, QR, QJ, 0.5 * s_Th)[2]
         jobs.append(Job(body, state, t_end if ode_t_end is None else ode_t_end))
-    orbits, left, indicators = [], [], []
+    orbits, left, indicators, probes = [], [], [], []
+    rock_time = centre_period(table)
+    span, window = indicator_span(t_end, rock_time), PROBE_ROCKS * rock_time
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", av.AveragingValidityWarning)  # K > 4 is stated in the portrait's title
         with _bar(n, progress, "portrait") as bar:
             for k, (th, pk) in enumerate(zip(T, P)):
                 x = np.array([*((pk / along) * e), th])
-                try:
-                    s = slow_map.run(x, t_end, tangent=chaos)
-                except av.AveragingRangeError:
-                    s = _until_left(slow_map, x, t_end, chaos)
-                    left.append(k)
+                run = _indicator_run(slow_map, x, span) if chaos else None  # over the span slow measures over
+                if run is not None:
+                    s = run.until(t_end)
+                else:
+                    try:
+                        s = slow_map.run(x, t_end, tangent=chaos)
+                    except av.AveragingRangeError:
+                        s = _until_left(slow_map, x, t_end, chaos)
+                        left.append(k)
+                    run = s
                 orbits.append(s)
                 if chaos:
-                    indicators.append(None if s.log_growth is None else map_indicators(s.t, s.log_growth))
+                    indicators.append(None if run.log_growth is None else map_indicators(run.t, run.log_growth))
+                    probes.append((run.until(window), (float(np.ptp(run.QR)), float(np.ptp(run.QJ))))
+                                  if run.t.size else None)
                 bar.update(1)
     ode = [] if not jobs else [r.maxima for r in run_ensemble(jobs, progress=progress, budget=budget)]
     return SlowPortrait(body=body, theta0=theta0, E=float(table.E0), t_end=float(t_end), order=order,
                         K=eps * table.kappa, grad_W=np.asarray(grad_W, float), e=e, Theta0=T, p0=P,
                         orbits=tuple(orbits), left=tuple(left), ode_starts=tuple(starts), ode=tuple(ode),
-                        chaos=tuple(indicators))
+                        chaos=tuple(indicators), probes=tuple(probes), rock_time=rock_time)
+
+
+def _indicator_run(slow_map: SlowMap, x: NDArray[np.float64], span: float) -> SlowSeries | None:
+    """The orbit with its tangent vector over the chaos indicators' span (``indicator_span``, as
+    ``predict_slow_motion`` runs a release: the same run, so the same verdict and MEGNO to the bit), or None where it
+    leaves the tables before the span's end (then, as there, the indicators are those of the run over t_end)."""
+    try:
+        return slow_map.run(x, span, tangent=True)
+    except av.AveragingRangeError:
+        return None
 
 
 def _until_left(slow_map: SlowMap, x: NDArray[np.float64], t_end: float, tangent: bool) -> SlowSeries:

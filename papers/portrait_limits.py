@@ -94,7 +94,7 @@ def portrait_seconds(body: Body, theta0: float, n_orbits: int, t_end: float, *, 
     True | 90 horizon probes of 40 rocks)
     """
     from rocknroller.analysis.model.equations import EulerState
-    from rocknroller.analysis.slow.dynamics.chaos import PROBE_ROCKS
+    from rocknroller.analysis.slow.dynamics.chaos import PROBE_ROCKS, SPAN_ROCKS
     from rocknroller.analysis.slow.map.limits import check_map_theta0
     from rocknroller.analysis.slow.work import map_runs_seconds, rocking_period, tables_seconds
     from rocknroller.numerics.budget import DIRECT_RUN_SECONDS, HEYOKA_SECONDS_PER_RADIAN
@@ -102,7 +102,7 @@ def portrait_seconds(body: Body, theta0: float, n_orbits: int, t_end: float, *, 
 
     theta0 = check_map_theta0(theta0)
     tables, built = tables_seconds(body, [theta0], order)
-    orbits, n_max = map_runs_seconds(body, [theta0], n_orbits, t_end, order, tangent=chaos)
+    orbits, n_max = map_runs_seconds(body, [theta0], n_orbits, t_end, order, tangent=chaos, indicator_span=chaos)
     rate = rate_bound(body, EulerState(theta0).to_body_state())  # Λ: every start has the release's energy
     ode = sum(rate * float(t) * HEYOKA_SECONDS_PER_RADIAN + DIRECT_RUN_SECONDS for t in ode_t_ends)
     period = rocking_period(body, theta0)
@@ -110,8 +110,9 @@ def portrait_seconds(body: Body, theta0: float, n_orbits: int, t_end: float, *, 
     probes = n_probes * (rate * PROBE_ROCKS * period * HEYOKA_SECONDS_PER_RADIAN + DIRECT_RUN_SECONDS)
     kept = n_max + sum(ode_t_ends) / period
     output = OUTPUT_SECONDS + kept * OUTPUT_SECONDS_PER_MAXIMUM if files else 0.0
+    tangents = f" with their tangent vectors over the indicators' span, max(t_end, {SPAN_ROCKS} rocks)" if chaos else ""
     what = (f"the portrait ({built}, {n_orbits} map orbits of order {order} over t_end = {float(t_end):g}"
-            f"{' with their tangent vectors' if chaos else ''}, about {n_max:.2g} theta-maxima, {len(ode_t_ends)} "
+            f"{tangents}, about {n_max:.2g} theta-maxima, {len(ode_t_ends)} "
             f"direct runs{', its figure and CSV files' if files else ''}, {n_probes} horizon probes of "
             f"{PROBE_ROCKS} rocks)")
     seconds = tables + orbits + ode + probes + output

@@ -55,7 +55,9 @@ def orbit_horizons(portrait: SlowPortrait, budget: float | None = WORK_BUDGET_SE
     check_work(horizons_seconds(portrait.body, portrait.theta0, n),
                f"the horizons of {n} orbits (a direct run of {PROBE_ROCKS} rocks each)", budget)
     sym, eps = portrait.body.symmetric(), portrait.body.epsilon
-    window = PROBE_ROCKS * rocking_period(portrait.body, portrait.theta0)
+    rock_time = portrait.rock_time if math.isfinite(portrait.rock_time) else rocking_period(portrait.body,
+                                                                                             portrait.theta0)
+    window = PROBE_ROCKS * rock_time  # the tables' T_θ(0), as predict_slow_motion's window
     along = float(portrait.grad_W @ portrait.e)
     out: list[Any] = []
     for k, s in enumerate(portrait.orbits):
@@ -65,7 +67,9 @@ def orbit_horizons(portrait: SlowPortrait, budget: float | None = WORK_BUDGET_SE
             continue
         QR, QJ = (float(portrait.p0[k]) / along) * portrait.e
         state = maximum_state(sym, eps, portrait.E, QR, QJ, 0.5 * float(portrait.Theta0[k]))[2]
-        out.append(HorizonProbe(portrait.body, state, s, c, window).horizon())
+        probe = portrait.probes[k] if k < len(portrait.probes) else None
+        series, extents = probe if probe is not None else (s, None)  # the span's run, as a release's prediction
+        out.append(HorizonProbe(portrait.body, state, series, c, window, extents).horizon())
     return out
 
 

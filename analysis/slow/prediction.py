@@ -253,7 +253,7 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
                                    order=default_order(start) if requested is None else order, progress=progress,
                                    indicators=indicators, span=span)
     chaos, probe = _indicators(body, EulerState(float(theta0), 0.0, psi0), run, run, T0, indicators)
-    return replace(_prediction(eps, theta0, psi0, t_end, K, _until(run, t_end), table.body), order=order, chaos=chaos,
+    return replace(_prediction(eps, theta0, psi0, t_end, K, run.until(t_end), table.body), order=order, chaos=chaos,
                    horizon_probe=probe)
 
 
@@ -271,13 +271,6 @@ def _run(iterate: Callable[[float], SlowSeries], t_end: float, T0: float, indica
         if span == t_end:
             raise
         return iterate(float(t_end))
-
-
-def _until(series: SlowSeries, t_end: float) -> SlowSeries:
-    """The maxima of ``series`` at t ≤ t_end."""
-    keep = series.t <= t_end
-    return SlowSeries(t=series.t[keep], QR=series.QR[keep], QJ=series.QJ[keep], Theta=series.Theta[keep],
-                      phi=series.phi[keep], log_growth=None if series.log_growth is None else series.log_growth[keep])
 
 
 def _indicators(body: Body, start: EulerState, run: SlowSeries, series: SlowSeries, T0: float,
@@ -389,5 +382,5 @@ def _predict_from_state(body: Body, start: EulerState, t_end: float, *, table: S
                         else np.concatenate([[0.0][: sum(first)], rest.log_growth]))
     chaos, probe = _indicators(body, start, rest, series, T0, indicators)
     return replace(_prediction(eps, float(start.theta), float(start.psi), t_end, eps * table.kappa,
-                               _until(series, t_end), table.body, start=start), order=order, chaos=chaos,
+                               series.until(t_end), table.body, start=start), order=order, chaos=chaos,
                    horizon_probe=probe)

@@ -28,15 +28,16 @@ THETA0 = 0.95 * math.pi
 
 
 def test_release_line_orbits_are_the_predictions_and_the_ode_overlay_is_the_direct_run(tmp_path):
-    """A grid start on p = 0 is the release from rest at ψ0 = Θ/2: its orbit is predict_slow_motion's (order 1)
-    bit for bit.  The ODE overlay of that start is the direct run from rest (maximum_state at Q = 0 gives θ0 to
+    """A grid start on p = 0 is the release from rest at ψ0 = Θ/2: its orbit is predict_slow_motion's bit for bit, at
+    the one default order of both (default_order: 2).  The ODE overlay of that start is the direct run from rest (maximum_state at Q = 0 gives θ0 to
     rounding: maxima within 1e-10 in Q over 15 rocks, far below the map's own error).  The figure and the CSV are
     written, the CSV with one row per sample and the parameters in its header."""
     body = Body.paper(5e-3)
     P = slow_portrait(body, THETA0, [0.2, 1.0, 2.5], [0.0, 1.0], 200.0, ode_starts=[(0.2, 0.0)], progress=False)
     assert P.Theta0.tolist() == [0.2, 0.2, 1.0, 1.0, 2.5, 2.5] and P.p0.tolist() == [0.0, 1.0] * 3
     for k in (0, 2, 4):
-        pred = predict_slow_motion(body, THETA0, 0.5 * P.Theta0[k], 200.0, order=1)
+        pred = predict_slow_motion(body, THETA0, 0.5 * P.Theta0[k], 200.0)
+        assert P.order == pred.order == 2
         for name in ("t", "QR", "QJ", "Theta"):
             np.testing.assert_array_equal(getattr(P.orbits[k], name), getattr(pred.series, name))
     ode = simulate(body, EulerState(THETA0, 0.0, 0.1), 200.0, samples=False).maxima
@@ -59,7 +60,7 @@ def test_p_is_the_standard_map_momentum():
     by O(ε²) relatively (the kick is ε C0 sin Θ + O(ε²) at Q = O(ε)): the deviation falls 4× per halving of ε."""
     dev = []
     for eps in (5e-3, 2.5e-3):
-        P = slow_portrait(Body.paper(eps), THETA0, [0.5, 1.0, 2.0], [0.0], 100.0, progress=False)
+        P = slow_portrait(Body.paper(eps), THETA0, [0.5, 1.0, 2.0], [0.0], 100.0, progress=False, order=1)
         p1 = np.array([P.p(o.QR[0], o.QJ[0]) for o in P.orbits])
         dev.append(np.max(np.abs(p1 / (P.K * np.sin(P.Theta0)) - 1.0)))
         assert P.K == pytest.approx(eps * load_or_build_table(Body.paper(eps), THETA0).kappa, rel=1e-15)
@@ -134,20 +135,21 @@ def test_bad_input_is_refused(kwargs, match):
 
 
 def test_orbits_are_coloured_by_their_megno(tmp_path):
-    """By default each orbit carries the map's indicators along its run, the same to the bit as predict_slow_motion's
-    for a release (p = 0), and is coloured by its MEGNO: at ε = 5e-3, θ0 = 0.95π (K = 2.1) the release at ψ0 = 0.05
-    (Θ = 0.1) lies in the separatrix's chaotic layer (MEGNO > 3), as the direct motion's MEGNO over the same 1000 time
-    units says too, and the one near the stable rocking (Θ = 3.0, ψ0 = 1.5) is regular.  The orbits are those of a
+    """By default each orbit carries the map's indicators over the span slow measures over, max(t_end, 1000 rocks): for
+    a release (p = 0) they are predict_slow_motion's to the bit (span, MEGNO, λ; its verdict is slow's), whatever
+    t_end (a portrait over 1000 time units and one over 300 agree: one span rule).  Each orbit is coloured by its
+    MEGNO: at ε = 5e-3, θ0 = 0.95π (K = 2.1) the release at ψ0 = 0.05 (Θ = 0.1) lies in the separatrix's chaotic
+    layer (MEGNO > 3), as the direct motion's MEGNO over 1000 time units says too, and the one near the stable
+    rocking (Θ = 3.0, ψ0 = 1.5) is regular.  The orbits are those of a
     portrait without indicators (chaos=False, coloured by index) to the bit; values override the colours."""
     body = Body.paper(5e-3)
     P = slow_portrait(body, THETA0, [0.1, 3.0], [0.0], 1000.0, progress=False)
+    short = slow_portrait(body, THETA0, [0.1, 3.0], [0.0], 300.0, progress=False)
     for k in range(2):
-        pred = predict_slow_motion(body, THETA0, 0.5 * P.Theta0[k], 1000.0, order=1)
-        # the prediction's indicators run over their span (~1000 rocks); the portrait's over its t_end, which its
-        # indicators state as their span: the same samples to the bit over the portrait's run
-        same = map_indicators(pred.chaos.t[pred.chaos.t <= 1000.0], pred.chaos.log_growth[pred.chaos.t <= 1000.0])
-        assert P.chaos[k].span == same.span <= 1000.0
-        assert P.chaos[k].megno == same.megno and P.chaos[k].lyapunov == same.lyapunov
+        pred = predict_slow_motion(body, THETA0, 0.5 * P.Theta0[k], 1000.0)
+        for chaos in (P.chaos[k], short.chaos[k]):
+            assert (chaos.span, chaos.megno, chaos.lyapunov) == (pred.chaos.span, pred.chaos.megno, pred.chaos.lyapunov)
+            assert chaos.verdict == pred.chaos.verdict and chaos.span > 1000.0
     assert P.megno[0] > 3.0 >= P.megno[1]
     for k, psi0 in ((0, 0.05), (1, 1.5)):
         ode = direct_chaos_indicators(body, EulerState(THETA0, 0.0, psi0), 1000.0).indicators
@@ -205,7 +207,7 @@ def test_chaotic_orbits_are_drawn_over_the_regular_ones_and_tick_labels_stay_apa
 def test_each_orbit_lists_its_verdict_and_horizon_as_a_release_would():
     """The portrait's rows carry every orbit's verdict, MEGNO, λ, span and horizon; on the release line (p = 0) an
     orbit is the release from rest at ψ0 = Θ0/2, so its verdict and horizon are ``predict_slow_motion``'s at the same
-    order and span, to the bit (the same map orbit, the same direct probe)."""
+    order, over the one span rule max(t_end, 1000 rocks), to the bit (the same map orbit, the same direct probe)."""
     from rocknroller.papers.portrait_output import orbit_rows
 
     body = Body.paper(5e-3)
@@ -214,7 +216,7 @@ def test_each_orbit_lists_its_verdict_and_horizon_as_a_release_would():
     rows = orbit_rows(portrait)
     assert {"verdict", "megno", "lyapunov", "span", "horizon", "horizon_method"} <= set(rows)
     for k, th in enumerate(portrait.Theta0):
-        pred = predict_slow_motion(body, theta0, 0.5 * th, t_end, order=1, span=t_end)
+        pred = predict_slow_motion(body, theta0, 0.5 * th, t_end, order=1)  # its default span: slow's
         h = pred.horizon_estimate()
         assert rows["verdict"][k] == pred.chaos.verdict
         assert rows["megno"][k] == pred.chaos.megno

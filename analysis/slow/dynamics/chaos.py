@@ -239,15 +239,17 @@ class HorizonProbe:
     series : the map's maxima from the start over at least the probe window (the prediction's run over its span).
     chaos : the map's indicators over the span (their verdict chooses the growth law, λ and MEGNO its rate).
     t_probe : the probe window's length, > 0.
+    extents : (D_R, D_J) over the span when ``series`` holds less than the span (default: ``series``'s own).
 
     Attributes
     ----------
     extents : (D_R, D_J), the map's Q_R and Q_J extents over the span.
     """
 
-    def __init__(self, body: Body, start: EulerState, series: SlowSeries, chaos: MapChaos, t_probe: float) -> None:
+    def __init__(self, body: Body, start: EulerState, series: SlowSeries, chaos: MapChaos, t_probe: float,
+                 extents: tuple[float, float] | None = None) -> None:
         self.body, self.start, self.chaos, self.t_probe = body, start, chaos, float(t_probe)
-        self.extents = (float(np.ptp(series.QR)), float(np.ptp(series.QJ)))
+        self.extents = (float(np.ptp(series.QR)), float(np.ptp(series.QJ))) if extents is None else extents
         keep = series.t <= self.t_probe
         self.t, self.QR, self.QJ = series.t[keep], series.QR[keep], series.QJ[keep]
         self._errors: NDArray[np.float64] | None = None

@@ -60,6 +60,12 @@ class SlowSeries:
         """φ mod π at the maxima (the visible half-angle)."""
         return np.mod(self.phi, math.pi)
 
+    def until(self, t_end: float) -> "SlowSeries":
+        """The maxima at t ≤ t_end (a run over the chaos indicators' span, cut to the prediction's t_end)."""
+        keep = self.t <= t_end
+        return SlowSeries(t=self.t[keep], QR=self.QR[keep], QJ=self.QJ[keep], Theta=self.Theta[keep],
+                          phi=self.phi[keep], log_growth=None if self.log_growth is None else self.log_growth[keep])
+
     def to_dataframe(self) -> "pandas.DataFrame":
         """One row per maximum: t, Q_R, Q_J, Θ, φ (needs pandas)."""
         from rocknroller.analysis.model.frames import dataframe
