@@ -65,6 +65,17 @@ LAYER_BISECTIONS = 2
 ONSET_K = np.geomspace(0.2, 8.0, 25)
 #: The release in the separatrix layer whose excursion in p part (c) follows.
 LAYER_PSI0 = 1e-3
+#: Header and rule of part (c)'s table (docs/order_and_chaos.md shows it; tests/test_docs_examples.py checks them).
+ONSET_HEADER = ("| K | 2√K/2π | " + " | ".join(f"ε at {t / math.pi:.2f}π | chaotic | left the tables | kick did not "
+                                               "converge | max abs(p)/2π" for t in THETA0S) + " |")
+ONSET_RULE = "|---|---|" + "---|---|---|---|---|" * len(THETA0S)
+#: p/2π at which the twist table evaluates W, its header and rule.
+TWIST_FRACTIONS = (0.1, 0.25, 0.5, 0.75, 1.0, 1.25)
+TWIST_HEADER = "| θ0 | " + " | ".join(f"p/2π = {f:g}" for f in TWIST_FRACTIONS) + " |"
+TWIST_RULE = "|---|" + "---|" * len(TWIST_FRACTIONS)
+#: Header and rule of part (a)'s table of chaotic starts per ε (a column group per θ0 of ``THETA0S``).
+PER_EPS_HEADER = "| ε | " + " | ".join(f"K at {t / math.pi:.2f}π | map | ODE" for t in THETA0S) + " |"
+PER_EPS_RULE = "|---|" + "---|---|---|" * len(THETA0S)
 
 
 def map_chaos(body: Body, theta0: float, psi0: float, t_end: float) -> ChaosIndicators:
@@ -200,8 +211,9 @@ def report_a(results: dict[float, dict[str, np.ndarray]], t_end: float) -> None:
         print(f"| {theta0 / math.pi:.2f}π | {eps:.3g} | {K:.3g} | {k} | {psi:.4f} | {mm:.3g} | {mo:.3g} | {lm:.3g} | "
               f"{lo:.3g} | {why} |")
     print("\n### Chaotic starts per ε (of the 20 ψ0), map / ODE\n")
-    print("| ε | " + " | ".join(f"K at {t / math.pi:.2f}π | map | ODE" for t in results) + " |")
-    print("|---|" + "---|---|---|" * len(results))
+    assert tuple(results) == THETA0S  # the columns of PER_EPS_HEADER
+    print(PER_EPS_HEADER)
+    print(PER_EPS_RULE)
     for i, eps in enumerate(EPS_GRID):
         cells = []
         for r in results.values():
@@ -263,10 +275,10 @@ def _p_excursion(body: Body, theta0: float, t_end: float, kappa: float, C0R: flo
 def twist_table() -> None:
     """The map's twist W(Q)/2π along the kick line Q = (p/κ) C0 against the standard map's p/2π (their linear term
     is the same, docs/averaging.md): the standard map's resonances sit at p = 2πm, the map's where W = 2πm."""
-    fractions = (0.1, 0.25, 0.5, 0.75, 1.0, 1.25)
+    fractions = TWIST_FRACTIONS
     print("\nThe twist W(Q)/2π of a step along the kick line Q = (p/κ) C0 (the release tables), against p/2π:\n")
-    print("| θ0 | " + " | ".join(f"p/2π = {f:g}" for f in fractions) + " |")
-    print("|---|" + "---|" * len(fractions))
+    print(TWIST_HEADER)
+    print(TWIST_RULE)
     for theta0 in THETA0S:
         table = av.load_or_build_table(Body.paper(0.0), theta0)
         c = pendulum_constants(Body.paper(1e-3), theta0)
@@ -310,9 +322,8 @@ def part_c(t_end: float, csv_dir: Path | None) -> None:
             left[theta0].append(sum(why == "left the tables" for _, _, why in runs))
             stuck[theta0].append(sum(why == "kick did not converge" for _, _, why in runs))
             reach[theta0].append(_p_excursion(body, theta0, t_end, kappa, C0R))
-    print("| K | 2√K/2π | " + " | ".join(f"ε at {t / math.pi:.2f}π | chaotic | left the tables | kick did not "
-                                         "converge | max abs(p)/2π" for t in THETA0S) + " |")
-    print("|---|---|" + "---|---|---|---|---|" * len(THETA0S))
+    print(ONSET_HEADER)
+    print(ONSET_RULE)
     for i, K in enumerate(ONSET_K):
         print(f"| {K:.3g} | {math.sqrt(K) / math.pi:.3f} | "
               + " | ".join(f"{K / consts[t].kappa:.3g} | {counts[t][i]}/20 | {left[t][i]} | {stuck[t][i]} | "

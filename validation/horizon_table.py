@@ -96,8 +96,10 @@ def row(body: Body, start: EulerState, t_end: float, build: bool) -> dict[str, o
     later = []
     for te in (ch.span, 2.0 * ch.span):
         try:
-            p = av.predict_slow_motion(body, *args, t_end=te, build=False)
+            p = av.predict_slow_motion(body, *args, t_end=te, build=build)  # longer: may need the region tables
             later.append((p.chaos.verdict, p.horizon()))
+        except av.TableNotCachedError:
+            later.append(("tables not cached (--build)", math.nan))
         except AveragingRangeError:
             later.append(("left the tables", math.nan))
     return {"K": pred.K, "order": pred.order, "verdict": ch.verdict, "megno": ch.megno, "lyapunov": ch.lyapunov,
