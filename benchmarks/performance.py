@@ -36,6 +36,7 @@ BENCHMARKS = [
      "again; the first chaos call, heyoka's cache warm and cold"),
     ("bench_table_maxima.py", [], "the tables' orbits to their next maxima: a Python step loop vs batch terminal "
      "events"),
+    ("bench_map_arrays.py", [], "the slow and the exact map over arrays of points against the loop over the rows"),
     ("bench_atlas.py", ["20"], "a release atlas by the map from cached tables, and its ODE confirmation"),
     ("bench_atlas.py", ["rates"], "the plane of rates by the direct ODE: in process, in threads, on a dask cluster"),
     ("bench_budget.py", [], "the rates behind the work budgets"),
