@@ -64,7 +64,7 @@ def _vector_unit() -> str:
             "from rocknroller.numerics.ensembles.lanes import default_lanes; print(batch_width(), default_lanes())")
     width, lanes = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                                   check=True).stdout.split()
-    return (f"vector unit {unit}; heyoka's recommended batch width {width}; run_ensemble's lanes {lanes} "
+    return (f"{unit}; heyoka's recommended batch width {width}; run_ensemble's lanes {lanes} "
             "(`rocknroller warm` measures 4 and 8 lanes side by side and keeps the faster)")
 
 
