@@ -42,7 +42,8 @@ import numpy as np
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState
-from rocknroller.numerics.ensembles.batch import BATCH_CHUNK_RADIANS, batch_integrator, batch_width
+from rocknroller.numerics.ensembles.batch import BATCH_CHUNK_RADIANS, batch_integrator
+from rocknroller.numerics.ensembles.lanes import default_lanes
 from rocknroller.numerics.ensembles.ensemble import Job, RunSummary, run_ensemble
 from rocknroller.analysis.model.invariants import energy
 from rocknroller.numerics.integrate import DT_RADIANS, _stretch_end, default_dt, heyoka_integrator, rate_bound, simulate
@@ -80,7 +81,7 @@ def propagation_only(jobs: list[Job], tol: float, dense: bool) -> Callable[[], N
     (``BATCH_CHUNK_RADIANS`` of each lane's rate bound), integration and turning-point events (their Python callback
     recording each), with or without the dense output: the part of the lanes' work that is not bookkeeping.  (heyoka
     adds ≈ 1 ms per call that returns a dense output, whatever its length, so the stretches matter.)"""
-    width = batch_width()
+    width = default_lanes()
     ta = batch_integrator(width, tol)
 
     def run() -> None:
@@ -138,8 +139,8 @@ def main() -> None:
     jobs = [Job(body, EulerState(0.95 * math.pi, psi=0.5 * math.pi * k / args.jobs), args.t_end)
             for k in range(args.jobs)]
     heyoka_integrator()  # compiled or loaded from the disk cache once, outside the timings
-    batch_integrator(batch_width())
-    batch_integrator(batch_width(), TOL_EQUAL)
+    batch_integrator(default_lanes())
+    batch_integrator(default_lanes(), TOL_EQUAL)
     equal = [dataclasses.replace(j, tol=TOL_EQUAL) for j in jobs]
     load = os.getloadavg()[0]
 
@@ -167,8 +168,8 @@ def main() -> None:
     rows = [("fixed 0.15-radian grid: scalar, one by one", c_ref, w_ref, "reference"),
             ("run_ensemble(lanes=1): scalar, one by one", c_scalar, best["scalar"][1],
              "same turning points" if same_turning_points(scalar, ref) else "DIFFERENT turning points"),
-            (f"run_ensemble: batches of {batch_width()} lanes", c_lanes, best["lanes"][1], "batch reference"),
-            (f"run_ensemble: batches of {batch_width()} lanes, threads=2", *best["threads"][:2],
+            (f"run_ensemble: batches of {default_lanes()} lanes", c_lanes, best["lanes"][1], "batch reference"),
+            (f"run_ensemble: batches of {default_lanes()} lanes, threads=2", *best["threads"][:2],
              "bit-identical" if identical(best["threads"][2], lanes) else "NOT bit-identical")]
     if not args.no_cluster:
         if importlib.util.find_spec("distributed") is None:
@@ -196,7 +197,7 @@ def main() -> None:
     c_equal, _, at_equal = best["lanes equal"]
     print(f"\nat equal energy error (the same {len(jobs)} jobs; energy error: the largest of the jobs')")
     print(f"{'path':62s} {'CPU ms/traj':>11s} {'energy err':>11s}")
-    rows_equal = [(f"run_ensemble: batches of {batch_width()} lanes, tol {TOL_EQUAL:g}", c_equal,
+    rows_equal = [(f"run_ensemble: batches of {default_lanes()} lanes, tol {TOL_EQUAL:g}", c_equal,
                    f"{max(s.energy_rel_error for s in at_equal):.2e}"),
                   (f"  of which heyoka's batch propagation with dense output", best["propagation dense"][0], ""),
                   (f"  of which heyoka's batch propagation alone (no dense output)", best["propagation"][0], "")]
