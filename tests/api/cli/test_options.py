@@ -69,11 +69,14 @@ def test_an_empty_output_name_is_refused(argv, capsys, tmp_path, monkeypatch):
 @pytest.mark.parametrize("sig, status, name", [(signal.SIGTERM, 143, "SIGTERM"), (signal.SIGINT, 130, "SIGINT")])
 def test_an_interrupted_run_says_so_in_one_line_and_leaves_no_empty_reservation(sig, status, name, tmp_path):
     """SIGTERM left the reserved, empty output files (the next run was refused); Ctrl-C printed a 10-line
-    traceback."""
+    traceback.  The child gets SIGINT's default disposition: a suite started in the background by a shell without
+    job control inherits SIGINT ignored, and Python then installs no KeyboardInterrupt handler (as for any program
+    that Ctrl-C cannot reach)."""
     out = tmp_path / "run"
     proc = subprocess.Popen([sys.executable, "-m", "rocknroller", "simulate", "--t-end", "1.3e6",
                              "--turning-points-only", "--out", str(out), "--quiet"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     deadline = time.monotonic() + 120.0
     while not ((out / "turning_points.csv").exists() and (out / "turning_points.csv").stat().st_size > 1000):
         assert proc.poll() is None and time.monotonic() < deadline, proc.communicate()
