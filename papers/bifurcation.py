@@ -29,8 +29,8 @@ BRANCH_STYLE = {"fixed_stable_axis": ("C0", "rocking about the stable axis (fixe
                 "fixed_unstable_axis": ("C2", "rocking about the unstable axis (fixed point)"),
                 "period2": ("C1", "period-2 orbit (born at the period doubling)")}
 
-__all__ = ["MAX_EXACT_FRACTIONS", "MAX_DIAGRAM_THETA0", "BifurcationData", "bifurcation_seconds", "bifurcation_data",
-           "bifurcation_figure", "bifurcation_diagram", "FILES_SECONDS"]
+__all__ = ["MAX_EXACT_FRACTIONS", "MAX_DIAGRAM_THETA0", "BifurcationData", "check_diagram_counts", "bifurcation_seconds",
+           "bifurcation_data", "bifurcation_figure", "bifurcation_diagram", "FILES_SECONDS"]
 
 #: ε/ε_pd at which the exact map's orbits are found (below and past the period doubling).
 EXACT_FRACTIONS = (0.9, 1.05, 1.2, 1.5)
@@ -69,7 +69,19 @@ class BifurcationData:
     order: int
 
 
-def _check_counts(n_points: int, exact_fractions: Sequence[float]) -> None:
+def check_diagram_counts(n_points: int, exact_fractions: Sequence[float]) -> None:
+    """Refuse, before any work, a branch of ``n_points`` outside [3, ``MAX_BRANCH_POINTS``] or more than
+    ``MAX_EXACT_FRACTIONS`` exact fractions (:func:`bifurcation_data`'s sizes), naming the parameter.
+
+    Examples
+    --------
+    >>> from rocknroller.papers.bifurcation import check_diagram_counts
+    >>> check_diagram_counts(111, (0.8, 1.2))
+    >>> check_diagram_counts(2, ())
+    Traceback (most recent call last):
+    ...
+    ValueError: n_points must be an integer in [3, 2000], got n_points=2
+    """
     if int(n_points) != n_points or not 3 <= n_points <= MAX_BRANCH_POINTS:
         raise ValueError(f"n_points must be an integer in [3, {MAX_BRANCH_POINTS}], got n_points={n_points!r}")
     if len(exact_fractions) > MAX_EXACT_FRACTIONS:
@@ -128,7 +140,7 @@ def bifurcation_data(body: Body, theta0: float, *, fractions: tuple[float, float
     """
     theta0 = check_map_theta0(theta0)
     order = default_order(theta0) if order is None else order  # the one default: 2 on the release tables
-    _check_counts(n_points, exact_fractions)
+    check_diagram_counts(n_points, exact_fractions)
     check_work(bifurcation_seconds(body, [theta0], n_points, exact_fractions, order),
                _what([theta0], n_points, exact_fractions, order), budget)
     lo, hi = (float(f) for f in fractions)
@@ -267,7 +279,7 @@ def bifurcation_diagram(body: Body, out_dir: str | Path, theta0s: Sequence[float
                          f"the figure each), got {len(theta0s)}")
     theta0s = [check_map_theta0(t) for t in theta0s]
     n_points, exact = kwargs.get("n_points", 111), kwargs.get("exact_fractions", EXACT_FRACTIONS)
-    _check_counts(n_points, exact)
+    check_diagram_counts(n_points, exact)
     order = kwargs.get("order")
     order = max((default_order(float(t)) for t in theta0s), default=1) if order is None else order
     kwargs["order"] = order  # one order for every theta0 of the diagram, as the command's

@@ -58,7 +58,7 @@ def run(args: argparse.Namespace) -> int:
     from rocknroller.analysis.slow.prediction import default_order
     from rocknroller.analysis.slow.map.limits import check_map_theta0
     from rocknroller.numerics.budget import check_work
-    from rocknroller.papers.bifurcation import (FILES_SECONDS, MAX_DIAGRAM_THETA0, MAX_EXACT_FRACTIONS, _check_counts,
+    from rocknroller.papers.bifurcation import (FILES_SECONDS, MAX_DIAGRAM_THETA0, MAX_EXACT_FRACTIONS, check_diagram_counts,
                                                 _what, bifurcation_diagram, bifurcation_seconds)
 
     body = body_from_args(args, gravity=True)
@@ -71,7 +71,7 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError(f"--exact-at takes at most {MAX_EXACT_FRACTIONS} values (an exact-map solve each), got "
                          f"{len(exact_at)}")
     order = max(default_order(t) for t in theta0s) if args.order is None else args.order
-    _check_counts(args.points, exact_at)
+    check_diagram_counts(args.points, exact_at)
     check_work(bifurcation_seconds(body, theta0s, args.points, exact_at, order, build=not args.cached_only)
                + FILES_SECONDS, _what(theta0s, args.points, exact_at, order), budget_from_args(args))  # before any work
     prepare_output_dir(args.out, "--out", args.force, ["bifurcation.png", "bifurcation.pdf", "bifurcation.csv"])

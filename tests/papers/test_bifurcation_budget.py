@@ -5,34 +5,23 @@ built (the campaign's refused only after 13.9 s)."""
 from __future__ import annotations
 
 import math
-import os
 
 import pytest
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.slow.map import second_order, table
 from rocknroller.analysis.slow.map.second_order import build_second_order_table
-from rocknroller.analysis.slow.map.table import _table_location, build_table
+from rocknroller.analysis.slow.map.table import build_table
 from rocknroller.cli import main
 from rocknroller.numerics.budget import RELEASE_TABLE_SECONDS, SECOND_ORDER_TABLE_SECONDS, WorkBudgetError
 from rocknroller.papers import bifurcation
 from rocknroller.papers.bifurcation import bifurcation_diagram, bifurcation_seconds
 
+from budget_checks import mark_cached, no_tables_in_memory  # noqa: F401 (an autouse fixture)
+from budget_checks import no_work as no_work_stub
+
 BODY = Body.paper()
 TH = 0.95 * math.pi
-
-
-@pytest.fixture(autouse=True)
-def _no_tables_in_memory(monkeypatch):
-    """No table in this process's memory either: each test's cache folder says which are cached."""
-    from rocknroller.analysis.slow.map import table as slow_table
-    from rocknroller.numerics.cache import MemoryCache
-
-    monkeypatch.setattr(slow_table, "_TABLES", MemoryCache(slow_table.TABLE_CACHE_BYTES))
-
-
-def _no_work(*args, **kwargs):
-    raise AssertionError("work started before the budget was checked")
 
 
 @pytest.fixture
@@ -40,7 +29,7 @@ def no_work(monkeypatch):
     for module, name in ((table, "load_or_build_table"), (second_order, "load_or_build_second_order_table"),
                          (bifurcation, "build_release_tables"), (bifurcation, "period_doubling"),
                          (bifurcation, "continue_orbit")):
-        monkeypatch.setattr(module, name, _no_work)
+        monkeypatch.setattr(module, name, no_work_stub)
 
 
 @pytest.mark.parametrize("order", ["1", "2"])
@@ -66,11 +55,7 @@ def test_the_api_counts_order_2_s_table_before_any_work(tmp_path, monkeypatch, n
 def test_the_estimate_counts_the_second_order_table_not_cached(tmp_path, monkeypatch):
     monkeypatch.setenv("ROCKNROLLER_CACHE", str(tmp_path / "empty"))
     cold = [bifurcation_seconds(BODY, [TH], order=k) for k in (1, 2)]
-    monkeypatch.setenv("ROCKNROLLER_CACHE", str(tmp_path / "warm"))
-    for builder in (build_table, build_second_order_table):  # a file is what is_cached looks for
-        path = _table_location(builder, BODY, TH, {})[2]
-        os.makedirs(os.path.dirname(path), exist_ok=True)
-        open(path, "wb").close()
+    mark_cached(tmp_path / "warm", monkeypatch, BODY, [(build_table, TH), (build_second_order_table, TH)])
     warm = [bifurcation_seconds(BODY, [TH], order=k) for k in (1, 2)]
     assert warm[0] == warm[1] == bifurcation_seconds(BODY, [TH], build=False)
     assert cold[0] - warm[0] == pytest.approx(RELEASE_TABLE_SECONDS)

@@ -5,7 +5,6 @@ built or orbit run."""
 from __future__ import annotations
 
 import math
-import os
 
 import pytest
 
@@ -13,27 +12,17 @@ from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.slow import prediction as av
 from rocknroller.analysis.slow.map import maps
 from rocknroller.analysis.slow.map.second_order import build_second_order_table
-from rocknroller.analysis.slow.map.table import _table_location, build_table
+from rocknroller.analysis.slow.map.table import build_table
 from rocknroller.cli import main
 from rocknroller.numerics.budget import RELEASE_TABLE_SECONDS, SECOND_ORDER_TABLE_SECONDS, WorkBudgetError
 from rocknroller.papers.portrait import slow_portrait
 from rocknroller.papers.portrait_limits import portrait_seconds
 
+from budget_checks import mark_cached, no_tables_in_memory  # noqa: F401 (an autouse fixture)
+from budget_checks import no_work as no_work_stub
+
 BODY = Body.paper(5e-3)
 TH = 0.95 * math.pi
-
-
-@pytest.fixture(autouse=True)
-def _no_tables_in_memory(monkeypatch):
-    """No table in this process's memory either: each test's cache folder says which are cached."""
-    from rocknroller.analysis.slow.map import table as slow_table
-    from rocknroller.numerics.cache import MemoryCache
-
-    monkeypatch.setattr(slow_table, "_TABLES", MemoryCache(slow_table.TABLE_CACHE_BYTES))
-
-
-def _no_work(*args, **kwargs):
-    raise AssertionError("work started before the budget was checked")
 
 
 @pytest.fixture
@@ -44,17 +33,13 @@ def empty_cache(tmp_path, monkeypatch):
 
 
 def _warm(tmp_path, monkeypatch):
-    """A cache folder holding (as files: ``is_cached`` looks no further) both tables of (BODY, TH)."""
-    monkeypatch.setenv("ROCKNROLLER_CACHE", str(tmp_path / "warm"))
-    for builder in (build_table, build_second_order_table):
-        path = _table_location(builder, BODY, TH, {})[2]
-        os.makedirs(os.path.dirname(path), exist_ok=True)
-        open(path, "wb").close()
+    """A cache folder holding both tables of (BODY, TH)."""
+    mark_cached(tmp_path / "warm", monkeypatch, BODY, [(build_table, TH), (build_second_order_table, TH)])
 
 
 def test_a_small_budget_is_refused_before_any_table_or_orbit(empty_cache, monkeypatch):
-    monkeypatch.setattr(av, "load_or_build_table", _no_work)
-    monkeypatch.setattr(maps.SlowMap, "__post_init__", _no_work)
+    monkeypatch.setattr(av, "load_or_build_table", no_work_stub)
+    monkeypatch.setattr(maps.SlowMap, "__post_init__", no_work_stub)
     with pytest.raises(WorkBudgetError, match=r"the portrait \(1 release, 0 region and 1 second-order tables to "
                                               r"build, 4 map orbits .* would take about"):
         slow_portrait(BODY, TH, [0.5, 1.5], [0.0, 0.1], 200.0, order=2, budget=1.0)
@@ -62,8 +47,8 @@ def test_a_small_budget_is_refused_before_any_table_or_orbit(empty_cache, monkey
 
 def test_the_command_refuses_an_uncached_build_within_budget_1(empty_cache, monkeypatch, capsys, tmp_path):
     """``portrait --budget 1`` with no tables cached: the campaign's 16 s build was accepted."""
-    monkeypatch.setattr(av, "load_or_build_table", _no_work)
-    monkeypatch.setattr(maps.SlowMap, "__post_init__", _no_work)
+    monkeypatch.setattr(av, "load_or_build_table", no_work_stub)
+    monkeypatch.setattr(maps.SlowMap, "__post_init__", no_work_stub)
     status = main(["portrait", "--Theta", "0.5:2.5:2", "--p", "-0.1:0.1:2", "--t-end", "150", "--budget", "1",
                    "--out", str(tmp_path / "out"), "--quiet"])
     err = capsys.readouterr().err
@@ -88,7 +73,7 @@ def test_the_estimate_counts_the_chaos_layer_and_the_horizon_probes(tmp_path, mo
     chaos = portrait_seconds(BODY, TH, 400, 5000.0, chaos=True)[0]
     probes = portrait_seconds(BODY, TH, 400, 5000.0, chaos=True, horizons=True)[0]
     assert plain < chaos < probes
-    monkeypatch.setattr(av, "load_or_build_table", _no_work)  # the check passed: the work would start
+    monkeypatch.setattr(av, "load_or_build_table", no_work_stub)  # the check passed: the work would start
     budget = 0.5 * (plain + chaos)
     with pytest.raises(AssertionError, match="work started"):
         slow_portrait(BODY, TH, [0.5] * 40, [0.0] * 10, 5000.0, chaos=False, budget=budget)

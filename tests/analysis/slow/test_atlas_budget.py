@@ -5,7 +5,6 @@ ODE confirmation too; a small budget refused before any table is built or point 
 from __future__ import annotations
 
 import math
-import os
 
 import numpy as np
 import pytest
@@ -15,42 +14,28 @@ from rocknroller.analysis.slow import prediction as av
 from rocknroller.analysis.slow.atlas import atlas_from_rest, atlas_seconds
 from rocknroller.analysis.slow.atlas_check import confirm_seconds
 from rocknroller.analysis.slow.map import table as table_module
-from rocknroller.analysis.slow.map.table import _table_location, build_table
+from rocknroller.analysis.slow.map.table import build_table
 from rocknroller.cli import main
 from rocknroller.numerics.budget import RELEASE_TABLE_SECONDS, WorkBudgetError
+
+from budget_checks import mark_cached, no_tables_in_memory  # noqa: F401 (an autouse fixture)
+from budget_checks import no_work as no_work_stub
 
 BODY = Body.paper(1e-3)
 TH = [0.9 * math.pi, 0.95 * math.pi]
 PSI = np.linspace(0.0, 3.0, 200)
 
 
-@pytest.fixture(autouse=True)
-def _no_tables_in_memory(monkeypatch):
-    """No table in this process's memory either: each test's cache folder says which are cached."""
-    from rocknroller.analysis.slow.map import table as slow_table
-    from rocknroller.numerics.cache import MemoryCache
-
-    monkeypatch.setattr(slow_table, "_TABLES", MemoryCache(slow_table.TABLE_CACHE_BYTES))
-
-
-def _no_work(*args, **kwargs):
-    raise AssertionError("work started before the budget was checked")
-
-
 @pytest.fixture
 def no_work(monkeypatch):
     for module, name in ((av, "load_or_build_table"), (av, "predict_slow_motion"),
                          (table_module, "cached_table")):
-        monkeypatch.setattr(module, name, _no_work)
+        monkeypatch.setattr(module, name, no_work_stub)
 
 
 def _warm(tmp_path, monkeypatch):
-    """A cache folder holding (as files: ``is_cached`` looks no further) the release tables of TH."""
-    monkeypatch.setenv("ROCKNROLLER_CACHE", str(tmp_path / "warm"))
-    for t0 in TH:
-        path = _table_location(build_table, BODY, t0, {})[2]
-        os.makedirs(os.path.dirname(path), exist_ok=True)
-        open(path, "wb").close()
+    """A cache folder holding the release tables of TH."""
+    mark_cached(tmp_path / "warm", monkeypatch, BODY, [(build_table, t0) for t0 in TH])
 
 
 def test_tables_and_runs_are_one_estimate_refused_before_any_work(tmp_path, monkeypatch, no_work):
