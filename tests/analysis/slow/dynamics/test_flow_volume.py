@@ -74,3 +74,10 @@ def test_section_fit_separates_a_density_from_a_drift():
     rms, _ = fv.section_fit(x, f, 8, 4)
     drift_rms, _ = fv.section_fit(x, f + 1e-6 * np.arange(len(f)), 8, 4)
     assert rms < 1e-4 * np.std(f) and drift_rms > 0.1 * np.std(1e-6 * np.arange(len(f)))
+
+
+@pytest.mark.parametrize("n", [0, fv.MAX_ROCKS + 1, 2.5, True])
+def test_divergence_run_checks_its_length_first(n):
+    """The run's record grows with n_rocks: a length outside [1, MAX_ROCKS] is refused before any integration."""
+    with pytest.raises(ValueError, match="n_rocks"):
+        fv.divergence_run(ExactMap(Body.paper(0.0), THETA0, 0.03), [0.0, 0.0, 0.002], n)
