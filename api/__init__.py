@@ -31,7 +31,8 @@ from rocknroller.analysis.slow.atlas_check import AtlasCheck, confirm_atlas
 from rocknroller.analysis.slow.ensemble_statistics import (EnsembleComparison, EnsembleStatistics, StartBall,
                                                            compare_ensembles, map_ensemble, ode_ensemble)
 from rocknroller.analysis.slow.map.maps import ExactMap, SlowMap
-from rocknroller.analysis.slow.map.tables_at_once import build_release_tables
+from rocknroller.analysis.slow.map.tables_at_once import (EnergyTables, build_energy_tables, build_release_tables,
+                                                         load_energy_tables)
 from rocknroller.analysis.slow.dynamics.pendulum import PendulumConstants, pendulum_constants, pendulum_prediction
 from rocknroller.analysis.slow.dynamics.period_doubling import PeriodDoubling, period_doubling
 from rocknroller.analysis.slow.dynamics.periodic_orbits import Branch, PeriodicOrbit, continue_orbit, periodic_orbit
@@ -60,13 +61,14 @@ __all__ = [
     # the slow motion of the rock'n'roller
     "predict_slow_motion", "SlowPrediction", "pendulum_constants", "pendulum_prediction", "PendulumConstants",
     "period_doubling", "PeriodDoubling", "periodic_orbit", "continue_orbit", "PeriodicOrbit", "Branch",
-    "SlowMap", "ExactMap", "build_release_tables",
+    "SlowMap", "ExactMap", "build_release_tables", "build_energy_tables", "load_energy_tables", "EnergyTables",
     "azimuth_span", "atlas_from_rest", "atlas_of_rates", "confirm_atlas", "Atlas", "AtlasCheck",
     "check_prediction", "PredictionCheck",
     # statistics where the slow motion is chaotic: map and ODE ensembles over a ball of starts, and their test
     "StartBall", "map_ensemble", "ode_ensemble", "compare_ensembles", "EnsembleStatistics", "EnsembleComparison",
     # figures
     "region_diagram", "DiagramData", "bifurcation_diagram", "slow_portrait", "write_portrait", "SlowPortrait",
+    "period_doubling_line", "period_doubling_plot", "PeriodDoublingLine",
 ]
 
 #: Loaded on first use (PEP 562), each from its module: the Laurent expansions are symbolic (sympy takes ~0.3 s to
@@ -82,6 +84,9 @@ _LAZY = {"direct_chaos_indicators": "rocknroller.numerics.variational",
          "region_diagram": "rocknroller.papers.plotting",
          "DiagramData": "rocknroller.papers.plotting",
          "bifurcation_diagram": "rocknroller.papers.bifurcation",
+         "period_doubling_line": "rocknroller.papers.bifurcation",
+         "period_doubling_plot": "rocknroller.papers.bifurcation",
+         "PeriodDoublingLine": "rocknroller.papers.bifurcation",
          "slow_portrait": "rocknroller.papers.portrait",
          "write_portrait": "rocknroller.papers.portrait_output",
          "SlowPortrait": "rocknroller.papers.portrait"}

@@ -37,6 +37,8 @@ BENCHMARKS = [
     ("bench_table_maxima.py", [], "the tables' orbits to their next maxima: a Python step loop vs batch terminal "
      "events"),
     ("bench_map_arrays.py", [], "the slow and the exact map over arrays of points against the loop over the rows"),
+    ("bench_energy_tables.py", [], "the tables over energy against the per-energy tables: the build once per body, the "
+     "first prediction at a new release angle, an atlas over theta0 at order 2"),
     ("bench_atlas.py", ["20"], "a release atlas by the map from cached tables, and its ODE confirmation"),
     ("bench_atlas.py", ["rates"], "the plane of rates by the direct ODE: in process, in threads, on a dask cluster"),
     ("bench_budget.py", [], "the rates behind the work budgets"),

@@ -12,10 +12,12 @@ A page marks each piece of output that a command prints, on the line before it:
     prints on stdout among its output.
 
 ``COMMAND`` is ``rocknroller ...`` (run as ``python -m rocknroller ...``) or ``python SCRIPT ...`` (run with this
-interpreter), from the repository's root, in the environment as given (the tables' cache: ``ROCKNROLLER_CACHE``).  A
+interpreter), from the repository's root, in the environment as given (the tables' cache: ``ROCKNROLLER_CACHE``) with
+``ROCKNROLLER_ENERGY_TABLES=off``: the pages show what a fresh install prints, on the per-θ0 tables, whether or not
+the tables over energy (``rocknroller warm --tables``) are cached here, which would move a chaotic start's numbers.  A
 marker written ``output of (slow):`` or ``table of (slow):`` is a command that takes minutes: it is regenerated only
 with ``--slow``, and its test is marked slow (run in CI); ``(long)`` marks one that takes many minutes (the
-acceptance grids): regenerated with ``--slow`` too, its test is marked ``validation`` and run by hand
+acceptance grids): regenerated with ``--slow --long``, its test is marked ``validation`` and run by hand
 (``python -m pytest -m validation``), not in CI, whose slow stage would pass its 30 minutes.
 
 Without ``--check`` each marked block is rewritten with what its command prints now: a console block keeps its
@@ -31,6 +33,7 @@ and the slow ones under ``-m slow``); a table's header and rule are also checked
 from __future__ import annotations
 
 import argparse
+import os
 import re
 import shlex
 import subprocess
@@ -122,7 +125,8 @@ def argv(command: str) -> list[str]:
 def run(command: str, timeout: float | None = None) -> list[str]:
     """What ``command`` prints on stdout now, line by line (trailing blanks removed); a failure is a RuntimeError
     with its stderr's end."""
-    done = subprocess.run(argv(command), cwd=ROOT, capture_output=True, text=True, timeout=timeout)
+    done = subprocess.run(argv(command), cwd=ROOT, capture_output=True, text=True, timeout=timeout,
+                          env=dict(os.environ, ROCKNROLLER_ENERGY_TABLES="off"))
     if done.returncode != 0:
         raise RuntimeError(f"{command!r} failed ({done.returncode}):\n{done.stderr[-2000:]}")
     return [line.rstrip() for line in done.stdout.splitlines()]
@@ -264,6 +268,7 @@ def main(args: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("pages", nargs="*", type=Path, help="pages to regenerate (default: every page of docs/)")
     parser.add_argument("--slow", action="store_true", help="also the commands marked slow")
+    parser.add_argument("--long", action="store_true", help="also those marked long (with --slow: all of them)")
     parser.add_argument("--check", action="store_true", help="write nothing; list the stale blocks (exit 1 if any)")
     a = parser.parse_args(args)
     chosen = [p.resolve() for p in a.pages] or pages()
@@ -272,8 +277,9 @@ def main(args: list[str] | None = None) -> int:
     for page in chosen:
         for index in range(len(blocks(page))):
             block = blocks(page)[index]  # read again: a rewritten block before it may have moved it
-            if block.slow and not a.slow:
-                print(f"{block.where}: skipped (slow; --slow runs it): {block.command}")
+            if block.slow and not a.slow or block.long and not a.long:
+                print(f"{block.where}: skipped ({'long; --slow --long' if block.long else 'slow; --slow'} runs it): "
+                      f"{block.command}")
                 continue
             if block.command not in outputs:
                 outputs[block.command] = run(block.command)

@@ -3,6 +3,9 @@ the slow map continued in ε (:mod:`rocknroller.analysis.slow.dynamics.periodic_
 with the exact one-step map's orbits (direct ODE) as markers; the standard map's angle ϑ = Θ + W(Q)/2 at the kick
 against ε/ε_pd (ε_pd of the exact map, :func:`rocknroller.analysis.slow.dynamics.period_doubling.period_doubling`), and
 Greene's residues below.  :func:`bifurcation_data` computes, :func:`bifurcation_diagram` writes PNG, PDF and CSV.
+Over a range of release angles, :func:`period_doubling_line` gives the period doubling's ε_pd(θ0) of the slow map at
+orders 1 (4/κ) and 2 (the map's own root), :func:`period_doubling_plot` writes its figure and CSV: with the tables
+over energy (``rocknroller warm --tables``) a release angle costs no table build.
 """
 
 from __future__ import annotations
@@ -16,8 +19,8 @@ import numpy as np
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.slow.map.limits import K_PERIOD_DOUBLING, check_map_theta0, default_order
-from rocknroller.analysis.slow.map.tables_at_once import build_release_tables
-from rocknroller.analysis.slow.dynamics.period_doubling import period_doubling
+from rocknroller.analysis.slow.map.tables_at_once import build_release_tables, energy_tables_cached, release_tables
+from rocknroller.analysis.slow.dynamics.period_doubling import map_period_doubling, period_doubling
 from rocknroller.analysis.slow.dynamics.periodic_orbits import (K_MAX, MAX_BRANCH_POINTS, Branch, PeriodicOrbit,
                                                                 continue_orbit, periodic_orbit)
 from rocknroller.numerics.budget import (EXACT_ORBIT_SECONDS, MAP_SETUP_SECONDS, PERIOD_DOUBLING_SECONDS,
@@ -30,7 +33,8 @@ BRANCH_STYLE = {"fixed_stable_axis": ("C0", "rocking about the stable axis (fixe
                 "period2": ("C1", "period-2 orbit (born at the period doubling)")}
 
 __all__ = ["MAX_EXACT_FRACTIONS", "MAX_DIAGRAM_THETA0", "BifurcationData", "check_diagram_counts", "bifurcation_seconds",
-           "bifurcation_data", "bifurcation_figure", "bifurcation_diagram", "FILES_SECONDS"]
+           "bifurcation_data", "bifurcation_figure", "bifurcation_diagram", "FILES_SECONDS", "MAX_LINE_THETA0",
+           "PeriodDoublingLine", "period_doubling_line", "line_seconds", "period_doubling_plot"]
 
 #: ε/ε_pd at which the exact map's orbits are found (below and past the period doubling).
 EXACT_FRACTIONS = (0.9, 1.05, 1.2, 1.5)
@@ -287,7 +291,8 @@ def bifurcation_diagram(body: Body, out_dir: str | Path, theta0s: Sequence[float
                _what(theta0s, n_points, exact, order), budget)
     where = {"scheduler": scheduler, "threads": threads} if (scheduler, threads) != (None, None) else \
         {"processes": kwargs.get("workers", 1)}
-    build_release_tables(body, theta0s, progress=False, budget=None, **where)  # the budget is checked above
+    if not energy_tables_cached(body):
+        build_release_tables(body, theta0s, progress=False, budget=None, **where)  # the budget is checked above
     data = [bifurcation_data(body, t, budget=None, **kwargs) for t in theta0s]
     paths = save_figure(bifurcation_figure(data), out_dir, "bifurcation")
     rows = [r for d in data for r in _rows(d)]
@@ -298,3 +303,141 @@ def bifurcation_diagram(body: Body, out_dir: str | Path, theta0s: Sequence[float
               "kick_phase = Theta + W(Q)/2 mod 2 pi in [-pi/2, 3 pi/2) (the standard map's angle); residue = (3 - tr M)/4; stable: 0 < R < 1"]
     paths.append(write_csv(Path(out_dir) / "bifurcation.csv", {k: [r[k] for r in rows] for k in rows[0]}, header))
     return paths, data
+
+
+# ----------------------------------------------------------------------------- the period doubling over θ0
+#: Most release angles of one period-doubling line (each its tables and a root of det(DF + 1): ~0.1 s with the
+#: tables over energy, a table build per angle without them).
+MAX_LINE_THETA0 = 400
+#: CPU seconds of the line's root at order 2 per release angle, its tables ready (a few map Jacobians; 0.02-0.05 s
+#: measured).
+LINE_ROOT_SECONDS = 0.1
+
+
+@dataclass(frozen=True)
+class PeriodDoublingLine:
+    """ε_pd(θ0) of the slow map over release angles.
+
+    Attributes
+    ----------
+    theta0 : the release angles.
+    kappa : κ of each (the release table's).
+    eps_order1 : 4/|κ|, the first-order map's ε_pd (K = εκ = 4).
+    eps_order2 : the root of det(DF + 1) of the second-order map's Jacobian at the stable rocking.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> line = rr.period_doubling_line(rr.Body.paper(), [0.95 * math.pi])
+    >>> print(type(line).__name__, line.theta0.shape, f"{line.K_order2[0] - 4.0:+.1e}")
+    PeriodDoublingLine (1,) -2.2e-04
+    """
+
+    theta0: np.ndarray
+    kappa: np.ndarray
+    eps_order1: np.ndarray
+    eps_order2: np.ndarray
+
+    @property
+    def K_order2(self) -> np.ndarray:
+        """ε_pd κ at order 2: 4 plus the second order's correction, O(ε_pd)."""
+        return self.eps_order2 * np.abs(self.kappa)
+
+
+def _line_angles(theta0: Any) -> np.ndarray:
+    th = np.atleast_1d(np.asarray(theta0, dtype=float))
+    if th.ndim != 1 or not 1 <= th.size <= MAX_LINE_THETA0:
+        raise ValueError(f"theta0 must be 1 to MAX_LINE_THETA0 = {MAX_LINE_THETA0} release angles, got shape {th.shape}")
+    return np.array([check_map_theta0(float(t)) for t in th])
+
+
+def line_seconds(body: Body, theta0: Any, build: bool = True) -> float:
+    """The estimated CPU seconds of :func:`period_doubling_line` over ``theta0``, without building anything: the
+    tables not cached (first and second order, none where the tables over energy serve;
+    :func:`rocknroller.analysis.slow.work.tables_seconds`), and per angle its tables made ready
+    (``MAP_SETUP_SECONDS``) and the root (``LINE_ROOT_SECONDS``).
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> print(f"{line_seconds(rr.Body.paper(), [0.9 * math.pi, 0.95 * math.pi], build=False):.2f}")
+    1.00
+    """
+    from rocknroller.analysis.slow.work import tables_seconds
+
+    th = _line_angles(theta0)
+    tables = tables_seconds(body, th, 2)[0] if build else 0.0
+    return tables + th.size * (MAP_SETUP_SECONDS + LINE_ROOT_SECONDS)
+
+
+def period_doubling_line(body: Body, theta0: Any, *, budget: float | None = WORK_BUDGET_SECONDS,
+                         progress: bool | None = None) -> PeriodDoublingLine:
+    """ε_pd of rocking about the stable axis at each release angle of ``theta0`` (in ``THETA0_RANGE``, at most
+    ``MAX_LINE_THETA0``): 4/κ of the first-order map and the second-order map's own root
+    (:func:`rocknroller.analysis.slow.dynamics.period_doubling.map_period_doubling`), each on the tables of its
+    release (:func:`~rocknroller.analysis.slow.map.tables_at_once.release_tables`: the tables over energy where they
+    are cached, else built per angle); ``budget``: :func:`line_seconds`, checked before any work; ``progress``: a tqdm
+    bar over the angles (None: only on a terminal).
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> line = rr.period_doubling_line(rr.Body.paper(), [0.95 * math.pi])
+    >>> print(f"{line.eps_order1[0]:.6f} {line.eps_order2[0]:.6f} K = {line.K_order2[0]:.4f}")
+    0.009385 0.009384 K = 3.9998
+    """
+    from tqdm import tqdm
+
+    th = _line_angles(theta0)
+    check_work(line_seconds(body, th), f"the period-doubling line at {th.size} theta0 (its tables not cached, a root "
+               "each)", budget)
+    kappa, e2 = np.empty(th.size), np.empty(th.size)
+    with tqdm(total=th.size, desc="period doubling over theta0", unit="theta0",
+              disable=None if progress is None else not progress) as bar:
+        for k, t in enumerate(th):
+            kappa[k] = release_tables(body, float(t), 1)[0].kappa
+            e2[k] = map_period_doubling(body, float(t), order=2)
+            bar.update(1)
+    return PeriodDoublingLine(theta0=th, kappa=kappa, eps_order1=4.0 / np.abs(kappa), eps_order2=e2)
+
+
+def period_doubling_plot(body: Body, line: PeriodDoublingLine, out_dir: str | Path) -> list[Path]:
+    """Write ``period_doubling.png``, ``.pdf`` (ε_pd against θ0/π at orders 1 and 2 above, K = ε_pd κ below) and
+    ``period_doubling.csv`` (its header records the body and the tables) to ``out_dir``; returns the paths.
+
+    Examples
+    --------
+    >>> import math, tempfile
+    >>> import rocknroller as rr
+    >>> body = rr.Body.paper()
+    >>> line = rr.period_doubling_line(body, [0.9 * math.pi, 0.95 * math.pi])
+    >>> with tempfile.TemporaryDirectory() as out:
+    ...     print([p.name for p in rr.period_doubling_plot(body, line, out)])
+    ['period_doubling.png', 'period_doubling.pdf', 'period_doubling.csv']
+    """
+    fig = new_figure(figsize=(7.0, 6.5))
+    top, bottom = fig.subplots(2, 1, sharex=True)
+    x = line.theta0 / math.pi
+    top.semilogy(x, line.eps_order1, "C0--", label="order 1: 4/kappa")
+    top.semilogy(x, line.eps_order2, "C1-", label="order 2: root of det(DF + 1)")
+    top.set_ylabel("eps_pd = (I2 - I1)/I1 at the period doubling")
+    top.legend(fontsize=8)
+    bottom.plot(x, line.K_order2, "C1.-")
+    bottom.axhline(K_PERIOD_DOUBLING, color="0.5", lw=0.8, ls=":")
+    bottom.set_ylabel("K = eps_pd kappa (order 2)")
+    bottom.set_xlabel("theta0 / pi (release from rest)")
+    fig.suptitle(f"Period doubling of rocking about the stable axis over the release angle\n{body.symmetric().describe()}",
+                 fontsize=9)
+    paths = save_figure(fig, out_dir, "period_doubling")
+    header = [f"body: {body.symmetric().describe()}, with I2 = (1 + eps) I1",
+              "eps_order1 = 4/|kappa| (first-order map), eps_order2: the second-order map's root of det(DF + 1) at "
+              "the stable rocking; K_order2 = eps_order2 |kappa|",
+              f"tables: {'over energy' if energy_tables_cached(body) else 'per theta0'}"]
+    paths.append(write_csv(Path(out_dir) / "period_doubling.csv",
+                           {"theta0": line.theta0.tolist(), "theta0_over_pi": x.tolist(), "kappa": line.kappa.tolist(),
+                            "eps_order1": line.eps_order1.tolist(), "eps_order2": line.eps_order2.tolist(),
+                            "K_order2": line.K_order2.tolist()}, header))
+    return paths

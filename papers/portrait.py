@@ -44,6 +44,7 @@ from rocknroller.analysis.slow.map.compiled_map import SlowSeries, centre_period
 from rocknroller.analysis.slow.map.family import maximum_state, rest_energy
 from rocknroller.analysis.slow.map.limits import default_order
 from rocknroller.analysis.slow.map.maps import SlowMap
+from rocknroller.analysis.slow.map.tables_at_once import release_tables
 from rocknroller.numerics.budget import WORK_BUDGET_SECONDS, check_work
 from rocknroller.numerics.megno import MEGNO_CHAOTIC, MEGNO_CLIP, MIN_SAMPLES
 from rocknroller.papers.output import new_figure
@@ -299,7 +300,7 @@ def slow_portrait(body: Body, theta0: float, Theta: ArrayLike, p: ArrayLike | No
     seconds, what = portrait_seconds(body, theta0, Th.size * n_p, t_end, order=order, chaos=chaos,
                                      ode_t_ends=[ode_span] * len(ode_starts))
     check_work(seconds, what, budget)
-    table = av.load_or_build_table(body, theta0, build=build, progress=progress)
+    table = release_tables(body, theta0, 1, build=build, progress=progress)[0]  # the chart slow's tables use
     gu, gv = table.gradient("W", (0.0, 0.0))
     grad_W = gu * table.e + gv * table.n
     e = np.asarray(table.e, float)

@@ -2,38 +2,36 @@
 atlas of releases from rest (:func:`atlas_from_rest`) and of initial rates (:func:`atlas_of_rates`), their result
 :class:`Atlas`, the reversal counts per 1000 time units, crossings of the critical lines Q_J,0^crit and Q_J,π^crit
 (:func:`reversal_counts`; paper eqs. QJcrit_0, QJcrit_pi).  The check of a map-made atlas by the direct ODE
-(:func:`~rocknroller.analysis.slow.atlas_check.confirm_atlas`, :class:`~rocknroller.analysis.slow.atlas_check.AtlasCheck`)
-is :mod:`rocknroller.analysis.slow.atlas_check`.
+(:func:`~rocknroller.analysis.slow.atlas_check.confirm_atlas`) is :mod:`rocknroller.analysis.slow.atlas_check`.
 
 Two planes: releases from rest over (ψ0, θ0) (:func:`atlas_from_rest`, by the map, or by the ODE), and initial rates
 (φ̇0, ψ̇0) at fixed θ0, ψ0 (:func:`atlas_of_rates`, the plane of the paper's reversal starts, by the ODE: each
 of its starts has its own energy, and the map's tables are per energy).
 
-For each release angle θ0 the first-order map runs on one table
-(:func:`rocknroller.analysis.slow.map.table.load_or_build_table` in ``THETA0_RANGE``, the region tables of the release's
-energy below it, :mod:`rocknroller.analysis.slow.map.region`), so a row of ψ0 costs one table and a small fraction of a direct run a
-point once the tables are cached (order 2 would add a second-order table per θ0, each several times dearer: the atlas
-asks for order 1 whatever ``predict_slow_motion``'s default; the costs: docs/performance.md). Each point gives the slow period of Θ = 2ψ, the azimuth span Φ, the Q_R
-and Q_J extents and the numbers of full-angle (Q_J,0^crit) and visible-angle (Q_J,π^crit) reversals per 1000 time
-units: crossings of the critical lines by the maxima's (Q_R, Q_J), as
-:func:`rocknroller.analysis.slow.prediction_result.critical_regions` counts them for the map and the ODE alike.
+For each release angle θ0 the map runs on the tables of that release
+(:func:`rocknroller.analysis.slow.map.tables_at_once.release_tables` in ``THETA0_RANGE``: the tables over energy where
+they are cached for the body, else the release table and at order 2 the second-order table of θ0; below it the region
+tables of the release's energy), so a row of ψ0 costs its tables and a small fraction of a direct run a point.  Its
+order (:func:`atlas_order`) is 2 where the tables over energy (``rocknroller warm --tables``) cover every row, else 1
+(a second-order table would cost each row ~10 s; docs/performance.md); ``order`` asks for either.  Each point gives
+the slow period of Θ = 2ψ, the azimuth span Φ, the Q_R and Q_J extents and the full-angle (Q_J,0^crit) and
+visible-angle (Q_J,π^crit) reversals per 1000 time units: crossings of the critical lines by the maxima's (Q_R,
+Q_J), as :func:`rocknroller.analysis.slow.prediction_result.critical_regions` counts them for the map and the ODE.
+A sample of the points (and any the caller names) is run by the direct ODE as an ensemble
+(:func:`rocknroller.numerics.ensembles.ensemble.run_ensemble`: the same numbers bit for bit wherever it runs), and the
+map's relative errors there are returned beside the atlas.
 
-A sample of a map-made atlas's points (and any the caller names) is run by the direct ODE as an ensemble
-(:func:`rocknroller.numerics.ensembles.ensemble.run_ensemble`: in process, threads, or a dask cluster, the same numbers bit for
-bit), and the map's relative errors there are returned beside the atlas.
-
-Order and chaos.  A map-made release atlas also carries, by default, the map's own chaos
-indicators at every point (``CHAOS_OBSERVABLES``): MEGNO and the finite-time Lyapunov exponent per unit time of the
-run over t_end, the atlas's span (:func:`rocknroller.analysis.slow.dynamics.chaos.map_indicators`, the tangent vector that
-``predict_slow_motion`` carries, with ``span=t_end``;
-~1.5-1.8x the map's cost without it: benchmarks/bench_chaos_map.py), masked where a run has fewer than
-:data:`~rocknroller.numerics.megno.MIN_SAMPLES` maxima.  Its verdict, regular (MEGNO ≤
-:data:`~rocknroller.numerics.megno.MEGNO_CHAOTIC` = 3) or chaotic, is :attr:`Atlas.regular`.  :func:`~rocknroller.analysis.slow.atlas_check.confirm_atlas`
-checks that layer at its sample against the direct motion's indicators over the same span
-(:func:`rocknroller.numerics.variational.direct_chaos_indicators`: heyoka's variational equations, which do not run
-through ``run_ensemble``; they run in this process, on ``threads`` threads) and reports where the two verdicts agree
-(:attr:`~rocknroller.analysis.slow.atlas_check.AtlasCheck.verdict_agrees`).  An atlas made by the ODE has no chaos layer (a variational run costs ~1-3
-plain runs a point; ``direct_chaos_indicators`` gives it for any start).
+Order and chaos.  A map-made release atlas also carries, by default, the map's chaos indicators at every point
+(``CHAOS_OBSERVABLES``): MEGNO and the finite-time Lyapunov exponent per unit time over the span ``slow`` uses for the
+same start, max(t_end, 1000 rocks) (:func:`~rocknroller.analysis.slow.dynamics.chaos.indicator_span`: a start taken
+from an atlas row gets the same MEGNO and verdict from ``predict_slow_motion`` at the atlas's order, to the bit), by
+:func:`rocknroller.analysis.slow.dynamics.chaos.map_indicators` (the tangent vector ``predict_slow_motion`` carries,
+~1.5-1.8x the map's cost: benchmarks/bench_chaos_map.py), masked where a run has fewer than
+:data:`~rocknroller.numerics.megno.MIN_SAMPLES` maxima; :attr:`Atlas.regular` is MEGNO ≤
+:data:`~rocknroller.numerics.megno.MEGNO_CHAOTIC` = 3.  ``confirm_atlas`` checks that layer at its sample against
+the direct motion's indicators over the same span (:func:`rocknroller.numerics.variational.direct_chaos_indicators`,
+on ``threads`` threads of this process) and reports where the verdicts agree.  An atlas made by the ODE has no chaos
+layer (``direct_chaos_indicators`` gives it for any start).
 """
 
 from __future__ import annotations
@@ -58,14 +56,28 @@ if TYPE_CHECKING:
 
 __all__ = [
     "ATLAS_OBSERVABLES", "CHAOS_OBSERVABLES", "PLANES", "METHODS", "MAX_ATLAS_POINTS", "MAX_ODE_ATLAS_POINTS", "Atlas",
-    "reversal_counts", "atlas_from_rest", "atlas_of_rates", "atlas_seconds", "ATLAS_ORDER", "FILES_SECONDS",
+    "reversal_counts", "atlas_from_rest", "atlas_of_rates", "atlas_seconds", "atlas_order", "FILES_SECONDS",
     "FILES_SECONDS_PER_POINT"
 ]
 
-#: The map's order in ε of a map-made atlas: 1, whatever ``predict_slow_motion``'s default (2 for releases in
-#: ``THETA0_RANGE``): order 2 adds a second-order table per release angle, a row of the atlas, each many times the
-#: first-order table's cost (module docstring); every output of the atlas names this order.
-ATLAS_ORDER = 1
+
+def atlas_order(body: Body, theta0: ArrayLike) -> int:
+    """The default order in ε of a map-made release atlas over the rows ``theta0``: 2 where the tables over energy of
+    the body are cached and cover every row (``THETA0_RANGE``), else 1 (module docstring); every output of the atlas
+    names its order.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> atlas_order(rr.Body.paper(1e-3), [0.5 * math.pi, 0.9 * math.pi])  # a row below the release tables' range
+    1
+    """
+    from rocknroller.analysis.slow.map.tables_at_once import energy_tables_cached
+
+    th = np.atleast_1d(np.asarray(theta0, float))
+    covered = bool(np.all((th >= av.THETA0_RANGE[0]) & (th <= av.THETA0_RANGE[1])))
+    return 2 if covered and energy_tables_cached(body) else 1
 
 #: What the atlas maps, per point: the map's diagnostics and the reversals per 1000 time units.
 ATLAS_OBSERVABLES = ("slow_period", "Phi", "QR_extent", "QJ_extent", "full_reversals", "visible_reversals")
@@ -110,6 +122,7 @@ class Atlas:
     rows, cols : the grid's values along the rows and the columns (``PLANES[plane]`` names them).
     at : (θ0, ψ0) of a ``"rates"`` plane; None for ``"release"``.
     method : ``"map"`` (the averaged map) or ``"ode"`` (the direct ODE at every point).
+    order : the map's order in ε (:func:`atlas_order`); None for an atlas made by the ODE.
     values : dict
         For each of ``ATLAS_OBSERVABLES`` (and, for a map-made atlas with its chaos layer, ``CHAOS_OBSERVABLES``), a
         masked array (len(rows), len(cols)); masked where the quantity is undefined (the slow period of a run with
@@ -136,6 +149,7 @@ class Atlas:
     at: tuple[float, float] | None = None
     method: str = "map"
     warnings: tuple[str, ...] = ()
+    order: int | None = None
 
     @property
     def observables(self) -> tuple[str, ...]:
@@ -208,20 +222,22 @@ def _check_grid(name: str, values: ArrayLike, lo: float, hi: float) -> NDArray[n
 
 
 def _rows(body: Body, theta0: NDArray[np.float64], psi0: NDArray[np.float64], t_end: float, build: bool,
-          chaos: bool) -> tuple[NDArray[np.float64], NDArray[np.bool_], list[str]]:
+          chaos: bool, order: int) -> tuple[NDArray[np.float64], NDArray[np.bool_], list[str]]:
     """The map's observables (len(names), len(theta0), len(psi0)), names ``ATLAS_OBSERVABLES`` and, with ``chaos``,
     ``CHAOS_OBSERVABLES``, where they are undefined, and the validity warnings, for some rows of a release atlas (in
-    this process)."""
+    this process), at ``order``; the indicators over ``predict_slow_motion``'s own span."""
+    from rocknroller.analysis.slow.map.tables_at_once import release_tables
+
     out = np.zeros((len(ATLAS_OBSERVABLES) + (len(CHAOS_OBSERVABLES) if chaos else 0), theta0.size, psi0.size))
     mask = np.zeros_like(out, dtype=bool)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", av.AveragingValidityWarning)
         for i, t0 in enumerate(theta0):
-            table = None if av.releases_on_region_tables(t0) else av.load_or_build_table(body, t0, build=build)
+            table, second = ((None, None) if av.releases_on_region_tables(t0) else
+                             release_tables(body, float(t0), order, build=build))
             for j, p0 in enumerate(psi0):
-                pred = av.predict_slow_motion(body, float(t0), float(p0), t_end, table=table, build=build,
-                                              order=ATLAS_ORDER, indicators=chaos,
-                                              span=t_end)  # the ODE's check runs over t_end
+                pred = av.predict_slow_motion(body, float(t0), float(p0), t_end, table=table, second=second,
+                                              build=build, order=order, indicators=chaos)
                 for k, v in enumerate(_values(pred, t_end, chaos)):
                     mask[k, i, j] = v is None
                     out[k, i, j] = 0.0 if v is None else v
@@ -283,12 +299,13 @@ FILES_SECONDS_PER_POINT = 5.0e-4
 
 
 def atlas_seconds(body: Body, theta0: ArrayLike, n_psi0: int, t_end: float, *, chaos: bool = True,
-                  build: bool = True, files: bool = False) -> tuple[float, str]:
+                  build: bool = True, files: bool = False, order: int | None = None) -> tuple[float, str]:
     """The estimated CPU seconds of a map-made release atlas (:func:`atlas_from_rest`) over the rows ``theta0`` and
     ``n_psi0`` columns, and a phrase saying what they count (:mod:`rocknroller.numerics.budget`), without building or
     running anything: with ``build`` the tables not cached (one per θ0: a release table, or below ``THETA0_RANGE`` the
-    region tables of the release's energy; :func:`rocknroller.analysis.slow.work.tables_seconds`), every point's run
-    of the map over t_end (the atlas's span) with its tangent vector if ``chaos``
+    region tables of the release's energy, at ``order`` 2 the second-order tables, none where the tables over energy
+    serve; :func:`rocknroller.analysis.slow.work.tables_seconds`), every point's run of the map of ``order``
+    (None: :func:`atlas_order`) over t_end, or with its tangent vector if ``chaos`` over the indicators' span
     (:func:`rocknroller.analysis.slow.work.map_runs_seconds`, ``ATLAS_POINT_SECONDS`` a point besides), and with
     ``files`` the command's CSV and figures (``FILES_SECONDS``, ``FILES_SECONDS_PER_POINT``).
 
@@ -314,14 +331,23 @@ def atlas_seconds(body: Body, theta0: ArrayLike, n_psi0: int, t_end: float, *, c
     if not 0.0 < t_end < np.inf:  # also NaN; each run checks its own upper limit
         raise ValueError(f"t_end must be a finite number > 0, got t_end={t_end!r}")
     th = np.atleast_1d(np.asarray(theta0, float))
-    tables, built = tables_seconds(body, th, ATLAS_ORDER) if build else (0.0, "no tables to build")
-    runs, n_max = map_runs_seconds(body, th, n_psi0, t_end, ATLAS_ORDER, tangent=chaos, per_run=ATLAS_POINT_SECONDS)
+    order = atlas_order(body, th) if order is None else _check_order(order)
+    tables, built = tables_seconds(body, th, order) if build else (0.0, "no tables to build")
+    runs, n_max = map_runs_seconds(body, th, n_psi0, t_end, order, tangent=chaos, indicator_span=chaos,
+                                   per_run=ATLAS_POINT_SECONDS)
     n = th.size * n_psi0
     output = FILES_SECONDS + n * FILES_SECONDS_PER_POINT if files else 0.0
-    what = (f"the atlas's {n} points ({built}; {n} map runs of order {ATLAS_ORDER} over t_end = {t_end:g}"
+    what = (f"the atlas's {n} points ({built}; {n} map runs of order {order} over t_end = {t_end:g}"
             f"{' with their tangent vectors (the chaos layer)' if chaos else ''}, about {n_max:.2g} theta-maxima"
             f"{'; its CSV and figures' if files else ''})")
     return tables + runs + output, what
+
+
+def _check_order(order: Any) -> int:
+    """``order`` if it is 1 or 2, else a ValueError naming it."""
+    if order not in (1, 2) or isinstance(order, bool):
+        raise ValueError(f"order must be 1 or 2 (or None: atlas_order), got order={order!r}")
+    return int(order)
 
 
 def _check_method(method: str) -> str:
@@ -334,7 +360,7 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
                     method: str = "map", progress: bool | None = None, build: bool = True, processes: int = 1,
                     scheduler: str | None = None, workers: int | None = None,
                     threads: int | None = None, budget: float | None = WORK_BUDGET_SECONDS,
-                    chaos: bool | None = None) -> Atlas:
+                    chaos: bool | None = None, order: int | None = None) -> Atlas:
     """Map the slow motion over the releases from rest at every (θ0, ψ0) of the grid (module docstring).
 
     Parameters
@@ -371,6 +397,8 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
         The map: add the chaos layer, ``CHAOS_OBSERVABLES`` (module docstring; the map's tangent vector, ~1.5-1.8x the
         map's cost without it); None: True for the map, False for the ODE (an atlas made by the ODE has no chaos
         layer: True is refused there).
+    order : 1, 2 or None
+        The map's order in ε; None: :func:`atlas_order` (2 where the tables over energy cover every row, else 1).
 
     Raises
     ------
@@ -383,7 +411,7 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
     >>> import math
     >>> import rocknroller as rr
     >>> body = rr.Body.paper(epsilon=1e-3)
-    >>> atlas = rr.atlas_from_rest(body, [0.95 * math.pi], [0.3, 0.8], 200.0)
+    >>> atlas = rr.atlas_from_rest(body, [0.95 * math.pi], [0.3, 0.8], 200.0, order=1)
     >>> print(atlas.values["Phi"].shape, [f"{v:.4f}" for v in atlas.values["Phi"][0]])
     (1, 2) ['2.3971', '1.4716']
     """
@@ -399,16 +427,18 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
         return _ode_atlas(body, "release", th, ps, None, t_end, scheduler, workers, threads, progress, budget)
     _check_size(th.size, ps.size, MAX_ATLAS_POINTS, "MAX_ATLAS_POINTS")
     chaos = chaos is not False
+    order = atlas_order(body, th) if order is None else _check_order(order)
     processes = check_processes(processes, "processes")
-    check_work(*atlas_seconds(body, th, ps.size, t_end, chaos=chaos, build=build), budget)  # before any work
+    check_work(*atlas_seconds(body, th, ps.size, t_end, chaos=chaos, build=build, order=order), budget)  # before work
     if build:
-        if (scheduler, workers, threads) != (None, None, None):
-            from rocknroller.analysis.slow.map.tables_at_once import build_release_tables
+        from rocknroller.analysis.slow.map import tables_at_once as ta
 
-            build_release_tables(body, [t0 for t0 in th if not av.releases_on_region_tables(t0)], scheduler=scheduler,
-                                 workers=workers, threads=threads, progress=progress, budget=None)  # checked above
+        if (scheduler, workers, threads) != (None, None, None) and not ta.energy_tables_cached(body):
+            builder = ta.build_second_order_tables if order == 2 else ta.build_release_tables
+            builder(body, [t0 for t0 in th if not av.releases_on_region_tables(t0)], scheduler=scheduler,
+                    workers=workers, threads=threads, progress=progress, budget=None)  # checked above
     blocks = np.array_split(np.arange(th.size), min(processes, th.size) if processes > 1 else th.size)
-    parts = map_blocks(_rows, [(body, th[rows], ps, float(t_end), build, chaos) for rows in blocks],
+    parts = map_blocks(_rows, [(body, th[rows], ps, float(t_end), build, chaos, order) for rows in blocks],
                        [b.size for b in blocks],
                        processes=processes, desc="atlas rows", unit="theta0", progress=progress)
     out = np.concatenate([p[0] for p in parts], axis=1)
@@ -417,7 +447,7 @@ def atlas_from_rest(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
     names = ATLAS_OBSERVABLES + (CHAOS_OBSERVABLES if chaos else ())
     return Atlas(eps=body.epsilon, t_end=float(t_end), plane="release", rows=th, cols=ps,
                  values={name: np.ma.MaskedArray(out[k], mask[k]) for k, name in enumerate(names)},
-                 warnings=tuple(dict.fromkeys(caught_all)))
+                 warnings=tuple(dict.fromkeys(caught_all)), order=order)
 
 
 def atlas_of_rates(body: Body, theta0: float, psi0: float, phi_dot0: ArrayLike, psi_dot0: ArrayLike,

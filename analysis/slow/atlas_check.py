@@ -18,7 +18,7 @@ from rocknroller.analysis.slow.atlas import ATLAS_OBSERVABLES, CHAOS_OBSERVABLES
 from rocknroller.numerics.budget import WORK_BUDGET_SECONDS, check_work
 from rocknroller.numerics.megno import MEGNO_CHAOTIC
 
-__all__ = ["AtlasCheck", "confirm_atlas", "confirm_seconds"]
+__all__ = ["chaos_span", "AtlasCheck", "confirm_atlas", "confirm_seconds"]
 
 
 @dataclass(frozen=True)
@@ -94,8 +94,9 @@ def confirm_seconds(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
     """The estimated CPU seconds of :func:`confirm_atlas` on a release atlas over the grid ``theta0`` × ``psi0``
     (before the atlas is made: the points it confirms follow from the grid), and a phrase saying what they count: a
     direct run over t_end at each confirmed point (Λ t_end radians at ``HEYOKA_SECONDS_PER_RADIAN``, and
-    ``DIRECT_RUN_SECONDS`` a run) and, with ``chaos``, a variational run there
-    (``VARIATIONAL_SECONDS_PER_RADIAN``; counted at every confirmed point, where the map's layer may be masked).
+    ``DIRECT_RUN_SECONDS`` a run) and, with ``chaos``, a variational run there over the indicators' span
+    (:func:`chaos_span`; ``VARIATIONAL_SECONDS_PER_RADIAN``; counted at every confirmed point, where the map's layer
+    may be masked).
 
     Examples
     --------
@@ -104,8 +105,8 @@ def confirm_seconds(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
     >>> body = rr.Body.paper(epsilon=1e-3)
     >>> plain, _ = confirm_seconds(body, [0.95 * math.pi], [0.3, 0.8], 1000.0, every=1, chaos=False)
     >>> both, what = confirm_seconds(body, [0.95 * math.pi], [0.3, 0.8], 1000.0, every=1)
-    >>> print(both > plain, "|", what)
-    True | the confirmation of 2 points (direct runs over t_end = 1000 and variational runs, one of each a point)
+    >>> print(both > plain, "|", what.split(" and ")[0])
+    True | the confirmation of 2 points (direct runs over t_end = 1000
     """
     from rocknroller.numerics.budget import DIRECT_RUN_SECONDS, HEYOKA_SECONDS_PER_RADIAN
     from rocknroller.numerics.run_limits import rate_bound
@@ -119,26 +120,48 @@ def confirm_seconds(body: Body, theta0: ArrayLike, psi0: ArrayLike, t_end: float
         if t0 not in rates:
             rates[t0] = rate_bound(body, EulerState(t0).to_body_state())
     radians = sum(rates[float(th[f // ps.size])] for f in flat) * float(t_end)
-    seconds = radians * (HEYOKA_SECONDS_PER_RADIAN + (VARIATIONAL_SECONDS_PER_RADIAN if chaos else 0.0)) \
+    spans = {t0: chaos_span(body, t0, t_end) for t0 in rates} if chaos else {}
+    variational = sum(rates[float(th[f // ps.size])] * spans[float(th[f // ps.size])] for f in flat) if chaos else 0.0
+    seconds = radians * HEYOKA_SECONDS_PER_RADIAN + variational * VARIATIONAL_SECONDS_PER_RADIAN \
         + len(flat) * DIRECT_RUN_SECONDS * (2 if chaos else 1)
-    return seconds, (f"the confirmation of {len(flat)} points (direct runs over t_end = {float(t_end):g}"
-                     f"{' and variational runs' if chaos else ''}, one of each a point)")
+    extra = " and variational runs over the span of the indicators" if chaos else ""
+    return seconds, (f"the confirmation of {len(flat)} points (direct runs over t_end = {float(t_end):g}{extra}, "
+                     "one of each a point)")
 
 
-def _ode_chaos(body: Body, states: Sequence[EulerState], t_end: float, threads: int | None) -> NDArray[np.float64]:
-    """(MEGNO, λ) of the direct motion from each state over [0, t_end], shape (2, len(states)): one variational run
+def chaos_span(body: Body, theta0: float, t_end: float) -> float:
+    """The span of the chaos indicators of the release from rest at θ0 (the map's and the direct motion's alike):
+    ``predict_slow_motion``'s, max(t_end, 1000 rocks) with T_θ(0) of the release by quadrature
+    (:func:`~rocknroller.analysis.slow.dynamics.chaos.indicator_span`).
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> print(round(chaos_span(rr.Body.paper(1e-3), 0.95 * math.pi, 1000.0)))  # 1000 rocks of 13.26 time units
+    13261
+    """
+    from rocknroller.analysis.slow.dynamics.chaos import indicator_span
+    from rocknroller.analysis.slow.work import rocking_period
+
+    return indicator_span(t_end, rocking_period(body, theta0))
+
+
+def _ode_chaos(body: Body, states: Sequence[EulerState], spans: Sequence[float],
+              threads: int | None) -> NDArray[np.float64]:
+    """(MEGNO, λ) of the direct motion from each state over [0, its span], shape (2, len(states)): one variational run
     each (:func:`rocknroller.numerics.variational.direct_chaos_indicators`), on ``threads`` threads of this process
     (each run is the same whichever thread makes it)."""
     from concurrent.futures import ThreadPoolExecutor
 
     from rocknroller.numerics.variational import direct_chaos_indicators
 
-    def one(state: EulerState) -> tuple[float, float]:
-        ind = direct_chaos_indicators(body, state, t_end, budget=None).indicators
+    def one(state: EulerState, span: float) -> tuple[float, float]:
+        ind = direct_chaos_indicators(body, state, span, budget=None).indicators
         return ind.megno, ind.lyapunov
 
     with ThreadPoolExecutor(max_workers=max(1, threads or 1)) as pool:
-        found = list(pool.map(one, states))
+        found = list(pool.map(one, states, spans))
     return np.array(found, dtype=float).reshape(-1, 2).T
 
 
@@ -152,7 +175,7 @@ def confirm_atlas(atlas: Atlas, body: Body, *, every: int | None = 50, points: S
     together (:func:`confirm_seconds`, estimated before any run; None: no limit).
 
     ``chaos`` (None: whether the atlas has its chaos layer) also confirms the map's MEGNO and λ there by the direct
-    motion's (:func:`rocknroller.numerics.variational.direct_chaos_indicators` over the atlas's t_end, at the points
+    motion's (:func:`rocknroller.numerics.variational.direct_chaos_indicators` over the map's span, :func:`chaos_span`, at the points
     where the map has them; on ``threads`` threads of this process whatever ``scheduler`` and ``workers`` say: the
     variational runs do not go through ``run_ensemble``); :attr:`AtlasCheck.verdict_agrees` compares the verdicts.
 
@@ -197,7 +220,8 @@ def confirm_atlas(atlas: Atlas, body: Body, *, every: int | None = 50, points: S
     if chaos:
         found = np.zeros((len(CHAOS_OBSERVABLES), len(states)))
         if chaos_states:
-            found[:, have] = _ode_chaos(body, chaos_states, atlas.t_end, threads)
+            spans = [chaos_span(body, s.theta, atlas.t_end) for s in chaos_states]
+            found[:, have] = _ode_chaos(body, chaos_states, spans, threads)
         ode.update({name: np.ma.MaskedArray(found[k], ~have) for k, name in enumerate(CHAOS_OBSERVABLES)})
     rel: dict[str, np.ma.MaskedArray] = {}
     own = {name: atlas.values[name][index[:, 0], index[:, 1]] for name in names}

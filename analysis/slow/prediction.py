@@ -210,7 +210,10 @@ def predict_slow_motion(body: Body, theta0: float | EulerState, psi0: float | No
     if table is None:
         sym = body.symmetric()
         check_t_end(t_end, pure_rocking_period(sym, rest_energy(sym, theta0)))
-        table = load_or_build_table(body, theta0, build=build, progress=progress)
+        from rocknroller.analysis.slow.map.tables_at_once import release_tables
+
+        table, span_second = release_tables(body, theta0, order, build=build, progress=progress)
+        second = span_second if second is None else second
     elif abs(table.theta0 - theta0) > 1e-15:
         raise ValueError(f"the table is for theta0={table.theta0!r}, not {theta0!r}")
     elif table.body != body.symmetric():

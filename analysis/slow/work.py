@@ -93,7 +93,8 @@ def tables_seconds(body: Body, theta0: ArrayLike, order: int = 1) -> tuple[float
     (in memory or in the disk cache, ``ROCKNROLLER_CACHE``; found without building or reading them), and a phrase
     counting them: a release table (``RELEASE_TABLE_SECONDS``) for θ0 in ``THETA0_RANGE``, the region tables of the
     release's energy (``REGION_TABLE_SECONDS``) below it, and at ``order`` 2 a second-order table
-    (``SECOND_ORDER_TABLE_SECONDS``) on each release table.
+    (``SECOND_ORDER_TABLE_SECONDS``) on each release table; none in ``THETA0_RANGE`` where the tables over energy of
+    the body are cached (``rocknroller warm --tables``).
 
     Examples
     --------
@@ -112,12 +113,16 @@ def tables_seconds(body: Body, theta0: ArrayLike, order: int = 1) -> tuple[float
     from rocknroller.analysis.slow.map.region import region_table_cached
     from rocknroller.analysis.slow.map.second_order import build_second_order_table
     from rocknroller.analysis.slow.map.table import build_table, is_cached
+    from rocknroller.analysis.slow.map.tables_at_once import energy_tables_cached
 
     sym = body.symmetric()
     n_release = n_region = n_second = 0
+    over_energy = energy_tables_cached(sym)
     for t0 in np.unique(np.atleast_1d(np.asarray(theta0, float))):
         if t0 < THETA0_RANGE[0]:
             n_region += not region_table_cached(sym, rest_energy(sym, float(t0)))
+            continue
+        if over_energy:  # the tables over energy serve every release angle of THETA0_RANGE
             continue
         n_release += not is_cached(build_table, sym, float(t0))
         n_second += order == 2 and not is_cached(build_second_order_table, sym, float(t0))

@@ -86,6 +86,10 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "plain run each); an atlas by the direct ODE has none")
     p.add_argument("--cached-only", action="store_true",
                    help="the map: fail instead of building the averaging tables of a theta0 when none are cached")
+    p.add_argument("--order", type=int, choices=(1, 2), default=None,
+                   help="the map's order in eps (default: 2 where the tables over energy, rocknroller warm --tables, "
+                        "cover every theta0 of the grid, else 1: a second-order table per row would be built; the "
+                        "costs: docs/performance.md)")
     p.add_argument("--json", action="store_true", help="print a one-object JSON summary on stdout")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
     p.set_defaults(run=run)
@@ -145,7 +149,7 @@ def _check_map_atlas_work(body: Any, theta0: np.ndarray, psi0: np.ndarray, args:
         return  # atlas_from_rest refuses the grid itself
     chaos = not args.no_chaos
     seconds, what = atlas_seconds(body, theta0, psi0.size, args.t_end, chaos=chaos, build=not args.cached_only,
-                                  files=True)
+                                  files=True, order=args.order)
     if confirm_every > 0 or args.confirm:
         from types import SimpleNamespace
 
@@ -158,7 +162,7 @@ def _check_map_atlas_work(body: Any, theta0: np.ndarray, psi0: np.ndarray, args:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller atlas`` with the parsed ``args``; returns the exit status."""
-    from rocknroller.analysis.slow.atlas import ATLAS_ORDER, atlas_from_rest, atlas_of_rates
+    from rocknroller.analysis.slow.atlas import atlas_from_rest, atlas_of_rates
     from rocknroller.analysis.slow.atlas_check import confirm_atlas
     from rocknroller.papers.atlas_plots import plot_atlas, plot_atlas_check
     from rocknroller.papers.output import write_csv
@@ -188,7 +192,7 @@ def run(args: argparse.Namespace) -> int:
         atlas = atlas_from_rest(body, grids["theta0"], grids["psi0"], args.t_end, method=method, progress=progress,
                                 build=not args.cached_only, processes=args.processes, scheduler=scheduler,
                                 workers=workers, threads=threads, budget=budget,
-                                chaos=method == "map" and not args.no_chaos)
+                                chaos=method == "map" and not args.no_chaos, order=args.order)
     names = atlas.observables
     named = [_nearest(atlas, s) for s in args.confirm]
     check = None
@@ -199,7 +203,7 @@ def run(args: argparse.Namespace) -> int:
     starts = ("releases from rest" if atlas.at is None else  # at: (theta0, psi0) of a rates plane, None for release
               f"theta0={atlas.at[0] / np.pi:.4g}pi, psi0={atlas.at[1] / np.pi:.4g}pi, theta_dot0=0")
     if method == "map":
-        how = (f"averaged map of order {ATLAS_ORDER} in eps; {0 if check is None else len(check.index)} points "
+        how = (f"averaged map of order {atlas.order} in eps; {0 if check is None else len(check.index)} points "
                f"confirmed by the direct ODE ({where})")
     else:
         how = f"direct ODE at every point ({where})"
@@ -211,7 +215,8 @@ def run(args: argparse.Namespace) -> int:
               "(err: map/ODE - 1, or map - ODE for the reversal counts, megno and lyapunov)"]
     if "megno" in names:
         header.append("megno, lyapunov: the map's MEGNO and finite-time Lyapunov exponent per unit time over the span "
-                      f"t_end = {args.t_end:g} (criterion: regular if MEGNO <= 3, else chaotic); ode_megno, ode_lyapunov: the direct motion's (variational equations "
+                      f"that rocknroller slow uses, max(t_end = {args.t_end:g}, 1000 rocks) (criterion: regular if "
+                      "MEGNO <= 3, else chaotic); ode_megno, ode_lyapunov: the direct motion's (variational equations "
                       "over the same span); verdict_agrees: the same regular/chaotic verdict")
     R, C = np.meshgrid(atlas.rows, atlas.cols, indexing="ij")
     cols: dict[str, list] = {atlas.row_name: R.ravel().tolist(), atlas.col_name: C.ravel().tolist()}
@@ -238,7 +243,7 @@ def run(args: argparse.Namespace) -> int:
     if check is not None:
         written += plot_atlas_check(atlas, check, args.out, title)
     summary: dict[str, Any] = {"plane": args.plane, "method": method,
-                               "order": ATLAS_ORDER if method == "map" else None, "n_points": int(R.size),
+                               "order": atlas.order, "n_points": int(R.size),
                                "n_confirmed": 0 if check is None else len(check.index),
                                "warnings": list(atlas.warnings), "files": [str(p) for p in written]}
     if check is not None:

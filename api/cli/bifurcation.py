@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 from pathlib import Path
+from typing import Any
 
 from rocknroller.analysis.slow.dynamics.periodic_orbits import MAX_BRANCH_POINTS
 from rocknroller.cli.options import (add_body_options, add_budget_option, add_force_option, body_from_args,
@@ -27,6 +28,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_body_options(p, asymmetry=False)
     p.add_argument("--theta0", action="append", default=None, metavar="ANGLE",
                    help="release angle (repeat for several; e.g. 0.95pi; default 0.9pi and 0.95pi)")
+    p.add_argument("--theta0-range", default=None, metavar="LO:HI:N",
+                   help="instead of the diagram: the period doubling's eps_pd over N release angles from LO to HI "
+                        "(e.g. 0.8pi:0.99pi:60; N <= 400), at orders 1 (4/kappa) and 2 (the map's root), written to "
+                        "period_doubling.png, .pdf and .csv; with the tables over energy (rocknroller warm --tables) "
+                        "an angle needs no table build, else its tables are built")
     p.add_argument("--from", dest="lo", type=float, default=0.6, metavar="F",
                    help="first eps of the slow map's branches, as a fraction of eps_pd (default 0.6)")
     p.add_argument("--to", dest="hi", type=float, default=1.55, metavar="F",
@@ -53,8 +59,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller bifurcation`` with the parsed ``args``; returns the exit status."""
-    from rocknroller.analysis.slow.map.second_order import load_or_build_second_order_table
-    from rocknroller.analysis.slow.map.table import load_or_build_table
+    from rocknroller.analysis.slow.map.tables_at_once import release_tables
     from rocknroller.analysis.slow.prediction import default_order
     from rocknroller.analysis.slow.map.limits import check_map_theta0
     from rocknroller.numerics.budget import check_work
@@ -62,6 +67,8 @@ def run(args: argparse.Namespace) -> int:
                                                 _what, bifurcation_diagram, bifurcation_seconds)
 
     body = body_from_args(args, gravity=True)
+    if args.theta0_range is not None:
+        return _line(args, body)
     theta0s = [check_map_theta0(parse_angle(t, "--theta0")) for t in (args.theta0 or ["0.9pi", "0.95pi"])]
     exact_at = [f for f in EXACT_FRACTIONS if f <= args.hi] if args.exact_at is None else args.exact_at
     if len(theta0s) > MAX_DIAGRAM_THETA0:
@@ -77,9 +84,7 @@ def run(args: argparse.Namespace) -> int:
     prepare_output_dir(args.out, "--out", args.force, ["bifurcation.png", "bifurcation.pdf", "bifurcation.csv"])
     progress = False if args.quiet else None
     for theta0 in theta0s:  # the tables first: --cached-only refuses before any work, --quiet hides their builds
-        load_or_build_table(body, theta0, build=not args.cached_only, progress=progress)
-        if order == 2:
-            load_or_build_second_order_table(body, theta0, build=not args.cached_only, progress=progress)
+        release_tables(body, theta0, order, build=not args.cached_only, progress=progress)
     paths, data = bifurcation_diagram(body, args.out, theta0s, fractions=(args.lo, args.hi), n_points=args.points,
                                       exact_fractions=tuple(exact_at), order=order,
                                       budget=budget_from_args(args))
@@ -102,6 +107,34 @@ def run(args: argparse.Namespace) -> int:
                       f"(differ by {abs(s.kick_phase[0] - e.kick_phase[0]):.2g}), Theta differs by "
                       f"{abs(s.points[0, 2] - e.points[0, 2]):.2g}; R = {s.residue:.5f} / {e.residue:.5f} "
                       f"({'stable' if s.stable else 'unstable'} / {'stable' if e.stable else 'unstable'})")
+        for p in paths:
+            print(f"wrote {p}")
+    return 0
+
+
+def _line(args: argparse.Namespace, body: Any) -> int:
+    """``--theta0-range``: the period-doubling line over the release angles, its files and a line of text per angle."""
+    from rocknroller.cli.atlas import angle_grid
+    from rocknroller.numerics.budget import check_work
+    from rocknroller.papers.bifurcation import FILES_SECONDS, line_seconds, period_doubling_line, period_doubling_plot
+
+    if args.theta0 is not None:
+        raise ValueError("give either --theta0 (the diagram at those angles) or --theta0-range (the period-doubling "
+                         "line over a range), not both")
+    theta0 = angle_grid(args.theta0_range, "--theta0-range")
+    check_work(line_seconds(body, theta0, build=not args.cached_only) + FILES_SECONDS,
+               f"the period-doubling line at {theta0.size} theta0", budget_from_args(args))  # before any work
+    prepare_output_dir(args.out, "--out", args.force, ["period_doubling.png", "period_doubling.pdf",
+                                                        "period_doubling.csv"])
+    line = period_doubling_line(body, theta0, budget=None, progress=False if args.quiet else None)
+    paths = period_doubling_plot(body, line, args.out)
+    if args.json:
+        print_json({"files": [str(p) for p in paths], "theta0": line.theta0.tolist(), "kappa": line.kappa.tolist(),
+                    "eps_order1": line.eps_order1.tolist(), "eps_order2": line.eps_order2.tolist()})
+    else:
+        for t, e1, e2, K in zip(line.theta0, line.eps_order1, line.eps_order2, line.K_order2):
+            print(f"theta0 = {t / math.pi:.6g}pi: eps_pd = {e1:.6g} (order 1, 4/kappa), {e2:.6g} (order 2), "
+                  f"K = {K:.5f}")
         for p in paths:
             print(f"wrote {p}")
     return 0

@@ -215,6 +215,7 @@ def run(args: argparse.Namespace) -> int:
     """Run ``rocknroller slow`` with the parsed ``args``; returns the exit status."""
     from rocknroller.analysis.slow.dynamics.pendulum import pendulum_constants, pendulum_prediction
     from rocknroller.analysis.slow.dynamics.periodic_starts import on_rocking_axis, periodic_start
+    from rocknroller.analysis.slow.map.tables_at_once import release_tables
 
     if args.plot is not None:
         prepare_output_dir(args.plot, "--plot", args.force, ["slow_orbit.png", "slow_orbit.pdf"])
@@ -267,22 +268,16 @@ def run(args: argparse.Namespace) -> int:
         messages.append(
             f"K = eps*kappa = {K:.4g} > {av.K_PERIOD_DOUBLING:g}: outside the valid range eps < {consts.eps_period_doubling:.4g} "
             "(pure rocking about the stable axis has period-doubled; the closed form does not apply)")
+    order = av.default_order(theta0) if args.order is None else args.order
     try:
-        table = av.load_or_build_table(body, theta0, build=not args.cached_only, workers=args.processes,
-                                       progress=_progress(args))
+        table, second = release_tables(body, theta0, order if body.epsilon > 0.0 else 1, build=not args.cached_only,
+                                       workers=args.processes, progress=_progress(args))
     except av.AveragingRangeError as exc:
         raise ValueError(f"--theta0 {args.theta0}: {exc}") from None
     except (RuntimeError, ArithmeticError) as exc:
         raise ValueError(f"the averaging tables {unresolved}: {exc}") from None
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", av.AveragingValidityWarning)
-        order = av.default_order(theta0) if args.order is None else args.order
-        second = None
-        if order == 2 and body.epsilon > 0.0:
-            from rocknroller.analysis.slow.map.second_order import load_or_build_second_order_table
-
-            second = load_or_build_second_order_table(body, theta0, build=not args.cached_only,
-                                                      workers=args.processes, progress=_progress(args))
         try:
             pred = av.predict_slow_motion(body, theta0, psi0, args.t_end, table=table, order=order, second=second)
         except av.ChartWidthError as exc:  # wider than the release tables: the region tables of its energy hold it

@@ -1,12 +1,17 @@
-"""``rocknroller warm``: compile every integrator the package uses, ahead of time, into heyoka's disk cache."""
+"""``rocknroller warm``: compile every integrator the package uses, ahead of time, into heyoka's disk cache; with
+``--tables``, build the slow map's tables over energy of a body too."""
 
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import time
 import warnings
 from typing import Any, Callable
+
+from rocknroller.analysis.model.body import Body
+from rocknroller.cli.options import add_body_options, body_from_args
 
 
 def integrators() -> list[tuple[str, Callable[[], Any]]]:
@@ -50,8 +55,18 @@ def register(sub: argparse._SubParsersAction) -> None:
         "faster for run_ensemble (the results do not depend on it). "
         "Prints each integrator, whether it was compiled and cached or loaded from the cache, and the seconds it "
         "took; exits 1, saying why, when heyoka's disk cache cannot be used (nothing is then kept for later "
-        "processes).",
+        "processes). With --tables it then builds the slow map's tables over energy of the body (first and second "
+        "order at every release angle from 0.75pi to 0.999pi, once per body, shared by --processes; cached in "
+        "ROCKNROLLER_CACHE; the cost: docs/performance.md), after which the first prediction at any release angle takes "
+        "no table build.",
     )
+    p.add_argument("--tables", action="store_true",
+                   help="also build the slow map's tables over energy of the body given by the body options (once "
+                   "per body)")
+    p.add_argument("--processes", type=int, default=2, metavar="N",
+                   help="processes of this machine that build the tables (default 2; the tables do not depend on it)")
+    p.add_argument("--quiet", action="store_true", help="no progress bars (the tables' build)")
+    add_body_options(p)
     p.set_defaults(run=run)
 
 
@@ -63,7 +78,10 @@ def run(args: argparse.Namespace) -> int:
     from rocknroller.numerics.backends import check_diskcache
     from rocknroller.numerics.cache import CacheWarning, warming
     from rocknroller.numerics.ensembles.lanes import measure_lanes
+    from rocknroller.numerics.parallel import check_processes
 
+    processes = check_processes(args.processes, "--processes")
+    body = body_from_args(args, gravity=True) if args.tables else None  # bad body options refused before any work
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", CacheWarning)
         check_diskcache()  # an unusable cache is switched off here, with a CacheWarning that says why
@@ -84,8 +102,29 @@ def run(args: argparse.Namespace) -> int:
             print(f"{what}: {status} in {seconds:.1f} s", flush=True)
         choice = measure_lanes()
         print(f"ensembles' lanes, measured side by side: {choice.describe()}", flush=True)
+    if body is not None:
+        _tables(body, processes, None if not args.quiet else False)
     if not cached:
         reason = why[0] if why else "heyoka's disk cache is switched off (hy.llvm_state.set_diskcache_enabled)"
         print(f"rocknroller warm: nothing was cached, so every process compiles again: {reason}", file=sys.stderr)
         return 1
     return 0
+
+
+def _tables(body: Body, processes: int, progress: bool | None) -> None:
+    """Build (or find cached) the tables over energy of ``body`` and print what was done, the CPU seconds and the
+    errors measured at the build's off-node checks."""
+    import resource
+
+    from rocknroller.analysis.slow.map.tables_at_once import energy_tables_cached, load_energy_tables
+
+    def cpu() -> float:
+        own, kids = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+        return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
+
+    cached, start = energy_tables_cached(body), cpu()
+    span = load_energy_tables(body, workers=processes, progress=progress)
+    status = "loaded from the cache" if cached else f"built and cached in {cpu() - start:.0f} s of CPU"
+    print(f"tables over energy, theta0 in [{span.theta0_lo / math.pi:.4g}pi, "
+          f"{span.theta0_hi / math.pi:.4g}pi], {body.describe()}: {status}; interpolation error at the "
+          f"build's checks {span.first_error:.1e} (first order), {span.second_error:.1e} (k2)", flush=True)

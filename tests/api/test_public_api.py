@@ -96,6 +96,9 @@ PUBLIC_NAMES = [
     "slow_portrait", "write_portrait", "SlowPortrait",
     # issue 32, item 20: the slow map and the exact map as objects
     "SlowMap", "ExactMap", "build_release_tables",
+    # every energy from one build: the tables over energy, and the period doubling over θ0
+    "build_energy_tables", "load_energy_tables", "EnergyTables", "period_doubling_line", "period_doubling_plot",
+    "PeriodDoublingLine",
     # issue 32, item 14: the region fractions of a run's maxima (run_ensemble's summaries)
     "region_fractions",
 ]

@@ -74,6 +74,7 @@ def test_the_release_tables_of_all_theta0_are_built_at_once(tmp_path, monkeypatc
         return real(body, theta0, **kw)
 
     monkeypatch.setattr(bif, "build_release_tables", spy)
+    monkeypatch.setattr(bif, "energy_tables_cached", lambda body: False)  # else no release table is built
     angles = [0.9 * math.pi, THETA0]
     opts = dict(n_points=5, exact_fractions=())
     bifurcation_diagram(Body.paper(0.0), tmp_path / "loop", angles, **opts)

@@ -9,7 +9,7 @@ import math
 import pytest
 
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.slow.map import second_order, table
+from rocknroller.analysis.slow.map import second_order, table, tables_at_once
 from rocknroller.analysis.slow.map.second_order import build_second_order_table
 from rocknroller.analysis.slow.map.table import build_table
 from rocknroller.cli import main
@@ -28,7 +28,8 @@ TH = 0.95 * math.pi
 def no_work(monkeypatch):
     for module, name in ((table, "load_or_build_table"), (second_order, "load_or_build_second_order_table"),
                          (bifurcation, "build_release_tables"), (bifurcation, "period_doubling"),
-                         (bifurcation, "continue_orbit")):
+                         (bifurcation, "continue_orbit"), (tables_at_once, "release_tables"),
+                         (tables_at_once, "load_or_build_table")):
         monkeypatch.setattr(module, name, no_work_stub)
 
 

@@ -9,12 +9,12 @@ import math
 import pytest
 
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.slow import prediction as av
 from rocknroller.analysis.slow.map import maps
 from rocknroller.analysis.slow.map.second_order import build_second_order_table
 from rocknroller.analysis.slow.map.table import build_table
 from rocknroller.cli import main
 from rocknroller.numerics.budget import RELEASE_TABLE_SECONDS, SECOND_ORDER_TABLE_SECONDS, WorkBudgetError
+from rocknroller.papers import portrait
 from rocknroller.papers.portrait import slow_portrait
 from rocknroller.papers.portrait_limits import portrait_seconds
 
@@ -38,7 +38,7 @@ def _warm(tmp_path, monkeypatch):
 
 
 def test_a_small_budget_is_refused_before_any_table_or_orbit(empty_cache, monkeypatch):
-    monkeypatch.setattr(av, "load_or_build_table", no_work_stub)
+    monkeypatch.setattr(portrait, "release_tables", no_work_stub)
     monkeypatch.setattr(maps.SlowMap, "__post_init__", no_work_stub)
     with pytest.raises(WorkBudgetError, match=r"the portrait \(1 release, 0 region and 1 second-order tables to "
                                               r"build, 4 map orbits .* would take about"):
@@ -47,7 +47,7 @@ def test_a_small_budget_is_refused_before_any_table_or_orbit(empty_cache, monkey
 
 def test_the_command_refuses_an_uncached_build_within_budget_1(empty_cache, monkeypatch, capsys, tmp_path):
     """``portrait --budget 1`` with no tables cached: the campaign's 16 s build was accepted."""
-    monkeypatch.setattr(av, "load_or_build_table", no_work_stub)
+    monkeypatch.setattr(portrait, "release_tables", no_work_stub)
     monkeypatch.setattr(maps.SlowMap, "__post_init__", no_work_stub)
     status = main(["portrait", "--Theta", "0.5:2.5:2", "--p", "-0.1:0.1:2", "--t-end", "150", "--budget", "1",
                    "--out", str(tmp_path / "out"), "--quiet"])
@@ -73,7 +73,7 @@ def test_the_estimate_counts_the_chaos_layer_and_the_horizon_probes(tmp_path, mo
     chaos = portrait_seconds(BODY, TH, 400, 5000.0, chaos=True)[0]
     probes = portrait_seconds(BODY, TH, 400, 5000.0, chaos=True, horizons=True)[0]
     assert plain < chaos < probes
-    monkeypatch.setattr(av, "load_or_build_table", no_work_stub)  # the check passed: the work would start
+    monkeypatch.setattr(portrait, "release_tables", no_work_stub)  # the check passed: the work would start
     budget = 0.5 * (plain + chaos)
     with pytest.raises(AssertionError, match="work started"):
         slow_portrait(BODY, TH, [0.5] * 40, [0.0] * 10, 5000.0, chaos=False, budget=budget)

@@ -106,14 +106,12 @@ def map_period_doubling(body: Body, theta0: float, order: int = 2, *, rtol: floa
         ``order`` not 1 or 2, θ0 outside ``THETA0_RANGE``, or no root near 4/κ.
     """
     body.require_gravity("the period doubling of the rocking")
-    from rocknroller.analysis.slow.map.second_order import load_or_build_second_order_table
-    from rocknroller.analysis.slow.map.table import load_or_build_table
+    from rocknroller.analysis.slow.map.tables_at_once import release_tables
 
     if order not in (1, 2) or isinstance(order, bool):
         raise ValueError(f"order must be 1 or 2, got order={order!r}")
 
-    table = load_or_build_table(body, theta0)
-    second = load_or_build_second_order_table(body, theta0, workers=workers) if order == 2 else None
+    table, second = release_tables(body, theta0, order, workers=workers)
     kappa = float(table.kappa)
     stable_psi = stable_rocking_psi(kappa)
     return _root(lambda eps: float(np.linalg.det(map_rocking_jacobian(table, eps, stable_psi, second) + np.eye(3))),
@@ -182,9 +180,9 @@ def period_doubling(body: Body, theta0: float, *, rtol: float = 1e-10) -> Period
     4/kappa = 0.009385, exact: 0.009383
     """
     body.require_gravity("the period doubling of the rocking")
-    from rocknroller.analysis.slow.map.table import load_or_build_table
+    from rocknroller.analysis.slow.map.tables_at_once import release_tables
 
-    table = load_or_build_table(body, theta0)
+    table = release_tables(body, theta0, 1)[0]
     kappa = float(table.kappa)
     stable_psi = stable_rocking_psi(kappa)
     e1 = eps_period_doubling(kappa)

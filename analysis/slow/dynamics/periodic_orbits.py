@@ -236,14 +236,14 @@ class _Problem:
     chart's rotation, and its Jacobian Bᵀ DF B (the map's exact tangent)."""
 
     def __init__(self, body: Body, theta0: float, eps: float, map: str, order: int | None, workers: int) -> None:
-        from rocknroller.analysis.slow.map.table import load_or_build_table
+        from rocknroller.analysis.slow.map.tables_at_once import release_tables
 
         if map not in MAPS:
             raise ValueError(f"map must be one of {MAPS}, got map={map!r}")
         order = default_order(theta0) if order is None else order  # the one default: 2 on the release tables
         if order not in (1, 2) or isinstance(order, bool):
             raise ValueError(f"order must be 1 or 2, got order={order!r}")
-        self.table: SlowMapTable = load_or_build_table(body, theta0)
+        self.table: SlowMapTable = release_tables(body, theta0, 1)[0]
         self.theta0, self.map = float(theta0), map
         self.kappa = float(self.table.kappa)
         eps = float_or_nan(eps)

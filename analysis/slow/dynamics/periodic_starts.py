@@ -56,9 +56,9 @@ def periodic_start(body: Body, theta0: float, psi0: float, *, order: int | None 
     eps = body.epsilon
     if eps <= 0.0:
         return None
-    from rocknroller.analysis.slow.map.table import load_or_build_table
+    from rocknroller.analysis.slow.map.tables_at_once import release_tables
 
-    if eps * abs(load_or_build_table(body, theta0).kappa) > K_MAX:
+    if eps * abs(release_tables(body, theta0, 1)[0].kappa) > K_MAX:
         return None
     problem = _Problem(body, theta0, eps, "slow", order, workers)
     x = np.array([0.0, 0.0, float(np.mod(2.0 * psi0, 2.0 * math.pi))])

@@ -185,7 +185,8 @@ def default_order(start: float | EulerState) -> int:
     """The order of the map in ε when none is given, for a release angle θ0 or an initial state: the one default of
     every entry that takes an order (``predict_slow_motion``, ``SlowMap``, ``slow_portrait``, ``periodic_orbit``,
     ``continue_orbit``, ``periodic_start``, ``map_ensemble``, ``bifurcation_diagram``) and of the commands
-    (``slow``, ``portrait``, ``bifurcation``); only the atlas runs at a fixed order, 1 (``ATLAS_ORDER``), and names it.
+    (``slow``, ``portrait``, ``bifurcation``); the atlas's default is 2 where the tables over energy cover its rows,
+    else 1 (:func:`rocknroller.analysis.slow.atlas.atlas_order`), and it names its order.
 
     2 for a release from rest in ``THETA0_RANGE``: the second-order release tables bring the map 10–1000× closer to the
     direct ODE at ε ≤ 3e-3 (at the command's default release, 0.95π, ψ0 = π/4, ε = 1e-3, 1000 time units: slow period

@@ -272,7 +272,7 @@ class SlowMap(_MapMixin):
     _max_steps: ClassVar[tuple[int, str]] = (MAX_MAXIMA, "MAX_MAXIMA")
 
     def __post_init__(self, build: bool, workers: int) -> None:
-        from rocknroller.analysis.slow.map.table import load_or_build_table
+        from rocknroller.analysis.slow.map.tables_at_once import release_tables
 
         _check_body(self.body)
         object.__setattr__(self, "order", default_order(self.theta0) if self.order is None else self.order)
@@ -280,12 +280,7 @@ class SlowMap(_MapMixin):
             raise ValueError(f"order must be 1 or 2, got order={self.order!r}")
         theta0 = check_map_theta0(self.theta0)
         eps = _check_eps(self.eps, self.body)
-        table = load_or_build_table(self.body, theta0, build=build)
-        second = None
-        if self.order == 2:
-            from rocknroller.analysis.slow.map.second_order import load_or_build_second_order_table
-
-            second = load_or_build_second_order_table(self.body, theta0, build=build, workers=workers)
+        table, second = release_tables(self.body, theta0, self.order, build=build, workers=workers)
         B = np.eye(3)
         B[:2, 0], B[:2, 1] = table.e, table.n
         for name, value in (("theta0", theta0), ("eps", eps), ("table", table), ("second", second), ("_B", B)):

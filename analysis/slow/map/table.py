@@ -1,28 +1,27 @@
-"""Building, fitting, checking and caching the tables of the averaged slow map's coefficient functions.  It holds the
-release tables of a release from rest at θ0 in ``THETA0_RANGE`` (:func:`build_table`, with the kick at Q = 0:
-:func:`kick_at_rest`), the fit that every first-order table shares (:func:`fit_table`, :func:`fit_and_check`:
-continuous branches of W and Δφ, the drift–kick–drift form, the parities in Q, the Chebyshev series and the check
-against direct orbits at off-grid points), and the memory and disk cache of every kind of table
+"""Building, fitting, checking and caching the tables of the averaged slow map's coefficient functions: the release
+tables of a release from rest at θ0 in ``THETA0_RANGE`` (:func:`build_table`, the kick at Q = 0: :func:`kick_at_rest`),
+the fit every first-order table shares (:func:`fit_table` = :func:`fit_reduced` of :func:`reduce_responses`,
+:func:`fit_and_check`: continuous branches of W and Δφ, the drift–kick–drift form, the parities in Q, the Chebyshev
+series and the check against direct orbits), and the memory and disk cache of every kind of table
 (:func:`load_or_build_table` for the release tables, :func:`cached_table` for all).
 
-The coefficient functions of one step of the first-order map (:mod:`rocknroller.analysis.slow.prediction`: T_θ, W,
-Δφ and the harmonics 0 and 1 in Θ of the kicks) are tabulated once per (body, θ0) or (body, energy) at the
-Chebyshev nodes of a chart of the (Q_R, Q_J) plane (:mod:`rocknroller.analysis.slow.map.chart`); they depend on
-neither ε nor ψ0.  Release tables (:func:`build_table`) cover a strip along the kick direction at Q = 0, with T_θ,
-W and Δφ from the quadratures (:func:`rocknroller.analysis.slow.map.orbit.symmetric_data`) and the kicks from one
-variational orbit with three ε-responses per node (:func:`rocknroller.analysis.slow.map.harmonic.harmonic_steps`), on
-half the nodes: the other half, the mirror images −Q, follow by the symmetry of ``_MIRROR_SIGNS``; region tables
-(:mod:`rocknroller.analysis.slow.map.region`) cover the whole region of an energy, and second-order tables
-(:mod:`rocknroller.analysis.slow.map.second_order`) hold k₂ on the chart of a first-order table.
+The coefficient functions of one step of the first-order map (T_θ, W, Δφ and the harmonics 0 and 1 in Θ of the kicks)
+are tabulated per (body, θ0) or (body, energy) at the Chebyshev nodes of a chart of the (Q_R, Q_J) plane
+(:mod:`rocknroller.analysis.slow.map.chart`); they depend on neither ε nor ψ0.  Release tables cover a strip along the
+kick direction at Q = 0, T_θ, W and Δφ from quadratures (:func:`rocknroller.analysis.slow.map.orbit.symmetric_data`),
+the kicks from one variational orbit with three ε-responses per node
+(:func:`rocknroller.analysis.slow.map.harmonic.harmonic_steps`) on half the nodes, the mirror images −Q following by
+the symmetry of ``_MIRROR_SIGNS``; region tables (:mod:`rocknroller.analysis.slow.map.region`) cover the region of an
+energy, second-order tables (:mod:`rocknroller.analysis.slow.map.second_order`) hold k₂ on a first-order table's chart.
 
 Drift–kick–drift form.  With the responses ΔX(Q, Θ) of one step (X = Q, Θ, t, φ) tabulated as harmonics in Θ, the
 kick is k_Q(Q, Θ') = ΔQ(Q, Θ' − W/2) and k_X(Q, Θ') = ΔX(Q, Θ' − W/2) − ½ ∇F·k_Q(Q, Θ') for X = Θ, t, φ with
 F = W, T_θ, Δφ: the part of each response received after the kick is carried by the second half-drift.
 
-Cache.  Each table is cached on disk (``rocknroller.numerics.cache.cache_dir()/averaging``, plain float64 arrays
-with their key and checksum, checked on load; a file that fails a check is rebuilt and replaced) and the most
-recently used in memory (``TABLE_CACHE_BYTES``).  The key holds the table version, the builder, the body, θ0 or E
-and the builder's options.
+Cache.  Each table is cached on disk (``rocknroller.numerics.cache.cache_dir()/averaging``, plain float64 arrays with
+their key and checksum, checked on load; a file that fails a check is rebuilt and replaced) and the most recently
+used in memory (``TABLE_CACHE_BYTES``).  The key holds the table version, the builder, the body, θ0 or E and the
+builder's options.
 """
 
 from __future__ import annotations
@@ -53,14 +52,13 @@ from rocknroller.numerics.parallel import check_processes, map_blocks
 __all__ = [
     "REGION_TABLE_ACCURACY", "build_table", "check_grid", "kick_at_rest", "fit_table", "fit_and_check",
     "load_or_build_table", "cached_table", "TableNotCachedError", "orbit_data", "is_cached", "node_blocks",
+    "reduce_responses", "fit_reduced",
     "assemble_nodes", "node_block", "release_frame", "fit_release_table", "store_table", "mirrored", "nodes_done"
 ]
 
 #: Bump when the table construction or its file format changes (part of the cache key).
-_TABLE_VERSION = "10"  # 6: numpy's Chebyshev nodes (exactly antisymmetric); 7: maxima by batch terminal events;
-# 8: the second-order orbits in batch lanes, the chart's derivative series formed once per table (k₂ within ~1e-8);
-# 9: one orbit with three ε-responses per node, half the nodes of a mirrored grid, the region's edge by regula falsi;
-# 10: a node's T from its one orbit (it was the mean of three copies of it, rounded)
+_TABLE_VERSION = "11"  # 6: exactly antisymmetric nodes; 7: batch terminal events; 8: k₂ in batch lanes; 9: one orbit
+# a node, mirrored grids; 10: a node's T from its orbit; 11: k₂'s drift Hessians exact (they left charts past 0.97π)
 
 
 class TableNotCachedError(ValueError):
@@ -208,10 +206,12 @@ def build_table(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_fact
 
 
 def release_frame(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_factor: float = 2.5,
-                  v_ratio: float = 0.002) -> tuple[SlowMapTable, NDArray, NDArray, NDArray, NDArray]:
+                  v_ratio: float = 0.002,
+                  C0: NDArray | None = None) -> tuple[SlowMapTable, NDArray, NDArray, NDArray, NDArray]:
     """The release table of (body, θ0) without its coefficients (its chart: ``frame.nodes()``), and T, W mod 2π,
     Δφ mod π and θ_X of the symmetric orbits at its nodes (quadratures): :func:`build_table` up to the nodes'
-    variational orbits, its parameters checked as there."""
+    variational orbits, its parameters checked as there.  ``C0``: the kick at rest if known (the tables over energy
+    interpolate it), else :func:`kick_at_rest` (one variational orbit)."""
     body.require_gravity("the averaged slow map (its release tables)")
     theta0 = check_map_theta0(theta0)
     check_grid(nu, nv)
@@ -219,7 +219,7 @@ def release_frame(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_fa
         raise ValueError(f"u_factor must be > 0 and v_ratio in (0, 1], got {u_factor!r}, {v_ratio!r}")
     sym = body.symmetric()
     E0 = rest_energy(sym, theta0)
-    C0 = kick_at_rest(sym, E0)
+    C0 = kick_at_rest(sym, E0) if C0 is None else np.asarray(C0, float)
     e = C0 / np.linalg.norm(C0)
     nvec = np.array([-e[1], e[0]])
     hq = 1e-7
@@ -243,10 +243,9 @@ def release_frame(body: Body, theta0: float, *, nu: int = 128, nv: int = 6, u_fa
 
 def fit_release_table(frame: SlowMapTable, T: NDArray, W: NDArray, dphi: NDArray, resp: NDArray) -> SlowMapTable:
     """The release table on ``frame`` (:func:`release_frame`) from the data at its nodes: :func:`fit_and_check`."""
-    nu, nv = T.shape
     return fit_and_check(frame, T, W, dphi, resp, _interpolation_error, _INTERP_WARN,
                          f"the averaging tables for theta0={frame.theta0!r} interpolate the coefficients only to "
-                         f"{{err:.1e}} (relative); use more nodes (nu={nu}, nv={nv})")
+                         f"{{err:.1e}} (relative); use more nodes (nu={T.shape[0]}, nv={T.shape[1]})")
 
 
 def check_grid(nu: int, nv: int) -> None:
@@ -263,64 +262,77 @@ def kick_at_rest(sym: Body, E: float) -> NDArray[np.float64]:
 
 
 def fit_table(frame: SlowMapTable, T: NDArray, W: NDArray, dphi: NDArray, resp: NDArray) -> SlowMapTable:
-    """The table on ``frame``'s chart from the data at its Chebyshev nodes (x_i, τ_j).
+    """The table on ``frame``'s chart (all but ``coef`` and ``kappa``) from T, W, Δφ (mod π) of the symmetric orbit
+    and ``resp`` (len(FIRST_ORDER_NAMES), nu, nv, 3), the harmonics of the ε-responses, at its Chebyshev nodes
+    (x_i, τ_j): :func:`fit_reduced` of :func:`reduce_responses`."""
+    return fit_reduced(frame, T, W, dphi, reduce_responses(frame, T, W, dphi, resp))
 
-    T, W, Δφ (mod π) of the symmetric orbit and ``resp`` (len(FIRST_ORDER_NAMES), nu, nv, 3), the harmonics of
-    the ε-responses.  W and Δφ are lifted to continuous branches (along τ, then along x through the middle of
-    the chart, odd in Q); the kick is put in drift–kick–drift form (module docstring) with ∇F by the chain
-    rule through the chart; each function gets its parity in Q ((x, τ) → (−x, −τ)) and its Chebyshev series.
-    ``frame`` supplies everything but ``coef`` and ``kappa``.
-    """
+
+def _drifts(frame: SlowMapTable, T: NDArray, W: NDArray,
+            dphi: NDArray) -> tuple[dict[str, NDArray], dict[str, tuple[NDArray, NDArray]], NDArray]:
+    """T, W, Δφ at the nodes (W and Δφ on continuous branches, :func:`_lift`), their gradients (∂/∂u, ∂/∂v) there
+    (each fitted with its parity in Q, by the chain rule through the chart), and W/2 made odd."""
     nu, nv = T.shape
     xu, xv = _cheb_nodes(nu), _cheb_nodes(nv)  # ξ, η
     W, dphi = _lift(W, 2.0 * math.pi), _lift(dphi, math.pi)
     Au, Av = _cheb_fit_matrix(nu), _cheb_fit_matrix(nv)
     cheb = np.polynomial.chebyshev
-    e, nvec = frame.e, frame.n
     dxi_du, deta_du, deta_dv = frame.inverse_jacobian(*np.meshgrid(xu, xv, indexing="ij"))
+    grads = {}
+    for name, F, kind in (("W", W, "odd"), ("T", T, "even"), ("dphi", dphi, "odd")):
+        c = Au @ _parity(F, kind) @ Av.T
+        f_xi, f_eta = (cheb.chebgrid2d(xu, xv, cheb.chebder(c, axis=k)) for k in (0, 1))
+        grads[name] = (f_xi * dxi_du + f_eta * deta_du, f_eta * deta_dv)
+    return {"T": T, "W": W, "dphi": dphi}, grads, 0.5 * _parity(W, "odd")
 
-    def parity(F: NDArray, kind: str) -> NDArray:
-        flipped = F[::-1, ::-1]
-        return 0.5 * (F + flipped) if kind == "even" else 0.5 * (F - flipped) if kind == "odd" else F
 
-    def fit(F: NDArray) -> NDArray:
-        return Au @ F @ Av.T
+def _parity(F: NDArray, kind: str) -> NDArray:
+    """F made even or odd under (x, τ) → (−x, −τ) (its grid reversed), or as it is."""
+    flipped = F[::-1, ::-1]
+    return 0.5 * (F + flipped) if kind == "even" else 0.5 * (F - flipped) if kind == "odd" else F
 
-    half = 0.5 * parity(W, "odd")
+
+def reduce_responses(frame: SlowMapTable, T: NDArray, W: NDArray, dphi: NDArray, resp: NDArray) -> NDArray:
+    """``resp`` with the part of the Θ, t and φ responses that the second half-drift carries taken out: X − ½ ∇F·ΔQ
+    for X = Θ, t, φ, F = W, T_θ, Δφ (module docstring; before the turn by W/2, which commutes with it).  Near θ0 = π
+    the two parts cancel to a small remainder (∇W ~ 10⁶ at 0.999π): it is the remainder that is interpolated over
+    energy (:mod:`rocknroller.analysis.slow.map.tables_at_once`)."""
+    _, grads, _ = _drifts(frame, T, W, dphi)
+    e, nvec = frame.e, frame.n
+    dQu = e[0] * resp[0] + e[1] * resp[1]
+    dQv = nvec[0] * resp[0] + nvec[1] * resp[1]
+    out = np.array(resp, float)
+    for k, name in ((2, "W"), (3, "T"), (4, "dphi")):
+        gu, gv = grads[name]
+        out[k] = resp[k] - 0.5 * (gu[..., None] * dQu + gv[..., None] * dQv)
+    return out
+
+
+def fit_reduced(frame: SlowMapTable, T: NDArray, W: NDArray, dphi: NDArray, reduced: NDArray) -> SlowMapTable:
+    """The table on ``frame``'s chart from T, W, Δφ at its nodes and the reduced ε-responses
+    (:func:`reduce_responses`): the kicks are the responses turned by the half-twist, k(Q, Θ') = ΔX(Q, Θ' − W/2)
+    (the drift–kick–drift form); each function gets its parity in Q ((x, τ) → (−x, −τ)) and its Chebyshev series."""
+    nu, nv = T.shape
+    drifts, _, half = _drifts(frame, T, W, dphi)
+    Au, Av = _cheb_fit_matrix(nu), _cheb_fit_matrix(nv)
     cw, sw = np.cos(half), np.sin(half)
 
     def rotate(h: NDArray) -> NDArray:  # harmonics of F(Θ' − W/2) from those of F(Θ)
         c0, c1, s1 = h[..., 0], h[..., 1], h[..., 2]
         return np.stack([c0, c1 * cw - s1 * sw, c1 * sw + s1 * cw], axis=-1)
 
-    kQR, kQJ = rotate(resp[0]), rotate(resp[1])
-
-    def gradient(F: NDArray, kind: str) -> tuple[NDArray, NDArray]:
-        """(∂F/∂u, ∂F/∂v) at the nodes, F a symmetric-orbit function fitted on the grid."""
-        c = fit(parity(F, kind))
-        f_xi, f_eta = (cheb.chebgrid2d(xu, xv, cheb.chebder(c, axis=k)) for k in (0, 1))
-        return f_xi * dxi_du + f_eta * deta_du, f_eta * deta_dv
-
-    def half_grad_dot_kQ(F: NDArray, kind: str) -> NDArray:
-        """½ ∇F·k_Q at the nodes (harmonics)."""
-        gu, gv = gradient(F, kind)
-        return 0.5 * (gu[..., None] * (e[0] * kQR + e[1] * kQJ) + gv[..., None] * (nvec[0] * kQR + nvec[1] * kQJ))
-
-    # the part of each response received after the kick is carried by the second half-drift
-    kTh = rotate(resp[2]) - half_grad_dot_kQ(W, "odd")
-    kT = rotate(resp[3]) - half_grad_dot_kQ(T, "even")
-    kP = rotate(resp[4]) - half_grad_dot_kQ(dphi, "odd")
-    data = {"T": T, "W": W, "dphi": dphi}
-    for pre, arr in (("kQR", kQR), ("kQJ", kQJ), ("kTh", kTh), ("dt", kT), ("dphi1", kP)):
+    data = dict(drifts)
+    for pre, arr in zip(("kQR", "kQJ", "kTh", "dt", "dphi1"), reduced):
+        kick = rotate(arr)
         for m, suf in enumerate(("c0", "c1", "s1")):
-            data[f"{pre}_{suf}"] = arr[..., m]
+            data[f"{pre}_{suf}"] = kick[..., m]
     coef = np.empty((len(TABLE_FUNCTIONS), nu, nv))
     for k, name in enumerate(TABLE_FUNCTIONS):
         kind = "odd" if name in _ODD else "even" if name in _EVEN else "none"
-        coef[k] = fit(parity(np.asarray(data[name], float), kind))
+        coef[k] = Au @ _parity(np.asarray(data[name], float), kind) @ Av.T
     table = dataclasses.replace(frame, coef=coef)
     gu, gv = (float(g) for g in table.gradient("W", (0.0, 0.0)))
-    return dataclasses.replace(table, kappa=float(gu * frame.C0 @ e + gv * frame.C0 @ nvec))
+    return dataclasses.replace(table, kappa=float(gu * frame.C0 @ frame.e + gv * frame.C0 @ frame.n))
 
 
 def fit_and_check(frame: SlowMapTable, T: NDArray, W: NDArray, dphi: NDArray, resp: NDArray,
@@ -342,8 +354,8 @@ def fit_and_check(frame: SlowMapTable, T: NDArray, W: NDArray, dphi: NDArray, re
 
 
 def _lift(F: NDArray, period: float) -> NDArray:
-    """F (given modulo ``period`` on the nodes) on a continuous branch: along τ (axis 1), then the middle
-    column along x, and the multiple of ``period`` that makes F odd under (x, τ) → (−x, −τ)."""
+    """F (mod ``period`` at the nodes) on a continuous branch: along τ, then the middle column along x, shifted by
+    the multiple of ``period`` that makes it odd under (x, τ) → (−x, −τ)."""
     F = np.unwrap(F, axis=1, period=period)
     mid = F[:, F.shape[1] // 2]
     F = F + (np.unwrap(mid, period=period) - mid)[:, None]
@@ -398,8 +410,7 @@ def load_or_build_table(body: Body, theta0: float, *, build: bool = True, use_ca
     return cached_table(build_table, body, theta0, f"theta0={theta0!r}", build=build, use_cache=use_cache, **grid)
 
 
-#: Options of a table builder that change how it runs, not the table (not part of the cache key).
-_RUN_OPTIONS = ("progress", "workers")
+_RUN_OPTIONS = ("progress", "workers")  # a builder's options that change how it runs, not the table (not in the key)
 
 
 def _table_location(builder: Callable[..., Any], body: Body, where: float,

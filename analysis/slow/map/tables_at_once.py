@@ -1,42 +1,55 @@
-"""The release tables of many energies at once: every node of every table on one scheduler.
+"""The release tables of many energies at once, and the tables over energy.
 
-A scan over the release angle θ0 (an atlas's rows, a bifurcation diagram, portraits at several energies) needs one
-release table per θ0 (:func:`rocknroller.analysis.slow.map.table.build_table`).  :func:`build_release_tables` builds
-those not yet cached together: each table's chart and its symmetric orbits (quadratures, cheap) in this process, then
-the node blocks of all of them (one variational orbit per node, the cost) on one scheduler of
-:func:`rocknroller.numerics.ensembles.blocks.run_blocks`: threads of this process, spawned processes, a local
-dask.distributed cluster or the workers of a dask scheduler at an address, the schedulers of
-:func:`rocknroller.numerics.ensembles.ensemble.run_ensemble`.  Each table is then fitted and checked here from its own
-nodes in its own node order, by the same functions as ``build_table``, and cached as ``load_or_build_table`` caches
-it.  A node's numbers depend only on the node (the batch integrator's lanes are independent, and every worker runs
-the same versions: :func:`~rocknroller.numerics.ensembles.ensemble.cluster_map` checks), so the tables are the same
-bit for bit as the one-process build's, wherever their nodes ran (tests/analysis/slow/map/test_tables_at_once.py).
-:func:`build_second_order_tables` does the same for the second-order tables (k₂ on each release table's chart,
-:mod:`rocknroller.analysis.slow.map.second_order`), after their release tables.
+A scan over the release angle θ0 (an atlas's rows, a bifurcation diagram) needs one release table per θ0.
+:func:`build_release_tables` builds those not yet cached together: each table's chart and symmetric orbits
+(quadratures) in this process, then the node blocks of all of them (one variational orbit per node) on one scheduler
+of :func:`rocknroller.numerics.ensembles.blocks.run_blocks` (threads, spawned processes, a local or remote
+dask.distributed cluster); each table is fitted and checked from its own nodes in its own order, as ``build_table``
+fits it, and cached as ``load_or_build_table`` caches it.  A node's numbers depend only on the node (the lanes are
+independent; :func:`~rocknroller.numerics.ensembles.ensemble.cluster_map` checks the workers' versions), so the tables
+are the one-process build's bit for bit (tests/analysis/slow/map/test_tables_at_once.py).
+:func:`build_second_order_tables` does the same for the second-order tables, after their release tables.
+
+Tables over energy (:class:`EnergyTables`, :func:`build_energy_tables`, :func:`load_energy_tables`): one build per
+body serves every θ0 of ``THETA0_RANGE``.  A release table's drifts T_θ, W, Δφ on its chart come from quadratures
+(0.07 s); its cost is the ε-responses at its nodes (a variational orbit each, 0.5 s a table) and, at order 2, k₂
+(8 s).  Those, with the kick at rest that orients each chart, are tabulated at Chebyshev nodes in s = log(π − θ0),
+their growth towards π (k₂ ~10⁵) divided out as a power law of π − θ0 fitted to each function's size, and
+interpolated by the barycentric formula (Berrut & Trefethen, SIAM Rev. 46, 2004).  At any θ0 the release table is
+fitted (:func:`~rocknroller.analysis.slow.map.table.fit_reduced`) from its drifts and the interpolated responses,
+reduced by the part that the second half-drift carries, which near π is most of the Θ, t and φ responses
+(:func:`~rocknroller.analysis.slow.map.table.reduce_responses`), and k₂'s coefficients are interpolated on its chart.
+:func:`release_tables` gives the tables of a release: over energy where they are cached for the body, else per θ0.
 """
 
 from __future__ import annotations
 
 import math
+import os
+import warnings
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.slow.map.chart import SecondOrderTable, SlowMapTable
-from rocknroller.analysis.slow.map.limits import check_map_theta0
+from rocknroller.analysis.slow.map.chart import SecondOrderTable, SlowMapTable, _cheb_nodes
+from rocknroller.analysis.slow.map.limits import THETA0_RANGE, AveragingValidityWarning, check_map_theta0
 from rocknroller.analysis.slow.map.second_order import (build_second_order_table, check_k2_nu, fit_k2, k2_block,
                                                         k2_blocks, k2_spec, load_or_build_second_order_table)
-from rocknroller.analysis.slow.map.table import (TableNotCachedError, assemble_nodes, build_table, check_grid,
-                                                 fit_release_table, load_or_build_table, node_block, node_blocks,
-                                                 nodes_done, release_frame, store_table)
+from rocknroller.analysis.slow.map.table import (TableNotCachedError, assemble_nodes, build_table, cached_table,
+                                                 check_grid, fit_reduced, fit_release_table, is_cached,
+                                                 load_or_build_table, node_block, node_blocks, nodes_done,
+                                                 reduce_responses, release_frame, store_table)
 from rocknroller.numerics.budget import RELEASE_TABLE_SECONDS, WORK_BUDGET_SECONDS, check_work
+from rocknroller.numerics.cache import MemoryCache
 from rocknroller.numerics.ensembles.blocks import run_blocks
 from rocknroller.numerics.ensembles.ensemble import check_cluster
 from rocknroller.numerics.parallel import check_processes
 
-__all__ = ["MAX_TABLES", "build_release_tables", "build_second_order_tables"]
+__all__ = ["MAX_TABLES", "build_release_tables", "build_second_order_tables", "EnergyTables", "build_energy_tables",
+           "load_energy_tables", "release_tables", "ENERGY_NODES_FIRST", "ENERGY_NODES_SECOND"]
 
 #: Most release angles of one call (each table ~0.1 MB in memory at the default grid).
 MAX_TABLES = 1000
@@ -108,12 +121,7 @@ def build_release_tables(body: Body, theta0: ArrayLike, *, scheduler: str | None
     check_work(len(todo) * RELEASE_TABLE_SECONDS * nodes / _DEFAULT_NODES,
                f"{len(todo)} release table{'s' if len(todo) != 1 else ''} to build ({nodes} nodes each)", budget)
     frames = [release_frame(body, t, **grid) for t in todo]
-    blocks, owner, done = [], [], []
-    for k, (frame, T, _, _, thX) in enumerate(frames):
-        mine = node_blocks(frame.body, frame.E0, *frame.nodes(), thX)
-        blocks += mine
-        owner += [k] * len(mine)
-        done += nodes_done(mine, T.size)
+    blocks, owner, done = _frame_blocks(frames)
     names = ", ".join(f"{t / math.pi:.6g}pi" for t in todo)
     rows = run_blocks(node_block, blocks, done, scheduler=scheduler, workers=workers,
                       threads=threads, processes=processes, desc=f"release tables, theta0 in ({names})", unit="node",
@@ -124,6 +132,18 @@ def build_release_tables(body: Body, theta0: ArrayLike, *, scheduler: str | None
         store_table(build_table, body, t, f"theta0={t!r}", table, use_cache=use_cache, **grid)
         tables[t] = table
     return [tables[t] for t in angles_list]
+
+
+def _frame_blocks(frames: list[Any]) -> tuple[list[Any], list[int], list[int]]:
+    """The node blocks of the release tables ``frames`` (:func:`release_frame`'s results) for one scheduler: the
+    blocks, the index of the table each belongs to, and the nodes each provides (for the progress bar)."""
+    blocks, owner, done = [], [], []
+    for k, (frame, T, _, _, thX) in enumerate(frames):
+        mine = node_blocks(frame.body, frame.E0, *frame.nodes(), thX)
+        blocks += mine
+        owner += [k] * len(mine)
+        done += nodes_done(mine, T.size)
+    return blocks, owner, done
 
 
 def build_second_order_tables(body: Body, theta0: ArrayLike, *, scheduler: str | None = None,
@@ -188,3 +208,316 @@ def _check_where(scheduler: Any, workers: Any, threads: Any, processes: Any) -> 
                              "scheduler, workers or threads")
     else:
         check_cluster(scheduler, workers, threads)
+
+
+# ----------------------------------------------------------------------------- tables over energy
+#: Chebyshev nodes in s = log(π − θ0) of the ε-responses (first order) and of k₂ (second order) of the default
+#: tables over energy: the fewest that meet their accuracy over ``THETA0_RANGE`` (docs/slow_validation.md, "Tables
+#: over energy": the first-order coefficients to ≤ 1e-7 of each kick, k₂ to ≤ 1e-4, a tenth of what the order-2
+#: map's own ε³ step error allows at ε = 1e-3).
+ENERGY_NODES_FIRST = 96
+ENERGY_NODES_SECOND = 26
+#: The interpolated tables of the release angles asked for most recently (~0.2 MB each).
+_ENERGY_CACHE = MemoryCache(1 << 26)
+
+
+@dataclass(frozen=True)
+class EnergyTables:
+    """The slow map's ε-responses and k₂ tabulated over the release angle: one build per body
+    (:func:`build_energy_tables`; module docstring).
+
+    Attributes
+    ----------
+    a, I1, I3, g : float
+        The symmetric body.
+    theta0_lo, theta0_hi : float
+        The release angles spanned (Chebyshev nodes in s = log(π − θ0) between them).
+    C0 : ndarray (n_first, 2)
+        The kick at rest (``kick_at_rest``), which orients each release table's chart, at each node in s.
+    resp : ndarray (n_first, 5, nu, nv, 3)
+        The ε-responses' harmonics at the release tables' nodes, reduced (``reduce_responses``: the part the second
+        half-drift carries taken out), at each node in s.
+    k2 : ndarray (n_second, 25, k2_nu, nv)
+        The second-order tables' coefficients at each node in s.
+    first_error, second_error : float
+        The largest relative error of the interpolated release tables' kicks and of k₂ against per-θ0 tables, at
+        off-node release angles checked when built.
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> span = rr.build_energy_tables(rr.Body.paper(), 0.9 * math.pi, theta0_hi=0.901 * math.pi, n_first=2,
+    ...                               n_second=2, k2_nu=8, progress=False)
+    >>> table = span.release_table(0.9005 * math.pi)
+    >>> print(span.covers(0.9005 * math.pi), table.coef.shape, span.second_order_table(0.9005 * math.pi).coef.shape)
+    True (18, 128, 6) (25, 8, 6)
+    """
+
+    a: float
+    I1: float
+    I3: float
+    g: float
+    theta0_lo: float
+    theta0_hi: float
+    C0: NDArray[np.float64]
+    resp: NDArray[np.float64]
+    k2: NDArray[np.float64]
+    first_error: float
+    second_error: float
+
+    @property
+    def body(self) -> Body:
+        """The symmetric body the tables were built for."""
+        return Body(a=self.a, I1=self.I1, I2=self.I1, I3=self.I3, g=self.g)
+
+    def covers(self, theta0: float) -> bool:
+        """Whether θ0 lies in the span."""
+        return self.theta0_lo <= theta0 <= self.theta0_hi
+
+    def release_table(self, theta0: float) -> SlowMapTable:
+        """The release table of θ0 in the span: its drifts by quadrature on its chart (``release_frame``), the chart
+        oriented by the interpolated kick at rest, its kicks fitted from the interpolated ε-responses (no orbit is run);
+        ``interp_error`` is ``first_error``."""
+        key = ("first", self.theta0_lo, self.theta0_hi, self.resp.shape, theta0, self.body.params)
+        table = _ENERGY_CACHE.get(key)
+        if table is None:
+            theta0 = check_map_theta0(theta0)
+            if not self.covers(theta0):
+                raise ValueError(f"theta0 must lie in [{self.theta0_lo / math.pi:.6g}pi, {self.theta0_hi / math.pi:.6g}"
+                                 f"pi] for these tables over energy, got theta0={theta0!r}")
+            x = _position(theta0, self.theta0_lo, self.theta0_hi)
+            frame, T, W, dphi, _ = release_frame(self.body, theta0, nu=self.resp.shape[2], nv=self.resp.shape[3],
+                                                 C0=_interpolate(self.C0[:, None, :], x)[0])
+            resp = _interpolate(self.resp, x)
+            table = replace(fit_reduced(frame, T, W, dphi, resp), interp_error=self.first_error)
+            _ENERGY_CACHE[key] = table
+        return table
+
+    def second_order_table(self, theta0: float) -> SecondOrderTable:
+        """k₂ of θ0 in the span on the chart of :meth:`release_table`; ``interp_error`` is ``second_error``."""
+        first = self.release_table(theta0)
+        return SecondOrderTable(theta0=first.theta0, E0=first.E0, interp_error=self.second_error,
+                                coef=_interpolate(self.k2, _position(first.theta0, self.theta0_lo, self.theta0_hi)))
+
+
+def _s_nodes(n: int, lo: float, hi: float) -> NDArray[np.float64]:
+    """The n release angles at Chebyshev points (first kind, descending) in s = log(π − θ0) over [lo, hi]."""
+    s_lo, s_hi = math.log(math.pi - hi), math.log(math.pi - lo)
+    return math.pi - np.exp(0.5 * (s_hi + s_lo) + 0.5 * (s_hi - s_lo) * _cheb_nodes(n))
+
+
+def _position(theta0: float, lo: float, hi: float) -> float:
+    """θ0's coordinate x ∈ [−1, 1] of :func:`_s_nodes` (descending nodes: x = 1 at lo)."""
+    s_lo, s_hi = math.log(math.pi - hi), math.log(math.pi - lo)
+    return (2.0 * math.log(math.pi - theta0) - s_hi - s_lo) / (s_hi - s_lo)
+
+
+def _interpolate(values: NDArray[np.float64], x: float) -> NDArray[np.float64]:
+    """Values (n, F, ...) at the n Chebyshev nodes, at x: each function's size (rms over its trailing axes) fitted by
+    a power law of π − θ0 (a line in log size over s, by least squares) and divided out, the rest by the barycentric
+    formula of the first-kind points (weights (−1)^k sin((k + ½)π/n)), the size put back.  A function that vanishes
+    at some node is interpolated as it is."""
+    n = values.shape[0]
+    xs = _cheb_nodes(n)
+    size = np.sqrt(np.mean(values.reshape(n, values.shape[1], -1) ** 2, axis=-1))  # (n, F)
+    law = np.zeros((2, values.shape[1]))
+    fitted = np.all(size > 0.0, axis=0)
+    if fitted.any():
+        law[:, fitted] = np.polyfit(xs, np.log(size[:, fitted]), 1)
+    scale = np.where(fitted, np.exp(law[0] * xs[:, None] + law[1]), 1.0)  # (n, F)
+    shape = (n, values.shape[1]) + (1,) * (values.ndim - 2)
+    hit = np.flatnonzero(xs == x)
+    if hit.size:
+        return np.array(values[hit[0]], float)
+    k = np.arange(n)
+    c = (-1.0) ** k * np.sin((k + 0.5) * math.pi / n) / (x - xs)
+    inner = np.tensordot(c / c.sum(), values / scale.reshape(shape), axes=1)
+    at = np.where(fitted, np.exp(law[0] * x + law[1]), 1.0)
+    return np.asarray(inner * at.reshape(shape[1:]), float)
+
+
+def _energy_spec(opts: dict[str, Any]) -> dict[str, tuple[int, ...]]:
+    """The fields of a tables-over-energy file, in checksum order."""
+    return {"a": (), "I1": (), "I3": (), "g": (), "theta0_lo": (), "theta0_hi": (),
+            "C0": (opts["n_first"], 2), "resp": (opts["n_first"], 5, 128, 6, 3), "k2": (opts["n_second"], 25, opts["k2_nu"], 6),
+            "first_error": (), "second_error": ()}
+
+
+def _check_positions(n: int) -> list[float]:
+    """Off-node release angles, as positions x of :func:`_position`, where a new build is checked against per-θ0
+    tables: midway between the outermost nodes at each end and between two middle ones (where an interpolant errs
+    most)."""
+    xs = _cheb_nodes(n)
+    return [0.5 * (xs[0] + xs[1]), 0.5 * (xs[n // 2 - 1] + xs[n // 2]), 0.5 * (xs[-2] + xs[-1])]
+
+
+def build_energy_tables(body: Body, theta0_lo: float, *, theta0_hi: float = THETA0_RANGE[1],
+                        n_first: int = ENERGY_NODES_FIRST, n_second: int = ENERGY_NODES_SECOND, k2_nu: int = 64,
+                        workers: int = 1, progress: bool | None = None) -> EnergyTables:
+    """Tabulate the slow map's ε-responses and k₂ over the release angles [theta0_lo, theta0_hi] (module docstring).
+
+    Parameters
+    ----------
+    body : Body
+        Its symmetric part is used.
+    theta0_lo : float
+        The smallest release angle, in ``THETA0_RANGE`` (the default tables: ``THETA0_RANGE[0]``).
+    theta0_hi : float
+        The largest, in ``THETA0_RANGE`` and above ``theta0_lo``.
+    n_first, n_second : int
+        Chebyshev nodes in s = log(π − θ0) of the ε-responses and of k₂: 2–128 each.
+    k2_nu : int
+        The second-order tables' nodes along (as ``build_second_order_table``'s nu).
+    workers : int
+        Processes that share the orbits; the tables do not depend on it.
+    progress : bool or None
+        tqdm bars over the nodes (None: only if stderr is a terminal).
+
+    Returns
+    -------
+    EnergyTables
+        With its errors against per-θ0 tables built at off-node angles (``_check_positions``).
+
+    Examples
+    --------
+    >>> import math
+    >>> import rocknroller as rr
+    >>> from rocknroller.analysis.slow.map.tables_at_once import build_energy_tables
+    >>> span = build_energy_tables(rr.Body.paper(), 0.9 * math.pi, theta0_hi=0.91 * math.pi, n_first=4,
+    ...                            n_second=2, k2_nu=8, progress=False)
+    >>> span.resp.shape, span.k2.shape, span.first_error < 1e-6
+    ((4, 5, 128, 6, 3), (2, 25, 8, 6), True)
+    """
+    lo, hi = check_map_theta0(theta0_lo, "theta0_lo"), check_map_theta0(theta0_hi, "theta0_hi")
+    if not lo < hi:
+        raise ValueError(f"theta0_hi must exceed theta0_lo, got {theta0_lo!r}, {theta0_hi!r}")
+    for name, val in (("n_first", n_first), ("n_second", n_second)):
+        if isinstance(val, bool) or int(val) != val or not 2 <= val <= 128:
+            raise ValueError(f"{name} must be an integer in [2, 128], got {name}={val!r}")
+    check_k2_nu(k2_nu)
+    sym = body.symmetric()
+    where: dict[str, Any] = dict(processes=check_processes(workers, "workers"), progress=progress)
+    angles = _s_nodes(n_first, lo, hi)
+    frames = [release_frame(sym, float(t)) for t in angles]
+    blocks, owner, done = _frame_blocks(frames)
+    rows = run_blocks(node_block, blocks, done, desc="tables over energy: first order", unit="node", **where)
+    resp = np.stack([reduce_responses(*frames[k][:4], assemble_nodes([r for r, o in zip(rows, owner) if o == k],
+                                                                      frames[k][1].shape)[3]) for k in range(n_first)])
+    span = EnergyTables(a=sym.a, I1=sym.I1, I3=sym.I3, g=sym.g, theta0_lo=lo, theta0_hi=hi,
+                        C0=np.array([f[0].C0 for f in frames]), resp=resp, k2=np.zeros((n_second, 25, k2_nu, 6)),
+                        first_error=0.0, second_error=0.0)
+    # k₂ at its nodes, each on the chart of the release table interpolated there (within ~1e-7 of its own, a
+    # thousandth of k₂'s interpolation error; no release table is built for it)
+    firsts = [span.release_table(float(t)) for t in _s_nodes(n_second, lo, hi)]
+    blocks2, owner2 = [], []
+    for k, first in enumerate(firsts):
+        mine2 = k2_blocks(first, k2_nu, 6)
+        blocks2 += mine2
+        owner2 += [k] * len(mine2)
+    rows2 = run_blocks(k2_block, blocks2, [len(b[1]) for b in blocks2], desc="tables over energy: second order",
+                       unit="node", **where)
+    with warnings.catch_warnings():  # past 0.99π k₂ interpolates in Q to ≳ 4e-4 on any release chart (as per θ0)
+        warnings.simplefilter("ignore", AveragingValidityWarning)
+        k2 = np.stack([fit_k2(first, first.theta0, "release", k2_nu, 6,
+                              [r for r, o in zip(rows2, owner2) if o == k]).coef for k, first in enumerate(firsts)])
+    span = replace(span, k2=k2)
+    first_err, second_err = 0.0, 0.0
+    for x in _check_positions(n_first):
+        t = _angle(x, lo, hi)
+        first_err = max(first_err, kick_error(span.release_table(t), build_table(sym, t, progress=False)))
+    for x in _check_positions(n_second)[:1]:  # one k₂ table (8 s), at the end where the map's own error is least
+        t = _angle(x, lo, hi)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", AveragingValidityWarning)  # a coarse k2_nu warns; the error is measured
+            ref = build_second_order_tables(sym, [t], budget=None, nu=k2_nu, **where)[0]
+        second_err = max(second_err, k2_error(span.release_table(t), span.second_order_table(t),
+                                              load_or_build_table(sym, t), ref))
+    _ENERGY_CACHE.clear()
+    return replace(span, first_error=first_err, second_error=second_err)
+
+
+def _angle(x: float, lo: float, hi: float) -> float:
+    """The release angle at the position x of :func:`_position`."""
+    s_lo, s_hi = math.log(math.pi - hi), math.log(math.pi - lo)
+    return float(math.pi - math.exp(0.5 * (s_hi + s_lo) + 0.5 * (s_hi - s_lo) * x))
+
+
+def _points(chart: SlowMapTable, nu: int, nv: int) -> list[tuple[float, float]]:
+    """The points Q of the nu × nv Chebyshev nodes of ``chart``'s chart pulled in by a thousandth (inside both charts
+    of two tables compared, the tables over energy orienting theirs by an interpolated kick at rest)."""
+    QR, QJ = chart.chart(*np.meshgrid(0.999 * _cheb_nodes(nu), 0.999 * _cheb_nodes(nv), indexing="ij"))
+    return list(zip(QR.ravel().tolist(), QJ.ravel().tolist()))
+
+
+def kick_error(table: SlowMapTable, ref: SlowMapTable) -> float:
+    """The largest error of ``table``'s functions against ``ref``'s at ``ref``'s nodes (:func:`_points`): T, W and Δφ
+    each relative to its largest value, each kick's harmonics relative to that kick's largest."""
+    pts = _points(ref, *ref.coef.shape[1:])
+    a, b = np.array([table.evaluate(q) for q in pts]).T, np.array([ref.evaluate(q) for q in pts]).T
+    groups = [[0], [1], [2]] + [list(range(3 + 3 * g, 6 + 3 * g)) for g in range(5)]
+    return float(max(np.abs(a[g] - b[g]).max() / np.abs(b[g]).max() for g in groups))
+
+
+def k2_error(first: SlowMapTable, second: SecondOrderTable, ref_first: SlowMapTable, ref: SecondOrderTable) -> float:
+    """The largest error of k₂'s harmonics of ``second`` (on ``first``'s chart) against ``ref`` (on ``ref_first``'s)
+    at ``ref``'s nodes, relative to each component's largest harmonic there (as second-order tables are checked)."""
+    pts = _points(ref_first, *ref.coef.shape[1:])
+    a = np.array([second.harmonics(first, q) for q in pts])
+    b = np.array([ref.harmonics(ref_first, q) for q in pts])
+    return float((np.abs(a - b).max(axis=(0, 2)) / np.abs(b).max(axis=(0, 2))).max())
+
+
+def load_energy_tables(body: Body, *, build: bool = True, use_cache: bool = True, **grid: Any) -> EnergyTables:
+    """The tables over energy of ``body`` (default: all of ``THETA0_RANGE``) from memory, the disk cache, or built
+    (:func:`build_energy_tables` with ``grid``: theta0_lo and its keyword options) and cached, as
+    :func:`~rocknroller.analysis.slow.map.table.cached_table` keeps every table (``build=False``: TableNotCachedError
+    if they are not cached).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import rocknroller as rr
+    >>> saved = os.environ.get("ROCKNROLLER_CACHE")
+    >>> os.environ["ROCKNROLLER_CACHE"] = tempfile.mkdtemp()  # an empty cache
+    >>> try:
+    ...     rr.load_energy_tables(rr.Body.paper(), build=False)
+    ... except ValueError as exc:
+    ...     print(type(exc).__name__)
+    TableNotCachedError
+    >>> if saved is None:
+    ...     del os.environ["ROCKNROLLER_CACHE"]
+    ... else:
+    ...     os.environ["ROCKNROLLER_CACHE"] = saved
+    """
+    lo = grid.pop("theta0_lo", THETA0_RANGE[0])
+    return cached_table(build_energy_tables, body, lo, f"theta0 in [{lo!r}, ...]", build=build, use_cache=use_cache,
+                        table_type=EnergyTables, spec_of=_energy_spec, **grid)
+
+
+def energy_tables_cached(body: Body) -> bool:
+    """Whether the default tables over energy of ``body`` are in memory or the disk cache, and in use: the environment
+    variable ``ROCKNROLLER_ENERGY_TABLES=off`` sets them aside (every release then on its per-θ0 tables, to reproduce
+    a result made without them)."""
+    if os.environ.get("ROCKNROLLER_ENERGY_TABLES", "").strip().lower() == "off":
+        return False
+    return is_cached(build_energy_tables, body, THETA0_RANGE[0])
+
+
+def release_tables(body: Body, theta0: float, order: int, *, build: bool = True, progress: bool | None = None,
+                   workers: int = 1) -> tuple[SlowMapTable, SecondOrderTable | None]:
+    """The release table of (body, θ0) and, for ``order`` 2, its second-order table: from the tables over energy
+    where they are cached for the body (``rocknroller warm --tables``), else per θ0 (built and cached if needed,
+    unless ``build`` is False; also where the cached file fails its checks, with a CacheWarning)."""
+    theta0 = check_map_theta0(theta0)
+    if energy_tables_cached(body):
+        try:
+            span = load_energy_tables(body, build=False)
+        except TableNotCachedError:  # the file failed its checks (a CacheWarning said so): per θ0 instead
+            pass
+        else:
+            return span.release_table(theta0), span.second_order_table(theta0) if order == 2 else None
+    table = load_or_build_table(body, theta0, build=build, progress=progress, workers=workers)
+    second = (load_or_build_second_order_table(body, theta0, build=build, progress=progress, workers=workers)
+              if order == 2 else None)
+    return table, second

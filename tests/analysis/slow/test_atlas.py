@@ -22,7 +22,7 @@ PSI0 = (0.15 * math.pi, 0.25 * math.pi, 0.4 * math.pi)
 
 @pytest.fixture(scope="module")
 def small_atlas():
-    return at.atlas_from_rest(BODY, THETA0, PSI0, 400.0, progress=False)
+    return at.atlas_from_rest(BODY, THETA0, PSI0, 400.0, progress=False, order=1)  # whatever tables are cached
 
 
 def test_atlas_values_are_the_maps(small_atlas):
@@ -36,7 +36,7 @@ def test_atlas_values_are_the_maps(small_atlas):
 
 
 def test_processes_do_not_change_the_atlas(small_atlas):
-    two = at.atlas_from_rest(BODY, THETA0, PSI0, 400.0, progress=False, processes=2)
+    two = at.atlas_from_rest(BODY, THETA0, PSI0, 400.0, progress=False, processes=2, order=1)
     for name in at.ATLAS_OBSERVABLES:
         assert np.array_equal(two.values[name].filled(np.nan), small_atlas.values[name].filled(np.nan),
                               equal_nan=True), name
@@ -57,11 +57,13 @@ def test_the_maps_tables_are_built_on_the_schedulers_all_rows_at_once(small_atla
         return real(body, theta0, **kw)
 
     monkeypatch.setattr(tables_at_once, "build_release_tables", spy)
+    monkeypatch.setattr(tables_at_once, "energy_tables_cached", lambda body: False)  # the per-θ0 tables are built
     rows = (0.7 * math.pi, *THETA0)  # 0.7π: on the region tables
-    threaded = at.atlas_from_rest(BODY, rows, PSI0, 400.0, progress=False, threads=2)
+    threaded = at.atlas_from_rest(BODY, rows, PSI0, 400.0, progress=False, threads=2, order=1)
     assert calls == [(list(THETA0), 2)]
+    ref = at.atlas_from_rest(BODY, THETA0, PSI0, 400.0, progress=False, order=1)  # on the same (per-θ0) tables
     for name in at.ATLAS_OBSERVABLES:
-        assert np.array_equal(threaded.values[name][1:].filled(np.nan), small_atlas.values[name].filled(np.nan),
+        assert np.array_equal(threaded.values[name][1:].filled(np.nan), ref.values[name].filled(np.nan),
                               equal_nan=True), name
     with pytest.raises(ValueError, match="threads must be"):
         at.atlas_from_rest(BODY, THETA0, PSI0, 400.0, threads=0)
@@ -221,22 +223,22 @@ CHAOS_PSI0 = (0.05, 0.25 * math.pi)
 
 @pytest.fixture(scope="module")
 def chaos_atlas():
-    return at.atlas_from_rest(CHAOS_BODY, [0.95 * math.pi], CHAOS_PSI0, 1000.0, progress=False)
+    return at.atlas_from_rest(CHAOS_BODY, [0.95 * math.pi], CHAOS_PSI0, 1000.0, progress=False, order=1)
 
 
 def test_chaos_layer_is_the_maps_indicators(small_atlas):
-    """Each point's MEGNO and λ are predict_slow_motion's (order 1) over the atlas's span, t_end, to the bit, and its
-    verdict MEGNO <= 3; without the layer (chaos=False: no tangent vector) the other observables are the same to the
-    bit."""
+    """Each point's MEGNO and λ are predict_slow_motion's (order 1) over its own span, max(t_end, 1000 rocks), to the
+    bit, and its verdict MEGNO <= 3; without the layer (chaos=False: no tangent vector) the other observables are the
+    same to the bit."""
     from rocknroller.analysis.slow.prediction import predict_slow_motion
 
     assert small_atlas.observables == at.ATLAS_OBSERVABLES + at.CHAOS_OBSERVABLES
-    pred = predict_slow_motion(BODY, THETA0[1], PSI0[2], 400.0, order=1, span=400.0)
-    assert pred.chaos.span <= 400.0
+    pred = predict_slow_motion(BODY, THETA0[1], PSI0[2], 400.0, order=1)
+    assert pred.chaos.span > 10 * 400.0  # 1000 rocks
     assert small_atlas.values["megno"][1, 2] == pred.chaos.megno
     assert small_atlas.values["lyapunov"][1, 2] == pred.chaos.lyapunov
     assert small_atlas.regular[1, 2] == pred.chaos.regular
-    plain = at.atlas_from_rest(BODY, THETA0, PSI0, 400.0, progress=False, chaos=False)
+    plain = at.atlas_from_rest(BODY, THETA0, PSI0, 400.0, progress=False, chaos=False, order=1)
     assert plain.observables == at.ATLAS_OBSERVABLES and "megno" not in plain.values
     for name in at.ATLAS_OBSERVABLES:
         assert np.array_equal(plain.values[name].filled(np.nan), small_atlas.values[name].filled(np.nan),
@@ -257,15 +259,17 @@ def test_chaos_layer_is_the_maps_indicators(small_atlas):
 
 def test_chaos_layer_confirmed_by_the_odes_megno(chaos_atlas):
     """At ε = 1e-2, θ0 = 0.95π the map calls ψ0 = 0.05 chaotic and ψ0 = π/4 regular, and so does the direct motion's
-    MEGNO over the same 1000 time units; the ODE's values are direct_chaos_indicators' of the same start to the bit
-    (whichever thread ran them)."""
+    MEGNO over the same span (1000 rocks); the ODE's values are direct_chaos_indicators' of the same start over it to
+    the bit (whichever thread ran them)."""
+    from rocknroller.analysis.slow.atlas_check import chaos_span
     from rocknroller.numerics.variational import direct_chaos_indicators
 
     assert chaos_atlas.regular.tolist() == [[False, True]]
     check = confirm_atlas(chaos_atlas, CHAOS_BODY, every=1, progress=False, threads=2)
     assert check.verdict_agrees.tolist() == [True, True] and check.verdict_agreement == 1.0
     assert check.ode["megno"][0] > 3.0 >= check.ode["megno"][1]
-    ref = direct_chaos_indicators(CHAOS_BODY, chaos_atlas.state(0, 0), 1000.0).indicators
+    ref = direct_chaos_indicators(CHAOS_BODY, chaos_atlas.state(0, 0), chaos_span(CHAOS_BODY, 0.95 * math.pi,
+                                                                                  1000.0)).indicators
     assert check.ode["megno"][0] == ref.megno and check.ode["lyapunov"][0] == ref.lyapunov
     assert check.rel_error["megno"][0] == chaos_atlas.values["megno"][0, 0] - ref.megno
     assert check.map["megno"][1] == chaos_atlas.values["megno"][0, 1]

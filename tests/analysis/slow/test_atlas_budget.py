@@ -14,6 +14,7 @@ from rocknroller.analysis.slow import prediction as av
 from rocknroller.analysis.slow.atlas import atlas_from_rest, atlas_seconds
 from rocknroller.analysis.slow.atlas_check import confirm_seconds
 from rocknroller.analysis.slow.map import table as table_module
+from rocknroller.analysis.slow.map import tables_at_once
 from rocknroller.analysis.slow.map.table import build_table
 from rocknroller.cli import main
 from rocknroller.numerics.budget import RELEASE_TABLE_SECONDS, WorkBudgetError
@@ -29,7 +30,7 @@ PSI = np.linspace(0.0, 3.0, 200)
 @pytest.fixture
 def no_work(monkeypatch):
     for module, name in ((av, "load_or_build_table"), (av, "predict_slow_motion"),
-                         (table_module, "cached_table")):
+                         (table_module, "cached_table"), (tables_at_once, "release_tables")):
         monkeypatch.setattr(module, name, no_work_stub)
 
 

@@ -83,3 +83,32 @@ def test_cached_only(tmp_path, monkeypatch, capsys):
     monkeypatch.setattr(slow_table, "_TABLES", {})
     err = _error(["--cached-only", "--theta0", "0.95pi", "--out", str(tmp_path / "out")], capsys)
     assert "call without --cached-only" in err and "build=False" not in err
+
+
+def test_theta0_range_writes_the_period_doubling_line(tmp_path, capsys):
+    """``bifurcation --theta0-range``: ε_pd over the release angles at orders 1 and 2, its three files (the CSV's
+    header records the body), and K = ε_pd κ within the second order's correction of 4 (0.08 at 0.8π,
+    docs/averaging.md)."""
+    import csv
+
+    assert main(["bifurcation", "--theta0-range", "0.9pi:0.95pi:2", "--out", str(tmp_path), "--json", "--quiet"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert sorted(p.split("/")[-1] for p in out["files"]) == ["period_doubling.csv", "period_doubling.pdf",
+                                                               "period_doubling.png"]
+    lines = open(tmp_path / "period_doubling.csv").read().splitlines()
+    assert any(line.startswith("#") and "a=0.05" in line for line in lines)
+    rows = list(csv.DictReader(line for line in lines if not line.startswith("#")))
+    assert [float(r["theta0_over_pi"]) for r in rows] == pytest.approx([0.9, 0.95], rel=1e-15)
+    for r, e1, e2 in zip(rows, out["eps_order1"], out["eps_order2"]):
+        assert float(r["eps_order1"]) == e1 and float(r["eps_order2"]) == e2
+        assert abs(float(r["K_order2"]) - 4.0) < 0.05 and e2 != e1
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["--theta0-range", "0.9pi:0.95pi:2", "--theta0", "0.9pi"], "not both"),
+    (["--theta0-range", "0.9pi:0.95pi"], "--theta0-range must be a value or a grid"),
+    (["--theta0-range", "0.5pi:0.9pi:3"], "theta0 must lie in"),
+])
+def test_theta0_range_refuses_bad_input(argv, words, tmp_path, capsys):
+    assert main(["bifurcation", *argv, "--out", str(tmp_path)]) == 2
+    assert words in capsys.readouterr().err

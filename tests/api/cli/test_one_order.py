@@ -1,6 +1,7 @@
 """One order everywhere: ``slow``, ``portrait``, ``bifurcation`` and the statistics share the map's default order
-(:func:`rocknroller.analysis.slow.prediction.default_order`); ``atlas`` runs order 1 only and every output of it names
-that; ``portrait --json`` and ``portrait_orbits.csv`` list every orbit's verdict, MEGNO, λ and span."""
+(:func:`rocknroller.analysis.slow.prediction.default_order`); ``atlas`` defaults to order 2 where the tables over energy
+cover its rows, else 1 (``atlas_order``), and every output of it names its order;
+``portrait --json`` and ``portrait_orbits.csv`` list every orbit's verdict, MEGNO, λ and span."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ import math
 
 import pytest
 
-from rocknroller.analysis.slow.atlas import ATLAS_ORDER
+from rocknroller.analysis.slow.atlas import atlas_order
 from rocknroller.analysis.slow.ensemble_statistics import StartBall, map_ensemble
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.slow.prediction import default_order
@@ -44,14 +45,17 @@ def test_portrait_lists_every_orbit_at_slow_s_order(tmp_path, capsys):
 
 
 def test_atlas_names_its_order(tmp_path, capsys):
-    assert ATLAS_ORDER == 1
-    out_dir = tmp_path / "a"
-    assert main(["atlas", "--theta0", "0.95pi", "--psi0", "0.3:0.4:2", "--t-end", "200", "--confirm-every", "0",
-                 "--out", str(out_dir), "--json", "--quiet"]) == 0
-    out = json.loads(capsys.readouterr().out)
-    assert out["order"] == ATLAS_ORDER
-    header = [line for line in open(out_dir / "atlas.csv") if line.startswith("#")]
-    assert any(f"averaged map of order {ATLAS_ORDER} in eps" in line for line in header)
+    """The atlas's order is its default (``atlas_order``: 2 where the tables over energy cover the rows, else 1) or
+    the one asked for, named in the JSON and the CSV header."""
+    body = Body.paper()
+    for given, want in ((None, atlas_order(body, [0.95 * math.pi])), ("1", 1)):
+        out_dir = tmp_path / f"a{given}"
+        assert main(["atlas", "--theta0", "0.95pi", "--psi0", "0.3:0.4:2", "--t-end", "200", "--confirm-every", "0",
+                     "--out", str(out_dir), "--json", "--quiet"] + ([] if given is None else ["--order", given])) == 0
+        out = json.loads(capsys.readouterr().out)
+        assert out["order"] == want
+        header = [line for line in open(out_dir / "atlas.csv") if line.startswith("#")]
+        assert any(f"averaged map of order {want} in eps" in line for line in header)
 
 
 def test_every_api_entry_defaults_to_the_one_order():

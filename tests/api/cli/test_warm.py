@@ -135,3 +135,33 @@ def _announcements(monkeypatch) -> threading.Event:
 
     monkeypatch.setattr("builtins.print", spy)
     return announced
+
+
+def test_warm_tables_builds_the_tables_over_energy_and_says_so(monkeypatch, capsys):
+    """``warm --tables``: after the integrators, the tables over energy of the body given (built here by a stand-in),
+    one line naming the range, the body, what was done and the errors the build measured."""
+    from types import SimpleNamespace
+
+    from rocknroller.analysis.slow.map import tables_at_once as ta
+
+    asked = []
+
+    def fake_load(body, workers=1, progress=None):
+        asked.append((body.a, workers, progress))
+        return SimpleNamespace(theta0_lo=0.75 * 3.141592653589793, theta0_hi=0.999 * 3.141592653589793,
+                               first_error=1.7e-7, second_error=1.4e-3)
+
+    monkeypatch.setattr(warm, "integrators", lambda: [])
+    monkeypatch.setattr(ta, "energy_tables_cached", lambda body: False)
+    monkeypatch.setattr(ta, "load_energy_tables", fake_load)
+    assert main(["warm", "--tables", "--a", "0.06", "--processes", "1", "--quiet"]) == 0
+    line = capsys.readouterr().out.splitlines()[-1]
+    assert asked == [(0.06, 1, False)]
+    assert line.startswith("tables over energy, theta0 in [0.75pi, 0.999pi], a=0.06")
+    assert "built and cached in" in line and "1.7e-07 (first order), 1.4e-03 (k2)" in line
+
+
+def test_warm_tables_refuses_a_bad_body_before_any_work(monkeypatch, capsys):
+    monkeypatch.setattr(warm, "integrators", lambda: [("must not run", lambda: pytest.fail("an integrator ran"))])
+    assert main(["warm", "--tables", "--a", "1.5"]) == 2
+    assert "a" in capsys.readouterr().err

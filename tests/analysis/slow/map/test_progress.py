@@ -64,7 +64,10 @@ def test_predict_passes_progress_to_the_release_builds(monkeypatch, order):
         raise Stop
 
     if order == 1:
-        monkeypatch.setattr(av, "load_or_build_table", record)
+        from rocknroller.analysis.slow.map import tables_at_once as ta
+
+        monkeypatch.setattr(ta, "energy_tables_cached", lambda body: False)  # the per-θ0 build is the one observed
+        monkeypatch.setattr(ta, "load_or_build_table", record)
     else:
         monkeypatch.setattr(second_order, "load_or_build_second_order_table", record)
     with pytest.raises(Stop):
@@ -101,7 +104,10 @@ def test_slow_release_path_shows_progress_like_every_command(monkeypatch, extra,
         seen.append((kwargs.get("progress", "missing"), kwargs.get("workers", "missing")))
         raise Stop
 
-    monkeypatch.setattr(av, "load_or_build_table", record)
+    from rocknroller.analysis.slow.map import tables_at_once as ta
+
+    monkeypatch.setattr(ta, "energy_tables_cached", lambda body: False)  # the per-θ0 build is the one observed
+    monkeypatch.setattr(ta, "load_or_build_table", record)
     with pytest.raises(Stop):
         main(["slow", "--theta0", "0.95pi", "--eps", "1e-3", "--processes", "1", *extra])
     assert seen == [(expected, 1)]
