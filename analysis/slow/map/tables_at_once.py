@@ -279,7 +279,8 @@ class EnergyTables:
         """The release table of θ0 in the span: its drifts by quadrature on its chart (``release_frame``), the chart
         oriented by the interpolated kick at rest, its kicks fitted from the interpolated ε-responses (no orbit is run);
         ``interp_error`` is ``first_error``."""
-        key = ("first", self.theta0_lo, self.theta0_hi, self.resp.shape, theta0, self.body.params)
+        key = (self.body.params, self.theta0_lo, self.theta0_hi, self.resp.shape, self.C0.tobytes(), self.first_error,
+               theta0)  # the tables over energy of one build, and the angle
         table = _ENERGY_CACHE.get(key)
         if table is None:
             theta0 = check_map_theta0(theta0)
@@ -340,8 +341,8 @@ def _interpolate(values: NDArray[np.float64], x: float) -> NDArray[np.float64]:
 def _energy_spec(opts: dict[str, Any]) -> dict[str, tuple[int, ...]]:
     """The fields of a tables-over-energy file, in checksum order."""
     return {"a": (), "I1": (), "I3": (), "g": (), "theta0_lo": (), "theta0_hi": (),
-            "C0": (opts["n_first"], 2), "resp": (opts["n_first"], 5, 128, 6, 3), "k2": (opts["n_second"], 25, opts["k2_nu"], 6),
-            "first_error": (), "second_error": ()}
+            "C0": (opts["n_first"], 2), "resp": (opts["n_first"], 5, 128, 6, 3),
+            "k2": (opts["n_second"], 25, opts["k2_nu"], 6), "first_error": (), "second_error": ()}
 
 
 def _check_positions(n: int) -> list[float]:
