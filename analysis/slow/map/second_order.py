@@ -56,6 +56,7 @@ __all__ = [
     "K2_HARMONICS", "K2_FUNCTIONS", "K2_ACCURACY", "K2_REGION_ACCURACY", "k2_harmonics", "k2_harmonics_at",
     "build_second_order_table", "load_or_build_second_order_table",
     "build_second_order_region_table", "load_or_build_second_order_region_table", "k2_block", "k2_blocks", "fit_k2",
+    "k2_check_error",
     "check_k2_nu", "k2_spec"
 ]
 
@@ -153,7 +154,7 @@ def first_order_kick(table: SlowMapTable, Q: ArrayLike,
 
 def drift_derivatives(table: SlowMapTable, name: str, Q: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Gradient (2,) and Hessian (2, 2) in (Q_R, Q_J) of the drift ``name`` (W, T or dphi): the gradient by the
-    chain rule through the chart, the Hessian by central differences of it (symmetrised)."""
+    chain rule through the chart, the Hessian from the second-derivative series the same way (:func:`_hessians`)."""
     Q, dcoef = np.asarray(Q, float), _derivative_coefficients(table)
     return _jet(table, dcoef, Q)[1][_IDX[name]], _hessians(table, dcoef, Q, [_IDX[name]])[0]
 
@@ -302,13 +303,13 @@ def _build_k2(body: Body, where: float, kind: str, nu: int, nv: int, workers: in
     return fit_k2(first, where, kind, nu, nv, rows)
 
 
-def fit_k2(first: SlowMapTable, where: float, kind: str, nu: int, nv: int,
-           rows: list[NDArray[np.float64]]) -> SecondOrderTable:
+def fit_k2(first: SlowMapTable, where: float, kind: str, nu: int, nv: int, rows: list[NDArray[np.float64]], *,
+           check: bool = True) -> SecondOrderTable:
     """The second-order table on ``first`` (a ``kind`` "release" table of θ0 = ``where`` or "region" table of
     E = ``where``) from the rows of
     :func:`k2_block` for :func:`k2_blocks`' blocks: the other half of the nodes by the parity, the Chebyshev fit,
-    and the check at off-grid points (above ``K2_ACCURACY``, or ``K2_REGION_ACCURACY``, an
-    AveragingValidityWarning)."""
+    and with ``check`` the check at off-grid points (:func:`k2_check_error`; above ``K2_ACCURACY``, or
+    ``K2_REGION_ACCURACY``, an AveragingValidityWarning; without it ``interp_error`` is NaN)."""
     from rocknroller.analysis.slow.map.limits import AveragingRangeError, AveragingValidityWarning
 
     data = np.empty((nu, nv, 5, 5))
@@ -323,12 +324,9 @@ def fit_k2(first: SlowMapTable, where: float, kind: str, nu: int, nv: int,
     coef = np.stack([Au @ flat[:, :, k] @ Av.T for k in range(25)])
     table = SecondOrderTable(theta0=float(first.theta0) if kind == "release" else math.nan, E0=float(first.E0),
                              coef=coef)
-    scale = np.abs(data).max(axis=(0, 1, 3))  # per component
-    err = 0.0
-    for x, y in _K2_CHECK_POINTS:
-        q = np.array([float(c) for c in first.chart(x, y)])
-        diff = np.abs(table.harmonics(first, q) - k2_harmonics(first, q)).max(axis=1)
-        err = float(np.max([err, (diff / scale).max()]))  # a NaN propagates (max() would drop it)
+    if not check:
+        return table
+    err = k2_check_error(first, table, np.abs(data).max(axis=(0, 1, 3)))
     if not math.isfinite(err):
         raise AveragingRangeError(f"the check of the second-order tables against direct orbits gave {err!r}; the "
                                   "tables are not used")
@@ -346,6 +344,22 @@ def fit_k2(first: SlowMapTable, where: float, kind: str, nu: int, nv: int,
         warnings.warn(f"the second-order tables for {what} interpolate k2 only to {err:.1e} (relative, above "
                       f"{limit:g}); {advice}", AveragingValidityWarning, stacklevel=3)
     return replace(table, interp_error=err)
+
+
+def k2_check_error(first: SlowMapTable, table: SecondOrderTable, scale: NDArray[np.float64] | None = None) -> float:
+    """The largest error of ``table``'s k₂ harmonics against k₂ computed directly (:func:`k2_harmonics`: the
+    second-order variational orbits) at the off-grid chart points ``_K2_CHECK_POINTS`` of ``first``, relative to each
+    component's largest harmonic, ``scale`` (5,), by default the table's own over its nodes."""
+    if scale is None:
+        nu, nv = table.coef.shape[1:]
+        at_nodes = np.array([np.polynomial.chebyshev.chebgrid2d(_cheb_nodes(nu), _cheb_nodes(nv), c) for c in table.coef])
+        scale = np.abs(at_nodes.reshape(5, 5, nu, nv)).max(axis=(1, 2, 3))
+    err = 0.0
+    for x, y in _K2_CHECK_POINTS:
+        q = np.array([float(c) for c in first.chart(x, y)])
+        diff = np.abs(table.harmonics(first, q) - k2_harmonics(first, q)).max(axis=1)
+        err = float(np.max([err, (diff / scale).max()]))  # a NaN propagates (max() would drop it)
+    return err
 
 
 def build_second_order_table(body: Body, theta0: float, *, nu: int = 64, nv: int = 6,

@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import math
 import os
-import warnings
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -35,9 +34,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.slow.map.chart import SecondOrderTable, SlowMapTable, _cheb_nodes
-from rocknroller.analysis.slow.map.limits import THETA0_RANGE, AveragingValidityWarning, check_map_theta0
+from rocknroller.analysis.slow.map.limits import THETA0_RANGE, check_map_theta0
 from rocknroller.analysis.slow.map.second_order import (build_second_order_table, check_k2_nu, fit_k2, k2_block,
-                                                        k2_blocks, k2_spec, load_or_build_second_order_table)
+                                                        k2_blocks, k2_check_error, k2_spec,
+                                                        load_or_build_second_order_table)
 from rocknroller.analysis.slow.map.table import (TableNotCachedError, assemble_nodes, build_table, cached_table,
                                                  check_grid, fit_reduced, fit_release_table, is_cached,
                                                  load_or_build_table, node_block, node_blocks, nodes_done,
@@ -240,8 +240,10 @@ class EnergyTables:
     k2 : ndarray (n_second, 25, k2_nu, nv)
         The second-order tables' coefficients at each node in s.
     first_error, second_error : float
-        The largest relative error of the interpolated release tables' kicks and of k₂ against per-θ0 tables, at
-        off-node release angles checked when built.
+        The largest relative error, at off-node release angles checked when built, of the interpolated release
+        tables' kicks against per-θ0 tables and of k₂ against k₂ computed directly there
+        (:func:`~rocknroller.analysis.slow.map.second_order.k2_check_error`, as a second-order table is checked; at
+        the low end and the middle of the span: near π, k₂'s own interpolation in Q on any release chart dominates).
 
     Examples
     --------
@@ -418,22 +420,16 @@ def build_energy_tables(body: Body, theta0_lo: float, *, theta0_hi: float = THET
         owner2 += [k] * len(mine2)
     rows2 = run_blocks(k2_block, blocks2, [len(b[1]) for b in blocks2], desc="tables over energy: second order",
                        unit="node", **where)
-    with warnings.catch_warnings():  # past 0.99π k₂ interpolates in Q to ≳ 4e-4 on any release chart (as per θ0)
-        warnings.simplefilter("ignore", AveragingValidityWarning)
-        k2 = np.stack([fit_k2(first, first.theta0, "release", k2_nu, 6,
-                              [r for r, o in zip(rows2, owner2) if o == k]).coef for k, first in enumerate(firsts)])
+    k2 = np.stack([fit_k2(first, first.theta0, "release", k2_nu, 6, [r for r, o in zip(rows2, owner2) if o == k],
+                          check=False).coef for k, first in enumerate(firsts)])  # the span is checked below
     span = replace(span, k2=k2)
     first_err, second_err = 0.0, 0.0
     for x in _check_positions(n_first):
         t = _angle(x, lo, hi)
         first_err = max(first_err, kick_error(span.release_table(t), build_table(sym, t, progress=False)))
-    for x in _check_positions(n_second)[:1]:  # one k₂ table (8 s), at the end where the map's own error is least
+    for x in _check_positions(n_second)[:2]:  # near π k₂'s own interpolation in Q dominates (6.7e-2 at 0.999π)
         t = _angle(x, lo, hi)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", AveragingValidityWarning)  # a coarse k2_nu warns; the error is measured
-            ref = build_second_order_tables(sym, [t], budget=None, nu=k2_nu, **where)[0]
-        second_err = max(second_err, k2_error(span.release_table(t), span.second_order_table(t),
-                                              load_or_build_table(sym, t), ref))
+        second_err = max(second_err, k2_check_error(span.release_table(t), span.second_order_table(t)))
     _ENERGY_CACHE.clear()
     return replace(span, first_error=first_err, second_error=second_err)
 
