@@ -49,7 +49,8 @@ from rocknroller.numerics.ensembles.ensemble import check_cluster
 from rocknroller.numerics.parallel import check_processes
 
 __all__ = ["MAX_TABLES", "build_release_tables", "build_second_order_tables", "EnergyTables", "build_energy_tables",
-           "load_energy_tables", "release_tables", "ENERGY_NODES_FIRST", "ENERGY_NODES_SECOND"]
+           "load_energy_tables", "release_tables", "ENERGY_NODES_FIRST", "ENERGY_NODES_SECOND", "energy_tables_cached",
+           "kick_error", "k2_error"]
 
 #: Most release angles of one call (each table ~0.1 MB in memory at the default grid).
 MAX_TABLES = 1000
