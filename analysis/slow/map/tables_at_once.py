@@ -135,12 +135,14 @@ def build_release_tables(body: Body, theta0: ArrayLike, *, scheduler: str | None
     return [tables[t] for t in angles_list]
 
 
-def _frame_blocks(frames: list[Any]) -> tuple[list[Any], list[int], list[int]]:
+def _frame_blocks(frames: list[tuple[SlowMapTable, NDArray, NDArray, NDArray, NDArray]]
+                  ) -> tuple[list[Any], list[int], list[int]]:
     """The node blocks of the release tables ``frames`` (:func:`release_frame`'s results) for one scheduler: the
     blocks, the index of the table each belongs to, and the nodes each provides (for the progress bar)."""
     blocks, owner, done = [], [], []
     for k, (frame, T, _, _, thX) in enumerate(frames):
-        mine = node_blocks(frame.body, frame.E0, *frame.nodes(), thX)
+        QR, QJ = frame.nodes()
+        mine = node_blocks(frame.body, frame.E0, QR, QJ, thX)
         blocks += mine
         owner += [k] * len(mine)
         done += nodes_done(mine, T.size)
