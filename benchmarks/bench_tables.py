@@ -47,7 +47,7 @@ def k2_before_after(nodes: int = 4) -> tuple[float, float, float]:
     import numpy as np
 
     from rocknroller.analysis.model.body import Body
-    from rocknroller.analysis.slow.map.chart import _cheb_nodes
+    from rocknroller.analysis.slow.map.chart import cheb_nodes
     from rocknroller.analysis.slow.map.second_order import k2_harmonics_at
     from rocknroller.analysis.slow.map.table import load_or_build_table
 
@@ -55,7 +55,7 @@ def k2_before_after(nodes: int = 4) -> tuple[float, float, float]:
     from test_second_order_batch import _k2_harmonics_scalar
 
     table = load_or_build_table(Body.paper(), 0.95 * math.pi, progress=False)
-    XI, ETA = np.meshgrid(_cheb_nodes(64), _cheb_nodes(6), indexing="ij")
+    XI, ETA = np.meshgrid(cheb_nodes(64), cheb_nodes(6), indexing="ij")
     QR, QJ = table.chart(XI, ETA)
     picks = np.linspace(0, 31, nodes).astype(int)
     Q = np.array([(QR[i, k % 6], QJ[i, k % 6]) for k, i in enumerate(picks)])

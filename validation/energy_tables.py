@@ -27,7 +27,7 @@ import numpy as np
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.diagnostics import wrap_angle
 from rocknroller.analysis.slow.map import tables_at_once as ta
-from rocknroller.analysis.slow.map.chart import _cheb_fit_matrix
+from rocknroller.analysis.slow.map.chart import cheb_fit_matrix
 from rocknroller.analysis.slow.map.compiled_map import iterate_slow_map
 from rocknroller.analysis.slow.map.exact_step import exact_step
 from rocknroller.analysis.slow.map.limits import AveragingValidityWarning
@@ -76,7 +76,7 @@ def main() -> None:
                 rel = np.maximum(rel, _sizes(q - exact) / own)
         print(f"| {f:g}π | {eps:.2g} | {ta.kick_error(got, per):.1e} | {ta.k2_error(got, got2, per, per2):.1e} | "
               + ", ".join(f"{r:.2g}" for r in ratio) + " | " + ", ".join(f"{r:.3f}" for r in rel) + " |")
-    A = _cheb_fit_matrix(span.resp.shape[0])
+    A = cheb_fit_matrix(span.resp.shape[0])
     print("noise floor: the largest of the last ten Chebyshev coefficients in s of the reduced responses at chart node "
           "(64, 3), harmonic c1, over the largest value:")
     for k, name in enumerate(("Q_R", "Q_J", "Theta", "t", "phi")):

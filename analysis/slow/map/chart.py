@@ -26,7 +26,8 @@ from rocknroller.analysis.slow.map.limits import (K_PERIOD_DOUBLING, AveragingRa
                                                   eps_period_doubling)
 
 __all__ = [
-    "TABLE_FUNCTIONS", "CHART_TERMS", "SlowMapTable", "stretch", "unstretch", "stretch_slope", "SecondOrderTable"
+    "TABLE_FUNCTIONS", "CHART_TERMS", "SlowMapTable", "stretch", "unstretch", "stretch_slope", "SecondOrderTable",
+    "cheb_nodes", "cheb_basis", "cheb_fit_matrix"
 ]
 
 
@@ -44,25 +45,46 @@ _ODD = {"W", "dphi", "kTh_c0", "kTh_c1", "kTh_s1", "dphi1_c0", "dphi1_c1", "dphi
 _EVEN = {"T", "kQR_c0", "kQR_c1", "kQR_s1", "kQJ_c0", "kQJ_c1", "kQJ_s1", "dt_c0", "dt_c1", "dt_s1"}
 
 
-def _cheb_nodes(n: int) -> NDArray[np.float64]:
+def cheb_nodes(n: int) -> NDArray[np.float64]:
     """The n Chebyshev points of the first kind, cos(π(k + ½)/n), k = 0..n−1 (descending): numpy's ``chebpts1``,
     whose sines make them exactly antisymmetric (x_{n−1−k} = −x_k to the bit, which the tables' parity
-    symmetrisation F[::-1, ::-1] assumes; the cosines missed it by up to 2.8e-16)."""
+    symmetrisation F[::-1, ::-1] assumes; the cosines missed it by up to 2.8e-16).
+
+    Examples
+    --------
+    >>> x = cheb_nodes(4)
+    >>> bool((x[::-1] == -x).all()), f"{x[0]:.6f}"
+    (True, '0.923880')
+    """
     return np.polynomial.chebyshev.chebpts1(n)[::-1].copy()
 
 
-def _cheb_basis(x: ArrayLike, n: int) -> NDArray[np.float64]:
+def cheb_basis(x: ArrayLike, n: int) -> NDArray[np.float64]:
     """T_0..T_{n−1} at x clipped to [−1, 1], shape (n, ...): numpy's ``chebvander`` (the three-term recurrence
-    T_k = 2x T_{k−1} − T_{k−2}, stable on [−1, 1]), with the basis index first, as the tables contract it."""
+    T_k = 2x T_{k−1} − T_{k−2}, stable on [−1, 1]), with the basis index first, as the tables contract it.
+
+    Examples
+    --------
+    >>> cheb_basis([0.5, 2.0], 3).tolist()  # T_0, T_1, T_2 at 0.5 and at 2 clipped to 1
+    [[1.0, 1.0], [0.5, 1.0], [-0.5, 1.0]]
+    """
     xc = np.clip(np.asarray(x, float), -1.0, 1.0)
     V = np.polynomial.chebyshev.chebvander(xc, n - 1).reshape(xc.shape + (n,))  # a 0-d x comes back as (1, n)
     return np.moveaxis(V, -1, 0)
 
 
-def _cheb_fit_matrix(n: int) -> NDArray[np.float64]:
+def cheb_fit_matrix(n: int) -> NDArray[np.float64]:
     """A with c = A f for the interpolant at the first-kind nodes: the discrete orthogonality of the T_k there, as
-    numpy's ``chebinterpolate`` applies it ((2/n) Vᵀ with the first row halved, V = ``chebvander`` at the nodes)."""
-    A = np.asarray((2.0 / n) * np.polynomial.chebyshev.chebvander(_cheb_nodes(n), n - 1).T, dtype=np.float64)
+    numpy's ``chebinterpolate`` applies it ((2/n) Vᵀ with the first row halved, V = ``chebvander`` at the nodes).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> c = cheb_fit_matrix(4) @ (cheb_nodes(4) ** 2)  # x² = (T_0 + T_2)/2
+    >>> np.round(c, 12).tolist()
+    [0.5, 0.0, 0.5, 0.0]
+    """
+    A = np.asarray((2.0 / n) * np.polynomial.chebyshev.chebvander(cheb_nodes(n), n - 1).T, dtype=np.float64)
     A[0] *= 0.5
     return A
 
@@ -192,7 +214,7 @@ class SlowMapTable:
                    f"cover it (an explicit zero rate, --theta-dot0 0, or the EulerState(theta0, 0, psi0))"
                    if across else ""))
         nu, nv = self.coef.shape[1:]
-        return (self.coef @ _cheb_basis(eta, nv)) @ _cheb_basis(xi, nu)
+        return (self.coef @ cheb_basis(eta, nv)) @ cheb_basis(xi, nu)
 
     def gradient(self, name: str, Q: ArrayLike) -> NDArray[np.float64]:
         """(∂F/∂u, ∂F/∂v) of the table function ``name`` at Q (Q = u e + v n), by the chain rule through the chart."""
@@ -207,7 +229,7 @@ class SlowMapTable:
     def nodes(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """(Q_R, Q_J) at the table's Chebyshev nodes (ξ_i, η_j), arrays (Nu, Nv)."""
         nu, nv = self.coef.shape[1:]
-        return self.chart(*np.meshgrid(_cheb_nodes(nu), _cheb_nodes(nv), indexing="ij"))
+        return self.chart(*np.meshgrid(cheb_nodes(nu), cheb_nodes(nv), indexing="ij"))
 
 
 def stretch(s: ArrayLike, a: float) -> NDArray[np.float64]:
@@ -249,7 +271,7 @@ class SecondOrderTable:
         """(5 components, 5 harmonics) of k₂ at Q (``first``: the release table whose chart this one uses)."""
         xi, eta = first.coordinates(np.asarray(Q, float))
         nu, nv = self.coef.shape[1:]
-        vals = (self.coef @ _cheb_basis(eta, nv)) @ _cheb_basis(xi, nu)
+        vals = (self.coef @ cheb_basis(eta, nv)) @ cheb_basis(xi, nu)
         return np.asarray(vals, float).reshape(5, 5)
 
     def kick(self, first: SlowMapTable, Q: ArrayLike, theta_a: float) -> NDArray[np.float64]:

@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.model.diagnostics import unwrap_phase
 from rocknroller.analysis.slow.map import _kernel
-from rocknroller.analysis.slow.map.chart import _HARM, _IDX, SecondOrderTable, SlowMapTable, _cheb_basis, stretch
+from rocknroller.analysis.slow.map.chart import _HARM, _IDX, SecondOrderTable, SlowMapTable, cheb_basis, stretch
 from rocknroller.analysis.slow.map.limits import MAX_MAXIMA, AveragingRangeError, check_t_end
 from rocknroller.numerics.cache import MemoryCache
 
@@ -137,7 +137,7 @@ class _FastTable:
         self.dx = float(xi[1] - xi[0])
         self.alpha, self.beta = float(table.alpha), float(table.beta)
         self.geom = np.ascontiguousarray(np.stack(table._sides(stretch(xi, self.alpha)), axis=1))
-        Bu = _cheb_basis(xi, c.shape[1])                                  # (nu, Nf)
+        Bu = cheb_basis(xi, c.shape[1])                                  # (nu, Nf)
         kick_d = self._values_and_derivatives(kick).reshape(self.n_fine, 3 * _N_KICK, self.nv)  # values, ∂ξ/U, ∂τ
         fine = np.concatenate([kick_d[:, :_N_KICK], _at_points(drift, Bu)], axis=1)  # (Nf, 18, nv)
         self.rows = np.ascontiguousarray(fine.reshape(self.n_fine, -1))
@@ -151,7 +151,7 @@ class _FastTable:
         """Run-time rows (Nf, 3 F · nv) of F Chebyshev series (F, nu, nv) on this chart: their values, then their
         ξ-derivatives over U and their τ-derivatives (the kernel turns these into ∂/∂u, ∂/∂v)."""
         xi = np.linspace(-1.0, 1.0, self.n_fine)
-        B = _cheb_basis(xi, coef.shape[1])
+        B = cheb_basis(xi, coef.shape[1])
         du = np.asarray(np.polynomial.chebyshev.chebder(coef, axis=1), float) / self.U  # (F, nu − 1, nv)
         dv = np.asarray(np.polynomial.chebyshev.chebder(coef, axis=2), float)            # (F, nu, nv − 1), d/dτ
         dv = np.concatenate([dv, np.zeros(dv.shape[:2] + (1,))], axis=2)
@@ -178,7 +178,7 @@ class _FastTable:
         series padded to this table's nv terms)."""
         coef = self._second_order_coef(second)
         xi = np.linspace(-1.0, 1.0, self.n_fine)
-        fine = _at_points(coef, _cheb_basis(xi, coef.shape[1]))  # (Nf, 25, nv)
+        fine = _at_points(coef, cheb_basis(xi, coef.shape[1]))  # (Nf, 25, nv)
         return np.ascontiguousarray(fine.reshape(self.n_fine, -1))
 
     def _evaluate(self, rows: NDArray[np.float64], u: float, v: float) -> list[float]:

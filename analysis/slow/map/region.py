@@ -43,7 +43,7 @@ from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.diagnostics import wrap_angle
 from rocknroller.analysis.routh.reduction import E_MAX, NoMotionError, u_ends
 from rocknroller.analysis.routh.turning_points import min_potential, solve_turning_points
-from rocknroller.analysis.slow.map.chart import CHART_TERMS, TABLE_FUNCTIONS, SlowMapTable, _cheb_nodes
+from rocknroller.analysis.slow.map.chart import CHART_TERMS, TABLE_FUNCTIONS, SlowMapTable, cheb_nodes
 from rocknroller.analysis.slow.map.limits import AveragingRangeError
 from rocknroller.analysis.slow.map.orbit import symmetric_data
 from rocknroller.analysis.slow.map.table import (REGION_TABLE_ACCURACY, cached_table, check_grid, fit_and_check, is_cached,
@@ -255,7 +255,7 @@ def region_frame(body: Body, E: float, *, axis: str = "auto", nu: int | None = N
     dW_du, dW_dv = abs(W[0] - W[1]) / (2.0 * hq), abs(W[2] - W[3]) / (2.0 * hq)
     tip = float(_edge(sym, E, level, np.zeros((1, 2)), e[None, :])[0])
     U = tip_fraction * tip
-    xs = _cheb_nodes(_PROFILE_NODES)
+    xs = cheb_nodes(_PROFILE_NODES)
     on_line = xs[:, None] * U * e[None, :]
     sides = _edge(sym, E, level, np.concatenate([on_line, on_line]),
                   np.concatenate([np.tile(n, (len(xs), 1)), np.tile(-n, (len(xs), 1))]))

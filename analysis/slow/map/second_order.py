@@ -44,8 +44,8 @@ from numpy.typing import ArrayLike, NDArray
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.diagnostics import wrap_angle
 from rocknroller.analysis.routh.turning_points import turning_points
-from rocknroller.analysis.slow.map.chart import (_HARM, _IDX, _ODD, SecondOrderTable, SlowMapTable, _basis, _cheb_basis,
-                                             _cheb_fit_matrix, _cheb_nodes)
+from rocknroller.analysis.slow.map.chart import (_HARM, _IDX, _ODD, SecondOrderTable, SlowMapTable, _basis, cheb_basis,
+                                             cheb_fit_matrix, cheb_nodes)
 from rocknroller.analysis.slow.map.exact_step import STEP_NAMES, exact_step
 from rocknroller.analysis.slow.map.orbit import second_order_steps
 from rocknroller.analysis.slow.map.table import cached_table, load_or_build_table
@@ -85,7 +85,7 @@ def _derivative_coefficients(table: SlowMapTable) -> Derivatives:
 
 def _series(d: NDArray[np.float64], xi: float, eta: float) -> NDArray[np.float64]:
     """The Chebyshev series ``d`` (F, terms in ξ, terms in η) at (ξ, η)."""
-    return (d @ _cheb_basis(eta, d.shape[2])) @ _cheb_basis(xi, d.shape[1])
+    return (d @ cheb_basis(eta, d.shape[2])) @ cheb_basis(xi, d.shape[1])
 
 
 def _chart_gradients(table: SlowMapTable, xi: float, eta: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -282,7 +282,7 @@ def k2_blocks(first: SlowMapTable, nu: int, nv: int) -> list[tuple[SlowMapTable,
     if isinstance(nv, bool) or int(nv) != nv or not 2 <= nv <= first.coef.shape[2]:
         raise ValueError(f"nv must be an integer in [2, {first.coef.shape[2]}] (the first-order table's terms "
                          f"across), got nv={nv!r}")
-    XI, ETA = np.meshgrid(_cheb_nodes(nu), _cheb_nodes(nv), indexing="ij")
+    XI, ETA = np.meshgrid(cheb_nodes(nu), cheb_nodes(nv), indexing="ij")
     QR, QJ = first.chart(XI, ETA)
     half = [(float(QR[i, j]), float(QJ[i, j])) for i in range(nu // 2) for j in range(nv)]
     return [(first, half[k:k + _K2_BLOCK_NODES]) for k in range(0, len(half), _K2_BLOCK_NODES)]
@@ -319,7 +319,7 @@ def fit_k2(first: SlowMapTable, where: float, kind: str, nu: int, nv: int, rows:
     if not np.all(np.isfinite(data)):
         raise AveragingRangeError(f"the second-order orbits of {np.count_nonzero(~np.isfinite(data).all(axis=(2, 3)))} "
                                   f"of the {nu * nv} nodes gave non-finite data; the tables are not built")
-    Au, Av = _cheb_fit_matrix(nu), _cheb_fit_matrix(nv)
+    Au, Av = cheb_fit_matrix(nu), cheb_fit_matrix(nv)
     flat = data.reshape(nu, nv, 25)
     coef = np.stack([Au @ flat[:, :, k] @ Av.T for k in range(25)])
     table = SecondOrderTable(theta0=float(first.theta0) if kind == "release" else math.nan, E0=float(first.E0),
@@ -352,7 +352,7 @@ def k2_check_error(first: SlowMapTable, table: SecondOrderTable, scale: NDArray[
     component's largest harmonic, ``scale`` (5,), by default the table's own over its nodes."""
     if scale is None:
         nu, nv = table.coef.shape[1:]
-        at_nodes = np.array([np.polynomial.chebyshev.chebgrid2d(_cheb_nodes(nu), _cheb_nodes(nv), c) for c in table.coef])
+        at_nodes = np.array([np.polynomial.chebyshev.chebgrid2d(cheb_nodes(nu), cheb_nodes(nv), c) for c in table.coef])
         scale = np.abs(at_nodes.reshape(5, 5, nu, nv)).max(axis=(1, 2, 3))
     err = 0.0
     for x, y in _K2_CHECK_POINTS:

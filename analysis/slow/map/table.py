@@ -39,8 +39,8 @@ from numpy.typing import NDArray
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.diagnostics import wrap_angle
-from rocknroller.analysis.slow.map.chart import (_EVEN, _ODD, CHART_TERMS, TABLE_FUNCTIONS, SlowMapTable, _cheb_fit_matrix,
-                                             _cheb_nodes)
+from rocknroller.analysis.slow.map.chart import (_EVEN, _ODD, CHART_TERMS, TABLE_FUNCTIONS, SlowMapTable, cheb_fit_matrix,
+                                             cheb_nodes)
 from rocknroller.analysis.slow.map.family import rest_energy
 from rocknroller.analysis.slow.map.limits import (K_PERIOD_DOUBLING, AveragingRangeError, AveragingValidityWarning,
                                               check_map_theta0)
@@ -273,9 +273,9 @@ def _drifts(frame: SlowMapTable, T: NDArray, W: NDArray,
     """T, W, Δφ at the nodes (W and Δφ on continuous branches, :func:`_lift`), their gradients (∂/∂u, ∂/∂v) there
     (each fitted with its parity in Q, by the chain rule through the chart), and W/2 made odd."""
     nu, nv = T.shape
-    xu, xv = _cheb_nodes(nu), _cheb_nodes(nv)  # ξ, η
+    xu, xv = cheb_nodes(nu), cheb_nodes(nv)  # ξ, η
     W, dphi = _lift(W, 2.0 * math.pi), _lift(dphi, math.pi)
-    Au, Av = _cheb_fit_matrix(nu), _cheb_fit_matrix(nv)
+    Au, Av = cheb_fit_matrix(nu), cheb_fit_matrix(nv)
     cheb = np.polynomial.chebyshev
     dxi_du, deta_du, deta_dv = frame.inverse_jacobian(*np.meshgrid(xu, xv, indexing="ij"))
     grads = {}
@@ -314,7 +314,7 @@ def fit_reduced(frame: SlowMapTable, T: NDArray, W: NDArray, dphi: NDArray, redu
     (the drift–kick–drift form); each function gets its parity in Q ((x, τ) → (−x, −τ)) and its Chebyshev series."""
     nu, nv = T.shape
     drifts, _, half = _drifts(frame, T, W, dphi)
-    Au, Av = _cheb_fit_matrix(nu), _cheb_fit_matrix(nv)
+    Au, Av = cheb_fit_matrix(nu), cheb_fit_matrix(nv)
     cw, sw = np.cos(half), np.sin(half)
 
     def rotate(h: NDArray) -> NDArray:  # harmonics of F(Θ' − W/2) from those of F(Θ)

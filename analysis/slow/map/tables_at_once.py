@@ -33,7 +33,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from rocknroller.analysis.model.body import Body
-from rocknroller.analysis.slow.map.chart import SecondOrderTable, SlowMapTable, _cheb_nodes
+from rocknroller.analysis.slow.map.chart import SecondOrderTable, SlowMapTable, cheb_nodes
 from rocknroller.analysis.slow.map.limits import THETA0_RANGE, check_map_theta0
 from rocknroller.analysis.slow.map.second_order import (build_second_order_table, check_k2_nu, fit_k2, k2_block,
                                                         k2_blocks, k2_check_error, k2_spec,
@@ -310,7 +310,7 @@ class EnergyTables:
 def _s_nodes(n: int, lo: float, hi: float) -> NDArray[np.float64]:
     """The n release angles at Chebyshev points (first kind, descending) in s = log(π − θ0) over [lo, hi]."""
     s_lo, s_hi = math.log(math.pi - hi), math.log(math.pi - lo)
-    return math.pi - np.exp(0.5 * (s_hi + s_lo) + 0.5 * (s_hi - s_lo) * _cheb_nodes(n))
+    return math.pi - np.exp(0.5 * (s_hi + s_lo) + 0.5 * (s_hi - s_lo) * cheb_nodes(n))
 
 
 def _position(theta0: float, lo: float, hi: float) -> float:
@@ -325,7 +325,7 @@ def _interpolate(values: NDArray[np.float64], x: float) -> NDArray[np.float64]:
     formula of the first-kind points (weights (−1)^k sin((k + ½)π/n)), the size put back.  A function that vanishes
     at some node is interpolated as it is."""
     n = values.shape[0]
-    xs = _cheb_nodes(n)
+    xs = cheb_nodes(n)
     size = np.sqrt(np.mean(values.reshape(n, values.shape[1], -1) ** 2, axis=-1))  # (n, F)
     law = np.zeros((2, values.shape[1]))
     fitted = np.all(size > 0.0, axis=0)
@@ -354,7 +354,7 @@ def _check_positions(n: int) -> list[float]:
     """Off-node release angles, as positions x of :func:`_position`, where a new build is checked against per-θ0
     tables: midway between the outermost nodes at each end and between two middle ones (where an interpolant errs
     most)."""
-    xs = _cheb_nodes(n)
+    xs = cheb_nodes(n)
     return [0.5 * (xs[0] + xs[1]), 0.5 * (xs[n // 2 - 1] + xs[n // 2]), 0.5 * (xs[-2] + xs[-1])]
 
 
@@ -446,7 +446,7 @@ def _angle(x: float, lo: float, hi: float) -> float:
 def _points(chart: SlowMapTable, nu: int, nv: int) -> list[tuple[float, float]]:
     """The points Q of the nu × nv Chebyshev nodes of ``chart``'s chart pulled in by a thousandth (inside both charts
     of two tables compared, the tables over energy orienting theirs by an interpolated kick at rest)."""
-    QR, QJ = chart.chart(*np.meshgrid(0.999 * _cheb_nodes(nu), 0.999 * _cheb_nodes(nv), indexing="ij"))
+    QR, QJ = chart.chart(*np.meshgrid(0.999 * cheb_nodes(nu), 0.999 * cheb_nodes(nv), indexing="ij"))
     return list(zip(QR.ravel().tolist(), QJ.ravel().tolist()))
 
 

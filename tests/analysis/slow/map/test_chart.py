@@ -7,14 +7,14 @@ import numpy as np
 import pytest
 from numpy.polynomial import chebyshev as cheb
 
-from rocknroller.analysis.slow.map.chart import _cheb_basis, _cheb_fit_matrix, _cheb_nodes
+from rocknroller.analysis.slow.map.chart import cheb_basis, cheb_fit_matrix, cheb_nodes
 
 
 @pytest.mark.parametrize("n", [4, 6, 8, 16, 64, 80, 96, 128, 256])
 def test_nodes_are_exactly_antisymmetric(n):
     """The tables symmetrise each function by F[::-1, ::-1] (the node at −x is the mirror of the node at x): true
     to the bit for numpy's ``chebpts1``, not for the cosines used before (off by up to 2.8e-16)."""
-    x = _cheb_nodes(n)
+    x = cheb_nodes(n)
     assert np.array_equal(x, -x[::-1]) and np.all(np.diff(x) < 0)
     np.testing.assert_allclose(x, np.cos(np.pi * (np.arange(n) + 0.5) / n), rtol=0, atol=4 * np.finfo(float).eps)
 
@@ -28,9 +28,9 @@ def test_fit_matrix_interpolates_and_matches_numpy():
     plus the coefficients' own error n times, doubled."""
     n = 24
     u = np.finfo(float).eps / 2
-    x = _cheb_nodes(n)
+    x = cheb_nodes(n)
     f = np.exp(x) * np.sin(3 * x)
-    c = _cheb_fit_matrix(n) @ f
+    c = cheb_fit_matrix(n) @ f
     coef_bound = 2.0 * 2.0 * (n + n) * u * (2.0 / n) * np.sum(np.abs(f))
     ref = cheb.chebinterpolate(lambda t: np.exp(t) * np.sin(3 * t), n - 1)
     np.testing.assert_allclose(c, ref, rtol=0, atol=coef_bound)
@@ -40,7 +40,7 @@ def test_fit_matrix_interpolates_and_matches_numpy():
 
 def test_basis_is_chebvander_with_the_index_first_and_clipped():
     x = np.linspace(-1.2, 1.2, 13).reshape(13, 1) * np.ones((1, 3))
-    B = _cheb_basis(x, 7)
+    B = cheb_basis(x, 7)
     assert B.shape == (7, 13, 3)
     np.testing.assert_array_equal(B, np.moveaxis(cheb.chebvander(np.clip(x, -1, 1), 6), -1, 0))
-    assert _cheb_basis(0.3, 5).shape == (5,)  # a scalar: the basis alone
+    assert cheb_basis(0.3, 5).shape == (5,)  # a scalar: the basis alone

@@ -13,7 +13,7 @@ import pytest
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.slow import prediction as av
 from rocknroller.analysis.slow.map import region as sr
-from rocknroller.analysis.slow.map.chart import _IDX, _cheb_nodes
+from rocknroller.analysis.slow.map.chart import _IDX, cheb_nodes
 from rocknroller.analysis.slow.map.second_order import build_second_order_table, drift_derivatives
 
 SYM = Body.paper()
@@ -38,7 +38,7 @@ def test_release_hessians_are_exact(name, node):
     two sums of ≤ 128 × 6 terms whose second-derivative coefficients grow like k⁴, bounded by 1e-12 relative (the
     differences in Q they replace were off by up to 3e-7)."""
     table = av.load_or_build_table(SYM, 0.95 * math.pi)
-    QR, QJ = table.chart(*np.meshgrid(_cheb_nodes(64), _cheb_nodes(6), indexing="ij"))
+    QR, QJ = table.chart(*np.meshgrid(cheb_nodes(64), cheb_nodes(6), indexing="ij"))
     Q = np.array([QR[node], QJ[node]])
     ref = _release_hessian(table, name, Q)
     H = drift_derivatives(table, name, Q)[1]

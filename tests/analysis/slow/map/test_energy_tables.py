@@ -13,7 +13,7 @@ import pytest
 
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.slow.map import tables_at_once as ta
-from rocknroller.analysis.slow.map.chart import _cheb_nodes
+from rocknroller.analysis.slow.map.chart import cheb_nodes
 from rocknroller.analysis.slow.map.limits import AveragingValidityWarning
 from rocknroller.analysis.slow.map.table import build_table, fit_reduced, fit_table, reduce_responses, release_frame
 
@@ -45,7 +45,7 @@ def test_interpolation_reproduces_power_laws_and_polynomials(n):
     divided out, leaving constants), and a polynomial of degree < n that vanishes at a node (not scaled; the
     barycentric formula is exact on it).  Bound 1e-13 relative: a sum of n terms, the Lebesgue constant ~log n, the
     fit's exp and log, each a few units of round-off."""
-    xs = _cheb_nodes(n)
+    xs = cheb_nodes(n)
     pattern = np.array([[1.0, -0.5, 0.25], [2.0, 0.0, -3.0]])  # (functions, trailing)
     law = np.exp(-3.0 * xs + 0.7)[:, None, None] * pattern
     poly = np.polynomial.Polynomial([0.0, 1.0, 0.5, -0.2, 0.1][:n])  # poly(0) = 0: a node of odd n

@@ -13,7 +13,7 @@ from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.diagnostics import wrap_angle
 from rocknroller.analysis.routh.turning_points import min_potential, turning_points
 from rocknroller.analysis.slow.map import region, table
-from rocknroller.analysis.slow.map.chart import TABLE_FUNCTIONS, _cheb_nodes
+from rocknroller.analysis.slow.map.chart import TABLE_FUNCTIONS, cheb_nodes
 from rocknroller.analysis.slow.map.family import rest_energy
 from rocknroller.analysis.slow.map.harmonic import _harmonics
 from rocknroller.analysis.slow.map.orbit import FIRST_ORDER_NAMES, HARMONIC_PSI, first_order_steps
@@ -77,7 +77,7 @@ def _every_node(frame, theta_X):
 
 def _values(tab):
     """The table's functions at its nodes, relative to each function's largest value there."""
-    xu, xv = _cheb_nodes(tab.coef.shape[1]), _cheb_nodes(tab.coef.shape[2])
+    xu, xv = cheb_nodes(tab.coef.shape[1]), cheb_nodes(tab.coef.shape[2])
     vals = np.stack([np.polynomial.chebyshev.chebgrid2d(xu, xv, c) for c in tab.coef])
     return vals, np.abs(vals).max(axis=(1, 2))
 
@@ -115,7 +115,7 @@ def test_the_regions_edge_by_regula_falsi_is_the_edge_by_bisection():
     level = E * (1.0 - region.DELTA_MIN_DEFAULT)
     e = region.chart_direction(SYM, "band")
     n = np.array([-e[1], e[0]])
-    xs = _cheb_nodes(12)
+    xs = cheb_nodes(12)
     origins = np.concatenate([np.zeros((1, 2)), xs[:, None] * 0.5 * e, xs[:, None] * 0.5 * e])
     dirs = np.concatenate([e[None, :], np.tile(n, (12, 1)), np.tile(-n, (12, 1))])
     r = region._edge(SYM, E, level, origins, dirs)

@@ -14,7 +14,7 @@ import pytest
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.slow import prediction as av
 from rocknroller.analysis.slow.map import region as sr
-from rocknroller.analysis.slow.map.chart import _IDX, _basis, _cheb_nodes
+from rocknroller.analysis.slow.map.chart import _IDX, _basis, cheb_nodes
 from rocknroller.analysis.slow.map.exact_step import STEP_NAMES
 from rocknroller.analysis.slow.map.orbit import second_order_step
 from rocknroller.analysis.slow.map.second_order import _K2_THETA_A, k2_harmonics_at
@@ -86,7 +86,7 @@ def test_batched_k2_agrees_with_the_scalar_path(make, grid, picks):
     extrapolated differences in Q; the module's are exact series) and rounding: the lanes' vector kernels (~1e-14),
     amplified by the start's second difference in ε (1/h² = 1e6) and the reference's differences (1/H = 1e6)."""
     table = make()
-    XI, ETA = np.meshgrid(_cheb_nodes(grid[0]), _cheb_nodes(grid[1]), indexing="ij")
+    XI, ETA = np.meshgrid(cheb_nodes(grid[0]), cheb_nodes(grid[1]), indexing="ij")
     QR, QJ = table.chart(XI, ETA)
     nodes = np.array([(QR[i, j], QJ[i, j]) for i, j in picks])
     batched = k2_harmonics_at(table, nodes)
