@@ -18,7 +18,15 @@ the tables over energy (``rocknroller warm --tables``) are cached here, which wo
 marker written ``output of (slow):`` or ``table of (slow):`` is a command that takes minutes: it is regenerated only
 with ``--slow``, and its test is marked slow (run in CI); ``(long)`` marks one that takes many minutes (the
 acceptance grids): regenerated with ``--slow --long``, its test is marked ``validation`` and run by hand
-(``python -m pytest -m validation``), not in CI, whose slow stage would pass its 30 minutes.
+(``python -m pytest -m validation``), not in CI, whose slow stage would pass its 30 minutes.  ``(chaotic)`` (alone or
+after another flag: ``(slow, chaotic)``) marks a block with numbers of chaotic orbits: MEGNO, Lyapunov exponents,
+ensemble fractions and counts taken over thousands of rocks, which the last bits of the tables and of the direct ODE
+decide, so that another CPU's vector kernels (numpy's dispatch, OpenBLAS's core type), heyoka's JIT for another CPU
+or other versions of the dependencies print other values (measured: MEGNO 45 or 112 for one start with numpy's
+AVX-512 kernels or without them and OpenBLAS's Haswell kernels; 117 with the lowest versions pyproject.toml allows).
+These blocks are compared digit for digit in the environment that generated the pages (:func:`environment`, recorded in
+``docs/examples_environment.json`` by a full run: every page, ``--slow``), and elsewhere with every number masked
+(:func:`masked`): the same lines and cells, the same words (a verdict, a method), numbers in the same places.
 
 Without ``--check`` each marked block is rewritten with what its command prints now: a console block keeps its
 elisions (each run of lines between two ``...`` is matched to the current output by the longest common prefix of its
@@ -33,7 +41,10 @@ and the slow ones under ``-m slow``); a table's header and rule are also checked
 from __future__ import annotations
 
 import argparse
+import hashlib
+import json
 import os
+import platform
 import re
 import shlex
 import subprocess
@@ -45,8 +56,13 @@ ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
 #: Pages written at each build from the code, or pages of other authors' measurements (not marked here).
 SKIPPED = ("cli.md", "changelog.md", "errata.md")
-MARK = re.compile(r"^<!-- (output|table) of( \((slow|long)\))?: (.+?) -->\s*$")
+MARK = re.compile(r"^<!-- (output|table) of(?: \(([a-z, ]+)\))?: (.+?) -->\s*$")
+FLAGS = ("slow", "long", "chaotic")
 ELISION = "..."
+#: The environment that generated the pages (:func:`environment`), written by a full run.
+ENVIRONMENT = DOCS / "examples_environment.json"
+#: A number as printed (sign, digits, point, exponent): what :func:`masked` hides.
+NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|\b(?:nan|inf)\b")
 
 
 @dataclass(frozen=True)
@@ -61,6 +77,7 @@ class Block:
     start: int
     stop: int
     long: bool = False  # ``(long)``: tens of minutes, checked by hand (``-m validation``), not in CI
+    chaotic: bool = False  # ``(chaotic)``: digit for digit only in the environment that generated the pages
 
     def shown(self, lines: list[str]) -> list[str]:
         """The lines the page shows: a console block's output lines (without the fences and ``$ COMMAND``), or the
@@ -86,7 +103,11 @@ def blocks(page: Path) -> list[Block]:
         m = MARK.match(line)
         if not m:
             continue
-        kind, slow, long, command = m.group(1), bool(m.group(2)), m.group(3) == "long", m.group(4).strip()
+        kind, command = m.group(1), m.group(3).strip()
+        flags = {f.strip() for f in (m.group(2) or "").split(",")} - {""}
+        if m.group(2) is not None and (not flags or not flags <= set(FLAGS)):
+            raise ValueError(f"{page.name}:{k + 1}: a marker's flags are among {', '.join(FLAGS)}, got ({m.group(2)})")
+        slow, long, chaotic = bool(flags & {"slow", "long"}), "long" in flags, "chaotic" in flags
         start = k + 1
         if kind == "output":
             if start >= len(lines) or lines[start].strip() != "```console":
@@ -103,7 +124,7 @@ def blocks(page: Path) -> list[Block]:
             stop = start
             while stop < len(lines) and lines[stop].startswith("|"):
                 stop += 1
-        out.append(Block(page, kind, slow, command, k, start, stop, long))
+        out.append(Block(page, kind, slow, command, k, start, stop, long, chaotic))
     return out
 
 
@@ -224,10 +245,78 @@ def regenerated(shown: list[str], output: list[str]) -> list[str] | None:
     return new
 
 
-def stale(block: Block, output: list[str]) -> list[str]:
-    """What of ``block`` its command's ``output`` no longer prints (empty if the block is current)."""
-    shown = block.shown(block.page.read_text().splitlines())
-    if block.kind == "output":
+def environment() -> dict[str, str]:
+    """What the last bits of a chaotic orbit's numbers depend on, besides the code: the versions of Python and of the
+    numerical dependencies, the CPU's vector extensions that heyoka's JIT compiles for, the variables that choose
+    numpy's and OpenBLAS's kernels, and a digest of what those kernels return on fixed inputs (numpy's transcendental
+    functions and sums, BLAS products and LAPACK solves), which tells their dispatch apart.
+
+    Examples
+    --------
+    >>> import sys; sys.path.insert(0, "docs"); import regenerate_examples as regen
+    >>> import numpy
+    >>> env = regen.environment()
+    >>> env["numpy"] == numpy.__version__, len(env["numpy and BLAS kernels"])
+    (True, 16)
+    """
+    from importlib.metadata import version
+
+    import numpy as np
+
+    x = np.linspace(-20.0, 20.0, 4099)
+    a = np.random.default_rng(0).standard_normal((96, 96))
+    probes = [np.sin(x), np.cos(x), np.exp(x / 7.0), np.log1p(np.abs(x)), np.arctan2(x, 1.3), np.sqrt(np.abs(x)),
+              np.tanh(x), np.abs(x) ** 1.7, np.cumsum(x), np.array([np.sum(np.sin(x)), np.dot(x, np.cos(x))]), a @ a,
+              np.linalg.solve(a, a[:, 0]), np.linalg.lstsq(a[:, :40], a[:, 0], rcond=None)[0], np.linalg.eigvalsh(a + a.T)]
+    digest = hashlib.sha256(b"".join(np.ascontiguousarray(p, float).tobytes() for p in probes)).hexdigest()[:16]
+    flags: set[str] = set()
+    cpuinfo = Path("/proc/cpuinfo")
+    if cpuinfo.is_file():
+        line = next((ln for ln in cpuinfo.read_text().splitlines() if ln.startswith("flags")), "")
+        flags = set(line.split()) & {"avx", "avx2", "fma", "avx512f", "avx512dq", "avx512vl", "avx512bw"}
+    env = {name: os.environ.get(name, "") for name in ("NPY_DISABLE_CPU_FEATURES", "NPY_ENABLE_CPU_FEATURES",
+                                                       "OPENBLAS_CORETYPE")}
+    return {"python": platform.python_version(), "machine": platform.machine(),
+            "cpu vector extensions": " ".join(sorted(flags)) or platform.processor(),
+            **{name: version(name) for name in ("numpy", "scipy", "heyoka", "mpmath", "sympy")},
+            **env, "numpy and BLAS kernels": digest}
+
+
+def reference_environment() -> bool:
+    """Whether this is the environment that generated the pages (``ENVIRONMENT``)."""
+    return ENVIRONMENT.is_file() and json.loads(ENVIRONMENT.read_text()) == environment()
+
+
+def masked(line: str) -> str:
+    """``line`` with each number (``nan`` and ``inf`` included: a chaotic orbit may leave the tables in one environment
+    and not in another) replaced by ``#`` and each run of blanks by one (numbers of other lengths realign the
+    columns): what a chaotic block is compared by outside the environment that generated it.
+
+    Examples
+    --------
+    >>> import sys; sys.path.insert(0, "docs"); import regenerate_examples as regen
+    >>> regen.masked("| 0.01 | 0.3 | chaotic | 1.326e+04 | ≥ 610 | 3/20 | nan |")
+    '| # | # | chaotic | # | ≥ # | #/# | # |'
+    >>> regen.masked("  fraction_I      0.25974      0.531967 +- 0.193") == regen.masked("  fraction_I    0.5   0.4 +- 0.2")
+    True
+    """
+    return " ".join(NUMBER.sub("#", line).split())
+
+
+def stale(block: Block, output: list[str], exact: bool | None = None) -> list[str]:
+    """What of ``block`` its command's ``output`` no longer prints (empty if the block is current).  A chaotic block
+    is compared with its numbers :func:`masked` unless ``exact`` (default: in the environment that generated the
+    pages, :func:`reference_environment`); the lines reported are the page's."""
+    if block.chaotic and not (reference_environment() if exact is None else exact):
+        page = block.shown(block.page.read_text().splitlines())
+        keys = {masked(s.rstrip()): s for s in page}
+        plain = _stale(block.kind, [masked(s) for s in page], [masked(s) for s in output])
+        return [keys.get(s, s) for s in plain]
+    return _stale(block.kind, block.shown(block.page.read_text().splitlines()), output)
+
+
+def _stale(kind: str, shown: list[str], output: list[str]) -> list[str]:
+    if kind == "output":
         return not_printed(shown, output)
     table = table_from(shown, output)
     if table is None:
@@ -272,6 +361,7 @@ def main(args: list[str] | None = None) -> int:
     parser.add_argument("--check", action="store_true", help="write nothing; list the stale blocks (exit 1 if any)")
     a = parser.parse_args(args)
     chosen = [p.resolve() for p in a.pages] or pages()
+    full, elsewhere = not a.pages and a.slow, not reference_environment()
     n_stale = 0
     outputs: dict[str, list[str]] = {}  # a command run once for all the blocks that show it
     for page in chosen:
@@ -280,6 +370,10 @@ def main(args: list[str] | None = None) -> int:
             if block.slow and not a.slow or block.long and not a.long:
                 print(f"{block.where}: skipped ({'long; --slow --long' if block.long else 'slow; --slow'} runs it): "
                       f"{block.command}")
+                continue
+            if block.chaotic and elsewhere and not (full or a.check):
+                print(f"{block.where}: skipped (chaotic, generated in another environment: a full run, every page with "
+                      f"--slow, regenerates it and records this one in {ENVIRONMENT.name}): {block.command}")
                 continue
             if block.command not in outputs:
                 outputs[block.command] = run(block.command)
@@ -293,6 +387,9 @@ def main(args: list[str] | None = None) -> int:
             else:
                 changed = rewrite(block, index, output)
                 print(f"{block.where}: {'rewritten' if changed else 'current'}: {block.command}")
+    if full and not a.check:
+        ENVIRONMENT.write_text(json.dumps(environment(), indent=1) + "\n")
+        print(f"the pages' environment recorded in {ENVIRONMENT.relative_to(ROOT)}")
     return 1 if n_stale else 0
 
 

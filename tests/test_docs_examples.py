@@ -65,10 +65,11 @@ def test_the_examples_are_marked():
 
 @pytest.mark.parametrize("block", _params("output"))
 def test_console_example_is_what_the_command_prints(block):
-    """Every line the block shows (other than ``...``) is a line the command prints now, in order."""
+    """Every line the block shows (other than ``...``) is a line the command prints now, in order (a chaotic block's
+    numbers masked outside the environment that generated the pages)."""
     shown = block.shown(block.page.read_text().splitlines())
     assert [s for s in shown if s.strip() != regen.ELISION], f"{block.where}: the block shows no output"
-    missing = regen.not_printed(shown, _output(block.command, None if block.slow else CHEAP_TIMEOUT))
+    missing = regen.stale(block, _output(block.command, None if block.slow else CHEAP_TIMEOUT))
     assert not missing, (f"{block.where}: `{block.command}` no longer prints these lines (run python "
                          f"docs/regenerate_examples.py{' --slow' if block.slow else ''}):\n" + "\n".join(missing))
 
@@ -150,3 +151,57 @@ def test_regeneration_keeps_the_elisions():
     assert regen.not_printed(["...", "a: 10", "...", "  z 90"], output) == []
     assert regen.not_printed(["  z 90", "...", "a: 10"], output) == ["a: 10"]  # in order
     assert regen.not_printed(["a: 10"], output)  # without '...' the block is the whole output
+
+
+def _page(tmp_path: Path, marker: str, body: list[str]) -> Path:
+    page = tmp_path / "page.md"
+    page.write_text("\n".join(["intro", marker, *body, "", "after"]) + "\n")
+    return page
+
+
+def test_chaotic_blocks_are_compared_digit_for_digit_only_where_they_were_generated(tmp_path):
+    """A block marked ``(chaotic)`` is compared exactly in the pages' environment and with its numbers masked
+    elsewhere (another CPU's kernels or other dependency versions move a chaotic orbit's MEGNO: 45 or 112 for one
+    start); the words (a verdict, a method) and the cells' places still count.  An unmarked block is always exact."""
+    rows = ["| ε | MEGNO | verdict |", "|---|---|---|", "| 0.01 | 45 | chaotic |"]
+    moved = ["| ε | MEGNO | verdict |", "|---|---|---|", "| 0.01 | 112 | chaotic |"]
+    turned = ["| ε | MEGNO | verdict |", "|---|---|---|", "| 0.01 | 112 | regular |"]
+    (block,) = regen.blocks(_page(tmp_path, "<!-- table of (slow, chaotic): python x.py -->", rows))
+    assert block.chaotic and block.slow and not block.long
+    assert regen.stale(block, moved, exact=False) == []
+    assert regen.stale(block, moved, exact=True) == ["| 0.01 | 45 | chaotic |"]
+    assert regen.stale(block, turned, exact=False) == ["| 0.01 | 45 | chaotic |"]
+    assert regen.stale(block, moved[:2], exact=False) == ["(the rows differ in number)"]
+    (plain,) = regen.blocks(_page(tmp_path, "<!-- table of: python x.py -->", rows))
+    assert not plain.chaotic and regen.stale(plain, moved, exact=False) == ["| 0.01 | 45 | chaotic |"]
+    console = ["```console", "$ rocknroller slow", "CHAOTIC (MEGNO = 99.1; 0.0155 per unit time)", "...",
+               "  fraction_I  0.25974  0.531967 +- 0.193", "```"]
+    (out,) = regen.blocks(_page(tmp_path, "<!-- output of (chaotic): rocknroller slow -->", console))
+    now = ["CHAOTIC (MEGNO = 74.9; 0.0121 per unit time)", "other", "  fraction_I      0.5    0.4 +- 0.2"]
+    assert regen.stale(out, now, exact=False) == []
+    assert regen.stale(out, now, exact=True) == [console[2], console[4]]
+    assert regen.stale(out, ["REGULAR (MEGNO = 2.0; 1e-05 per unit time)", *now[1:]], exact=False) == [console[2]]
+    assert regen.masked("| 8 | 11/20 | nan | 1.574 |") == regen.masked("| 8 | 12/20 | 1.6 | inf |") == "| # | #/# | # | # |"
+
+
+def test_a_marker_names_known_flags(tmp_path):
+    """Flags in a marker are among slow, long and chaotic; ``(long)`` is also slow; anything else is refused, naming
+    the line."""
+    (block,) = regen.blocks(_page(tmp_path, "<!-- table of (long): python x.py -->", ["| a |", "|---|", "| 1 |"]))
+    assert block.slow and block.long and not block.chaotic
+    with pytest.raises(ValueError, match=r"page.md:2: a marker's flags are among slow, long, chaotic, got \(fast\)"):
+        regen.blocks(_page(tmp_path, "<!-- table of (fast): python x.py -->", ["| a |", "|---|", "| 1 |"]))
+
+
+def test_the_pages_record_the_environment_that_generated_them():
+    """docs/examples_environment.json holds what :func:`environment` measures (the same keys), written by a full run;
+    and the chaotic blocks are the ones whose numbers another CPU's kernels move (the how-to's chaos table and console
+    example, the chaos acceptance's part (c) table)."""
+    import json
+
+    recorded = json.loads(regen.ENVIRONMENT.read_text())
+    assert set(recorded) == set(regen.environment())
+    chaotic = {(b.page.name, b.command) for b in BLOCKS if b.chaotic}
+    assert chaotic >= {("slow_howto.md", "python validation/chaos_map_table.py"),
+                       ("slow_howto.md", "rocknroller slow --eps 5e-3 --psi0 0.05 --t-end 2000"),
+                       ("order_and_chaos.md", "python validation/chaos_acceptance.py --parts c")}

@@ -171,6 +171,10 @@ class Precession:
 
 
 # ----------------------------------------------------------------------------- double precision
+#: Largest Gauss–Legendre rule whose companion matrix is diagonalised dense (numpy) rather than tridiagonal (scipy).
+_DENSE_UP_TO = 512
+
+
 @lru_cache(maxsize=32)
 def _gauss_legendre(n: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The positive half of the n-point Gauss–Legendre rule on [−1, 1] (n even).
@@ -180,14 +184,20 @@ def _gauss_legendre(n: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     tridiagonal form (``scipy.linalg.eigvalsh_tridiagonal``): ``leggauss`` forms the dense n × n matrix, O(n²)
     memory and O(n³) time (4096 nodes: 3.2 s and 290 MB; 65536: ~70 GB), where this needs O(n) and O(n²).  The
     nodes agree with ``leggauss``'s to 0.5 ulp and the rules integrate alike (tests/analysis/routh/test_quadrature.py).
+    Up to ``_DENSE_UP_TO`` nodes the eigenvalues come from numpy's dense solver instead (≤ 2 MB, a few ms), which
+    spares a first prediction the import of scipy.linalg (0.2 s CPU); the Newton steps make the two agree.
     """
-    from scipy.linalg import eigvalsh_tridiagonal
-
     leg = np.polynomial.legendre
     k = np.arange(1.0, n)
-    # legcompanion's off-diagonal; LAPACK's sterf (QR, eigenvalues only) in O(n) memory: scipy < 1.15's 'auto' took
-    # stemr, which allocated an n × n array (2 GB at 16384 nodes, seen with scipy 1.13.1)
-    x = eigvalsh_tridiagonal(np.zeros(n), k / np.sqrt(4.0 * k * k - 1.0), lapack_driver="sterf")
+    off = k / np.sqrt(4.0 * k * k - 1.0)  # legcompanion's off-diagonal
+    if n <= _DENSE_UP_TO:
+        x = np.linalg.eigvalsh(np.diag(off, 1) + np.diag(off, -1))
+    else:
+        from scipy.linalg import eigvalsh_tridiagonal
+
+        # LAPACK's sterf (QR, eigenvalues only) in O(n) memory: scipy < 1.15's 'auto' took stemr, which allocated an
+        # n × n array (2 GB at 16384 nodes, seen with scipy 1.13.1)
+        x = eigvalsh_tridiagonal(np.zeros(n), off, lapack_driver="sterf")
     c = np.zeros(n + 1)
     c[-1] = 1.0
     dc = leg.legder(c)

@@ -369,10 +369,11 @@ def test_turning_point_energy_beyond_range_names_the_inputs():
                                       Body.paper(0.0))
 
 
-@pytest.mark.parametrize("n", [16, 64, 256, 1024])
+@pytest.mark.parametrize("n", [16, 64, 256, 512, 514, 1024])
 def test_gauss_legendre_rule_is_numpys_in_linear_memory(n):
     """The rule (issue 25, item 24: ``leggauss`` builds a dense n × n matrix, so ``max_nodes=65536`` ran 240 s at
-    4.3 GB on its way to ~70 GB) from the tridiagonal companion matrix.  Its nodes are the roots of P_n after the same
+    4.3 GB on its way to ~70 GB) from the tridiagonal companion matrix (dense up to ``_DENSE_UP_TO`` = 512 nodes,
+    which spares scipy.linalg's import: both sides of it are tested).  Its nodes are the roots of P_n after the same
     Newton step as ``leggauss``'s: within one unit round-off of them.  It is as exact as ``leggauss``'s rule on the
     polynomials a Gauss rule integrates exactly (x^2m, 2m ≤ 2n − 2): its largest relative error at most twice
     ``leggauss``'s plus the rounding of a sum of n terms (a product and an addition each, and the weight's own
