@@ -72,7 +72,7 @@ __all__ = [
 ]
 
 #: Loaded on first use (PEP 562), each from its module: the Laurent expansions are symbolic (sympy takes ~0.3 s to
-#: import), the figures need matplotlib, the ODE check of a prediction the closed forms' scipy.special; the direct
+#: import), the figures need matplotlib, the ODE check of a prediction runs the direct ODE (heyoka); the direct
 #: motion's chaos indicators compile their own integrator (heyoka's variational equations) on first use.
 _LAZY = {"direct_chaos_indicators": "rocknroller.numerics.variational",
          "DirectChaos": "rocknroller.numerics.variational",

@@ -61,6 +61,7 @@ from rocknroller.analysis.model.equations import state_from_euler
 from rocknroller.analysis.model.invariants import V_phi, V_psi
 from rocknroller.analysis.routh.reduction import F
 from rocknroller.analysis.routh.rocking import small_amplitude_frequency
+from rocknroller.analysis.slow.dynamics.elliptic_functions import ellipj, ellipk
 from rocknroller.analysis.slow.map.family import directional_derivative, rest_energy
 from rocknroller.analysis.slow.map.limits import AveragingValidityWarning, eps_period_doubling, stable_rocking_psi
 from rocknroller.analysis.slow.map.orbit import _QJ_of, _QR_of, eps_derivative_rhs
@@ -366,8 +367,6 @@ def pendulum_prediction(body: Body, theta0: float, psi0: float, t_end: float = 1
         raise ValueError(f"psi0 must be finite, got psi0={psi0!r}")
     c = constants if constants is not None else pendulum_constants(body, theta0)
     K = eps * c.kappa
-    from scipy.special import ellipj, ellipk  # here: scipy.special takes ~0.15 s to import
-
     Theta_star = 2.0 * c.stable_psi
     A = float(math.remainder(2.0 * psi0 - Theta_star, 2.0 * math.pi))
     k = math.sin(abs(A) / 2.0)
@@ -388,7 +387,7 @@ def pendulum_prediction(body: Body, theta0: float, psi0: float, t_end: float = 1
                         body)
     period = 4.0 * float(ellipk(m)) / rootK * c.T0
     n = np.arange(1, int(math.floor(t_end / c.T0)) + 1, dtype=float)
-    sn, cn, dn, _ = ellipj(rootK * n, m)
+    sn, cn, dn = ellipj(rootK * n, m)
     sgn = 1.0 if A >= 0 else -1.0
     half = np.arcsin(np.clip(sgn * k * cn / dn, -1.0, 1.0))   # sin(φp/2) = k cd(√K n)
     phase = 2.0 * half                                          # φp = Θ − Θ*

@@ -10,6 +10,7 @@ grid along the chart, Chebyshev series across it; the most recently used forms a
 
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -146,6 +147,13 @@ class _FastTable:
         self.table = table
         self.second = second
         self.rows2 = None if second is None else self._second_order_rows(second)
+
+    def with_second(self, second: SecondOrderTable) -> "_FastTable":
+        """This run-time form with the second-order rows of ``second`` added; the first-order rows are shared (they
+        do not depend on ``second``: the same arrays as ``_FastTable(table, second)`` builds)."""
+        ft = copy.copy(self)
+        ft.second, ft.rows2 = second, self._second_order_rows(second)
+        return ft
 
     def _values_and_derivatives(self, coef: NDArray[np.float64]) -> NDArray[np.float64]:
         """Run-time rows (Nf, 3 F · nv) of F Chebyshev series (F, nu, nv) on this chart: their values, then their
@@ -359,10 +367,12 @@ def centre_period(table: SlowMapTable) -> float:
 
 
 def _fast(table: SlowMapTable, second: SecondOrderTable | None = None) -> _FastTable:
+    """The run-time form of (table, second), cached; one with second-order rows shares the first-order one's rows
+    (a prediction asks for both: :func:`centre_period`, then the map's run), which are built once."""
     key = (id(table), id(second))
     ft = _FAST.get(key)
     if ft is None or ft.table is not table or ft.second is not second:
-        ft = _FastTable(table, second)
+        ft = _FastTable(table) if second is None else _fast(table).with_second(second)
         _FAST[key] = ft
     return ft
 

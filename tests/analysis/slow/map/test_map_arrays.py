@@ -19,7 +19,7 @@ from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.diagnostics import wrap_angle
 from rocknroller.analysis.routh.reduction import NoMotionError
 from rocknroller.analysis.slow.dynamics import periodic_orbits as po
-from rocknroller.analysis.slow.map.compiled_map import _CHUNK, _fast
+from rocknroller.analysis.slow.map.compiled_map import _CHUNK, _fast, _FastTable
 from rocknroller.analysis.slow.map.limits import AveragingRangeError
 from rocknroller.analysis.slow.map.maps import ExactMap, SlowMap
 
@@ -110,6 +110,17 @@ def test_slow_iterate_in_one_kernel_call_is_the_chunked_run(slow1):
     np.testing.assert_array_equal(orbit[1:, :2], (chunked[:, 1:4] @ slow1.chart.T)[:, :2])
     raw = np.concatenate([[x[2]], chunked[:, 3]])
     np.testing.assert_array_equal(orbit[:, 2], np.cumsum(np.concatenate([[x[2]], wrap_angle(np.diff(raw))])))
+
+
+def test_the_second_order_run_time_form_shares_the_first_orders_rows(slow2):
+    """A prediction asks for the run-time form without and with the second-order rows (``centre_period``, then the
+    run): the second shares the first's arrays, and both are bit for bit what a build of their own gives."""
+    one, two = _fast(slow2.table), _fast(slow2.table, slow2.second)
+    assert two.rows is one.rows and two.rows_jac is one.rows_jac and two.geom is one.geom
+    assert one.rows2 is None and two.second is slow2.second
+    own = _FastTable(slow2.table, slow2.second)
+    for name in ("rows", "rows_jac", "geom", "rows2"):
+        assert np.array_equal(getattr(two, name), getattr(own, name)), name
 
 
 def test_exact_map_on_an_array_is_its_rows_bit_for_bit(exact):
