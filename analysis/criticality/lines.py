@@ -22,7 +22,7 @@ from rocknroller.analysis.routh.reduction import check_invariants, u_ends
 
 __all__ = [
     "REGIONS", "ON_LINE_0", "ON_LINE_PI", "ON_BOTH", "LINES", "REGION_TOL", "QJ_crit_0", "QJ_crit_pi", "QJ_crit",
-    "region", "region_fractions", "region_from_offsets", "side_code"
+    "region", "region_fractions", "region_from_offsets", "side_code", "check_finite", "on_line", "strict_regions"
 ]
 
 REGIONS = ("I", "II", "III", "IV")
@@ -90,7 +90,19 @@ def QJ_crit(line: str, QR: ArrayLike, body: Body) -> NDArray[np.float64]:
     raise ValueError(f"line must be one of {LINES} (Q_J,0^crit or Q_J,pi^crit), got line={line!r}")
 
 
-def _finite(name: str, v: ArrayLike) -> NDArray[np.float64]:
+def check_finite(name: str, v: ArrayLike) -> NDArray[np.float64]:
+    """``v`` as a float array, or a ValueError naming ``name`` if any entry is NaN or infinite.
+
+    Examples
+    --------
+    >>> from rocknroller.analysis.criticality.lines import check_finite
+    >>> check_finite("delta", [0.1, 0.2])
+    array([0.1, 0.2])
+    >>> check_finite("delta", [float("nan")])
+    Traceback (most recent call last):
+    ...
+    ValueError: delta must be finite, got [nan]
+    """
     arr = np.asarray(v, float)
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} must be finite, got {v!r}")
@@ -111,8 +123,17 @@ def side_code(u0: ArrayLike, upi: ArrayLike) -> NDArray[np.int64]:
     return 2 * (np.asarray(u0) >= 0).astype(np.int64) + (np.asarray(upi) >= 0)
 
 
-def _on_line(u: NDArray, QJ: NDArray, tol: float) -> NDArray[np.bool_]:
-    """|Q_J − Q_J,e^crit| = |u_e| ≤ tol · max(|Q_J|, |Q_J,e^crit|): on the critical line e within tol."""
+def on_line(u: NDArray, QJ: NDArray, tol: float) -> NDArray[np.bool_]:
+    """|Q_J − Q_J,e^crit| = |u_e| ≤ tol · max(|Q_J|, |Q_J,e^crit|): on the critical line e within tol, from the
+    offset u_e = Q_J − Q_J,e^crit and Q_J.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rocknroller.analysis.criticality.lines import on_line
+    >>> on_line(np.array([1e-15, 1e-3]), np.array([1.0, 1.0]), 1e-12)
+    array([ True, False])
+    """
     return np.abs(u) <= tol * np.maximum(np.abs(QJ), np.abs(QJ - u))
 
 
@@ -142,7 +163,7 @@ def region(QR: ArrayLike, QJ: ArrayLike, body: Body, tol: float = REGION_TOL) ->
     if not 0.0 <= tol < 1.0:
         raise ValueError(f"tol must satisfy 0 <= tol < 1, got tol={tol!r}")
     u0, upi = u_ends(QR, QJ, body)
-    on0, onpi = _on_line(u0, QJ, tol), _on_line(upi, QJ, tol)
+    on0, onpi = on_line(u0, QJ, tol), on_line(upi, QJ, tol)
     out = np.broadcast_to(region_from_offsets(u0, upi), np.broadcast(QR, QJ).shape).copy()
     out[on0] = ON_LINE_0
     out[onpi] = ON_LINE_PI
@@ -183,7 +204,19 @@ def region_fractions(QR: ArrayLike, QJ: ArrayLike, body: Body, tol: float = REGI
     return {lab: float(np.count_nonzero(reg == lab) / reg.size) for lab in REGIONS + (ON_LINE_0, ON_LINE_PI, ON_BOTH)}
 
 
-def _strict_regions(QR: NDArray, QJ: NDArray, body: Body, allowed: tuple[str, ...], what: str) -> NDArray:
+def strict_regions(QR: NDArray, QJ: NDArray, body: Body, allowed: tuple[str, ...], what: str) -> NDArray:
+    """The regions of (Q_R, Q_J) with no tolerance about the lines (:func:`region` with tol = 0), or a ValueError
+    naming ``what`` and the first point outside the ``allowed`` regions.
+
+    Examples
+    --------
+    >>> import rocknroller as rr
+    >>> from rocknroller.analysis.criticality.lines import strict_regions
+    >>> body = rr.Body.paper()
+    >>> QJ = float(rr.QJ_crit_pi(0.01, body)) + 1e-3
+    >>> print(strict_regions(0.01, QJ, body, ("I", "II", "III", "IV"), "a quantity"))
+    I
+    """
     reg = np.asarray(region(QR, QJ, body, tol=0.0))
     bad = ~np.isin(reg, allowed)
     if np.any(bad):

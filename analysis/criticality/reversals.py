@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from rocknroller.analysis.criticality.lines import _on_line, region
+from rocknroller.analysis.criticality.lines import on_line, region
 from rocknroller.analysis.model.kinematics import rates_from_omega
 from rocknroller.analysis.routh.reduction import u_ends
 
@@ -109,7 +109,7 @@ def reversal_analysis(traj: "Trajectory", tol: float = 0.0) -> ReversalAnalysis:
         if idx.size < 2:
             continue
         u = u_ends(QR[idx], QJ[idx], body)[0 if line == "0" else 1]
-        side = np.where(_on_line(u, QJ[idx], tol), 0, np.sign(u))
+        side = np.where(on_line(u, QJ[idx], tol), 0, np.sign(u))
         prev = None
         for j, sgn in zip(idx, side):
             if sgn == 0:

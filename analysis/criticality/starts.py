@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from rocknroller.analysis.criticality.lines import QJ_crit, _finite
+from rocknroller.analysis.criticality.lines import QJ_crit, check_finite
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.model.equations import EulerState
 from rocknroller.analysis.model.invariants import V_phi, V_psi, rho
@@ -138,9 +138,9 @@ def critical_start(body: Body, theta0: ArrayLike, psi0: ArrayLike = 0.0, line: s
     """
     if (QR is None) == (psi_dot0 is None):
         raise ValueError("give exactly one of QR and psi_dot0")
-    theta0 = _finite("theta0", theta0)
-    psi0 = _finite("psi0", psi0)
-    offset = _finite("offset", offset)
+    theta0 = check_finite("theta0", theta0)
+    psi0 = check_finite("psi0", psi0)
+    offset = check_finite("offset", offset)
     _check_theta_range(theta0)
     slope = QJ_crit(line, 1.0, body)
     r = rho(theta0, body)
@@ -148,7 +148,7 @@ def critical_start(body: Body, theta0: ArrayLike, psi0: ArrayLike = 0.0, line: s
         (QRv,) = check_invariants(QR=QR)
     else:
         assert psi_dot0 is not None  # exactly one of QR and psi_dot0 was given (checked above)
-        pd = _finite("psi_dot0", psi_dot0)
+        pd = check_finite("psi_dot0", psi_dot0)
         c, s2 = np.cos(theta0), np.sin(theta0) ** 2
         f = c - body.a
         # I1 s² φ̇ + I3 f (c φ̇ + ψ̇) = k (c φ̇ + ψ̇)/ρ + offset

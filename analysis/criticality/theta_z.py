@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from rocknroller.analysis.criticality.lines import REGIONS, QJ_crit_pi, _finite, _strict_regions, region
+from rocknroller.analysis.criticality.lines import REGIONS, QJ_crit_pi, check_finite, region, strict_regions
 from rocknroller.analysis.model.body import Body
 from rocknroller.analysis.routh.reduction import check_invariants, u_ends
 
@@ -69,7 +69,7 @@ def cos_theta_z(QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]
     """
     QR, QJ = check_invariants(QR=QR, QJ=QJ)
     q = _ratio(QR, QJ)
-    _strict_regions(QR, QJ, body, ("I", "III"), "the zero theta_z of V_phi")
+    strict_regions(QR, QJ, body, ("I", "III"), "the zero theta_z of V_phi")
     a, I1, I3 = body.a, body.I1, body.I3
     beta = I3 - q * q / I1
     root = np.sqrt(beta * (I3 - I1) * (I3 + 1.0) - a * a * beta * I3 + I1 * I3 * (I3 + 1.0))
@@ -199,7 +199,7 @@ def theta_e(QR: ArrayLike, QJ: ArrayLike, body: Body) -> NDArray[np.float64]:
     0.8383960905 pi
     """
     QR, QJ = np.broadcast_arrays(*check_invariants(QR=QR, QJ=QJ))
-    _strict_regions(QR, QJ, body, ("II", "IV"), "the extremum theta_e of V_phi")
+    strict_regions(QR, QJ, body, ("II", "IV"), "the extremum theta_e of V_phi")
     out = np.array([_theta_e_one(float(r), float(j), body) for r, j in zip(QR.ravel(), QJ.ravel())])
     return out.reshape(QR.shape) if QR.ndim else out[0]
 
@@ -215,7 +215,7 @@ def necessary_condition(theta_X: ArrayLike, QR: ArrayLike, QJ: ArrayLike, body: 
         θ_X outside (0, π], or a point exactly on a critical line (no region); Q_R = 0 in Regions I/III
         cannot occur (there Q_J,π^crit < Q_J < Q_J,0^crit forces Q_R ≠ 0).
     """
-    theta_X, QR, QJ = np.broadcast_arrays(_finite("theta_X", theta_X), *check_invariants(QR=QR, QJ=QJ))
+    theta_X, QR, QJ = np.broadcast_arrays(check_finite("theta_X", theta_X), *check_invariants(QR=QR, QJ=QJ))
     if np.any((theta_X <= 0.0) | (theta_X > np.pi)):
         raise ValueError(f"theta_X must lie in (0, pi], got {theta_X!r}")
     reg = np.asarray(region(QR, QJ, body, tol=0.0))
@@ -302,7 +302,7 @@ def delta_bound_coefficients(body: Body) -> tuple[float, float]:
 
 
 def _check_delta(delta: ArrayLike) -> NDArray[np.float64]:
-    d = _finite("delta", delta)
+    d = check_finite("delta", delta)
     if np.any((d <= 0.0) | (d >= 1.0)):
         raise ValueError(f"delta must lie in the open interval (0, 1) (QJ = QJ_pi^crit (1 - delta)), got {delta!r}")
     return d

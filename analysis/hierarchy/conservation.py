@@ -57,7 +57,7 @@ from sympy.polys.fields import FracField
 from sympy.polys.rings import PolyElement
 
 from rocknroller.analysis.model.body import MEMBERS
-from rocknroller.analysis.model.equations import body_frame_rhs
+from rocknroller.analysis.model.equations import body_frame_rhs, dot
 
 __all__ = ["PARAMETERS", "QUANTITIES", "Quantity", "SymbolicModel", "symbolic_model", "FlowDerivative",
            "derivative_along_flow", "exact_value", "Witness", "witness_points", "search_witness", "Proof", "prove",
@@ -95,14 +95,6 @@ _WITNESS_OMEGAS = tuple(tuple(Fraction(x) for x in v) for v in (("1", "2", "-1")
 Vector = tuple[PolyElement, PolyElement, PolyElement]
 #: A coordinate or parameter value: floats are taken as the rationals they are.
 Number = float | Fraction
-
-
-def _cross(u: Sequence[PolyElement], v: Sequence[PolyElement]) -> Vector:
-    return (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
-
-
-def _dot(u: Sequence[PolyElement], v: Sequence[PolyElement]) -> PolyElement:
-    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
 
 
 def _require_member(member: str) -> None:
@@ -144,7 +136,7 @@ class SymbolicModel:
     def momentum(self) -> Vector:
         """M = K ω, the angular momentum about the contact point."""
         K, w = self.mass_matrix, self.omega
-        return (_dot(K[0], w), _dot(K[1], w), _dot(K[2], w))
+        return (dot(K[0], w), dot(K[1], w), dot(K[2], w))
 
     def on_sphere(self, poly: PolyElement) -> PolyElement:
         """The remainder of ``poly`` modulo γ·γ − 1, γ3^k → γ3^(k mod 2) (1 − γ1² − γ2²)^(k div 2): degree < 2 in
@@ -189,7 +181,7 @@ def symbolic_model(member: str, without_gravity: bool = False) -> SymbolicModel:
     rhs = body_frame_rhs([_FIELD(x) for x in (*gamma, *omega)] + [zero] * 5,
                          [_FIELD(x) for x in (*offset, *inertia, gravity)])
     r = tuple(g + c for g, c in zip(gamma, offset))
-    rr = _dot(r, r)
+    rr = dot(r, r)
     K = ((I1 + rr - r[0] * r[0], -r[0] * r[1], -r[0] * r[2]), (-r[1] * r[0], I2 + rr - r[1] * r[1], -r[1] * r[2]),
          (-r[2] * r[0], -r[2] * r[1], I3 + rr - r[2] * r[2]))
     det = (K[0][0] * (K[1][1] * K[2][2] - K[1][2] * K[2][1]) - K[0][1] * (K[1][0] * K[2][2] - K[1][2] * K[2][0])
@@ -225,7 +217,7 @@ class Quantity:
 
 
 def _kinetic_twice(m: SymbolicModel) -> PolyElement:
-    return _dot(m.omega, m.momentum)
+    return dot(m.omega, m.momentum)
 
 
 def _routh_squared(m: SymbolicModel) -> tuple[PolyElement, PolyElement]:
@@ -235,19 +227,19 @@ def _routh_squared(m: SymbolicModel) -> tuple[PolyElement, PolyElement]:
 
 
 def _borisov_mamaev(m: SymbolicModel) -> tuple[PolyElement, PolyElement]:
-    return _dot(m.momentum, m.momentum) - _kinetic_twice(m) * _dot(m.r, m.r), _RING.one
+    return dot(m.momentum, m.momentum) - _kinetic_twice(m) * dot(m.r, m.r), _RING.one
 
 
 QUANTITIES = (
     Quantity("energy", "E", "T + g c·γ, T = ½ ω·K ω",
-             lambda m: (_kinetic_twice(m) * QQ(1, 2) + m.gravity * _dot(m.offset, m.gamma), _RING.one)),
+             lambda m: (_kinetic_twice(m) * QQ(1, 2) + m.gravity * dot(m.offset, m.gamma), _RING.one)),
     Quantity("jellett", "M·r", "Jellett's M·r (the paper's Q_J where I1 = I2, c = (0, 0, −a))",
-             lambda m: (_dot(m.momentum, m.r), _RING.one)),
+             lambda m: (dot(m.momentum, m.r), _RING.one)),
     Quantity("routh", "Q_R²", "ω3²(I3 + s² + (I3/I1) f²), s² = γ1² + γ2², f = γ3 + c3", _routh_squared,
              on_axis_only=True),
     Quantity("momentum_squared", "M·M", "M·M, M = K ω about the contact point",
-             lambda m: (_dot(m.momentum, m.momentum), _RING.one)),
-    Quantity("momentum_vertical", "M·γ", "M·γ", lambda m: (_dot(m.momentum, m.gamma), _RING.one)),
+             lambda m: (dot(m.momentum, m.momentum), _RING.one)),
+    Quantity("momentum_vertical", "M·γ", "M·γ", lambda m: (dot(m.momentum, m.gamma), _RING.one)),
     Quantity("borisov_mamaev_g0", "B", "M·M − 2T r·r at g = 0", _borisov_mamaev, without_gravity=True),
     Quantity("borisov_mamaev", "B", "M·M − 2T r·r with gravity", _borisov_mamaev),
 )

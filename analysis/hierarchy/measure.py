@@ -46,9 +46,10 @@ from functools import cache
 
 from sympy.polys.rings import PolyElement
 
-from rocknroller.analysis.hierarchy.conservation import (Number, SymbolicModel, Witness, _cross, _dot, exact_value,
+from rocknroller.analysis.hierarchy.conservation import (Number, SymbolicModel, Witness, exact_value,
                                                          search_witness, symbolic_model, witness_points)
 from rocknroller.analysis.model.body import MEMBERS
+from rocknroller.analysis.model.equations import cross, dot
 
 __all__ = ["DENSITIES", "Density", "FlowDivergence", "flow_divergence", "DensityCheck", "check_density",
            "MeasureResult", "measure", "measure_table"]
@@ -111,7 +112,7 @@ def flow_divergence(member: str) -> FlowDivergence:
     m = symbolic_model(member)
     numerator = sum((dw.diff(w) for w, dw in zip(m.omega, m.omega_dot_times_det)), m.det_mass_matrix.ring.zero)
     n = (numerator.diff(m.omega[0]), numerator.diff(m.omega[1]), numerator.diff(m.omega[2]))
-    return FlowDivergence(member, numerator, n, numerator == _dot(n, m.omega), m)
+    return FlowDivergence(member, numerator, n, numerator == dot(n, m.omega), m)
 
 
 @dataclass(frozen=True)
@@ -216,8 +217,8 @@ def check_density(member: str, density: str) -> DensityCheck:
     m = div.model
     e0, factors = d.build(m)
     D = m.det_mass_matrix
-    along = [_dot(m.gamma_dot, _gradient(m, p)) for p, _ in factors]
-    numerator = (_dot(m.gamma_dot, _gradient(m, D)) * e0 + div.numerator) * _product([p for p, _ in factors], D.ring)
+    along = [dot(m.gamma_dot, _gradient(m, p)) for p, _ in factors]
+    numerator = (dot(m.gamma_dot, _gradient(m, D)) * e0 + div.numerator) * _product([p for p, _ in factors], D.ring)
     for k, (_, e) in enumerate(factors):
         numerator += D * along[k] * e * _product([p for j, (p, _) in enumerate(factors) if j != k], D.ring)
     denominator = D * _product([p for p, _ in factors], D.ring)
@@ -305,10 +306,10 @@ def measure(member: str) -> MeasureResult:
     div = flow_divergence(member)
     m = div.model
     D = m.det_mass_matrix
-    normal = not m.on_sphere(_dot(div.n, m.gamma))
+    normal = not m.on_sphere(dot(div.n, m.gamma))
     # α = −v/D, v = γ × n: D² γ·curl(v/D) = D γ·curl v − γ·(∇D × v) (the sign of α does not matter)
-    v = _cross(m.gamma, div.n)
-    closed = not m.on_sphere(D * _dot(m.gamma, _curl(m, v)) - _dot(m.gamma, _cross(_gradient(m, D), v)))
+    v = cross(m.gamma, div.n)
+    closed = not m.on_sphere(D * dot(m.gamma, _curl(m, v)) - dot(m.gamma, cross(_gradient(m, D), v)))
     linear = div.linear_in_omega
     exists = linear and normal and closed
     witness = None if normal else search_witness(div.numerator, D, witness_points(member, omega_parallel=True))

@@ -36,6 +36,8 @@ from rocknroller.analysis.model.kinematics import (angles_from_frame, omega_from
                                                    rates_from_omega, space_axes_in_body)
 
 __all__ = [
+    "cross",
+    "dot",
     "RATE_MAX",
     "STATE_LAYOUT",
     "STATE_SIZE",
@@ -64,11 +66,27 @@ STATE_LAYOUT = {"gamma": slice(0, 3), "omega": slice(3, 6), "ex": slice(6, 9), "
 STATE_SIZE = 11
 
 
-def _cross(u: Sequence[Any], v: Sequence[Any]) -> tuple[Any, Any, Any]:
+def cross(u: Sequence[Any], v: Sequence[Any]) -> tuple[Any, Any, Any]:
+    """u × v of two 3-vectors of any ring's elements (floats, sympy polynomials): only + − ×.
+
+    Examples
+    --------
+    >>> from rocknroller.analysis.model.equations import cross
+    >>> cross((1, 0, 0), (0, 1, 0))
+    (0, 0, 1)
+    """
     return (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
 
 
-def _dot(u: Sequence[Any], v: Sequence[Any]) -> Any:
+def dot(u: Sequence[Any], v: Sequence[Any]) -> Any:
+    """u · v of two 3-vectors of any ring's elements.
+
+    Examples
+    --------
+    >>> from rocknroller.analysis.model.equations import dot
+    >>> dot((1, 2, 3), (4, 5, 6))
+    32
+    """
     return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
 
 
@@ -147,7 +165,7 @@ def body_frame_rhs(y: _Components, p: _Components) -> list[Any]:
         P0, rest = _rolling_terms(y, (I1, I2, I3), r)
         ga = grav * a
         P = (P0[0] - ga * g2, P0[1] + ga * g1, P0[2])
-    rr = _dot(r, r)
+    rr = dot(r, r)
     K = (
         (I1 + rr - r[0] * r[0], -r[0] * r[1], -r[0] * r[2]),
         (None, I2 + rr - r[1] * r[1], -r[1] * r[2]),
@@ -166,17 +184,17 @@ def _rolling_terms(y: _Components, inertia: tuple[Any, Any, Any], r: tuple[Any, 
     I1, I2, I3 = inertia
     gam = (g1, g2, g3)
     om = (w1, w2, w3)
-    gdot = _cross(gam, om)
+    gdot = cross(gam, om)
     Iw = (I1 * w1, I2 * w2, I3 * w3)
-    wxr = _cross(om, r)
-    w_gdot, w_wxr = _cross(om, gdot), _cross(om, wxr)
+    wxr = cross(om, r)
+    w_gdot, w_wxr = cross(om, gdot), cross(om, wxr)
     inner = (w_gdot[0] + w_wxr[0], w_gdot[1] + w_wxr[1], w_gdot[2] + w_wxr[2])
-    t1 = _cross(om, Iw)
-    t2 = _cross(r, inner)
+    t1 = cross(om, Iw)
+    t2 = cross(r, inner)
     ex = (x1, x2, x3)
-    exdot = _cross(ex, om)
-    ey = _cross(gam, ex)
-    return (-t1[0] - t2[0], -t1[1] - t2[1], -t1[2] - t2[2]), (gdot, exdot, _dot(om, ey), -_dot(om, ex))
+    exdot = cross(ex, om)
+    ey = cross(gam, ex)
+    return (-t1[0] - t2[0], -t1[1] - t2[1], -t1[2] - t2[2]), (gdot, exdot, dot(om, ey), -dot(om, ex))
 
 
 #: Largest absolute rate of an initial state (θ̇, φ̇, ψ̇ or a component of ω): the body-frame ω, its square in the
